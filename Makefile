@@ -1,0 +1,35 @@
+# volguide — entry points (see docs/interface.md). Every target installs what is missing first.
+BUILD_DIR ?= build
+JOBS ?= $(shell nproc)
+# Debian packages the build and tests need. Keep in sync with CMakeLists.txt.
+APT_PACKAGES := build-essential cmake pkg-config libembree-dev libtbb-dev libopenexr-dev \
+  libpugixml-dev libtinyobjloader-dev libfmt-dev libcli11-dev nlohmann-json3-dev libstb-dev \
+  libgtest-dev libgmock-dev libbenchmark-dev
+# CTest label expression for `make test`; CI runs everything.
+TEST_ARGS ?=
+
+.PHONY: deps build test demo bench clean format
+
+deps:
+	@scripts/install-deps.sh $(APT_PACKAGES)
+
+$(BUILD_DIR)/CMakeCache.txt:
+	cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=Release
+
+build: deps $(BUILD_DIR)/CMakeCache.txt
+	cmake --build $(BUILD_DIR) -j $(JOBS)
+
+test: build
+	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS) $(TEST_ARGS)
+
+demo: build
+	@scripts/demo.sh $(BUILD_DIR)
+
+bench: build
+	@scripts/bench.sh $(BUILD_DIR)
+
+format:
+	clang-format -i $$(git ls-files '*.cpp' '*.h')
+
+clean:
+	rm -rf $(BUILD_DIR) out

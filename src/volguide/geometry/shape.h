@@ -1,0 +1,84 @@
+#pragma once
+// Shapes: triangle meshes (obj, ply, rectangle, cube) and analytic shapes (sphere, disk).
+// Only geometry/accel_embree.cpp talks to Embree; shapes expose triangles or an exact
+// intersection routine, and build the SurfaceInteraction of a hit.
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "volguide/core/bbox.h"
+#include "volguide/core/object.h"
+#include "volguide/core/properties.h"
+#include "volguide/geometry/interaction.h"
+
+namespace volguide {
+
+class BSDF;
+class Emitter;
+
+struct PositionSample {
+    Point3f p;
+    Normal3f n;
+    Vec2f uv;
+    float pdf = 0.f;  // w.r.t. area
+};
+
+// Sample of a point on a shape or emitter seen from a reference point.
+struct DirectionSample {
+    Point3f p;
+    Normal3f n;          // zero for point lights and directions at infinity
+    Vec2f uv;
+    Vec3f d;             // unit direction from the reference point towards p
+    float dist = 0.f;    // Infinity for emitters at infinity
+    float pdf = 0.f;     // w.r.t. solid angle at the reference point (1 for delta emitters)
+    bool delta = false;
+    const Emitter* emitter = nullptr;
+};
+
+// World-space triangle data (to_world already applied).
+struct TriangleMesh {
+    std::vector<Point3f> positions;
+    std::vector<Normal3f> normals;  // per vertex, empty = flat shading
+    std::vector<Vec2f> uvs;         // per vertex, empty = barycentric defaults
+    std::vector<uint32_t> indices;  // 3 per triangle
+    size_t triangle_count() const { return indices.size() / 3; }
+};
+
+class Shape : public Object {
+public:
+    virtual BBox3f bbox() const = 0;
+    virtual float surface_area() const = 0;
+
+    // Triangle shapes return their mesh; analytic shapes return nullptr and implement intersect().
+    virtual const TriangleMesh* triangle_mesh() const { return nullptr; }
+    // Analytic shapes: nearest hit with t in (0, ray.tmax); prim_uv is passed back to
+    // compute_surface_interaction.
+    virtual bool intersect(const Ray& ray, float& t, Vec2f& prim_uv) const { return false; }
+    // Builds the full hit record; prim_uv are Embree's barycentrics for triangles.
+    virtual SurfaceInteraction compute_surface_interaction(const Ray& ray, float t, uint32_t prim_index,
+                                                           Vec2f prim_uv) const = 0;
+
+    // Uniform (area-measure) position sampling.
+    virtual PositionSample sample_position(Point2f u) const = 0;
+    virtual float pdf_position(const PositionSample& ps) const { return 1.f / surface_area(); }
+    // Solid-angle sampling from a reference point; the default converts sample_position.
+    virtual DirectionSample sample_direction(const Interaction& ref, Point2f u) const;
+    virtual float pdf_direction(const Interaction& ref, const DirectionSample& ds) const;
+
+    const BSDF* bsdf() const { return bsdf_.get(); }
+    const Emitter* emitter() const { return emitter_.get(); }
+    const std::shared_ptr<Emitter>& emitter_ptr() const { return emitter_; }
+    bool is_emitter() const { return emitter_ != nullptr; }
+    // The scene gives shapes without a BSDF Mitsuba's default (diffuse, reflectance 0.5).
+    void set_bsdf(std::shared_ptr<BSDF> bsdf) { bsdf_ = std::move(bsdf); }
+
+protected:
+    // Reads the optional BSDF child and area emitter child, and attaches the emitter to this
+    // shape. Call from subclass constructors once the geometry exists.
+    void init_common(const Properties& props);
+
+    std::shared_ptr<BSDF> bsdf_;
+    std::shared_ptr<Emitter> emitter_;
+};
+
+}  // namespace volguide

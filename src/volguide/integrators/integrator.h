@@ -1,0 +1,25 @@
+#pragma once
+// Integrators estimate the radiance arriving along a camera ray. The render loop
+// (integrators/render_loop.h) drives them; they never touch the film or threads.
+#include <string>
+
+#include "volguide/core/color.h"
+#include "volguide/core/object.h"
+#include "volguide/core/ray.h"
+#include "volguide/core/sampler.h"
+
+namespace volguide {
+
+class Scene;
+
+class Integrator : public Object {
+public:
+    // Radiance along `ray` (a camera ray), one sample.
+    virtual Color3 Li(const Scene& scene, Sampler& sampler, const Ray& ray) const = 0;
+    // The `moment` integrator also writes the per-sample variance image.
+    virtual bool writes_variance() const { return false; }
+    // Work before rendering (training, pre-passes), counted in the time budget. Default: none.
+    virtual void preprocess(const Scene& scene) {}
+};
+
+}  // namespace volguide

@@ -1,0 +1,48 @@
+#pragma once
+// Emitters, in Mitsuba 3's convention. sample_direction returns the sample and the weight
+// radiance / pdf (solid angle at the reference; for delta emitters intensity / dist^2), without
+// visibility. eval() returns the radiance leaving the emitter towards si.wi: for surface emitters
+// si is the hit (si.wi local); for emitters at infinity si.wi is the world direction -ray.d.
+#include <cstdint>
+#include <utility>
+
+#include "volguide/core/bbox.h"
+#include "volguide/core/color.h"
+#include "volguide/core/object.h"
+#include "volguide/geometry/interaction.h"
+#include "volguide/geometry/shape.h"
+
+namespace volguide {
+
+namespace emitter_flags {
+enum : uint32_t {
+    None = 0,
+    DeltaPosition = 1u << 0,
+    DeltaDirection = 1u << 1,
+    Infinite = 1u << 2,
+    Surface = 1u << 3,
+};
+}
+
+class Emitter : public Object {
+public:
+    virtual std::pair<DirectionSample, Color3> sample_direction(const Interaction& ref, Point2f u) const = 0;
+    virtual float pdf_direction(const Interaction& ref, const DirectionSample& ds) const = 0;
+    virtual Color3 eval(const SurfaceInteraction& si) const = 0;
+
+    // Called once the scene is assembled (emitters at infinity need its bounding sphere).
+    virtual void set_scene_bounds(const BBox3f& bounds) {}
+    // Area emitters are told which shape they sit on.
+    virtual void set_shape(const Shape* shape) { shape_ = shape; }
+    const Shape* shape() const { return shape_; }
+
+    uint32_t flags() const { return flags_; }
+    bool is_delta() const { return (flags_ & (emitter_flags::DeltaPosition | emitter_flags::DeltaDirection)) != 0; }
+    bool is_infinite() const { return (flags_ & emitter_flags::Infinite) != 0; }
+
+protected:
+    uint32_t flags_ = 0;
+    const Shape* shape_ = nullptr;
+};
+
+}  // namespace volguide

@@ -1,0 +1,20 @@
+#pragma once
+// Reading and writing images. Writers are atomic: they write a temporary file next to the target
+// and rename it, so an interrupted or failed write never leaves a corrupt or partial image.
+#include <string>
+
+#include "volguide/core/image.h"
+
+namespace volguide {
+
+// EXR (any RGB/Y float or half channels) and PNG/JPEG (8-bit sRGB, converted to linear unless
+// `raw` is set, e.g. for data textures). Throws InputError naming the file on any failure.
+Image read_image(const std::string& path, bool raw = false);
+// Linear float32 RGB EXR.
+void write_exr(const std::string& path, const Image& image);
+// 8-bit sRGB PNG preview (clamped, gamma encoded).
+void write_png(const std::string& path, const Image& image);
+// Dispatches on the extension (.exr or .png); throws InputError for anything else.
+void write_image(const std::string& path, const Image& image);
+
+}  // namespace volguide

@@ -1,0 +1,53 @@
+#pragma once
+// The render-ready scene: shapes behind an acceleration structure, emitters, one sensor and the
+// integrator to run.
+#include <memory>
+#include <utility>
+#include <vector>
+
+#include "volguide/core/bbox.h"
+#include "volguide/core/properties.h"
+#include "volguide/geometry/accel.h"
+#include "volguide/geometry/shape.h"
+#include "volguide/render/emitter.h"
+#include "volguide/render/sensor.h"
+
+namespace volguide {
+
+class Integrator;
+
+class Scene {
+public:
+    // Takes the root <scene> record: its shapes, emitters, sensor and integrator children.
+    explicit Scene(const Properties& root);
+    ~Scene();
+
+    bool intersect(const Ray& ray, SurfaceInteraction& si) const { return accel_->intersect(ray, si); }
+    bool occluded(const Ray& ray) const { return accel_->occluded(ray); }
+
+    // Chooses an emitter uniformly (as Mitsuba 3) and samples a direction on it. The weight
+    // includes 1/(choice probability); with test_visibility it is zero when occluded.
+    std::pair<DirectionSample, Color3> sample_emitter_direction(const Interaction& ref, Point2f u,
+                                                                bool test_visibility) const;
+    // Solid-angle pdf of sample_emitter_direction producing ds (including the choice probability).
+    float pdf_emitter_direction(const Interaction& ref, const DirectionSample& ds) const;
+
+    const std::vector<std::shared_ptr<Shape>>& shapes() const { return shapes_; }
+    const std::vector<std::shared_ptr<Emitter>>& emitters() const { return emitters_; }
+    // The environment emitter evaluated by rays that leave the scene (nullptr when none).
+    const Emitter* environment() const { return environment_; }
+    const Sensor& sensor() const { return *sensor_; }
+    const Integrator& integrator() const { return *integrator_; }
+    const BBox3f& bbox() const { return bbox_; }
+
+private:
+    std::vector<std::shared_ptr<Shape>> shapes_;
+    std::vector<std::shared_ptr<Emitter>> emitters_;  // all emitters, area ones included
+    const Emitter* environment_ = nullptr;
+    std::shared_ptr<Sensor> sensor_;
+    std::shared_ptr<Integrator> integrator_;
+    std::unique_ptr<Accel> accel_;
+    BBox3f bbox_;
+};
+
+}  // namespace volguide

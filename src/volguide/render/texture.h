@@ -1,0 +1,39 @@
+#pragma once
+// Spatially varying reflectance/roughness, looked up at a surface point.
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "volguide/core/color.h"
+#include "volguide/core/object.h"
+#include "volguide/core/properties.h"
+#include "volguide/geometry/interaction.h"
+
+namespace volguide {
+
+class Texture : public Object {
+public:
+    virtual Color3 eval(const SurfaceInteraction& si) const = 0;
+    // Scalar lookup (roughness, weights): the average of the channels.
+    virtual float eval_1(const SurfaceInteraction& si) const { return eval(si).average(); }
+    virtual Color3 mean() const = 0;
+    virtual bool is_constant() const { return false; }
+};
+
+class ConstantTexture final : public Texture {
+public:
+    explicit ConstantTexture(const Color3& value) : value_(value) {}
+    Color3 eval(const SurfaceInteraction&) const override { return value_; }
+    Color3 mean() const override { return value_; }
+    bool is_constant() const override { return true; }
+
+private:
+    Color3 value_;
+};
+
+// A texture-valued parameter: a nested/referenced <texture>, or an rgb/spectrum/float value.
+// With no default, a missing parameter is an input error.
+std::shared_ptr<Texture> texture_param(const Properties& props, const std::string& name,
+                                       std::optional<Color3> def = std::nullopt);
+
+}  // namespace volguide
