@@ -1,0 +1,10 @@
+// Placeholder: the BSDF plugins replace this with the real factory table.
+#include "volguide/scene/factories.h"
+
+namespace volguide {
+
+ObjectPtr create_bsdf(const Properties& props) {
+    props.fail_here("unsupported {} plugin '{}'", props.category(), props.type());
+}
+
+}  // namespace volguide
