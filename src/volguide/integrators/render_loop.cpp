@@ -61,10 +61,10 @@ public:
         double f_time = budget_ > 0 ? p.elapsed / budget_ : 0.0;
         p.fraction = std::clamp(std::max(f_spp, f_time), 0.0, 1.0);
         double eta = -1;  // unknown
-        if (target_ > 0 && f_spp > 0) {
-            double render_elapsed = std::chrono::duration<double>(now - render_start_).count();
+        const double render_elapsed = std::chrono::duration<double>(now - render_start_).count();
+        // Extrapolate only once the rate means something.
+        if (target_ > 0 && f_spp > 0 && (render_elapsed > 1.0 || f_spp > 0.05))
             eta = render_elapsed * (1.0 - f_spp) / f_spp;
-        }
         if (budget_ > 0) {
             double left = std::max(0.0, budget_ - p.elapsed);
             eta = eta < 0 ? left : std::min(eta, left);
