@@ -205,7 +205,8 @@ private:
             check_version(root);
             read_children(inc, inc.root(), parent, in_scene, within_emitter);
         } else if (is_object_tag(root.tag())) {
-            read_object(inc, root, std::string(root.tag()), parent);
+            check_version(root);  // every file's root carries a version, as in Mitsuba
+            read_object(inc, root, std::string(root.tag()), parent, /*file_root=*/true);
         } else {
             root.fail_here("an included file must have <scene> or an object as its root (got <{}>)", root.tag());
         }
@@ -219,8 +220,12 @@ private:
         graph_.ids[id] = index;
     }
 
-    void read_object(const XmlFile& f, const XmlElement& el, const std::string& category, int parent) {
-        el.expect({"type", "id", "name"}, {"type"});
+    void read_object(const XmlFile& f, const XmlElement& el, const std::string& category, int parent,
+                     bool file_root = false) {
+        if (file_root)
+            el.expect({"type", "id", "name", "version"}, {"type", "version"});
+        else
+            el.expect({"type", "id", "name"}, {"type"});
         const std::string& type = el.get("type");
         if (type.empty()) el.fail_here("<{}> has an empty type", el.tag());
         if (reserved_name(el.get("name"))) el.fail_here("names starting with '_' are reserved");
