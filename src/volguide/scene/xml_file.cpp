@@ -24,7 +24,14 @@ XmlFile::XmlFile(std::filesystem::path real_path, std::string display_path, cons
     // parse_declaration keeps <?xml ...?> as a node so offsets stay meaningful; comments are skipped.
     pugi::xml_parse_result result =
         doc_.load_buffer(text_.data(), text_.size(), pugi::parse_default | pugi::parse_declaration);
-    if (!result) fail(SourceLocation{display_, line_of_offset(result.offset)}, "malformed XML: {}", result.description());
+    if (!result) {
+        // pugixml reports an unclosed element as a tag mismatch at the very end of the file.
+        bool at_end = result.offset + 1 >= std::ptrdiff_t(text_.size());
+        if (result.status == pugi::status_end_element_mismatch && at_end)
+            fail(SourceLocation{display_, line_of_offset(result.offset)},
+                 "malformed XML: unexpected end of file (an element is not closed)");
+        fail(SourceLocation{display_, line_of_offset(result.offset)}, "malformed XML: {}", result.description());
+    }
     if (!doc_.document_element()) fail(SourceLocation{display_, 1}, "malformed XML: no root element");
 }
 

@@ -27,7 +27,7 @@ public:
 
     int line_of_offset(std::ptrdiff_t offset) const;
     SourceLocation location(const pugi::xml_node& node) const { return {display_, line_of_offset(node.offset_debug())}; }
-    SourceLocation location_of_file() const { return {display_, 0}; }
+    SourceLocation location_at(std::ptrdiff_t offset) const { return {display_, line_of_offset(offset)}; }
 
 private:
     std::filesystem::path path_;

@@ -1,6 +1,7 @@
 #include "volguide/scene/xml_reader.h"
 
 #include <array>
+#include <cctype>
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -28,6 +29,11 @@ bool is_object_tag(std::string_view tag) {
     for (auto t : tags)
         if (t == tag) return true;
     return false;
+}
+
+std::string_view trim_front(std::string_view s) {
+    while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
+    return s;
 }
 
 bool reserved_name(const std::string& s) { return !s.empty() && s.front() == '_'; }
@@ -154,8 +160,13 @@ private:
 
     void read_children(const XmlFile& f, pugi::xml_node xml, int parent, bool in_scene, bool within_emitter) {
         for (pugi::xml_node child : xml.children()) {
-            if (child.type() == pugi::node_pcdata || child.type() == pugi::node_cdata)
-                fail(f.location(child), "unexpected text \"{}\" inside <{}>", trim(child.value()), xml.name());
+            if (child.type() == pugi::node_pcdata || child.type() == pugi::node_cdata) {
+                // Report the line of the text itself, not of the whitespace before it.
+                std::string_view text = child.value();
+                std::ptrdiff_t skip = std::ptrdiff_t(text.size() - trim_front(text).size());
+                fail(f.location_at(child.offset_debug() + skip), "unexpected text \"{}\" inside <{}>", trim(text),
+                     xml.name());
+            }
             if (child.type() != pugi::node_element) continue;
             read_element(f, child, parent, in_scene, within_emitter);
         }
