@@ -3,8 +3,8 @@
 
 #include <filesystem>
 
-#include "test_loader_util.h"
 #include "support/test_support.h"
+#include "test_loader_util.h"
 
 using namespace volguide;
 using namespace volguide::test;
@@ -37,7 +37,8 @@ TEST(LoaderDefaults, SubstitutesEverywhereIncludingPartialStrings) {
 
 TEST(LoaderDefaults, DefaultAfterUseAndInsideAnInclude) {
     ScratchDir dir;
-    dir.write("inc/params.xml", "<scene version=\"2.0.0\">\n  <default name=\"spp\" value=\"16\"/>\n</scene>\n");
+    dir.write("inc/params.xml",
+              "<scene version=\"2.0.0\">\n  <default name=\"spp\" value=\"16\"/>\n</scene>\n");
     std::string path = dir.write("s.xml", scene(R"(<sampler type="independent">
   <integer name="sample_count" value="$spp"/>
   <integer name="seed" value="$seed"/>
@@ -62,7 +63,8 @@ TEST(LoaderDefaults, UnknownDefineAndUndefinedParameter) {
     LoadOptions options;
     options.defines = {{"sp", "8"}};
     expect_input_error([&] { load_fake(path, options); }, path, 0, "sp");
-    std::string undefined = dir.write("u.xml", scene("<bsdf type=\"diffuse\">\n<float name=\"a\" value=\"$alpha\"/>\n</bsdf>\n"));
+    std::string undefined =
+        dir.write("u.xml", scene("<bsdf type=\"diffuse\">\n<float name=\"a\" value=\"$alpha\"/>\n</bsdf>\n"));
     expect_input_error([&] { load_fake(undefined); }, undefined, 3, "$alpha");
 }
 
@@ -134,7 +136,8 @@ TEST(LoaderFiles, IncludingTheSameFileTwiceIsFine) {
     ScratchDir dir;
     dir.write("common.xml", "<scene version=\"3.0.0\">\n  <default name=\"x\" value=\"1\"/>\n</scene>\n");
     dir.write("a.xml", "<scene version=\"3.0.0\">\n  <include filename=\"common.xml\"/>\n</scene>\n");
-    std::string path = dir.write("s.xml", scene("<include filename=\"a.xml\"/>\n<include filename=\"common.xml\"/>\n"));
+    std::string path =
+        dir.write("s.xml", scene("<include filename=\"a.xml\"/>\n<include filename=\"common.xml\"/>\n"));
     EXPECT_NO_THROW(load_fake(path));
 }
 
@@ -169,9 +172,11 @@ TEST(LoaderRefs, SharedInstancesAndNamedReferences) {
 
 TEST(LoaderRefs, UnknownAndDuplicateIds) {
     ScratchDir dir;
-    std::string unknown = dir.write("u.xml", scene("<shape type=\"sphere\">\n  <ref id=\"nope\"/>\n</shape>\n"));
+    std::string unknown =
+        dir.write("u.xml", scene("<shape type=\"sphere\">\n  <ref id=\"nope\"/>\n</shape>\n"));
     expect_input_error([&] { load_fake(unknown); }, unknown, 3, "nope");
-    std::string dup = dir.write("d.xml", scene("<bsdf type=\"diffuse\" id=\"x\"/>\n\n<bsdf type=\"conductor\" id=\"x\"/>\n"));
+    std::string dup = dir.write(
+        "d.xml", scene("<bsdf type=\"diffuse\" id=\"x\"/>\n\n<bsdf type=\"conductor\" id=\"x\"/>\n"));
     expect_input_error([&] { load_fake(dup); }, dup, 4, "duplicate id \"x\"");
 }
 
@@ -182,7 +187,8 @@ TEST(LoaderRefs, Alias) {
 <shape type="sphere"><ref id="b" name="bsdf"/></shape>
 )"));
     Properties root = load_fake(path);
-    EXPECT_EQ(child(root, "shape")->props.get_object("bsdf"), std::get<ObjectPtr>(root.children("bsdf")[0]->value));
+    EXPECT_EQ(child(root, "shape")->props.get_object("bsdf"),
+              std::get<ObjectPtr>(root.children("bsdf")[0]->value));
 }
 
 TEST(LoaderFiles, MitsubaMediaTestSceneStructure) {

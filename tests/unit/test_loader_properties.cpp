@@ -67,17 +67,18 @@ TEST(LoaderProperties, ColorsAndVectors) {
 
 TEST(LoaderProperties, TransformOperations) {
     ScratchDir dir;
-    Properties p = one_bsdf(dir,
-                            "<transform name=\"t1\"><translate x=\"1\" z=\"3\"/></transform>\n"
-                            "<transform name=\"t2\"><translate value=\"1, 2, 3\"/></transform>\n"
-                            "<transform name=\"s1\"><scale value=\"2\"/></transform>\n"
-                            "<transform name=\"s2\"><scale y=\"4\"/></transform>\n"
-                            "<transform name=\"r1\"><rotate y=\"1\" angle=\"90\"/></transform>\n"
-                            "<transform name=\"r2\"><rotate value=\"0 1 0\" angle=\"90\"/></transform>\n"
-                            "<transform name=\"m\"><matrix value=\"1 0 0 5  0 1 0 6  0 0 1 7  0 0 0 1\"/></transform>\n"
-                            "<transform name=\"m3\"><matrix value=\"0,-1,0, 1,0,0, 0,0,1\"/></transform>\n"
-                            "<transform name=\"l\"><lookat origin=\"0, 0.5, 4\" target=\"0 -0.5 0\" up=\"0 1 0\"/></transform>\n"
-                            "<transform name=\"l0\"><lookat origin=\"1 1 1\" target=\"1 1 5\"/></transform>\n");
+    Properties p = one_bsdf(
+        dir,
+        "<transform name=\"t1\"><translate x=\"1\" z=\"3\"/></transform>\n"
+        "<transform name=\"t2\"><translate value=\"1, 2, 3\"/></transform>\n"
+        "<transform name=\"s1\"><scale value=\"2\"/></transform>\n"
+        "<transform name=\"s2\"><scale y=\"4\"/></transform>\n"
+        "<transform name=\"r1\"><rotate y=\"1\" angle=\"90\"/></transform>\n"
+        "<transform name=\"r2\"><rotate value=\"0 1 0\" angle=\"90\"/></transform>\n"
+        "<transform name=\"m\"><matrix value=\"1 0 0 5  0 1 0 6  0 0 1 7  0 0 0 1\"/></transform>\n"
+        "<transform name=\"m3\"><matrix value=\"0,-1,0, 1,0,0, 0,0,1\"/></transform>\n"
+        "<transform name=\"l\"><lookat origin=\"0, 0.5, 4\" target=\"0 -0.5 0\" up=\"0 1 0\"/></transform>\n"
+        "<transform name=\"l0\"><lookat origin=\"1 1 1\" target=\"1 1 5\"/></transform>\n");
     expect_matrix_near(p.get_transform("t1").matrix(), Transform::translate({1, 0, 3}).matrix());
     expect_matrix_near(p.get_transform("t2").matrix(), Transform::translate({1, 2, 3}).matrix());
     expect_matrix_near(p.get_transform("s1").matrix(), Transform::scale({2, 2, 2}).matrix());
@@ -106,8 +107,8 @@ TEST(LoaderProperties, LaterTransformOperationsApplyAfterEarlierOnes) {
                             "  <rotate z=\"1\" angle=\"90\"/>\n"
                             "  <translate x=\"10\"/>\n"
                             "</transform>\n");
-    Transform expected = Transform::translate({10, 0, 0}) * Transform::rotate({0, 0, 1}, 90) *
-                         Transform::scale({2, 2, 2});
+    Transform expected =
+        Transform::translate({10, 0, 0}) * Transform::rotate({0, 0, 1}, 90) * Transform::scale({2, 2, 2});
     expect_matrix_near(p.get_transform("t").matrix(), expected.matrix());
     Point3f x = p.get_transform("t").apply_point({1, 0, 0});  // scale → (2,0,0), rotate → (0,2,0), +10
     EXPECT_NEAR(x.x, 10.f, 1e-5);
@@ -142,7 +143,8 @@ TEST(LoaderProperties, NestedObjectsBecomeChildEntries) {
 
 TEST(LoaderProperties, ChildrenAreCreatedBeforeParents) {
     ScratchDir dir;
-    std::string path = dir.write("s.xml", scene(R"(<shape type="a"><bsdf type="b"><texture type="c" name="t"/></bsdf></shape>
+    std::string path =
+        dir.write("s.xml", scene(R"(<shape type="a"><bsdf type="b"><texture type="c" name="t"/></bsdf></shape>
 )"));
     std::vector<std::string> order;
     auto recording = [&](const std::string& tag, const Properties& props) {

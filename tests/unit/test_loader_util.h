@@ -15,7 +15,7 @@
 namespace volguide::test {
 
 class ScratchDir {
-public:
+  public:
     ScratchDir() {
         std::string templ = (std::filesystem::temp_directory_path() / "volguide_loader_XXXXXX").string();
         if (!mkdtemp(templ.data())) throw std::runtime_error("mkdtemp failed");
@@ -37,7 +37,7 @@ public:
     }
     std::string path(const std::string& relative = "") const { return (path_ / relative).string(); }
 
-private:
+  private:
     std::filesystem::path path_;
 };
 
@@ -72,7 +72,8 @@ template <typename F>
 void expect_input_error(F&& f, const std::string& file, int line, const std::string& needle) {
     try {
         f();
-        ADD_FAILURE() << "expected InputError at " << file << ":" << line << " containing \"" << needle << "\"";
+        ADD_FAILURE() << "expected InputError at " << file << ":" << line << " containing \"" << needle
+                      << "\"";
     } catch (const InputError& e) {
         EXPECT_EQ(e.location().file, file) << e.what();
         EXPECT_EQ(e.location().line, line) << e.what();
@@ -80,6 +81,8 @@ void expect_input_error(F&& f, const std::string& file, int line, const std::str
     }
 }
 
-inline std::string scene(const std::string& body) { return "<scene version=\"3.0.0\">\n" + body + "</scene>\n"; }
+inline std::string scene(const std::string& body) {
+    return "<scene version=\"3.0.0\">\n" + body + "</scene>\n";
+}
 
 }  // namespace volguide::test

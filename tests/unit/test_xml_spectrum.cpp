@@ -130,7 +130,8 @@ TEST(LoaderSpectrum, SpdFile) {
 </emitter>
 )"));
     Color3 c = child(load_fake(path), "emitter")->props.get_color("intensity");
-    Color3 expected = spectrum_to_linear_srgb(std::vector<double>{600, 650, 700}, std::vector<double>{0, 1, 0},
-                                              {true, false}).rgb;
+    Color3 expected = spectrum_to_linear_srgb(std::vector<double>{600, 650, 700},
+                                              std::vector<double>{0, 1, 0}, {true, false})
+                          .rgb;
     EXPECT_EQ(c, expected);
 }

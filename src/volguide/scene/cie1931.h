@@ -44,7 +44,7 @@ struct SpectrumToRgbResult {
 };
 
 // wavelengths must be strictly increasing and of the same size as values (size >= 2).
-SpectrumToRgbResult spectrum_to_linear_srgb(std::span<const double> wavelengths, std::span<const double> values,
-                                            SpectrumToRgbMode mode);
+SpectrumToRgbResult spectrum_to_linear_srgb(std::span<const double> wavelengths,
+                                            std::span<const double> values, SpectrumToRgbMode mode);
 
 }  // namespace volguide

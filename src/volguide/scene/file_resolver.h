@@ -15,7 +15,7 @@ struct ResolvedFile {
 };
 
 class FileResolver {
-public:
+  public:
     struct Dir {
         std::filesystem::path real;
         std::string display;
@@ -25,11 +25,12 @@ public:
     void add_search_dir(Dir dir) { search_.insert(search_.begin(), std::move(dir)); }
 
     // `current` is the directory of the file containing the reference. nullopt when not found.
-    std::optional<ResolvedFile> resolve(const std::string& name, const Dir& current, bool want_directory = false) const;
+    std::optional<ResolvedFile> resolve(const std::string& name, const Dir& current,
+                                        bool want_directory = false) const;
 
     static std::string join_display(const std::string& dir, const std::string& name);
 
-private:
+  private:
     Dir main_;
     std::vector<Dir> search_;
 };

@@ -12,7 +12,7 @@ namespace {
 // Creates objects depth-first (children before parents); objects with an id are created once
 // and shared by every reference.
 class Instantiator {
-public:
+  public:
     Instantiator(SceneGraph& graph, const ObjectFactory& factory)
         : graph_(graph), factory_(factory), objects_(graph.nodes.size()), state_(graph.nodes.size(), kNew) {}
 
@@ -21,7 +21,7 @@ public:
         return std::move(graph_.nodes[0].props);
     }
 
-private:
+  private:
     enum State { kNew, kBusy, kDone };
 
     void fill_children(int index) {
@@ -44,7 +44,8 @@ private:
     ObjectPtr instantiate(int index, const SourceLocation& used_at) {
         if (state_[size_t(index)] == kDone) return objects_[size_t(index)];
         if (state_[size_t(index)] == kBusy)
-            fail(used_at, "reference cycle: object \"{}\" contains itself", graph_.nodes[size_t(index)].props.id());
+            fail(used_at, "reference cycle: object \"{}\" contains itself",
+                 graph_.nodes[size_t(index)].props.id());
         state_[size_t(index)] = kBusy;
         fill_children(index);
         SceneGraph::Node& node = graph_.nodes[size_t(index)];
@@ -64,7 +65,8 @@ private:
 
 }  // namespace
 
-Properties load_scene_properties(const std::string& path, const LoadOptions& options, const ObjectFactory& factory) {
+Properties load_scene_properties(const std::string& path, const LoadOptions& options,
+                                 const ObjectFactory& factory) {
     SceneGraph graph = read_scene_graph(path, options);
     return Instantiator(graph, factory).root();
 }

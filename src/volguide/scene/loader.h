@@ -43,7 +43,8 @@ ObjectPtr create_object(const std::string& tag, const Properties& props);
 // are the instantiated top-level objects. Throws InputError (file:line) on any problem.
 Properties load_scene_properties(const std::string& path, const LoadOptions& options = {});
 // Same with another factory (tests use fakes so they need no real plugins).
-Properties load_scene_properties(const std::string& path, const LoadOptions& options, const ObjectFactory& factory);
+Properties load_scene_properties(const std::string& path, const LoadOptions& options,
+                                 const ObjectFactory& factory);
 
 std::unique_ptr<Scene> load_scene(const std::string& path, const LoadOptions& options = {});
 

@@ -37,7 +37,8 @@ std::string SceneParameters::substitute(std::string_view text, const SourceLocat
             continue;
         }
         size_t end = i + 1;
-        while (end < text.size() && (std::isalnum(static_cast<unsigned char>(text[end])) || text[end] == '_')) ++end;
+        while (end < text.size() && (std::isalnum(static_cast<unsigned char>(text[end])) || text[end] == '_'))
+            ++end;
         std::string_view candidate = text.substr(i + 1, end - i - 1);
         // Longest declared prefix of the identifier, so "$resx" uses "resx" before "res".
         const std::string* value = nullptr;
@@ -50,7 +51,8 @@ std::string SceneParameters::substitute(std::string_view text, const SourceLocat
             }
         }
         if (!value) {
-            if (candidate.empty()) fail(loc, "stray '$' in \"{}\" (write \\$ for a literal dollar sign)", text);
+            if (candidate.empty())
+                fail(loc, "stray '$' in \"{}\" (write \\$ for a literal dollar sign)", text);
             fail(loc, "undefined parameter ${} (no <default name=\"{}\"> and no -D)", candidate, candidate);
         }
         out += *value;

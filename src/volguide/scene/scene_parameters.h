@@ -10,8 +10,9 @@
 namespace volguide {
 
 class SceneParameters {
-public:
-    explicit SceneParameters(std::map<std::string, std::string> overrides = {}) : overrides_(std::move(overrides)) {}
+  public:
+    explicit SceneParameters(std::map<std::string, std::string> overrides = {})
+        : overrides_(std::move(overrides)) {}
 
     // The first declaration of a name wins (later ones, e.g. in included files, are ignored, as in
     // Mitsuba); an override replaces the declared value.
@@ -24,7 +25,7 @@ public:
     // `\$` stands for a literal '$'. Any other '$' is an error at `loc`.
     std::string substitute(std::string_view text, const SourceLocation& loc) const;
 
-private:
+  private:
     std::map<std::string, std::string> overrides_;
     std::map<std::string, std::string> declared_;  // name → effective value
 };

@@ -6,7 +6,8 @@ namespace volguide {
 
 XmlElement::XmlElement(const XmlFile& file, pugi::xml_node node, const SceneParameters& params)
     : file_(&file), node_(node), loc_(file.location(node)) {
-    for (pugi::xml_attribute a : node.attributes()) attrs_.emplace_back(a.name(), params.substitute(a.value(), loc_));
+    for (pugi::xml_attribute a : node.attributes())
+        attrs_.emplace_back(a.name(), params.substitute(a.value(), loc_));
 }
 
 const std::string* XmlElement::find(std::string_view name) const {

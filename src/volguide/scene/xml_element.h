@@ -1,8 +1,7 @@
 #pragma once
 // One XML element with its attributes already `$name`-substituted, plus strict attribute checks.
-#include <pugixml.hpp>
-
 #include <initializer_list>
+#include <pugixml.hpp>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -14,7 +13,7 @@
 namespace volguide {
 
 class XmlElement {
-public:
+  public:
     XmlElement(const XmlFile& file, pugi::xml_node node, const SceneParameters& params);
 
     std::string_view tag() const { return node_.name(); }
@@ -35,7 +34,7 @@ public:
         fail(loc_, f, std::forward<Args>(args)...);
     }
 
-private:
+  private:
     const std::string* find(std::string_view name) const;
 
     const XmlFile* file_;

@@ -6,7 +6,8 @@
 
 namespace volguide {
 
-XmlFile::XmlFile(std::filesystem::path real_path, std::string display_path, const SourceLocation& include_site)
+XmlFile::XmlFile(std::filesystem::path real_path, std::string display_path,
+                 const SourceLocation& include_site)
     : path_(std::move(real_path)), display_(std::move(display_path)) {
     std::ifstream in(path_, std::ios::binary);
     if (!in) {
@@ -30,7 +31,8 @@ XmlFile::XmlFile(std::filesystem::path real_path, std::string display_path, cons
         if (result.status == pugi::status_end_element_mismatch && at_end)
             fail(SourceLocation{display_, line_of_offset(result.offset)},
                  "malformed XML: unexpected end of file (an element is not closed)");
-        fail(SourceLocation{display_, line_of_offset(result.offset)}, "malformed XML: {}", result.description());
+        fail(SourceLocation{display_, line_of_offset(result.offset)}, "malformed XML: {}",
+             result.description());
     }
     if (!doc_.document_element()) fail(SourceLocation{display_, 1}, "malformed XML: no root element");
 }

@@ -1,9 +1,8 @@
 #pragma once
 // One parsed XML file of a scene: the pugixml document plus what is needed to turn node byte
 // offsets into 1-based line numbers for error messages.
-#include <pugixml.hpp>
-
 #include <filesystem>
+#include <pugixml.hpp>
 #include <string>
 #include <vector>
 
@@ -12,7 +11,7 @@
 namespace volguide {
 
 class XmlFile {
-public:
+  public:
     // Reads and parses `real_path`; errors are reported as `display_path:line` (the path as the
     // user or the including file spelled it). `include_site` is where an include came from
     // (empty for the main file), used when the file cannot be read.
@@ -26,10 +25,12 @@ public:
     std::string display_directory() const;
 
     int line_of_offset(std::ptrdiff_t offset) const;
-    SourceLocation location(const pugi::xml_node& node) const { return {display_, line_of_offset(node.offset_debug())}; }
+    SourceLocation location(const pugi::xml_node& node) const {
+        return {display_, line_of_offset(node.offset_debug())};
+    }
     SourceLocation location_at(std::ptrdiff_t offset) const { return {display_, line_of_offset(offset)}; }
 
-private:
+  private:
     std::filesystem::path path_;
     std::string display_;
     std::string text_;

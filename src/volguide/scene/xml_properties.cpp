@@ -16,7 +16,8 @@ namespace volguide {
 
 namespace {
 
-double number(const XmlElement& el, std::string_view text, std::string_view what, bool allow_infinity = false) {
+double number(const XmlElement& el, std::string_view text, std::string_view what,
+              bool allow_infinity = false) {
     auto v = parse_double(text, allow_infinity);
     if (!v) el.fail_here("<{}>: could not parse {} \"{}\" as a finite number", el.tag(), what, text);
     return *v;
@@ -28,12 +29,15 @@ std::vector<double> number_list(const XmlElement& el, std::string_view text, std
     return out;
 }
 
-Vec3f vec3_of(const std::vector<double>& v) { return {float(v[0]), float(v[1]), float(v[2])}; }
+Vec3f vec3_of(const std::vector<double>& v) {
+    return {float(v[0]), float(v[1]), float(v[2])};
+}
 
 // "x y z" in a named attribute (lookat origin/target/up).
 Vec3f named_vec3(const XmlElement& el, std::string_view attr) {
     std::vector<double> v = number_list(el, el.get(attr), attr);
-    if (v.size() != 3) el.fail_here("<{}>: '{}' needs exactly 3 values (got \"{}\")", el.tag(), attr, el.get(attr));
+    if (v.size() != 3)
+        el.fail_here("<{}>: '{}' needs exactly 3 values (got \"{}\")", el.tag(), attr, el.get(attr));
     return vec3_of(v);
 }
 
@@ -129,8 +133,9 @@ Transform parse_transform(const XmlElement& el, const PropertyContext& ctx) {
         if (child.type() != pugi::node_element) continue;
         XmlElement op(el.file(), child, *ctx.params);
         if (!is_transform_op_tag(op.tag()))
-            op.fail_here("<{}> cannot appear inside <transform> (only translate, rotate, scale, matrix, lookat)",
-                         op.tag());
+            op.fail_here(
+                "<{}> cannot appear inside <transform> (only translate, rotate, scale, matrix, lookat)",
+                op.tag());
         if (op.node().first_child()) op.fail_here("<{}> cannot have child elements", op.tag());
         t = transform_op(op) * t;  // later operations apply after earlier ones
     }
@@ -141,7 +146,8 @@ bool is_unbounded_spectrum_name(std::string_view name) {
     return name == "eta" || name == "k" || name == "int_ior" || name == "ext_ior";
 }
 
-void read_spd_file(const XmlElement& el, const std::string& path, std::vector<double>& wl, std::vector<double>& val) {
+void read_spd_file(const XmlElement& el, const std::string& path, std::vector<double>& wl,
+                   std::vector<double>& val) {
     std::ifstream in(path);
     if (!in) el.fail_here("<spectrum>: cannot read '{}'", path);
     std::string line;
@@ -151,7 +157,8 @@ void read_spd_file(const XmlElement& el, const std::string& path, std::vector<do
         std::string_view text = trim(line);
         if (text.empty() || text.front() == '#') continue;
         auto parts = tokenize_list(text);
-        if (parts.size() != 2) el.fail_here("<spectrum>: '{}' line {}: expected \"wavelength value\"", path, n);
+        if (parts.size() != 2)
+            el.fail_here("<spectrum>: '{}' line {}: expected \"wavelength value\"", path, n);
         wl.push_back(number(el, parts[0], "wavelength"));
         val.push_back(number(el, parts[1], "spectrum value"));
     }
@@ -180,7 +187,8 @@ Color3 spectrum_value(const XmlElement& el, const std::string& name, const Prope
     SpectrumToRgbMode mode{ctx.within_emitter, is_unbounded_spectrum_name(name)};
     SpectrumToRgbResult r = spectrum_to_linear_srgb(wl, val, mode);
     if (r.clamped)
-        fmt::print(stderr, "volguide: warning: {}: spectrum '{}' is out of the sRGB gamut; clamped to ({}, {}, {})\n",
+        fmt::print(stderr,
+                   "volguide: warning: {}: spectrum '{}' is out of the sRGB gamut; clamped to ({}, {}, {})\n",
                    el.loc().str(), name, r.rgb.r, r.rgb.g, r.rgb.b);
     return r.rgb;
 }
@@ -188,8 +196,8 @@ Color3 spectrum_value(const XmlElement& el, const std::string& name, const Prope
 }  // namespace
 
 bool is_value_tag(std::string_view tag) {
-    static constexpr std::array<std::string_view, 9> tags = {"integer", "float", "boolean", "string",   "rgb",
-                                                             "spectrum", "point", "vector", "transform"};
+    static constexpr std::array<std::string_view, 9> tags = {
+        "integer", "float", "boolean", "string", "rgb", "spectrum", "point", "vector", "transform"};
     for (auto t : tags)
         if (t == tag) return true;
     return false;
@@ -203,8 +211,9 @@ std::string resolve_filename(const XmlElement& el, const std::string& name, cons
     FileResolver::Dir current{el.file().directory(), el.file().display_directory()};
     auto r = ctx.resolver->resolve(name, current);
     if (!r)
-        el.fail_here("file \"{}\" not found (looked next to {}, in the <path> directories and the scene directory)",
-                     name, el.file().display_path());
+        el.fail_here(
+            "file \"{}\" not found (looked next to {}, in the <path> directories and the scene directory)",
+            name, el.file().display_path());
     return r->path.string();
 }
 
@@ -246,7 +255,8 @@ void add_value_property(const XmlElement& el, Properties& props, const PropertyC
     } else if (tag == "rgb") {
         std::vector<double> v = number_list(el, value, "rgb component");
         if (v.size() == 1) v = {v[0], v[0], v[0]};
-        if (v.size() != 3) el.fail_here("<rgb name=\"{}\"> needs one or three values (got \"{}\")", name, value);
+        if (v.size() != 3)
+            el.fail_here("<rgb name=\"{}\"> needs one or three values (got \"{}\")", name, value);
         props.set(name, category, Color3(float(v[0]), float(v[1]), float(v[2])), el.loc());
     } else if (tag == "spectrum") {
         props.set(name, category, spectrum_value(el, name, ctx), el.loc());

@@ -15,7 +15,7 @@ struct PropertyContext {
     bool within_emitter = false;  // the enclosing object is an <emitter> (affects spectra)
 };
 
-bool is_value_tag(std::string_view tag);  // integer ... transform
+bool is_value_tag(std::string_view tag);         // integer ... transform
 bool is_transform_op_tag(std::string_view tag);  // translate, rotate, scale, matrix, lookat
 
 // Parses one value element and adds it to `props`.

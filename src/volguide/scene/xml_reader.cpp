@@ -23,9 +23,9 @@ namespace {
 
 // XML tags that create plugin objects; the tag is the factory category.
 bool is_object_tag(std::string_view tag) {
-    static constexpr std::array<std::string_view, 12> tags = {"bsdf",   "texture", "emitter",    "shape",
-                                                              "sensor", "film",    "rfilter",    "sampler",
-                                                              "integrator", "medium", "phase",   "volume"};
+    static constexpr std::array<std::string_view, 12> tags = {"bsdf",       "texture", "emitter", "shape",
+                                                              "sensor",     "film",    "rfilter", "sampler",
+                                                              "integrator", "medium",  "phase",   "volume"};
     for (auto t : tags)
         if (t == tag) return true;
     return false;
@@ -36,14 +36,17 @@ std::string_view trim_front(std::string_view s) {
     return s;
 }
 
-bool reserved_name(const std::string& s) { return !s.empty() && s.front() == '_'; }
+bool reserved_name(const std::string& s) {
+    return !s.empty() && s.front() == '_';
+}
 
 // Mitsuba writes versions as "major.minor.patch"; volguide reads the 2.x and 3.x formats.
 void check_version(const XmlElement& el) {
     const std::string& v = el.require("version");
     auto parts = split_on(v, '.');
     bool ok = parts.size() == 3;
-    for (auto p : parts) ok = ok && parse_int64(p) && p.find_first_not_of("0123456789") == std::string_view::npos;
+    for (auto p : parts)
+        ok = ok && parse_int64(p) && p.find_first_not_of("0123456789") == std::string_view::npos;
     if (!ok) el.fail_here("could not parse version \"{}\" (expected major.minor.patch)", v);
     int64_t major = *parse_int64(parts[0]);
     if (major != 2 && major != 3)
@@ -51,13 +54,14 @@ void check_version(const XmlElement& el) {
 }
 
 class Reader {
-public:
+  public:
     Reader(const std::string& path, const LoadOptions& options)
         : params_(options.defines), resolver_(main_dir(path)), main_display_(path) {}
 
     SceneGraph run() {
         std::error_code ec;
-        if (!fs::is_regular_file(main_display_, ec)) fail(SourceLocation{main_display_, 0}, "scene file not found");
+        if (!fs::is_regular_file(main_display_, ec))
+            fail(SourceLocation{main_display_, 0}, "scene file not found");
         fs::path real = fs::absolute(main_display_).lexically_normal();
         const XmlFile& main = load(real, main_display_, SourceLocation{});
 
@@ -70,7 +74,7 @@ public:
         return std::move(graph_);
     }
 
-private:
+  private:
     static FileResolver::Dir main_dir(const std::string& path) {
         return {fs::absolute(path).lexically_normal().parent_path(), fs::path(path).parent_path().string()};
     }
@@ -84,7 +88,8 @@ private:
     const XmlFile& load(const fs::path& real, const std::string& display, const SourceLocation& site) {
         fs::path key = key_of(real);
         auto it = files_.find(key);
-        if (it == files_.end()) it = files_.emplace(key, std::make_unique<XmlFile>(real, display, site)).first;
+        if (it == files_.end())
+            it = files_.emplace(key, std::make_unique<XmlFile>(real, display, site)).first;
         return *it->second;
     }
 
@@ -105,7 +110,8 @@ private:
                     if (n != "name" && n != "value") fail(loc, "unexpected attribute '{}' in <default>", n);
                 }
                 if (!child.attribute("name")) fail(loc, "<default> is missing the required attribute 'name'");
-                if (!child.attribute("value")) fail(loc, "<default> is missing the required attribute 'value'");
+                if (!child.attribute("value"))
+                    fail(loc, "<default> is missing the required attribute 'value'");
                 params_.declare(child.attribute("name").value(), child.attribute("value").value(), loc);
             } else {
                 collect_defaults(f, child);
@@ -133,7 +139,8 @@ private:
                 for (size_t i = 0; i < include_stack_.size(); ++i)
                     if (include_stack_[i].first == key) {
                         std::string chain;
-                        for (size_t j = i; j < include_stack_.size(); ++j) chain += include_stack_[j].second + " -> ";
+                        for (size_t j = i; j < include_stack_.size(); ++j)
+                            chain += include_stack_[j].second + " -> ";
                         el.fail_here("cyclic include: {}{}", chain, target->display);
                     }
                 const XmlFile& inc = load(target->path, target->display, el.loc());
@@ -164,8 +171,8 @@ private:
                 // Report the line of the text itself, not of the whitespace before it.
                 std::string_view text = child.value();
                 std::ptrdiff_t skip = std::ptrdiff_t(text.size() - trim_front(text).size());
-                fail(f.location_at(child.offset_debug() + skip), "unexpected text \"{}\" inside <{}>", trim(text),
-                     xml.name());
+                fail(f.location_at(child.offset_debug() + skip), "unexpected text \"{}\" inside <{}>",
+                     trim(text), xml.name());
             }
             if (child.type() != pugi::node_element) continue;
             read_element(f, child, parent, in_scene, within_emitter);
@@ -208,7 +215,8 @@ private:
         }
     }
 
-    void read_include(const XmlFile& f, const XmlElement& el, int parent, bool in_scene, bool within_emitter) {
+    void read_include(const XmlFile& f, const XmlElement& el, int parent, bool in_scene,
+                      bool within_emitter) {
         const XmlFile& inc = *includes_.at({&f, el.node().offset_debug()});
         XmlElement root(inc, inc.root(), params_);
         if (root.tag() == "scene") {
@@ -219,7 +227,8 @@ private:
             check_version(root);  // every file's root carries a version, as in Mitsuba
             read_object(inc, root, std::string(root.tag()), parent, /*file_root=*/true);
         } else {
-            root.fail_here("an included file must have <scene> or an object as its root (got <{}>)", root.tag());
+            root.fail_here("an included file must have <scene> or an object as its root (got <{}>)",
+                           root.tag());
         }
     }
 

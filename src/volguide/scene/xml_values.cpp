@@ -7,7 +7,9 @@
 namespace volguide {
 
 namespace {
-bool is_space(char c) { return std::isspace(static_cast<unsigned char>(c)) != 0; }
+bool is_space(char c) {
+    return std::isspace(static_cast<unsigned char>(c)) != 0;
+}
 }  // namespace
 
 std::vector<std::string_view> tokenize_list(std::string_view text) {
