@@ -212,3 +212,23 @@ TEST(LoaderFiles, MitsubaMediaTestSceneStructure) {
     EXPECT_EQ(root.children("medium").size(), 1u);
     EXPECT_EQ(root.children("shape").size(), 5u);  // 1 from the base include + 4 here
 }
+
+TEST(LoaderFiles, AllMitsubaMediaTestScenesParse) {
+    fs::path dir = fs::path(shared_dir()) / "mitsuba-data/tests/scenes/participating_media";
+    if (!fs::exists(dir)) GTEST_SKIP() << "mitsuba-data not available";
+    int n = 0;
+    for (const auto& entry : fs::directory_iterator(dir)) {
+        if (entry.path().extension() != ".xml") continue;
+        SCOPED_TRACE(entry.path().string());
+        EXPECT_NO_THROW({
+            try {
+                load_fake(entry.path().string());
+            } catch (const InputError& e) {
+                ADD_FAILURE() << e.what();
+                throw;
+            }
+        });
+        ++n;
+    }
+    EXPECT_EQ(n, 12);
+}

@@ -167,3 +167,22 @@ TEST(LoaderProperties, SpectrumPluginIsATexture) {
     EXPECT_EQ(tex->tag, "texture");
     EXPECT_EQ(tex->props.type(), "d65");
 }
+
+TEST(LoaderProperties, DeclarationCommentsAndCrlfLineEndings) {
+    ScratchDir dir;
+    std::string path = dir.write("s.xml",
+                                 "<?xml version=\"1.0\" encoding=\"utf-8\"?>\r\n"
+                                 "<!-- a comment\r\n spanning lines -->\r\n"
+                                 "<scene version=\"2.1.0\">\r\n"
+                                 "  <!-- <bsdf type=\"commented-out\"/> -->\r\n"
+                                 "  <bsdf type=\"diffuse\">\r\n"
+                                 "    <float name=\"a\" value=\"1\"/>\r\n"
+                                 "  </bsdf>\r\n"
+                                 "</scene>\r\n");
+    Properties root = load_fake(path);
+    ASSERT_EQ(root.children("bsdf").size(), 1u);
+    EXPECT_EQ(root.location().line, 4);
+    Properties b = child(root, "bsdf")->props;
+    EXPECT_EQ(b.location().line, 6);
+    EXPECT_EQ(b.find("a")->loc.line, 7);
+}
