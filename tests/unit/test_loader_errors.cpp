@@ -148,3 +148,15 @@ TEST(LoaderErrors, ReferenceCycle) {
                                  "<texture type=\"b\" id=\"b\">\n  <ref id=\"a\"/>\n</texture>\n"));
     expect_input_error([&] { load_fake(path); }, path, 6, "cycle");
 }
+
+TEST(LoaderErrors, PluginExceptionsGetTheObjectsLocation) {
+    ScratchDir dir;
+    std::string path = dir.write("s.xml", scene("\n<shape type=\"obj\"/>\n"));
+    expect_input_error(
+        [&] {
+            load_scene_properties(path, {}, [](const std::string&, const Properties&) -> ObjectPtr {
+                throw std::runtime_error("mesh has no faces");
+            });
+        },
+        path, 3, "mesh has no faces");
+}

@@ -66,3 +66,13 @@ TEST(SceneParameters, UnknownOverrideIsAnError) {
         EXPECT_NE(e.message().find("typo"), std::string::npos);
     }
 }
+
+TEST(SceneParameters, DefaultsMayReferToOtherDefaults) {
+    SceneParameters p;
+    SourceLocation loc{"a.xml", 1};
+    p.declare("base", "meshes", loc);
+    p.declare("mesh", "$base/bunny.obj", loc);
+    p.declare("loop", "x$loop", loc);
+    EXPECT_EQ(p.substitute("$mesh", loc), "meshes/bunny.obj");
+    EXPECT_THROW(p.substitute("$loop", loc), InputError);
+}

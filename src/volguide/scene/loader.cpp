@@ -1,5 +1,6 @@
 #include "volguide/scene/loader.h"
 
+#include <exception>
 #include <vector>
 
 #include "volguide/scene/scene_graph.h"
@@ -49,7 +50,14 @@ class Instantiator {
         state_[size_t(index)] = kBusy;
         fill_children(index);
         SceneGraph::Node& node = graph_.nodes[size_t(index)];
-        ObjectPtr obj = factory_(node.tag, node.props);
+        ObjectPtr obj;
+        try {
+            obj = factory_(node.tag, node.props);
+        } catch (const InputError&) {
+            throw;
+        } catch (const std::exception& e) {  // give plugin failures a location too
+            node.props.fail_here("could not create {} '{}': {}", node.tag, node.props.type(), e.what());
+        }
         if (!obj) node.props.fail_here("{} '{}' could not be created", node.tag, node.props.type());
         node.props.check_all_used();
         objects_[size_t(index)] = obj;

@@ -20,7 +20,7 @@ void SceneParameters::check_overrides(const SourceLocation& scene) const {
             fail(scene, "-D {}={}: the scene declares no <default name=\"{}\">", name, value, name);
 }
 
-std::string SceneParameters::substitute(std::string_view text, const SourceLocation& loc) const {
+std::string SceneParameters::substitute(std::string_view text, const SourceLocation& loc, int depth) const {
     if (text.find('$') == std::string_view::npos) return std::string(text);
     std::string out;
     size_t i = 0;
@@ -55,7 +55,14 @@ std::string SceneParameters::substitute(std::string_view text, const SourceLocat
                 fail(loc, "stray '$' in \"{}\" (write \\$ for a literal dollar sign)", text);
             fail(loc, "undefined parameter ${} (no <default name=\"{}\"> and no -D)", candidate, candidate);
         }
-        out += *value;
+        // A default may itself refer to other parameters; a bounded depth catches self-reference.
+        if (value->find('$') != std::string::npos) {
+            if (depth >= 16)
+                fail(loc, "parameter ${} refers to itself (through its <default> values)", candidate);
+            out += substitute(*value, loc, depth + 1);
+        } else {
+            out += *value;
+        }
         i += 1 + used;
     }
     return out;

@@ -23,7 +23,8 @@ class SceneParameters {
 
     // Replaces each `$name` by its value; the longest declared name matching after the '$' wins.
     // `\$` stands for a literal '$'. Any other '$' is an error at `loc`.
-    std::string substitute(std::string_view text, const SourceLocation& loc) const;
+    // A value containing `$other` is expanded in turn.
+    std::string substitute(std::string_view text, const SourceLocation& loc, int depth = 0) const;
 
   private:
     std::map<std::string, std::string> overrides_;
