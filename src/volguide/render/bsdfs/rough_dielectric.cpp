@@ -61,10 +61,14 @@ public:
             if (ctx.mode == TransportMode::Radiance) weight *= sqr(fr.eta_ti);
             dwh_dwo = sqr(bs.eta) * dot(bs.wo, m) / sqr(dot(si.wi, m) + bs.eta * dot(bs.wo, m));
         }
-        if (distr.sample_visible())
+        if (distr.sample_visible()) {
             weight *= distr.smith_g1(bs.wo, m);
-        else
-            weight *= distr.G(si.wi, bs.wo, m) * dot(si.wi, m) / (cos_theta_i * m.z);
+        } else {
+            // eval / pdf with the widened sampling distribution: D / pdf_m does not cancel.
+            // (Mitsuba 3 omits this ratio, which biases its sample weights when
+            // sample_visible = false; here the weight stays equal to eval / pdf.)
+            weight *= distr.eval(m) * distr.G(si.wi, bs.wo, m) * dot(si.wi, m) / (cos_theta_i * pdf_m);
+        }
         bs.pdf *= std::abs(dwh_dwo);
         if (!(bs.pdf > 0.f) || !std::isfinite(bs.pdf)) return {BSDFSample{}, Color3(0.f)};
         return {bs, weight};
