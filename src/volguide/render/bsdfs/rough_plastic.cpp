@@ -3,7 +3,12 @@
 // tabulated over cos(theta) at construction by integrating the microfacet model numerically
 // (64 entries, as Mitsuba); internal reflections use the hemispherically averaged internal
 // reflectance of the rough interface.
+#include <tbb/parallel_for.h>
+
 #include <array>
+#include <map>
+#include <mutex>
+#include <tuple>
 
 #include "volguide/core/warp.h"
 #include "volguide/render/bsdf.h"
@@ -95,8 +100,6 @@ public:
 
     std::string to_string() const override { return "RoughPlastic[]"; }
 
-    float internal_reflectance() const { return internal_reflectance_; }
-
 private:
     MicrofacetDistribution distribution() const { return MicrofacetDistribution(type_, alpha_, alpha_, sample_visible_); }
 
@@ -113,18 +116,47 @@ private:
         return ps / (ps + pd);
     }
 
+    struct Tables {
+        std::array<float, kTransmittanceRes> external_transmittance{};
+        float internal_reflectance = 0.f;
+    };
+
+    // The integration takes a few hundred milliseconds for Beckmann; identical (type, alpha, eta)
+    // share one result, and the 64 entries are computed in parallel.
     void precompute() {
+        static std::mutex mutex;
+        static std::map<std::tuple<int, float, float>, std::shared_ptr<const Tables>> cache;
+        const auto key = std::make_tuple(int(type_), alpha_, eta_);
+        std::shared_ptr<const Tables> tables;
+        {
+            std::lock_guard<std::mutex> lock(mutex);
+            if (auto it = cache.find(key); it != cache.end()) tables = it->second;
+        }
+        if (!tables) {
+            tables = compute_tables(type_, alpha_, eta_);
+            std::lock_guard<std::mutex> lock(mutex);
+            cache.emplace(key, tables);
+        }
+        external_transmittance_ = tables->external_transmittance;
+        internal_reflectance_ = tables->internal_reflectance;
+    }
+
+    static std::shared_ptr<const Tables> compute_tables(MicrofacetType type, float alpha, float eta) {
         // Mitsuba integrates with visible-normal sampling regardless of `sample_visible`.
-        const MicrofacetDistribution distr(type_, alpha_, alpha_, true);
-        double internal = 0.0;
-        for (int i = 0; i < kTransmittanceRes; ++i) {
+        const MicrofacetDistribution distr(type, alpha, alpha, true);
+        auto tables = std::make_shared<Tables>();
+        std::array<double, kTransmittanceRes> internal{};
+        tbb::parallel_for(0, kTransmittanceRes, [&](int i) {
             const float mu = std::max(1e-6f, float(i) / float(kTransmittanceRes - 1));
             const Vec3f wi(std::sqrt(1.f - mu * mu), 0.f, mu);
-            external_transmittance_[i] = rough_transmittance(distr, wi, eta_);
-            internal += double(rough_reflectance(distr, wi, 1.f / eta_)) * mu;
-        }
-        // Cosine-weighted hemispherical average (the mean over the uniform mu grid, times 2).
-        internal_reflectance_ = float(internal / kTransmittanceRes * 2.0);
+            tables->external_transmittance[i] = rough_transmittance(distr, wi, eta);
+            internal[i] = double(rough_reflectance(distr, wi, 1.f / eta)) * mu;
+        });
+        // Cosine-weighted hemispherical average: Mitsuba's mean over the uniform mu grid, times 2.
+        double sum = 0.0;
+        for (double v : internal) sum += v;
+        tables->internal_reflectance = float(sum / kTransmittanceRes * 2.0);
+        return tables;
     }
 
     float eta_, inv_eta_2_, alpha_, specular_sampling_weight_, internal_reflectance_ = 0.f;
