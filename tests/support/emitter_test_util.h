@@ -46,3 +46,40 @@ inline SurfaceInteraction escaped_ray(const Vec3f& d) {
 }
 
 }  // namespace volguide::test
+
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+
+#include "volguide/core/image.h"
+#include "volguide/render/image_io.h"
+
+namespace volguide::test {
+
+inline std::filesystem::path emitter_scratch_dir() {
+    return std::filesystem::temp_directory_path() / ("volguide_emitter_" + std::to_string(::getpid()));
+}
+
+// Writes `image` as an EXR into a per-process scratch folder (removed at exit) and returns its path.
+inline std::string write_temp_exr(const std::string& name, const Image& image) {
+    const auto dir = emitter_scratch_dir();
+    if (!std::filesystem::exists(dir)) {
+        std::filesystem::create_directories(dir);
+        std::atexit([] {
+            std::error_code ec;
+            std::filesystem::remove_all(emitter_scratch_dir(), ec);
+        });
+    }
+    const std::string path = (dir / name).string();
+    write_exr(path, image);
+    return path;
+}
+
+// Direction of Mitsuba's latitude-longitude parameterisation (emitter frame).
+inline Vec3f envmap_direction(float u, float v) {
+    const float theta = v * Pi, phi = u * 2.f * Pi;
+    return {std::sin(phi) * std::sin(theta), std::cos(theta), -std::cos(phi) * std::sin(theta)};
+}
+
+}  // namespace volguide::test

@@ -96,6 +96,7 @@ class EnvironmentMapEmitter final : public Emitter {
     }
 
     float pdf_direction(const Interaction&, const DirectionSample& ds) const override {
+        if (!warp_.valid()) return 0.f;
         const Vec3f d = normalize(to_local_.apply_vector(ds.d));
         Point2f uv = direction_to_uv(d);
         uv.x -= half_texel_;
