@@ -52,6 +52,7 @@ class EnvironmentMapEmitter final : public Emitter {
         const Transform to_world = props.get_transform("to_world");
         to_world_ = to_world;
         to_local_ = to_world.inverse();
+        rotated_ = !to_world.is_identity();
         const bool mis_compensation = props.get_bool("mis_compensation", false);
 
         // Grid with the first column repeated at the end (periodic in u).
@@ -70,7 +71,7 @@ class EnvironmentMapEmitter final : public Emitter {
     void set_scene_bounds(const BBox3f& bounds) override { sphere_.set(bounds); }
 
     Color3 eval(const SurfaceInteraction& si) const override {
-        return lookup(direction_to_uv(normalize(to_local_.apply_vector(-si.wi))));
+        return lookup(direction_to_uv(to_local(-si.wi)));
     }
 
     std::pair<DirectionSample, Color3> sample_direction(const Interaction& ref, Point2f u) const override {
@@ -87,7 +88,7 @@ class EnvironmentMapEmitter final : public Emitter {
         const Vec3f local{std::sin(phi) * sin_theta, cos_theta, -std::cos(phi) * sin_theta};
         const float inv_sin_theta = 1.f / std::max(sin_theta, FloatEpsilon);
 
-        ds.d = normalize(to_world_.apply_vector(local));
+        ds.d = rotated_ ? normalize(to_world_.apply_vector(local)) : local;
         ds.p = ref.p + ds.d * sphere_.sample_distance(ref.p);
         ds.n = -ds.d;
         ds.uv = uv;
@@ -97,7 +98,7 @@ class EnvironmentMapEmitter final : public Emitter {
 
     float pdf_direction(const Interaction&, const DirectionSample& ds) const override {
         if (!warp_.valid()) return 0.f;
-        const Vec3f d = normalize(to_local_.apply_vector(ds.d));
+        const Vec3f d = to_local(ds.d);
         Point2f uv = direction_to_uv(d);
         uv.x -= half_texel_;
         uv.x -= std::floor(uv.x);
@@ -112,6 +113,10 @@ class EnvironmentMapEmitter final : public Emitter {
     }
 
   private:
+    Vec3f to_local(const Vec3f& world) const {
+        return rotated_ ? normalize(to_local_.apply_vector(world)) : normalize(world);
+    }
+
     static Point2f direction_to_uv(const Vec3f& d) {
         return {std::atan2(d.x, -d.z) * InvTwoPi, safe_acos(d.y) * InvPi};
     }
@@ -166,6 +171,7 @@ class EnvironmentMapEmitter final : public Emitter {
     float scale_ = 1.f;
     float half_texel_ = 0.f;
     Transform to_world_, to_local_;
+    bool rotated_ = false;
     BilinearWarp2D warp_;
     InfiniteEmitterSphere sphere_;
 };
