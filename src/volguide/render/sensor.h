@@ -1,6 +1,7 @@
 #pragma once
 // Film, reconstruction filters and cameras (Mitsuba 3's hdrfilm, box/gaussian/tent, perspective,
 // orthographic).
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <utility>
@@ -24,15 +25,19 @@ protected:
 
 class Film : public Object {
 public:
-    Film(int width, int height, std::shared_ptr<ReconstructionFilter> filter)
-        : width_(width), height_(height), filter_(std::move(filter)) {}
+    Film(int width, int height, std::shared_ptr<ReconstructionFilter> filter, bool sample_border = false)
+        : width_(width), height_(height), filter_(std::move(filter)), sample_border_(sample_border) {}
     int width() const { return width_; }
     int height() const { return height_; }
     const ReconstructionFilter& filter() const { return *filter_; }
+    // Mitsuba's hdrfilm `sample_border`: also sample positions up to the filter's border outside
+    // the image, so edge pixels receive as many filtered samples as interior ones.
+    bool sample_border() const { return sample_border_; }
 
 private:
     int width_, height_;
     std::shared_ptr<ReconstructionFilter> filter_;
+    bool sample_border_ = false;
 };
 
 class Sensor : public Object {
@@ -42,11 +47,14 @@ public:
     virtual std::pair<Ray, Color3> sample_ray(Point2f film_uv, Point2f aperture) const = 0;
     const Film& film() const { return *film_; }
     int sample_count() const { return sample_count_; }
+    // The sampler's `seed` (default 0); the CLI's --seed overrides it.
+    uint64_t seed() const { return seed_; }
     const Transform& to_world() const { return to_world_; }
 
 protected:
     std::shared_ptr<Film> film_;
     int sample_count_ = 4;  // Mitsuba's independent sampler default
+    uint64_t seed_ = 0;
     Transform to_world_;
 };
 

@@ -1,0 +1,27 @@
+#pragma once
+// Mitsuba's `moment` integrator: renders with one nested integrator and also reports the
+// per-sample variance (the render loop accumulates the second moment; the CLI writes
+// <output stem>_var.exr).
+#include <memory>
+
+#include "volguide/core/properties.h"
+#include "volguide/integrators/integrator.h"
+
+namespace volguide {
+
+class MomentIntegrator final : public Integrator {
+public:
+    explicit MomentIntegrator(const Properties& props);
+    Color3 Li(const Scene& scene, Sampler& sampler, const Ray& ray) const override {
+        return nested_->Li(scene, sampler, ray);
+    }
+    bool writes_variance() const override { return true; }
+    void preprocess(const Scene& scene) override { nested_->preprocess(scene); }
+    const Integrator& nested() const { return *nested_; }
+    std::string to_string() const override { return "moment[" + nested_->to_string() + "]"; }
+
+private:
+    std::shared_ptr<Integrator> nested_;
+};
+
+}  // namespace volguide

@@ -1,0 +1,190 @@
+// Image reading/writing: EXR via OpenEXR 3, PNG/JPEG via stb_image (the implementation of
+// stb_image and stb_image_write is compiled into Debian's libstb, so it is not instantiated here).
+#include "volguide/render/image_io.h"
+
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfInputFile.h>
+#include <ImfOutputFile.h>
+#include <stb/stb_image.h>
+#include <stb/stb_image_write.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+
+#include "volguide/core/error.h"
+
+namespace volguide {
+namespace {
+
+[[noreturn]] void fail_file(const std::string& path, const std::string& what) {
+    throw InputError(SourceLocation{path, 0}, what);
+}
+
+// Exact sRGB transfer curves (IEC 61966-2-1).
+float srgb_to_linear(float c) {
+    return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+}
+float linear_to_srgb(float c) {
+    return c <= 0.0031308f ? c * 12.92f : 1.055f * std::pow(c, 1.f / 2.4f) - 0.055f;
+}
+
+bool has_exr_magic(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    unsigned char magic[4] = {};
+    in.read(reinterpret_cast<char*>(magic), 4);
+    return in.gcount() == 4 && magic[0] == 0x76 && magic[1] == 0x2f && magic[2] == 0x31 && magic[3] == 0x01;
+}
+
+Image read_exr(const std::string& path) {
+    try {
+        Imf::InputFile file(path.c_str());
+        const Imf::Header& header = file.header();
+        const Imath::Box2i dw = header.dataWindow();
+        const int w = dw.max.x - dw.min.x + 1, h = dw.max.y - dw.min.y + 1;
+        const Imf::ChannelList& channels = header.channels();
+        const bool rgb = channels.findChannel("R") && channels.findChannel("G") && channels.findChannel("B");
+        const bool gray = !rgb && channels.findChannel("Y");
+        if (!rgb && !gray) fail_file(path, "EXR image has neither R, G, B nor Y channels");
+
+        Image image(w, h);
+        // Slices are read as float whatever the stored type (OpenEXR converts half).
+        Imf::FrameBuffer fb;
+        char* base = reinterpret_cast<char*>(image.pixels.data());
+        const size_t xs = sizeof(Color3), ys = sizeof(Color3) * size_t(w);
+        auto slice = [&](const char* name, int offset) {
+            fb.insert(name, Imf::Slice::Make(Imf::FLOAT, base + offset, dw, xs, ys));
+        };
+        if (rgb) {
+            slice("R", offsetof(Color3, r));
+            slice("G", offsetof(Color3, g));
+            slice("B", offsetof(Color3, b));
+        } else {
+            slice("Y", offsetof(Color3, r));
+        }
+        file.setFrameBuffer(fb);
+        file.readPixels(dw.min.y, dw.max.y);
+        if (gray)
+            for (Color3& c : image.pixels) c = Color3(c.r);
+        return image;
+    } catch (const InputError&) {
+        throw;
+    } catch (const std::exception& e) {
+        fail_file(path, std::string("cannot read EXR image: ") + e.what());
+    }
+}
+
+Image read_ldr(const std::string& path, bool raw) {
+    int w = 0, h = 0, n = 0;
+    // 16-bit PNGs keep their precision; everything else is 8 bit.
+    const bool sixteen = stbi_is_16_bit(path.c_str());
+    void* data = sixteen ? static_cast<void*>(stbi_load_16(path.c_str(), &w, &h, &n, 3))
+                         : static_cast<void*>(stbi_load(path.c_str(), &w, &h, &n, 3));
+    if (!data) fail_file(path, std::string("cannot read image: ") + stbi_failure_reason());
+    Image image(w, h);
+    const size_t count = size_t(w) * h * 3;
+    auto convert = [&](float v) { return raw ? v : srgb_to_linear(v); };
+    float* out = &image.pixels[0].r;
+    if (sixteen) {
+        const auto* in = static_cast<const uint16_t*>(data);
+        for (size_t i = 0; i < count; ++i) out[i] = convert(in[i] / 65535.f);
+    } else {
+        std::array<float, 256> table;
+        for (int i = 0; i < 256; ++i) table[i] = convert(i / 255.f);
+        const auto* in = static_cast<const unsigned char*>(data);
+        for (size_t i = 0; i < count; ++i) out[i] = table[in[i]];
+    }
+    stbi_image_free(data);
+    return image;
+}
+
+// Writes through `<path>.tmp-<pid>` and renames, so readers never see a partial file.
+template <typename WriteFn>
+void write_atomically(const std::string& path, WriteFn&& write) {
+    const std::string tmp = path + ".tmp-" + std::to_string(::getpid());
+    std::string error;
+    try {
+        write(tmp);
+    } catch (const std::exception& e) {
+        error = e.what();
+    }
+    if (error.empty() && std::rename(tmp.c_str(), path.c_str()) != 0)
+        error = std::string("rename failed: ") + std::strerror(errno);
+    if (!error.empty()) {
+        std::remove(tmp.c_str());
+        fail_file(path, "cannot write image: " + error);
+    }
+}
+
+void check_image(const std::string& path, const Image& image) {
+    if (image.width <= 0 || image.height <= 0 || image.pixels.size() != size_t(image.width) * image.height)
+        fail_file(path, "cannot write an empty or inconsistent image");
+}
+
+std::string lower_extension(const std::string& path) {
+    const size_t dot = path.find_last_of('.');
+    const size_t slash = path.find_last_of('/');
+    if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return {};
+    std::string ext = path.substr(dot);
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+    return ext;
+}
+
+}  // namespace
+
+Image read_image(const std::string& path, bool raw) {
+    if (!std::ifstream(path, std::ios::binary)) fail_file(path, "cannot open image file");
+    return has_exr_magic(path) ? read_exr(path) : read_ldr(path, raw);
+}
+
+void write_exr(const std::string& path, const Image& image) {
+    check_image(path, image);
+    write_atomically(path, [&](const std::string& tmp) {
+        Imf::Header header(image.width, image.height);
+        header.channels().insert("R", Imf::Channel(Imf::FLOAT));
+        header.channels().insert("G", Imf::Channel(Imf::FLOAT));
+        header.channels().insert("B", Imf::Channel(Imf::FLOAT));
+        Imf::OutputFile file(tmp.c_str(), header);
+        char* base = const_cast<char*>(reinterpret_cast<const char*>(image.pixels.data()));
+        const size_t xs = sizeof(Color3), ys = sizeof(Color3) * size_t(image.width);
+        Imf::FrameBuffer fb;
+        fb.insert("R", Imf::Slice(Imf::FLOAT, base + offsetof(Color3, r), xs, ys));
+        fb.insert("G", Imf::Slice(Imf::FLOAT, base + offsetof(Color3, g), xs, ys));
+        fb.insert("B", Imf::Slice(Imf::FLOAT, base + offsetof(Color3, b), xs, ys));
+        file.setFrameBuffer(fb);
+        file.writePixels(image.height);
+    });
+}
+
+void write_png(const std::string& path, const Image& image) {
+    check_image(path, image);
+    std::vector<unsigned char> bytes(image.pixels.size() * 3);
+    for (size_t i = 0; i < image.pixels.size(); ++i)
+        for (int c = 0; c < 3; ++c) {
+            float v = image.pixels[i][c];
+            v = std::isnan(v) ? 0.f : std::clamp(v, 0.f, 1.f);
+            bytes[3 * i + c] = static_cast<unsigned char>(std::lround(linear_to_srgb(v) * 255.f));
+        }
+    write_atomically(path, [&](const std::string& tmp) {
+        if (!stbi_write_png(tmp.c_str(), image.width, image.height, 3, bytes.data(), image.width * 3))
+            throw std::runtime_error("PNG encoder failed");
+    });
+}
+
+void write_image(const std::string& path, const Image& image) {
+    const std::string ext = lower_extension(path);
+    if (ext == ".exr")
+        write_exr(path, image);
+    else if (ext == ".png")
+        write_png(path, image);
+    else
+        fail_file(path, "unsupported output image format '" + ext + "' (use .exr or .png)");
+}
+
+}  // namespace volguide

@@ -1,0 +1,95 @@
+#include "volguide/render/scene.h"
+
+#include <algorithm>
+
+#include "volguide/integrators/integrator.h"
+#include "volguide/integrators/path.h"
+#include "volguide/render/bsdf.h"
+#include "volguide/scene/factories.h"
+
+namespace volguide {
+
+namespace {
+
+template <typename T>
+std::shared_ptr<T> child_as(const Properties::Entry* e, const char* what) {
+    auto obj = std::dynamic_pointer_cast<T>(std::get<ObjectPtr>(e->value));
+    if (!obj) fail(e->loc, "<{}> is not a {}", e->category, what);
+    return obj;
+}
+
+}  // namespace
+
+Scene::Scene(const Properties& root) {
+    std::shared_ptr<BSDF> default_bsdf;
+    for (const auto* e : root.children("shape")) {
+        auto shape = child_as<Shape>(e, "shape");
+        if (!shape->bsdf()) {
+            // Mitsuba's default material: diffuse with reflectance 0.5, shared by all such shapes.
+            if (!default_bsdf)
+                default_bsdf = std::dynamic_pointer_cast<BSDF>(create_bsdf(Properties("bsdf", "diffuse", e->loc)));
+            shape->set_bsdf(default_bsdf);
+        }
+        shapes_.push_back(shape);
+        bbox_.expand(shape->bbox());
+        if (shape->emitter_ptr()) emitters_.push_back(shape->emitter_ptr());
+    }
+    for (const auto* e : root.children("emitter")) {
+        auto emitter = child_as<Emitter>(e, "emitter");
+        if ((emitter->flags() & emitter_flags::Surface) != 0)
+            fail(e->loc, "an area emitter must be nested inside a <shape>");
+        if (emitter->is_infinite() && !emitter->is_delta()) {
+            if (environment_) fail(e->loc, "only one environment emitter (envmap or constant) is supported");
+            environment_ = emitter.get();
+        }
+        emitters_.push_back(emitter);
+    }
+    auto sensors = root.children("sensor");
+    if (sensors.empty()) root.fail_here("the scene has no <sensor>");
+    if (sensors.size() > 1) fail(sensors[1]->loc, "only one <sensor> per scene is supported");
+    sensor_ = child_as<Sensor>(sensors[0], "sensor");
+
+    auto integrators = root.children("integrator");
+    if (integrators.size() > 1) fail(integrators[1]->loc, "only one top-level <integrator> is supported");
+    if (integrators.empty())
+        integrator_ = std::make_shared<PathIntegrator>(PathSettings{});  // Mitsuba's default
+    else
+        integrator_ = child_as<Integrator>(integrators[0], "integrator");
+
+    std::vector<const Shape*> raw;
+    raw.reserve(shapes_.size());
+    for (const auto& s : shapes_) raw.push_back(s.get());
+    accel_ = std::make_unique<Accel>(raw);
+    for (const auto& e : emitters_) e->set_scene_bounds(bbox_);
+}
+
+Scene::~Scene() = default;
+
+std::pair<DirectionSample, Color3> Scene::sample_emitter_direction(const Interaction& ref, Point2f u,
+                                                                   bool test_visibility) const {
+    if (emitters_.empty()) return {DirectionSample{}, Color3(0.f)};
+    // Uniform emitter choice (as Mitsuba 3); the sample's x is rescaled for reuse.
+    const size_t n = emitters_.size();
+    float scaled = u.x * float(n);
+    size_t index = std::min(size_t(scaled), n - 1);
+    u.x = std::min(scaled - float(index), OneMinusEpsilon);
+    const Emitter& emitter = *emitters_[index];
+
+    auto [ds, weight] = emitter.sample_direction(ref, u);
+    if (!(ds.pdf > 0.f)) return {ds, Color3(0.f)};
+    ds.emitter = &emitter;
+    ds.pdf /= float(n);
+    weight *= float(n);
+    if (test_visibility && !weight.is_black()) {
+        Ray shadow = std::isinf(ds.dist) ? ref.spawn_ray(ds.d) : ref.spawn_ray_to(ds.p);
+        if (occluded(shadow)) weight = Color3(0.f);
+    }
+    return {ds, weight};
+}
+
+float Scene::pdf_emitter_direction(const Interaction& ref, const DirectionSample& ds) const {
+    if (!ds.emitter || emitters_.empty()) return 0.f;
+    return ds.emitter->pdf_direction(ref, ds) / float(emitters_.size());
+}
+
+}  // namespace volguide

@@ -1,0 +1,31 @@
+#pragma once
+// Per-pixel z-test of a rendered mean against a reference mean and per-sample variance, as
+// Mitsuba 3's own render tests do it (docs oracles.md §7).
+#include <string>
+
+#include "volguide/core/image.h"
+
+namespace volguide::test {
+
+struct ZTestResult {
+    double pass_fraction = 0.0;  // of pixel-channels
+    long failed = 0, total = 0;
+    double significance = 0.0;   // Šidák-corrected per-pixel level
+    bool passed = false;
+    std::string summary() const;
+};
+
+// z = |mean - ref| * sqrt(spp / var_ref), var_ref clamped >= min_variance; p = 2(1 - Phi(z)); a
+// pixel-channel passes when p >= 1 - (1 - alpha)^(1/#pixels); the image passes when at least
+// `required_fraction` of pixel-channels pass. `error_mask` (optional) gets 1 where a channel failed.
+ZTestResult pixel_ztest(const Image& mean, double spp, const Image& ref, const Image& ref_var, double alpha = 0.01,
+                        double required_fraction = 0.9975, double min_variance = 1e-4, Image* error_mask = nullptr);
+
+// Mean and standard error of the mean of an image rendered with `spp` samples per pixel, given its
+// per-sample variance image: Var(mean) = sum(var) / (spp * n^2) over n pixel-channels.
+struct ImageMean {
+    double mean = 0.0, stderr_ = 0.0;
+};
+ImageMean image_mean(const Image& mean, const Image& var, double spp);
+
+}  // namespace volguide::test
