@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <cmath>
 #include <thread>
 
 #include "test_shape_util.h"
@@ -121,4 +122,107 @@ TEST(Accel, ThreadsAgree) {
         });
     for (auto& t : threads) t.join();
     EXPECT_EQ(mismatches.load(), 0);
+}
+
+namespace {
+
+// Double-precision Möller-Trumbore, for the brute-force reference.
+bool ray_triangle(const Ray& r, const Point3f& a, const Point3f& b, const Point3f& c, double& t) {
+    Vec3d o(r.o), d(r.d), p0(a), e1 = Vec3d(b) - p0, e2 = Vec3d(c) - p0;
+    Vec3d pv = cross(d, e2);
+    double det = dot(e1, pv);
+    if (std::abs(det) < 1e-300) return false;
+    Vec3d tv = o - p0;
+    double u = dot(tv, pv) / det;
+    if (u < 0 || u > 1) return false;
+    Vec3d qv = cross(tv, e1);
+    double v = dot(d, qv) / det;
+    if (v < 0 || u + v > 1) return false;
+    t = dot(e2, qv) / det;
+    return t > 0 && t < r.tmax;
+}
+
+// A triangle shape whose buffers have no spare capacity, to exercise the accel's padded copy.
+struct TightMeshShape : Shape {
+    TriangleMesh mesh;
+    BBox3f bbox() const override {
+        BBox3f b;
+        for (auto& p : mesh.positions) b.expand(p);
+        return b;
+    }
+    float surface_area() const override { return 0.f; }
+    const TriangleMesh* triangle_mesh() const override { return &mesh; }
+    SurfaceInteraction compute_surface_interaction(const Ray& ray, float t, uint32_t prim, Vec2f) const override {
+        SurfaceInteraction si;
+        si.t = t;
+        si.p = ray(t);
+        si.prim_index = prim;
+        si.shape = this;
+        return si;
+    }
+    PositionSample sample_position(Point2f) const override { return {}; }
+};
+
+TriangleMesh bumpy_grid(int n) {
+    TriangleMesh m;
+    for (int i = 0; i <= n; ++i)
+        for (int j = 0; j <= n; ++j) {
+            float x = 2.f * i / n - 1.f, y = 2.f * j / n - 1.f;
+            m.positions.emplace_back(x, y, 0.2f * std::sin(5.f * x) * std::cos(4.f * y));
+        }
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+            uint32_t a = uint32_t(i * (n + 1) + j), b = a + 1, c = a + uint32_t(n + 1), d = c + 1;
+            m.indices.insert(m.indices.end(), {a, c, b, b, c, d});
+        }
+    return m;
+}
+
+}  // namespace
+
+TEST(Accel, MatchesBruteForce) {
+    TightMeshShape tight;
+    tight.mesh = bumpy_grid(40);
+    tight.mesh.positions.shrink_to_fit();
+    tight.mesh.indices.shrink_to_fit();
+    auto sphere = make_shape(ShapeProps("sphere").p("center", {0.3f, 0.2f, 0.1f}).f("radius", 0.25));
+    Accel accel({&tight, sphere.get()});
+    int checked = 0, hits = 0;
+    for (int i = 0; i < 3000; ++i) {
+        float a = 0.37f * i, b = 0.11f * i;
+        Point3f o(1.5f * std::cos(a), 1.5f * std::sin(a), 1.0f + 0.5f * std::sin(b));
+        Point3f target(0.9f * std::sin(1.3f * i), 0.9f * std::cos(0.7f * i), 0.f);
+        Ray ray(o, normalize(target - o), (i % 3 == 0) ? 1.5f : Infinity);
+        double best = Infinity;
+        uint32_t best_prim = 0;
+        const Shape* best_shape = nullptr;
+        for (size_t f = 0; f < tight.mesh.triangle_count(); ++f) {
+            double t;
+            const uint32_t* idx = &tight.mesh.indices[3 * f];
+            if (ray_triangle(ray, tight.mesh.positions[idx[0]], tight.mesh.positions[idx[1]],
+                             tight.mesh.positions[idx[2]], t) && t < best) {
+                best = t;
+                best_prim = uint32_t(f);
+                best_shape = &tight;
+            }
+        }
+        float ts;
+        Vec2f uv;
+        if (sphere->intersect(ray, ts, uv) && ts < best) {
+            best = ts;
+            best_shape = sphere.get();
+        }
+        SurfaceInteraction si;
+        bool hit = accel.intersect(ray, si);
+        ASSERT_EQ(hit, best_shape != nullptr) << "ray " << i;
+        EXPECT_EQ(accel.occluded(ray), hit) << "ray " << i;
+        if (!hit) continue;
+        ++hits;
+        EXPECT_EQ(si.shape, best_shape) << "ray " << i;
+        EXPECT_NEAR(si.t, best, 1e-4 * (1.0 + best)) << "ray " << i;
+        if (best_shape == &tight) EXPECT_EQ(si.prim_index, best_prim) << "ray " << i;
+        ++checked;
+    }
+    EXPECT_GT(hits, 1000);
+    EXPECT_EQ(checked, hits);
 }

@@ -3,8 +3,7 @@
 #include <tiny_obj_loader.h>
 
 #include <filesystem>
-#include <map>
-#include <tuple>
+#include <unordered_map>
 
 #include "volguide/geometry/shapes/mesh_files.h"
 
@@ -26,10 +25,23 @@ TriangleMesh read_obj(const std::string& path, bool flip_tex_coords, const Sourc
 
     TriangleMesh mesh;
     const bool has_normals = nn > 0, has_uvs = nt > 0;
-    using Key = std::tuple<int, int, int>;  // (position, texcoord, normal); -1 = absent
-    std::map<Key, uint32_t> vertex_of;
+    // One vertex per distinct (position, texcoord, normal) index triple; -1 = absent.
+    struct Triple {
+        int v, t, n;
+        bool operator==(const Triple&) const = default;
+    };
+    struct TripleHash {
+        size_t operator()(const Triple& k) const {
+            uint64_t h = uint64_t(uint32_t(k.v)) * 0x9E3779B97F4A7C15ULL;
+            h ^= (uint64_t(uint32_t(k.t)) + 0x632BE59BD9B4E019ULL + (h << 6) + (h >> 2));
+            h ^= (uint64_t(uint32_t(k.n)) + 0x94D049BB133111EBULL + (h << 6) + (h >> 2));
+            return size_t(h);
+        }
+    };
+    std::unordered_map<Triple, uint32_t, TripleHash> vertex_of;
+    vertex_of.reserve(nv);
     auto vertex_id = [&](const tinyobj::index_t& idx) -> uint32_t {
-        Key key{idx.vertex_index, idx.texcoord_index, idx.normal_index};
+        Triple key{idx.vertex_index, idx.texcoord_index, idx.normal_index};
         auto [it, inserted] = vertex_of.try_emplace(key, uint32_t(mesh.positions.size()));
         if (!inserted) return it->second;
         if (idx.vertex_index < 0 || size_t(idx.vertex_index) >= nv)
