@@ -39,7 +39,8 @@ struct BenchScene {
     std::vector<Ray> rays;
     BenchScene() {
         Properties props("shape", "generated", {"bench", 0});
-        mesh = std::make_shared<MeshShape>(props, bumpy_sphere(158, 316), MeshOptions{}, "bumpy_sphere", false);
+        mesh =
+            std::make_shared<MeshShape>(props, bumpy_sphere(158, 316), MeshOptions{}, "bumpy_sphere", false);
         Properties sp("shape", "sphere", {"bench", 0});
         sp.set("center", "point", Vec3f(2.f, 0.f, 0.f), {"bench", 0});
         sp.set("radius", "float", 0.5, {"bench", 0});

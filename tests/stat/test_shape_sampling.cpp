@@ -65,17 +65,27 @@ std::vector<Case> cases() {
     out.push_back({"sphere_inside", sphere, {0.4f, 0.1f, 0.1f}, false});
     auto flipped = make_shape(ShapeProps("sphere").b("flip_normals", true).f("radius", 2));
     out.push_back({"sphere_flipped_inside", flipped, {0.5f, -0.3f, 0.9f}, false});
-    out.push_back({"rectangle", make_shape(ShapeProps("rectangle").t("to_world", Transform::rotate({1, 1, 0}, 30.f))),
-                   {0.3f, 0.2f, 1.2f}, true});
-    out.push_back({"disk", make_shape(ShapeProps("disk").t("to_world", Transform::scale({1.5f, 0.5f, 1}))),
-                   {0.1f, 0.8f, -0.6f}, true});
-    out.push_back({"cube", make_shape(ShapeProps("cube").t("to_world", Transform::rotate({0, 0, 1}, 20.f))),
-                   {2.5f, 0.5f, 1.5f}, true});
+    out.push_back({"rectangle",
+                   make_shape(ShapeProps("rectangle").t("to_world", Transform::rotate({1, 1, 0}, 30.f))),
+                   {0.3f, 0.2f, 1.2f},
+                   true});
+    out.push_back({"disk",
+                   make_shape(ShapeProps("disk").t("to_world", Transform::scale({1.5f, 0.5f, 1}))),
+                   {0.1f, 0.8f, -0.6f},
+                   true});
+    out.push_back({"cube",
+                   make_shape(ShapeProps("cube").t("to_world", Transform::rotate({0, 0, 1}, 20.f))),
+                   {2.5f, 0.5f, 1.5f},
+                   true});
     out.push_back({"cube_inside", make_shape(ShapeProps("cube")), {0.2f, -0.5f, 0.3f}, true});
     namespace fs = std::filesystem;
-    fs::path torus = fs::path(shared_dir()) / "mitsuba-data/tests/scenes/participating_media/meshes/torus1.obj";
+    fs::path torus =
+        fs::path(shared_dir()) / "mitsuba-data/tests/scenes/participating_media/meshes/torus1.obj";
     if (fs::exists(torus))
-        out.push_back({"torus_obj", make_shape(ShapeProps("obj").s("filename", torus.string())), {2.f, 1.5f, 1.f}, true});
+        out.push_back({"torus_obj",
+                       make_shape(ShapeProps("obj").s("filename", torus.string())),
+                       {2.f, 1.5f, 1.f},
+                       true});
     return out;
 }
 
@@ -130,7 +140,8 @@ TEST(ShapeSampling, SamplePdfMatchesPdfDirection) {
 TEST(ShapeSampling, SphereConeChi2) {
     auto sphere = test_sphere();
     const Point3f center(0.2f, -0.1f, 0.3f);
-    const Point3f refs[] = {{1.5f, 1.0f, 0.8f}, {0.915f, -0.1f, 0.3f}, {40.f, 30.f, -20.f}};  // far, grazing, tiny cone
+    const Point3f refs[] = {
+        {1.5f, 1.0f, 0.8f}, {0.915f, -0.1f, 0.3f}, {40.f, 30.f, -20.f}};  // far, grazing, tiny cone
     for (const Point3f& rp : refs) {
         SCOPED_TRACE(::testing::Message() << "ref " << rp);
         Interaction ref;
@@ -169,7 +180,8 @@ TEST(ShapeSampling, SphereConeChi2) {
 TEST(ShapeSampling, SphereInsideChi2) {
     std::vector<Case> inside;
     for (const Case& c : cases())
-        if (c.name.find("inside") != std::string::npos && c.name.find("sphere") != std::string::npos) inside.push_back(c);
+        if (c.name.find("inside") != std::string::npos && c.name.find("sphere") != std::string::npos)
+            inside.push_back(c);
     ASSERT_EQ(inside.size(), 2u);
     for (const Case& c : inside) {
         SCOPED_TRACE(c.name);
@@ -199,9 +211,11 @@ TEST(ShapeSampling, RectanglePositionChi2) {
     auto sample = [&](Sampler& s) {
         PositionSample ps = rect->sample_position(s.next_2d());
         Point3f local(ps.p.x / 3.f, ps.p.y / 0.5f, ps.p.z);
-        return ChiSquareSample{Vec3f(0.5f * (local.x + 1.f), 0.5f * (local.y + 1.f), 0.f), Color3(1.f), ps.pdf > 0.f, false};
+        return ChiSquareSample{Vec3f(0.5f * (local.x + 1.f), 0.5f * (local.y + 1.f), 0.f), Color3(1.f),
+                               ps.pdf > 0.f, false};
     };
-    ChiSquareResult r = chi2_test_plane(sample, [](const Vec3f&) { return 1.0; }, Rect2{}, opt);
+    ChiSquareResult r = chi2_test_plane(
+        sample, [](const Vec3f&) { return 1.0; }, Rect2{}, opt);
     EXPECT_TRUE(r.passed) << r.report;
 }
 
@@ -220,7 +234,8 @@ TEST(ShapeSampling, DiskPositionChi2) {
         if (std::abs(r - ps.uv.x) > 1e-5f) ++uv_mismatch;
         return ChiSquareSample{Vec3f(r * r, ps.uv.y, 0.f), Color3(1.f), ps.pdf > 0.f, false};
     };
-    ChiSquareResult r = chi2_test_plane(sample, [](const Vec3f&) { return 1.0; }, Rect2{}, opt);
+    ChiSquareResult r = chi2_test_plane(
+        sample, [](const Vec3f&) { return 1.0; }, Rect2{}, opt);
     EXPECT_TRUE(r.passed) << r.report;
     EXPECT_EQ(uv_mismatch, 0);
 }
@@ -253,7 +268,8 @@ TEST(ShapeSampling, CubePositionChi2) {
         PositionSample ps = cube->sample_position(s.next_2d());
         Vec3f local = ps.p / scale;
         int f = face_index(local);
-        return ChiSquareSample{Vec3f(float(f) + ps.uv.x, ps.uv.y, 0.f), Color3(1.f), f >= 0 && ps.pdf > 0.f, false};
+        return ChiSquareSample{Vec3f(float(f) + ps.uv.x, ps.uv.y, 0.f), Color3(1.f), f >= 0 && ps.pdf > 0.f,
+                               false};
     };
     auto pdf = [&](const Vec3f& p) {
         int f = std::clamp(int(std::floor(p.x)), 0, 5);

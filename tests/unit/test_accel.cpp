@@ -21,7 +21,8 @@ struct Scene3 {
         // Floor: rectangle scaled to [-10,10]^2 at z=0; unit sphere at z=2; disk at z=5 facing down.
         floor = make_shape(ShapeProps("rectangle").t("to_world", Transform::scale({10, 10, 1})));
         sphere = make_shape(ShapeProps("sphere").p("center", {0, 0, 2}));
-        disk = make_shape(ShapeProps("disk").t("to_world", Transform::translate({3, 0, 5})).b("flip_normals", true));
+        disk = make_shape(
+            ShapeProps("disk").t("to_world", Transform::translate({3, 0, 5})).b("flip_normals", true));
         accel = std::make_unique<Accel>(std::vector<const Shape*>{floor.get(), sphere.get(), disk.get()});
     }
 };
@@ -81,12 +82,14 @@ TEST(Accel, EmptyScene) {
 }
 
 TEST(Accel, CubeFromAllSides) {
-    auto cube = make_shape(ShapeProps("cube").t("to_world", Transform::translate({0, 0, 0}) * Transform::scale(Vec3f(2.f))));
+    auto cube = make_shape(
+        ShapeProps("cube").t("to_world", Transform::translate({0, 0, 0}) * Transform::scale(Vec3f(2.f))));
     Accel accel({cube.get()});
     const Vec3f dirs[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
     for (const Vec3f& d : dirs) {
         SurfaceInteraction si;
-        ASSERT_TRUE(accel.intersect(Ray(d * -10.f + Vec3f(0.1f, 0.2f, 0.3f) * (1.f - absdot(d, {1, 1, 1})), d), si));
+        ASSERT_TRUE(
+            accel.intersect(Ray(d * -10.f + Vec3f(0.1f, 0.2f, 0.3f) * (1.f - absdot(d, {1, 1, 1})), d), si));
         EXPECT_NEAR(si.t, 8.f, 1e-4f);
         EXPECT_NEAR(dot(si.n, -d), 1.f, 1e-5f);  // outward geometric normal
         EXPECT_NEAR(dot(si.sh_frame.n, -d), 1.f, 1e-5f);
@@ -102,7 +105,9 @@ TEST(Accel, ThreadsAgree) {
     Scene3 s;
     auto trace = [&](int i, SurfaceInteraction& si) {
         float a = 0.001f * float(i);
-        return s.accel->intersect(Ray({std::sin(a) * 4.f, std::cos(a) * 4.f, 10.f}, normalize(Vec3f(-std::sin(a), -std::cos(a), -2.5f))), si);
+        return s.accel->intersect(Ray({std::sin(a) * 4.f, std::cos(a) * 4.f, 10.f},
+                                      normalize(Vec3f(-std::sin(a), -std::cos(a), -2.5f))),
+                                  si);
     };
     constexpr int N = 4000;
     std::vector<float> expected(N);
@@ -152,7 +157,8 @@ struct TightMeshShape : Shape {
     }
     float surface_area() const override { return 0.f; }
     const TriangleMesh* triangle_mesh() const override { return &mesh; }
-    SurfaceInteraction compute_surface_interaction(const Ray& ray, float t, uint32_t prim, Vec2f) const override {
+    SurfaceInteraction compute_surface_interaction(const Ray& ray, float t, uint32_t prim,
+                                                   Vec2f) const override {
         SurfaceInteraction si;
         si.t = t;
         si.p = ray(t);
@@ -200,7 +206,8 @@ TEST(Accel, MatchesBruteForce) {
             double t;
             const uint32_t* idx = &tight.mesh.indices[3 * f];
             if (ray_triangle(ray, tight.mesh.positions[idx[0]], tight.mesh.positions[idx[1]],
-                             tight.mesh.positions[idx[2]], t) && t < best) {
+                             tight.mesh.positions[idx[2]], t) &&
+                t < best) {
                 best = t;
                 best_prim = uint32_t(f);
                 best_shape = &tight;
@@ -220,7 +227,9 @@ TEST(Accel, MatchesBruteForce) {
         ++hits;
         EXPECT_EQ(si.shape, best_shape) << "ray " << i;
         EXPECT_NEAR(si.t, best, 1e-4 * (1.0 + best)) << "ray " << i;
-        if (best_shape == &tight) EXPECT_EQ(si.prim_index, best_prim) << "ray " << i;
+        if (best_shape == &tight) {
+            EXPECT_EQ(si.prim_index, best_prim) << "ray " << i;
+        }
         ++checked;
     }
     EXPECT_GT(hits, 1000);

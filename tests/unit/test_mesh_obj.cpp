@@ -64,7 +64,8 @@ TEST(MeshObj, QuadIsFanSplitWithUvsAndNormals) {
 
 TEST(MeshObj, FlipTexCoordsFalse) {
     TempDir dir;
-    auto s = make_shape(ShapeProps("obj").s("filename", dir.write("quad.obj", kQuadObj)).b("flip_tex_coords", false));
+    auto s = make_shape(
+        ShapeProps("obj").s("filename", dir.write("quad.obj", kQuadObj)).b("flip_tex_coords", false));
     EXPECT_EQ(mesh_of(s).uvs[0], Vec2f(0, 0));
 }
 
@@ -82,20 +83,22 @@ TEST(MeshObj, ComputesSmoothNormalsUnlessFaceNormals) {
     auto faceted = make_shape(ShapeProps("obj").s("filename", file).b("face_normals", true));
     EXPECT_TRUE(mesh_of(faceted).normals.empty());
     // Shading normal = geometric normal; uv = barycentrics (b1, b2).
-    SurfaceInteraction si = faceted->compute_surface_interaction(Ray({0.2f, 0.2f, 1}, {0, 0, -1}), 1.f, 0, {0.3f, 0.2f});
+    SurfaceInteraction si =
+        faceted->compute_surface_interaction(Ray({0.2f, 0.2f, 1}, {0, 0, -1}), 1.f, 0, {0.3f, 0.2f});
     EXPECT_EQ(si.sh_frame.n, si.n);
     EXPECT_EQ(si.uv, Vec2f(0.3f, 0.2f));
 }
 
 TEST(MeshObj, ToWorldAndFlipNormals) {
     TempDir dir;
-    auto s = make_shape(ShapeProps("obj")
-                            .s("filename", dir.write("quad.obj", kQuadObj))
-                            .t("to_world", Transform::translate({0, 0, 3}) * Transform::rotate({1, 0, 0}, 90.f))
-                            .b("flip_normals", true));
+    auto s =
+        make_shape(ShapeProps("obj")
+                       .s("filename", dir.write("quad.obj", kQuadObj))
+                       .t("to_world", Transform::translate({0, 0, 3}) * Transform::rotate({1, 0, 0}, 90.f))
+                       .b("flip_normals", true));
     const TriangleMesh& m = mesh_of(s);
     EXPECT_NEAR(m.positions[0].z, 3.f - 1.f, 1e-5f);  // (-1,-1,0) -> (-1,0,-1) + (0,0,3)
-    EXPECT_NEAR(m.normals[0].y, -1.f, 1e-5f);        // +z rotated to -y (stored normals are not flipped)
+    EXPECT_NEAR(m.normals[0].y, -1.f, 1e-5f);         // +z rotated to -y (stored normals are not flipped)
     SurfaceInteraction si = s->compute_surface_interaction(Ray({0, 5, 3}, {0, -1, 0}), 5.f, 0, {0.3f, 0.3f});
     EXPECT_NEAR(si.n.y, 1.f, 1e-5f);  // flipped
     EXPECT_NEAR(si.sh_frame.n.y, 1.f, 1e-5f);
@@ -122,9 +125,11 @@ TEST(MeshObj, Errors) {
         EXPECT_NE(std::string(e.what()).find("missing.obj"), std::string::npos);
         EXPECT_NE(std::string(e.what()).find("not found"), std::string::npos);
     }
-    EXPECT_THROW(make_shape(ShapeProps("obj").s("filename", dir.write("bad.obj", "v 0 0 0\nv 1 0 0\nf 1 2 7\n"))),
+    EXPECT_THROW(
+        make_shape(ShapeProps("obj").s("filename", dir.write("bad.obj", "v 0 0 0\nv 1 0 0\nf 1 2 7\n"))),
+        InputError);
+    EXPECT_THROW(make_shape(ShapeProps("obj").s("filename", dir.write("empty.obj", "v 0 0 0\n"))),
                  InputError);
-    EXPECT_THROW(make_shape(ShapeProps("obj").s("filename", dir.write("empty.obj", "v 0 0 0\n"))), InputError);
 }
 
 TEST(MeshObj, MitsubaTestMeshes) {

@@ -13,7 +13,9 @@ using namespace volguide::test;
 
 namespace {
 
-const TriangleMesh& mesh_of(const std::shared_ptr<Shape>& s) { return *s->triangle_mesh(); }
+const TriangleMesh& mesh_of(const std::shared_ptr<Shape>& s) {
+    return *s->triangle_mesh();
+}
 
 // Appends a value in the requested byte order.
 template <typename T>
@@ -28,11 +30,12 @@ void put(std::string& out, T v, bool little) {
 // The unit quad [-1,1]^2 at z=0 as one quad face, with normals, s/t uvs, a per-vertex extra
 // property, a per-face extra list, and an unrelated element.
 std::string binary_quad(bool little) {
-    std::string s = std::string("ply\nformat ") + (little ? "binary_little_endian" : "binary_big_endian") +
-                    " 1.0\ncomment test\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
-                    "property float nx\nproperty float ny\nproperty float nz\nproperty uchar red\n"
-                    "property float s\nproperty float t\nelement face 1\nproperty list uchar int vertex_indices\n"
-                    "property list uchar float extra\nelement edge 1\nproperty int a\nproperty double b\nend_header\n";
+    std::string s =
+        std::string("ply\nformat ") + (little ? "binary_little_endian" : "binary_big_endian") +
+        " 1.0\ncomment test\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+        "property float nx\nproperty float ny\nproperty float nz\nproperty uchar red\n"
+        "property float s\nproperty float t\nelement face 1\nproperty list uchar int vertex_indices\n"
+        "property list uchar float extra\nelement edge 1\nproperty int a\nproperty double b\nend_header\n";
     const float pos[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
     const float uv[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
     for (int i = 0; i < 4; ++i) {
@@ -77,15 +80,17 @@ TEST(MeshPly, BinaryLittleEndian) {
 
 TEST(MeshPly, BinaryBigEndian) {
     TempDir dir;
-    expect_quad(mesh_of(make_shape(ShapeProps("ply").s("filename", dir.write("be.ply", binary_quad(false))))));
+    expect_quad(
+        mesh_of(make_shape(ShapeProps("ply").s("filename", dir.write("be.ply", binary_quad(false))))));
 }
 
 TEST(MeshPly, AsciiWithUvVariantsAndComputedNormals) {
     TempDir dir;
-    std::string ply = "ply\r\nformat ascii 1.0\r\nelement vertex 3\r\nproperty double x\r\nproperty double y\r\n"
-                      "property double z\r\nproperty float texture_u\r\nproperty float texture_v\r\n"
-                      "element face 1\r\nproperty list uchar uint vertex_index\r\nend_header\r\n"
-                      "0 0 0 0 0\r\n1 0 0 1 0\r\n0 1 0 0 1\r\n3 0 1 2\r\n";
+    std::string ply =
+        "ply\r\nformat ascii 1.0\r\nelement vertex 3\r\nproperty double x\r\nproperty double y\r\n"
+        "property double z\r\nproperty float texture_u\r\nproperty float texture_v\r\n"
+        "element face 1\r\nproperty list uchar uint vertex_index\r\nend_header\r\n"
+        "0 0 0 0 0\r\n1 0 0 1 0\r\n0 1 0 0 1\r\n3 0 1 2\r\n";
     auto s = make_shape(ShapeProps("ply").s("filename", dir.write("tri.ply", ply)));
     const TriangleMesh& m = mesh_of(s);
     ASSERT_EQ(m.triangle_count(), 1u);
@@ -94,15 +99,17 @@ TEST(MeshPly, AsciiWithUvVariantsAndComputedNormals) {
     EXPECT_NEAR(m.normals[0].z, 1.f, 1e-6f);
     EXPECT_NEAR(s->surface_area(), 0.5f, 1e-6f);
 
-    auto faceted = make_shape(ShapeProps("ply").s("filename", dir.write("tri.ply", ply)).b("face_normals", true));
+    auto faceted =
+        make_shape(ShapeProps("ply").s("filename", dir.write("tri.ply", ply)).b("face_normals", true));
     EXPECT_TRUE(mesh_of(faceted).normals.empty());
 }
 
 TEST(MeshPly, UvNamedUV) {
     TempDir dir;
-    std::string ply = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
-                      "property float u\nproperty float v\nelement face 1\nproperty list uchar int vertex_indices\n"
-                      "end_header\n0 0 0 .1 .2\n1 0 0 .3 .4\n0 1 0 .5 .6\n3 0 1 2\n";
+    std::string ply =
+        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+        "property float u\nproperty float v\nelement face 1\nproperty list uchar int vertex_indices\n"
+        "end_header\n0 0 0 .1 .2\n1 0 0 .3 .4\n0 1 0 .5 .6\n3 0 1 2\n";
     auto s = make_shape(ShapeProps("ply").s("filename", dir.write("uv.ply", ply)));
     const TriangleMesh& m = mesh_of(s);
     EXPECT_NEAR(m.uvs[1].y, 0.4f, 1e-7f);
@@ -120,13 +127,16 @@ TEST(MeshPly, MalformedFilesNameTheFile) {
          "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n"},
         {"badindex.ply",
          "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
-         "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 9\n"},
+         "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 "
+         "9\n"},
         {"pentagon.ply",
          "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
-         "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n5 0 1 2 0 1\n"},
+         "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n5 0 1 2 0 "
+         "1\n"},
         {"garbage.ply",
          "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
-         "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 zero 0\n0 1 0\n3 0 1 2\n"},
+         "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 zero 0\n0 1 0\n3 0 1 "
+         "2\n"},
         {"noxyz.ply",
          "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nelement face 0\n"
          "property list uchar int vertex_indices\nend_header\n0\n"},

@@ -85,7 +85,8 @@ TEST(ShapeSphere, PreciseFarAway) {
 
 TEST(ShapeSphere, ToWorldComposition) {
     // to_world is applied after center/radius (Mitsuba: to_world * translate(center) * scale(radius)).
-    auto s = make_shape(ShapeProps("sphere").p("center", {1, 0, 0}).t("to_world", Transform::scale(Vec3f(2.f))));
+    auto s =
+        make_shape(ShapeProps("sphere").p("center", {1, 0, 0}).t("to_world", Transform::scale(Vec3f(2.f))));
     BBox3f b = s->bbox();
     expect_vec_near(b.lo, {0, -2, -2});
     expect_vec_near(b.hi, {4, 2, 2});
@@ -120,7 +121,8 @@ TEST(ShapeSphere, SamplePositionOnSurface) {
 }
 
 TEST(ShapeDisk, HitNormalUv) {
-    auto d = make_shape(ShapeProps("disk").t("to_world", Transform::translate({0, 0, 2}) * Transform::scale({2, 2, 1})));
+    auto d = make_shape(
+        ShapeProps("disk").t("to_world", Transform::translate({0, 0, 2}) * Transform::scale({2, 2, 1})));
     SurfaceInteraction si = hit(*d, Ray({1, 0, 5}, {0, 0, -1}));
     EXPECT_NEAR(si.t, 3.f, 1e-6f);
     expect_vec_near(si.p, {1, 0, 2});

@@ -22,16 +22,21 @@ SurfaceInteraction trace(const Shape& s, const Ray& r) {
 }
 
 struct FakeBSDF : BSDF {
-    std::pair<BSDFSample, Color3> sample(const BSDFContext&, const SurfaceInteraction&, float, Point2f) const override {
+    std::pair<BSDFSample, Color3> sample(const BSDFContext&, const SurfaceInteraction&, float,
+                                         Point2f) const override {
         return {};
     }
-    Color3 eval(const BSDFContext&, const SurfaceInteraction&, const Vec3f&) const override { return Color3(0.f); }
+    Color3 eval(const BSDFContext&, const SurfaceInteraction&, const Vec3f&) const override {
+        return Color3(0.f);
+    }
     float pdf(const BSDFContext&, const SurfaceInteraction&, const Vec3f&) const override { return 0.f; }
 };
 
 struct FakeEmitter : Emitter {
     explicit FakeEmitter(uint32_t flags) { flags_ = flags; }
-    std::pair<DirectionSample, Color3> sample_direction(const Interaction&, Point2f) const override { return {}; }
+    std::pair<DirectionSample, Color3> sample_direction(const Interaction&, Point2f) const override {
+        return {};
+    }
     float pdf_direction(const Interaction&, const DirectionSample&) const override { return 0.f; }
     Color3 eval(const SurfaceInteraction&) const override { return Color3(0.f); }
 };
@@ -39,7 +44,8 @@ struct FakeEmitter : Emitter {
 }  // namespace
 
 TEST(ShapeRectangle, UvNormalFrame) {
-    auto r = make_shape(ShapeProps("rectangle").t("to_world", Transform::translate({0, 0, 1}) * Transform::scale({2, 3, 1})));
+    auto r = make_shape(
+        ShapeProps("rectangle").t("to_world", Transform::translate({0, 0, 1}) * Transform::scale({2, 3, 1})));
     SurfaceInteraction si = trace(*r, Ray({1, -1.5f, 5}, {0, 0, -1}));
     EXPECT_NEAR(si.t, 4.f, 1e-5f);
     EXPECT_NEAR(si.uv.x, 0.75f, 1e-5f);  // object x = 0.5
@@ -75,7 +81,8 @@ TEST(ShapeCube, MitsubaLayout) {
     ASSERT_NE(m, nullptr);
     EXPECT_EQ(m->positions.size(), 24u);
     EXPECT_EQ(m->triangle_count(), 12u);
-    // +z face (Mitsuba's vertices 12..15: (1,-1,1) (1,1,1) (-1,1,1) (-1,-1,1) with uvs (0,1) (1,1) (1,0) (0,0)).
+    // +z face (Mitsuba's vertices 12..15: (1,-1,1) (1,1,1) (-1,1,1) (-1,-1,1) with uvs (0,1) (1,1) (1,0)
+    // (0,0)).
     SurfaceInteraction si = trace(*c, Ray({0.5f, -0.5f, 5}, {0, 0, -1}));
     EXPECT_NEAR(si.n.z, 1.f, 1e-6f);
     EXPECT_NEAR(si.sh_frame.n.z, 1.f, 1e-6f);

@@ -1,12 +1,12 @@
 #pragma once
 // Helpers for the geometry tests: hand-built shape Properties (no BSDF/emitter children) and
 // shape creation through the real factory, with the loader's unused-parameter check.
+#include <unistd.h>
+
 #include <filesystem>
 #include <fstream>
 #include <memory>
 #include <string>
-
-#include <unistd.h>
 
 #include "volguide/core/properties.h"
 #include "volguide/geometry/shape.h"
@@ -14,7 +14,9 @@
 
 namespace volguide::test {
 
-inline SourceLocation test_loc(const std::string& file = "test.xml") { return {file, 1}; }
+inline SourceLocation test_loc(const std::string& file = "test.xml") {
+    return {file, 1};
+}
 
 struct ShapeProps {
     Properties props;

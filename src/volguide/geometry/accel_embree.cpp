@@ -22,7 +22,8 @@ struct ErrorState {
 void error_callback(void* user, RTCError code, const char* str) {
     auto* state = static_cast<ErrorState*>(user);
     std::lock_guard<std::mutex> lock(state->mutex);
-    if (state->message.empty()) state->message = fmt::format("Embree error {}: {}", int(code), str ? str : "");
+    if (state->message.empty())
+        state->message = fmt::format("Embree error {}: {}", int(code), str ? str : "");
 }
 
 void user_bounds(const RTCBoundsFunctionArguments* args) {
@@ -73,7 +74,7 @@ struct Accel::Impl {
     ErrorState errors;
     RTCDevice device = nullptr;
     RTCScene scene = nullptr;
-    std::vector<const Shape*> shapes;  // by geometry id
+    std::vector<const Shape*> shapes;                    // by geometry id
     std::vector<std::vector<Point3f>> padded_positions;  // copies when a buffer cannot be shared
     std::vector<std::vector<uint32_t>> padded_indices;
 
@@ -85,7 +86,8 @@ struct Accel::Impl {
             msg = errors.message;
         }
         if (code != RTC_ERROR_NONE || !msg.empty())
-            throw std::runtime_error(fmt::format("{}: {}", what, msg.empty() ? "Embree error " + std::to_string(int(code)) : msg));
+            throw std::runtime_error(
+                fmt::format("{}: {}", what, msg.empty() ? "Embree error " + std::to_string(int(code)) : msg));
     }
 
     // Embree reads 3-float/3-int elements with 16-byte loads, so the storage must extend at
@@ -104,10 +106,10 @@ struct Accel::Impl {
         RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
         const Point3f* pos = padded(mesh.positions, padded_positions);
         const uint32_t* idx = padded(mesh.indices, padded_indices);
-        rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, pos, 0, sizeof(Point3f),
-                                   mesh.positions.size());
-        rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, idx, 0, 3 * sizeof(uint32_t),
-                                   mesh.triangle_count());
+        rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, pos, 0,
+                                   sizeof(Point3f), mesh.positions.size());
+        rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, idx, 0,
+                                   3 * sizeof(uint32_t), mesh.triangle_count());
         attach(geom, shape);
     }
 
@@ -135,7 +137,9 @@ struct Accel::Impl {
 Accel::Accel(const std::vector<const Shape*>& shapes) : impl_(std::make_unique<Impl>()) {
     Impl& m = *impl_;
     m.device = rtcNewDevice(nullptr);
-    if (!m.device) throw std::runtime_error(fmt::format("cannot create the Embree device (error {})", int(rtcGetDeviceError(nullptr))));
+    if (!m.device)
+        throw std::runtime_error(
+            fmt::format("cannot create the Embree device (error {})", int(rtcGetDeviceError(nullptr))));
     rtcSetDeviceErrorFunction(m.device, error_callback, &m.errors);
     m.scene = rtcNewScene(m.device);
     rtcSetSceneFlags(m.scene, RTC_SCENE_FLAG_ROBUST);

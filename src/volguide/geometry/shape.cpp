@@ -21,7 +21,8 @@ void Shape::init_common(const Properties& props) {
     if (!emitters.empty()) {
         auto obj = std::get<ObjectPtr>(emitters[0]->value);
         emitter_ = std::dynamic_pointer_cast<Emitter>(obj);
-        if (!emitter_) fail(emitters[0]->loc, "shape '{}': the <emitter> child is not an emitter", props.type());
+        if (!emitter_)
+            fail(emitters[0]->loc, "shape '{}': the <emitter> child is not an emitter", props.type());
         if (!(emitter_->flags() & emitter_flags::Surface))
             fail(emitters[0]->loc, "shape '{}': only area emitters can be attached to a shape", props.type());
         emitter_->set_shape(this);

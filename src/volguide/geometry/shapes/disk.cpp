@@ -15,7 +15,7 @@ namespace volguide {
 namespace {
 
 class Disk final : public Shape {
-public:
+  public:
     explicit Disk(const Properties& props) {
         to_world_ = props.get_transform("to_world");
         flip_normals_ = props.get_bool("flip_normals", false);
@@ -87,7 +87,7 @@ public:
                            normal_.y, normal_.z, area_);
     }
 
-private:
+  private:
     static Vec2f uv_of(float x, float y) {
         float v = std::atan2(y, x) * InvTwoPi;
         if (v < 0.f) v += 1.f;
@@ -103,6 +103,8 @@ private:
 
 }  // namespace
 
-ObjectPtr create_disk_shape(const Properties& props) { return std::make_shared<Disk>(props); }
+ObjectPtr create_disk_shape(const Properties& props) {
+    return std::make_shared<Disk>(props);
+}
 
 }  // namespace volguide

@@ -8,7 +8,9 @@
 namespace volguide {
 
 namespace {
-std::string file_name_of(const std::string& path) { return std::filesystem::path(path).filename().string(); }
+std::string file_name_of(const std::string& path) {
+    return std::filesystem::path(path).filename().string();
+}
 
 // A linear map with negative determinant mirrors the winding; analytic Mitsuba shapes
 // (rectangle) transform their normal with the inverse transpose instead, which does not flip.
@@ -53,10 +55,10 @@ ObjectPtr create_cube_shape(const Properties& props) {
     MeshOptions opts = read_mesh_options(props);
     TriangleMesh mesh;
     // Faces in order -y, +y, +x, +z, -x, -z; corners listed so that (0,1,2), (3,0,2) face outwards.
-    mesh.positions = {{1, -1, -1}, {1, -1, 1},  {-1, -1, 1}, {-1, -1, -1}, {1, 1, -1},  {-1, 1, -1},
-                      {-1, 1, 1},  {1, 1, 1},   {1, -1, -1}, {1, 1, -1},   {1, 1, 1},   {1, -1, 1},
-                      {1, -1, 1},  {1, 1, 1},   {-1, 1, 1},  {-1, -1, 1},  {-1, -1, 1}, {-1, 1, 1},
-                      {-1, 1, -1}, {-1, -1, -1}, {1, 1, -1}, {1, -1, -1},  {-1, -1, -1}, {-1, 1, -1}};
+    mesh.positions = {{1, -1, -1}, {1, -1, 1},   {-1, -1, 1}, {-1, -1, -1}, {1, 1, -1},   {-1, 1, -1},
+                      {-1, 1, 1},  {1, 1, 1},    {1, -1, -1}, {1, 1, -1},   {1, 1, 1},    {1, -1, 1},
+                      {1, -1, 1},  {1, 1, 1},    {-1, 1, 1},  {-1, -1, 1},  {-1, -1, 1},  {-1, 1, 1},
+                      {-1, 1, -1}, {-1, -1, -1}, {1, 1, -1},  {1, -1, -1},  {-1, -1, -1}, {-1, 1, -1}};
     const Normal3f face_n[6] = {{0, -1, 0}, {0, 1, 0}, {1, 0, 0}, {0, 0, 1}, {-1, 0, 0}, {0, 0, -1}};
     for (int f = 0; f < 6; ++f) {
         for (int k = 0; k < 4; ++k) mesh.normals.push_back(face_n[f]);

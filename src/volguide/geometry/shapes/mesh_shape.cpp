@@ -63,9 +63,11 @@ MeshShape::MeshShape(const Properties& props, TriangleMesh mesh, const MeshOptio
     : mesh_(std::move(mesh)), flip_normals_(opts.flip_normals), name_(std::move(name)) {
     const size_t nv = mesh_.positions.size();
     if (mesh_.indices.empty()) props.fail_here("mesh \"{}\" contains no triangles", name_);
-    if (mesh_.indices.size() % 3 != 0) props.fail_here("mesh \"{}\": index count is not a multiple of 3", name_);
+    if (mesh_.indices.size() % 3 != 0)
+        props.fail_here("mesh \"{}\": index count is not a multiple of 3", name_);
     for (uint32_t i : mesh_.indices)
-        if (i >= nv) props.fail_here("mesh \"{}\": face refers to vertex {} but there are only {}", name_, i, nv);
+        if (i >= nv)
+            props.fail_here("mesh \"{}\": face refers to vertex {} but there are only {}", name_, i, nv);
     if (!mesh_.normals.empty() && mesh_.normals.size() != nv)
         props.fail_here("mesh \"{}\": normal count differs from vertex count", name_);
     if (!mesh_.uvs.empty() && mesh_.uvs.size() != nv)
@@ -156,7 +158,8 @@ PositionSample MeshShape::sample_position(Point2f u) const {
     PositionSample ps;
     ps.p = p0 + e0 * b.x + e1 * b.y;
     ps.pdf = inv_area_;
-    ps.uv = mesh_.uvs.empty() ? b : mesh_.uvs[idx[0]] * b0 + mesh_.uvs[idx[1]] * b.x + mesh_.uvs[idx[2]] * b.y;
+    ps.uv =
+        mesh_.uvs.empty() ? b : mesh_.uvs[idx[0]] * b0 + mesh_.uvs[idx[1]] * b.x + mesh_.uvs[idx[2]] * b.y;
     Normal3f n = mesh_.normals.empty()
                      ? cross(e0, e1)
                      : mesh_.normals[idx[0]] * b0 + mesh_.normals[idx[1]] * b.x + mesh_.normals[idx[2]] * b.y;

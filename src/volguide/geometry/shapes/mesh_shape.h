@@ -24,7 +24,7 @@ void transform_mesh(TriangleMesh& mesh, const Transform& to_world);
 void compute_vertex_normals(TriangleMesh& mesh);
 
 class MeshShape : public Shape {
-public:
+  public:
     // `mesh` is in object space; `name` (e.g. the file name) is used in error messages.
     // Vertex normals are dropped when face_normals is set, and computed when the mesh has none
     // and compute_missing_normals is true (OBJ/PLY do, as Mitsuba).
@@ -42,7 +42,7 @@ public:
     const std::string& name() const { return name_; }
     std::string to_string() const override;
 
-private:
+  private:
     TriangleMesh mesh_;
     DiscreteDistribution area_distr_;
     BBox3f bbox_;

@@ -45,14 +45,16 @@ TriangleMesh read_obj(const std::string& path, bool flip_tex_coords, const Sourc
         auto [it, inserted] = vertex_of.try_emplace(key, uint32_t(mesh.positions.size()));
         if (!inserted) return it->second;
         if (idx.vertex_index < 0 || size_t(idx.vertex_index) >= nv)
-            fail(loc, "error while loading OBJ file \"{}\": reference to invalid vertex {}", path, idx.vertex_index + 1);
+            fail(loc, "error while loading OBJ file \"{}\": reference to invalid vertex {}", path,
+                 idx.vertex_index + 1);
         const float* v = &attrib.vertices[3 * size_t(idx.vertex_index)];
         mesh.positions.emplace_back(v[0], v[1], v[2]);
         if (has_uvs) {
             Vec2f uv(0.f, 0.f);
             if (idx.texcoord_index >= 0) {
                 if (size_t(idx.texcoord_index) >= nt)
-                    fail(loc, "error while loading OBJ file \"{}\": reference to invalid texture coordinate {}",
+                    fail(loc,
+                         "error while loading OBJ file \"{}\": reference to invalid texture coordinate {}",
                          path, idx.texcoord_index + 1);
                 const float* t = &attrib.texcoords[2 * size_t(idx.texcoord_index)];
                 uv = {t[0], flip_tex_coords ? 1.f - t[1] : t[1]};

@@ -35,14 +35,16 @@ struct PlyError {
     std::string what;
 };
 
-[[noreturn]] void ply_fail(std::string what) { throw PlyError{std::move(what)}; }
+[[noreturn]] void ply_fail(std::string what) {
+    throw PlyError{std::move(what)};
+}
 
 bool parse_type(const std::string& s, Type& t) {
     static const std::pair<const char*, Type> names[] = {
-        {"char", Type::I8},    {"int8", Type::I8},     {"uchar", Type::U8},   {"uint8", Type::U8},
-        {"short", Type::I16},  {"int16", Type::I16},   {"ushort", Type::U16}, {"uint16", Type::U16},
-        {"int", Type::I32},    {"int32", Type::I32},   {"uint", Type::U32},   {"uint32", Type::U32},
-        {"float", Type::F32},  {"float32", Type::F32}, {"double", Type::F64}, {"float64", Type::F64}};
+        {"char", Type::I8},   {"int8", Type::I8},     {"uchar", Type::U8},   {"uint8", Type::U8},
+        {"short", Type::I16}, {"int16", Type::I16},   {"ushort", Type::U16}, {"uint16", Type::U16},
+        {"int", Type::I32},   {"int32", Type::I32},   {"uint", Type::U32},   {"uint32", Type::U32},
+        {"float", Type::F32}, {"float32", Type::F32}, {"double", Type::F64}, {"float64", Type::F64}};
     for (const auto& [name, type] : names)
         if (s == name) {
             t = type;
@@ -53,7 +55,7 @@ bool parse_type(const std::string& s, Type& t) {
 
 // Sequential reader over the body of the file.
 class BodyReader {
-public:
+  public:
     BodyReader(const std::string& data, size_t pos, Format fmt) : data_(data), pos_(pos), fmt_(fmt) {}
 
     double read(Type t) { return fmt_ == Format::Ascii ? read_ascii(t) : read_binary(t); }
@@ -64,7 +66,7 @@ public:
         if (pos_ < data_.size()) ply_fail("unexpected data after the last element");
     }
 
-private:
+  private:
     void skip_space() {
         while (pos_ < data_.size() && std::isspace(static_cast<unsigned char>(data_[pos_]))) ++pos_;
     }
@@ -78,7 +80,8 @@ private:
         if (ec != std::errc() || (ptr < end && !std::isspace(static_cast<unsigned char>(*ptr)))) {
             const char* tok_end = begin;
             while (tok_end < end && !std::isspace(static_cast<unsigned char>(*tok_end))) ++tok_end;
-            ply_fail(fmt::format("could not parse the value \"{}\"", std::string_view(begin, size_t(tok_end - begin))));
+            ply_fail(fmt::format("could not parse the value \"{}\"",
+                                 std::string_view(begin, size_t(tok_end - begin))));
         }
         pos_ = size_t(ptr - data_.data());
         return v;
@@ -98,14 +101,22 @@ private:
     }
     double read_binary(Type t) {
         switch (t) {
-            case Type::I8: return load<int8_t>();
-            case Type::U8: return load<uint8_t>();
-            case Type::I16: return load<int16_t>();
-            case Type::U16: return load<uint16_t>();
-            case Type::I32: return load<int32_t>();
-            case Type::U32: return load<uint32_t>();
-            case Type::F32: return load<float>();
-            case Type::F64: return load<double>();
+            case Type::I8:
+                return load<int8_t>();
+            case Type::U8:
+                return load<uint8_t>();
+            case Type::I16:
+                return load<int16_t>();
+            case Type::U16:
+                return load<uint16_t>();
+            case Type::I32:
+                return load<int32_t>();
+            case Type::U32:
+                return load<uint32_t>();
+            case Type::F32:
+                return load<float>();
+            case Type::F64:
+                return load<double>();
         }
         return 0.0;
     }
@@ -138,16 +149,21 @@ std::vector<Element> parse_header(const std::string& data, Format& fmt, size_t& 
         if (token == "format") {
             std::string kind, version;
             iss >> kind >> version;
-            if (kind == "ascii") fmt = Format::Ascii;
-            else if (kind == "binary_little_endian") fmt = Format::BinaryLE;
-            else if (kind == "binary_big_endian") fmt = Format::BinaryBE;
-            else ply_fail(fmt::format("invalid format '{}'", kind));
+            if (kind == "ascii")
+                fmt = Format::Ascii;
+            else if (kind == "binary_little_endian")
+                fmt = Format::BinaryLE;
+            else if (kind == "binary_big_endian")
+                fmt = Format::BinaryBE;
+            else
+                ply_fail(fmt::format("invalid format '{}'", kind));
             if (version != "1.0") ply_fail(fmt::format("unsupported PLY version '{}'", version));
             have_format = true;
         } else if (token == "element") {
             Element e;
             long long count = -1;
-            if (!(iss >> e.name >> count) || count < 0) ply_fail(fmt::format("malformed header line \"{}\"", line));
+            if (!(iss >> e.name >> count) || count < 0)
+                ply_fail(fmt::format("malformed header line \"{}\"", line));
             e.count = size_t(count);
             elements.push_back(std::move(e));
         } else if (token == "property") {
@@ -226,7 +242,8 @@ TriangleMesh read_ply(const std::string& path, const SourceLocation& loc) {
                         }
                     }
                     mesh.positions.emplace_back(float(values[ix]), float(values[iy]), float(values[iz]));
-                    if (normals) mesh.normals.emplace_back(float(values[inx]), float(values[iny]), float(values[inz]));
+                    if (normals)
+                        mesh.normals.emplace_back(float(values[inx]), float(values[iny]), float(values[inz]));
                     if (uvs) mesh.uvs.emplace_back(float(values[iu]), float(values[iv]));
                 }
                 have_vertices = true;
@@ -251,7 +268,8 @@ TriangleMesh read_ply(const std::string& path, const SourceLocation& loc) {
                             continue;
                         }
                         if (n != 3 && n != 4)
-                            ply_fail(fmt::format("face {} has {} vertices (only triangles and quads are supported)", i, n));
+                            ply_fail(fmt::format(
+                                "face {} has {} vertices (only triangles and quads are supported)", i, n));
                         for (size_t j = 0; j < n; ++j) {
                             double v = reader.read(p.type);
                             if (!(v >= 0.0) || v >= 4294967295.0)
@@ -276,7 +294,8 @@ TriangleMesh read_ply(const std::string& path, const SourceLocation& loc) {
         if (!have_faces) ply_fail("no face element");
         for (uint32_t i : mesh.indices)
             if (i >= mesh.positions.size())
-                ply_fail(fmt::format("a face refers to vertex {} but there are only {}", i, mesh.positions.size()));
+                ply_fail(fmt::format("a face refers to vertex {} but there are only {}", i,
+                                     mesh.positions.size()));
     } catch (const PlyError& e) {
         fail(loc, "error while loading PLY file \"{}\": {}", path, e.what);
     }

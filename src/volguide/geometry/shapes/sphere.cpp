@@ -18,12 +18,13 @@ namespace {
 
 double linear_determinant(const Matrix4& m) {
     const auto& a = m.m;
-    return a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
+    return a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) -
+           a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
            a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
 }
 
 class Sphere final : public Shape {
-public:
+  public:
     explicit Sphere(const Properties& props) {
         flip_normals_ = props.get_bool("flip_normals", false);
         Vec3f center = props.get_vec3("center", Vec3f(0.f));
@@ -31,7 +32,8 @@ public:
         if (!all_finite(center)) props.fail_at("center", "sphere: 'center' must be finite");
         if (!(radius > 0.f) || !std::isfinite(radius))
             props.fail_at("radius", "sphere: 'radius' must be positive and finite (got {})", radius);
-        to_world_ = props.get_transform("to_world") * Transform::translate(center) * Transform::scale(Vec3f(radius));
+        to_world_ =
+            props.get_transform("to_world") * Transform::translate(center) * Transform::scale(Vec3f(radius));
 
         Vec3f ex = to_world_.apply_vector({1, 0, 0}), ey = to_world_.apply_vector({0, 1, 0}),
               ez = to_world_.apply_vector({0, 0, 1});
@@ -39,8 +41,10 @@ public:
         if (std::abs(lx - ly) > 1e-5f * lx || std::abs(lx - lz) > 1e-5f * lx ||
             std::abs(dot(ex, ey)) > 1e-5f * lx * ly || std::abs(dot(ex, ez)) > 1e-5f * lx * lz ||
             std::abs(dot(ey, ez)) > 1e-5f * ly * lz)
-            fmt::print(stderr, "volguide: warning: {}: sphere 'to_world' should not contain shear or "
-                               "non-uniform scaling\n", props.location().str());
+            fmt::print(stderr,
+                       "volguide: warning: {}: sphere 'to_world' should not contain shear or "
+                       "non-uniform scaling\n",
+                       props.location().str());
         radius_ = lx;
         center_ = to_world_.apply_point(Point3f(0.f));
         if (!(radius_ > 0.f) || !std::isfinite(radius_) || !all_finite(center_))
@@ -176,7 +180,7 @@ public:
                            center_.z, radius_, flip_normals_);
     }
 
-private:
+  private:
     // Cone sampling applies when the reference point is outside the sphere (with Mitsuba's
     // margin, so that points on the surface use it too, and points on an inward-facing sphere
     // do not). Shared by sample_direction and pdf_direction so that they always agree.
@@ -204,7 +208,8 @@ private:
         uv = uv_of(local);
         dp_du = to_world_.apply_vector({-local.y, local.x, 0.f}) * (2.f * Pi);
         float rd = std::sqrt(local.x * local.x + local.y * local.y);
-        Vec3f dv_local = rd > 0.f ? Vec3f(local.z * local.x / rd, local.z * local.y / rd, -rd) : Vec3f(1.f, 0.f, 0.f);
+        Vec3f dv_local =
+            rd > 0.f ? Vec3f(local.z * local.x / rd, local.z * local.y / rd, -rd) : Vec3f(1.f, 0.f, 0.f);
         dp_dv = to_world_.apply_vector(dv_local) * Pi;
     }
 
@@ -216,6 +221,8 @@ private:
 
 }  // namespace
 
-ObjectPtr create_sphere_shape(const Properties& props) { return std::make_shared<Sphere>(props); }
+ObjectPtr create_sphere_shape(const Properties& props) {
+    return std::make_shared<Sphere>(props);
+}
 
 }  // namespace volguide
