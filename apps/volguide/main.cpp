@@ -1,7 +1,98 @@
-// volguide command line: placeholder until the CLI lands (render | diff | info).
+// volguide command line: render | diff | info (docs/interface.md). Exit codes: 0 success, 1 input or
+// I/O error (one line `volguide: FILE:LINE: message` on stderr), 2 usage error.
+#include <CLI/CLI.hpp>
+
 #include <cstdio>
+#include <exception>
+#include <string>
+
+#include "commands.h"
+#include "volguide/core/error.h"
+
+namespace {
+
+// One line, whatever the message contains.
+std::string one_line(std::string s) {
+    for (char& c : s)
+        if (c == '\n' || c == '\r') c = ' ';
+    return s;
+}
+
+void print_error(const std::string& where, const std::string& message) {
+    if (where.empty())
+        std::fprintf(stderr, "volguide: %s\n", one_line(message).c_str());
+    else
+        std::fprintf(stderr, "volguide: %s: %s\n", one_line(where).c_str(), one_line(message).c_str());
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
-    std::fprintf(stderr, "volguide: not implemented yet\n");
-    return 2;
+    using namespace volguide::cli;
+    CLI::App app{"volguide: a physically based renderer for Mitsuba 3 scenes with volume path guiding", "volguide"};
+    app.require_subcommand(1);
+
+    RenderArgs render;
+    CLI::App* render_cmd = app.add_subcommand("render", "render a scene to an image");
+    render_cmd->add_option("scene", render.scene, "Mitsuba 3 XML scene")->required();
+    render_cmd->add_option("-o,--output", render.output, "output image (.exr: linear float32 RGB; .png: 8-bit sRGB)");
+    render_cmd->add_option("-D,--define", render.defines, "set a scene <default> (name=value); repeatable")
+        ->allow_extra_args(false);
+    render_cmd->add_option("--spp", render.spp, "samples per pixel (overrides the sampler's sample_count)");
+    render_cmd->add_option("--time", render.time, "wall-clock budget in seconds (training included)");
+    render_cmd->add_option("--seed", render.seed, "random seed (same seed, same image, any --threads)");
+    render_cmd->add_option("--threads", render.threads, "worker threads (default: all)");
+    render_cmd->add_option("--stats", render.stats, "write render statistics as JSON");
+    render_cmd->add_flag("-q,--quiet", render.quiet, "no progress output");
+
+    DiffArgs diff;
+    CLI::App* diff_cmd = app.add_subcommand("diff", "compare an image with a reference");
+    diff_cmd->add_option("image", diff.image, "image (.exr)")->required();
+    diff_cmd->add_option("reference", diff.reference, "reference image (.exr)")->required();
+    diff_cmd->add_flag("--json", diff.json, "print the metrics as one JSON object");
+    diff_cmd->add_option("--error-image", diff.error_image, "write the per-pixel relative squared error (EXR)");
+
+    InfoArgs info;
+    CLI::App* info_cmd = app.add_subcommand("info", "summarise a scene");
+    info_cmd->add_option("scene", info.scene, "Mitsuba 3 XML scene")->required();
+    info_cmd->add_option("-D,--define", info.defines, "set a scene <default> (name=value); repeatable")
+        ->allow_extra_args(false);
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        app.exit(e);  // prints the message and a hint
+        return 2;
+    }
+
+    std::string context;  // the file an error without location refers to
+    try {
+        if (render_cmd->parsed()) {
+            context = render.scene;
+            return run_render(render);
+        }
+        if (diff_cmd->parsed()) {
+            context = diff.image;
+            return run_diff(diff);
+        }
+        context = info.scene;
+        return run_info(info);
+    } catch (const UsageError& e) {
+        print_error("", e.what());
+        std::fprintf(stderr, "Run with --help for more information.\n");
+        return 2;
+    } catch (const volguide::InputError& e) {
+        print_error(e.location().file.empty() ? context : e.location().str(), e.message());
+        return 1;
+    } catch (const FileError& e) {
+        print_error(e.file, e.what());
+        return 1;
+    } catch (const std::exception& e) {
+        print_error(context, e.what());
+        return 1;
+    }
 }

@@ -1,0 +1,37 @@
+// `volguide diff`: relMSE (eps 1e-2 and 1e-3), MSE, means and their ratio.
+#include <fmt/format.h>
+
+#include <nlohmann/json.hpp>
+
+#include "commands.h"
+#include "volguide/render/image_compare.h"
+#include "volguide/render/image_io.h"
+
+namespace volguide::cli {
+
+int run_diff(const DiffArgs& args) {
+    Image image = read_image(args.image), reference = read_image(args.reference);
+    if (image.width != reference.width || image.height != reference.height)
+        throw FileError(args.image, fmt::format("size {}x{} differs from the reference '{}' ({}x{})", image.width,
+                                                image.height, args.reference, reference.width, reference.height));
+    ImageDiff d = compare_images(image, reference);
+    if (!args.error_image.empty()) write_exr(args.error_image, relative_error_image(image, reference, 1e-2));
+    if (args.json) {
+        nlohmann::json j{{"relmse_1e-2", d.relmse_1e2}, {"relmse_1e-3", d.relmse_1e3}, {"mse", d.mse},
+                         {"mean", d.mean},              {"reference_mean", d.reference_mean}};
+        j["ratio"] = std::isfinite(d.ratio) ? nlohmann::json(d.ratio) : nlohmann::json(nullptr);
+        j["nonfinite"] = d.nonfinite;
+        fmt::print("{}\n", j.dump());
+        return 0;
+    }
+    fmt::print("relMSE(1e-2): {:.6g}\n", d.relmse_1e2);
+    fmt::print("relMSE(1e-3): {:.6g}\n", d.relmse_1e3);
+    fmt::print("MSE: {:.6g}\n", d.mse);
+    fmt::print("mean: {:.6g}\n", d.mean);
+    fmt::print("reference mean: {:.6g}\n", d.reference_mean);
+    fmt::print("ratio: {:.6g}\n", d.ratio);
+    if (d.nonfinite > 0) fmt::print("non-finite values (excluded): {}\n", d.nonfinite);
+    return 0;
+}
+
+}  // namespace volguide::cli

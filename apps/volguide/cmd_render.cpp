@@ -1,0 +1,129 @@
+// `volguide render`: load, render (progressive, interruptible), then write the image atomically.
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "cli_util.h"
+#include "commands.h"
+#include "interrupt.h"
+#include "progress_display.h"
+#include "volguide/core/log.h"
+#include "volguide/integrators/integrator.h"
+#include "volguide/integrators/render_loop.h"
+#include "volguide/render/image_io.h"
+#include "volguide/render/scene.h"
+#include "volguide/scene/loader.h"
+
+namespace volguide::cli {
+
+namespace {
+
+void validate(const RenderArgs& a, const std::string& output) {
+    if (a.spp && *a.spp <= 0) throw UsageError(fmt::format("--spp must be positive, got {}", *a.spp));
+    if (a.time && !(*a.time > 0 && std::isfinite(*a.time)))
+        throw UsageError(fmt::format("--time must be a positive number of seconds, got {}", *a.time));
+    if (a.threads && *a.threads <= 0) throw UsageError(fmt::format("--threads must be positive, got {}", *a.threads));
+    std::string ext = extension_of(output);
+    if (ext != ".exr" && ext != ".png")
+        throw UsageError(fmt::format("output '{}' must end in .exr or .png", output));
+    if (!a.stats.empty() && extension_of(a.stats) != ".json")
+        throw UsageError(fmt::format("--stats file '{}' must end in .json", a.stats));
+}
+
+// Fail before a long render, not after it, when an output cannot be written.
+void check_directory(const std::string& file) {
+    std::filesystem::path dir = std::filesystem::path(file).parent_path();
+    if (dir.empty()) return;
+    std::error_code ec;
+    if (!std::filesystem::is_directory(dir, ec)) throw FileError(file, fmt::format("directory '{}' does not exist", dir.string()));
+}
+
+void write_stats(const std::string& path, const RenderArgs& args, const std::string& output,
+                 const std::string& variance_output, double load_seconds, const RenderResult& r) {
+    const RenderStats& s = r.stats;
+    nlohmann::json j;
+    j["scene"] = args.scene;
+    j["output"] = output;
+    if (!variance_output.empty()) j["variance_output"] = variance_output;
+    j["width"] = r.mean.width;
+    j["height"] = r.mean.height;
+    j["spp"] = r.spp;
+    j["spp_requested"] = args.spp ? *args.spp : 0;
+    j["time_budget"] = args.time ? *args.time : 0.0;
+    j["seed"] = s.seed;
+    j["threads"] = s.threads;
+    j["passes"] = s.passes;
+    j["samples"] = s.samples;
+    j["discarded_samples"] = s.discarded_samples;
+    j["nonfinite_samples"] = s.nonfinite_samples;
+    if (s.first_nonfinite)
+        j["first_nonfinite"] = {{"x", s.first_nonfinite->x}, {"y", s.first_nonfinite->y}, {"sample", s.first_nonfinite->sample}};
+    j["cancelled"] = s.cancelled;
+    j["time_limited"] = s.time_limited;
+    j["time"] = {{"load", load_seconds},
+                 {"preprocess", s.preprocess_seconds},
+                 {"render", s.render_seconds},
+                 {"total", s.total_seconds},
+                 {"total_with_load", load_seconds + s.total_seconds}};
+    std::ofstream f(path);
+    f << j.dump(2) << "\n";
+    if (!f) throw FileError(path, "cannot write the statistics file");
+}
+
+}  // namespace
+
+int run_render(const RenderArgs& args) {
+    const std::string output = args.output.empty() ? default_output(args.scene) : args.output;
+    validate(args, output);
+    check_directory(output);
+    if (!args.stats.empty()) check_directory(args.stats);
+    LoadOptions load;
+    load.defines = parse_defines(args.defines);
+
+    auto t0 = std::chrono::steady_clock::now();
+    std::unique_ptr<Scene> scene = load_scene(args.scene, load);
+    const double load_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+    InterruptGuard interrupt;
+    ProgressDisplay display(args.quiet);
+    RenderOptions options;
+    if (args.spp) options.spp = *args.spp;
+    if (args.time) options.time_budget = *args.time;
+    options.seed = args.seed;
+    if (args.threads) options.threads = *args.threads;
+    options.cancel = interrupt.flag();
+    options.progress = [&](const Progress& p) { display.update(p); };
+    RenderResult result = render(*scene, options);
+    display.finish();
+
+    if (result.spp == 0)
+        throw FileError(output, "interrupted before the first pass completed; nothing was written");
+    write_image(output, result.mean);
+    std::string var_output;
+    if (scene->integrator().writes_variance()) {
+        var_output = variance_path(output);
+        write_exr(var_output, result.variance);
+    }
+    if (!args.stats.empty()) write_stats(args.stats, args, output, var_output, load_seconds, result);
+
+    const RenderStats& s = result.stats;
+    if (s.cancelled) fmt::print("interrupted: wrote the {} completed samples per pixel\n", result.spp);
+    fmt::print("time: {:.3f} s (load {:.3f} s, preprocess {:.3f} s, render {:.3f} s)\n", load_seconds + s.total_seconds,
+               load_seconds, s.preprocess_seconds, s.render_seconds);
+    fmt::print("spp: {}\n", result.spp);
+    if (s.nonfinite_samples > 0) {
+        fmt::print("non-finite samples dropped: {}\n", s.nonfinite_samples);
+        const SampleLocation& at = *s.first_nonfinite;
+        warn({}, "{} non-finite samples were dropped; the first: pixel ({}, {}) sample {} (seed {})",
+             s.nonfinite_samples, at.x, at.y, at.sample, s.seed);
+    }
+    fmt::print("output: {}\n", output);
+    if (!var_output.empty()) fmt::print("variance: {}\n", var_output);
+    return 0;
+}
+
+}  // namespace volguide::cli

@@ -1,0 +1,48 @@
+#pragma once
+// The three `volguide` commands. Each returns the process exit code; input and I/O errors are
+// thrown (volguide::InputError or std::exception) and usage errors as UsageError, and main()
+// turns them into one stderr line and exit code 1 or 2.
+#include <cstdint>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace volguide::cli {
+
+struct UsageError : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+// An error about one file without a line number: printed as `volguide: FILE: message`.
+struct FileError : std::runtime_error {
+    FileError(std::string file, const std::string& message) : std::runtime_error(message), file(std::move(file)) {}
+    std::string file;
+};
+
+struct RenderArgs {
+    std::string scene;
+    std::string output;                // empty: <scene stem>.exr in the current directory
+    std::vector<std::string> defines;  // name=value
+    std::optional<int> spp;
+    std::optional<double> time;
+    std::optional<uint64_t> seed;
+    std::optional<int> threads;
+    std::string stats;  // JSON file, empty for none
+    bool quiet = false;
+};
+int run_render(const RenderArgs& args);
+
+struct DiffArgs {
+    std::string image, reference, error_image;
+    bool json = false;
+};
+int run_diff(const DiffArgs& args);
+
+struct InfoArgs {
+    std::string scene;
+    std::vector<std::string> defines;
+};
+int run_info(const InfoArgs& args);
+
+}  // namespace volguide::cli

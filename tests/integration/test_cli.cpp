@@ -1,0 +1,229 @@
+// The `volguide` command line as users and scripts see it: exit codes, one-line errors, `diff`
+// metrics, and small renders (outputs, variance image, stats, seeds, thread-count independence).
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstring>
+#include <unistd.h>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+#include "support/test_support.h"
+#include "volguide/core/image.h"
+#include "volguide/render/image_io.h"
+
+namespace fs = std::filesystem;
+
+namespace volguide {
+namespace {
+
+struct CliResult {
+    int code = -1;
+    std::string out, err;
+};
+
+std::string slurp(const fs::path& p) {
+    std::ifstream f(p);
+    std::stringstream s;
+    s << f.rdbuf();
+    return s.str();
+}
+
+class Cli : public ::testing::Test {
+protected:
+    void SetUp() override {
+        dir_ = fs::temp_directory_path() /
+               ("volguide_cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + "_" +
+                std::to_string(::getpid()));
+        fs::remove_all(dir_);
+        fs::create_directories(dir_);
+    }
+    void TearDown() override {
+        if (!HasFailure()) fs::remove_all(dir_);
+    }
+    // Runs the CLI in the test directory (arguments are passed through the shell as given).
+    CliResult run(const std::string& args) {
+        std::string cmd = "cd '" + dir_.string() + "' && '" + test::cli_path() + "' " + args + " >stdout.txt 2>stderr.txt";
+        int status = std::system(cmd.c_str());
+        CliResult r;
+        r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+        r.out = slurp(dir_ / "stdout.txt");
+        r.err = slurp(dir_ / "stderr.txt");
+        return r;
+    }
+    void write(const std::string& name, const std::string& text) { std::ofstream(dir_ / name) << text; }
+    fs::path path(const std::string& name) const { return dir_ / name; }
+
+    fs::path dir_;
+};
+
+int count_lines(const std::string& s) {
+    int n = 0;
+    for (char c : s) n += c == '\n';
+    return n;
+}
+
+TEST_F(Cli, UsageErrorsExitWithTwo) {
+    for (const char* args : {"", "frobnicate", "render", "render s.xml --spp 0", "render s.xml --spp abc",
+                             "render s.xml -D foo", "render s.xml --bogus", "render s.xml -o out.jpg",
+                             "render s.xml --threads 0", "render s.xml --time -1", "diff a.exr", "info"}) {
+        CliResult r = run(args);
+        EXPECT_EQ(r.code, 2) << "args: " << args << "\nstderr: " << r.err;
+        EXPECT_FALSE(r.err.empty()) << args;
+        EXPECT_TRUE(r.out.empty()) << args;
+    }
+    EXPECT_EQ(run("--help").code, 0);
+    EXPECT_EQ(run("render --help").code, 0);
+}
+
+TEST_F(Cli, DiffMetrics) {
+    Image image(4, 3, Color3(1.1f, 1.1f, 1.1f)), reference(4, 3, Color3(1.f));
+    image.at(0, 0) = Color3(0.f);  // one black pixel: error 1 on three channels
+    write_exr(path("i.exr").string(), image);
+    write_exr(path("r.exr").string(), reference);
+    // Float EXR values: recompute the expectation from what was stored.
+    const double d = double(1.1f) - 1.0, n = 36;
+    const double rel2 = (33 * d * d / 1.01 + 3 * 1 / 1.01) / n, rel3 = (33 * d * d / 1.001 + 3 / 1.001) / n;
+    const double mse = (33 * d * d + 3) / n, mean = 33 * double(1.1f) / n;
+
+    CliResult text = run("diff i.exr r.exr");
+    ASSERT_EQ(text.code, 0) << text.err;
+    EXPECT_NE(text.out.find("relMSE(1e-2): "), std::string::npos) << text.out;
+    EXPECT_NE(text.out.find("relMSE(1e-3): "), std::string::npos);
+    EXPECT_NE(text.out.find("MSE: "), std::string::npos);
+    EXPECT_NE(text.out.find("ratio: "), std::string::npos);
+
+    CliResult js = run("diff i.exr r.exr --json --error-image err.exr");
+    ASSERT_EQ(js.code, 0) << js.err;
+    auto j = nlohmann::json::parse(js.out);
+    EXPECT_NEAR(j["relmse_1e-2"].get<double>(), rel2, 1e-9);
+    EXPECT_NEAR(j["relmse_1e-3"].get<double>(), rel3, 1e-9);
+    EXPECT_NEAR(j["mse"].get<double>(), mse, 1e-9);
+    EXPECT_NEAR(j["mean"].get<double>(), mean, 1e-9);
+    EXPECT_NEAR(j["reference_mean"].get<double>(), 1.0, 1e-12);
+    EXPECT_NEAR(j["ratio"].get<double>(), mean, 1e-9);
+    Image err = read_image(path("err.exr").string());
+    ASSERT_EQ(err.width, 4);
+    EXPECT_NEAR(err.at(0, 0).g, 1 / 1.01, 1e-6);
+    EXPECT_NEAR(err.at(2, 1).r, d * d / 1.01, 1e-6);
+
+    write_exr(path("small.exr").string(), Image(2, 2));
+    CliResult mismatch = run("diff i.exr small.exr");
+    EXPECT_EQ(mismatch.code, 1);
+    EXPECT_EQ(mismatch.err.rfind("volguide: i.exr: ", 0), 0u) << mismatch.err;
+    EXPECT_EQ(count_lines(mismatch.err), 1) << mismatch.err;
+
+    CliResult missing = run("diff nothere.exr r.exr");
+    EXPECT_EQ(missing.code, 1);
+    EXPECT_EQ(missing.err.rfind("volguide: ", 0), 0u);
+    EXPECT_EQ(count_lines(missing.err), 1) << missing.err;
+}
+
+// A sphere (Mitsuba's default diffuse material) under a constant environment: noisy, cheap.
+const char* kScene = R"(<scene version="3.0.0">
+    <default name="spp" value="4"/>
+    <integrator type="moment">
+        <integrator type="path"/>
+    </integrator>
+    <sensor type="perspective">
+        <float name="fov" value="40"/>
+        <transform name="to_world">
+            <lookat origin="0, 0, 4" target="0, 0, 0" up="0, 1, 0"/>
+        </transform>
+        <film type="hdrfilm">
+            <integer name="width" value="16"/>
+            <integer name="height" value="12"/>
+            <rfilter type="gaussian"/>
+        </film>
+        <sampler type="independent">
+            <integer name="sample_count" value="$spp"/>
+        </sampler>
+    </sensor>
+    <emitter type="constant">
+        <rgb name="radiance" value="0.25, 0.5, 1"/>
+    </emitter>
+    <shape type="sphere"/>
+</scene>
+)";
+
+TEST_F(Cli, RenderWritesImageVarianceAndStats) {
+    write("s.xml", kScene);
+    CliResult r = run("render s.xml --spp 8 --seed 3 --threads 1 --stats st.json --quiet");
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_TRUE(r.err.empty()) << r.err;  // --quiet
+    EXPECT_NE(r.out.find("spp: 8"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("s.exr"), std::string::npos) << r.out;
+    ASSERT_TRUE(fs::exists(path("s.exr")));  // default output: <scene stem>.exr
+    ASSERT_TRUE(fs::exists(path("s_var.exr")));
+    Image img = read_image(path("s.exr").string());
+    EXPECT_EQ(img.width, 16);
+    EXPECT_EQ(img.height, 12);
+    // The corner sees the environment only.
+    EXPECT_NEAR(img.at(0, 0).r, 0.25f, 1e-5f);
+    EXPECT_NEAR(img.at(0, 0).b, 1.f, 1e-5f);
+    auto st = nlohmann::json::parse(slurp(path("st.json")));
+    EXPECT_EQ(st["spp"].get<int>(), 8);
+    EXPECT_EQ(st["seed"].get<uint64_t>(), 3u);
+    EXPECT_EQ(st["threads"].get<int>(), 1);
+    EXPECT_EQ(st["samples"].get<uint64_t>(), 16u * 12u * 8u);
+
+    // Same seed, two threads: the same bits.
+    CliResult r2 = run("render s.xml -o two.exr --spp 8 --seed 3 --threads 2 --quiet");
+    ASSERT_EQ(r2.code, 0) << r2.err;
+    Image two = read_image(path("two.exr").string());
+    ASSERT_EQ(two.pixels.size(), img.pixels.size());
+    EXPECT_EQ(std::memcmp(two.pixels.data(), img.pixels.data(), img.pixels.size() * sizeof(Color3)), 0);
+    // Another seed: other noise.
+    ASSERT_EQ(run("render s.xml -o other.exr --spp 8 --seed 4 --quiet").code, 0);
+    Image other = read_image(path("other.exr").string());
+    EXPECT_NE(std::memcmp(other.pixels.data(), img.pixels.data(), img.pixels.size() * sizeof(Color3)), 0);
+
+    // -D sets a <default>; PNG preview output.
+    CliResult d = run("render s.xml -D spp=2 -o prev.png --stats d.json --quiet");
+    ASSERT_EQ(d.code, 0) << d.err;
+    EXPECT_EQ(nlohmann::json::parse(slurp(path("d.json")))["spp"].get<int>(), 2);
+    std::string png = slurp(path("prev.png"));
+    ASSERT_GE(png.size(), 8u);
+    EXPECT_EQ(png.substr(1, 3), "PNG");
+    EXPECT_TRUE(fs::exists(path("prev_var.exr")));
+}
+
+TEST_F(Cli, InputErrorsAreOneLineWithExitOne) {
+    write("s.xml", kScene);
+    CliResult unknown = run("render s.xml -D nosuch=1");
+    EXPECT_EQ(unknown.code, 1);
+    EXPECT_EQ(unknown.err.rfind("volguide: ", 0), 0u) << unknown.err;
+    EXPECT_EQ(count_lines(unknown.err), 1) << unknown.err;
+    EXPECT_FALSE(fs::exists(path("s.exr")));  // nothing written on error
+
+    write("broken.xml", "<scene version=\"3.0.0\">\n  <shape type=\"nosuchshape\"/>\n</scene>\n");
+    CliResult broken = run("render broken.xml");
+    EXPECT_EQ(broken.code, 1);
+    EXPECT_NE(broken.err.find("broken.xml:2"), std::string::npos) << broken.err;
+    EXPECT_EQ(count_lines(broken.err), 1) << broken.err;
+    EXPECT_FALSE(fs::exists(path("broken.exr")));
+
+    CliResult missing = run("render missing.xml");
+    EXPECT_EQ(missing.code, 1);
+    EXPECT_EQ(missing.err.rfind("volguide: missing.xml", 0), 0u) << missing.err;
+    EXPECT_EQ(count_lines(missing.err), 1);
+}
+
+TEST_F(Cli, InfoSummarisesTheScene) {
+    write("s.xml", kScene);
+    CliResult r = run("info s.xml");
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("resolution: 16 x 12"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("spp: 4"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("shapes: 1"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("emitters: 1"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("integrator: moment"), std::string::npos) << r.out;
+}
+
+}  // namespace
+}  // namespace volguide
