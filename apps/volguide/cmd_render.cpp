@@ -22,14 +22,16 @@ namespace volguide::cli {
 
 namespace {
 
-void validate(const RenderArgs& a, const std::string& output) {
+void validate(const RenderArgs& a, const std::vector<std::string>& outputs) {
     if (a.spp && *a.spp <= 0) throw UsageError(fmt::format("--spp must be positive, got {}", *a.spp));
     if (a.time && !(*a.time > 0 && std::isfinite(*a.time)))
         throw UsageError(fmt::format("--time must be a positive number of seconds, got {}", *a.time));
     if (a.threads && *a.threads <= 0) throw UsageError(fmt::format("--threads must be positive, got {}", *a.threads));
-    std::string ext = extension_of(output);
-    if (ext != ".exr" && ext != ".png")
-        throw UsageError(fmt::format("output '{}' must end in .exr or .png", output));
+    for (const std::string& output : outputs) {
+        std::string ext = extension_of(output);
+        if (ext != ".exr" && ext != ".png")
+            throw UsageError(fmt::format("output '{}' must end in .exr or .png", output));
+    }
     if (!a.stats.empty() && extension_of(a.stats) != ".json")
         throw UsageError(fmt::format("--stats file '{}' must end in .json", a.stats));
 }
@@ -42,12 +44,13 @@ void check_directory(const std::string& file) {
     if (!std::filesystem::is_directory(dir, ec)) throw FileError(file, fmt::format("directory '{}' does not exist", dir.string()));
 }
 
-void write_stats(const std::string& path, const RenderArgs& args, const std::string& output,
+void write_stats(const std::string& path, const RenderArgs& args, const std::vector<std::string>& outputs,
                  const std::string& variance_output, double load_seconds, const RenderResult& r) {
     const RenderStats& s = r.stats;
     nlohmann::json j;
     j["scene"] = args.scene;
-    j["output"] = output;
+    j["output"] = outputs.front();
+    j["outputs"] = outputs;
     if (!variance_output.empty()) j["variance_output"] = variance_output;
     j["width"] = r.mean.width;
     j["height"] = r.mean.height;
@@ -77,9 +80,10 @@ void write_stats(const std::string& path, const RenderArgs& args, const std::str
 }  // namespace
 
 int run_render(const RenderArgs& args) {
-    const std::string output = args.output.empty() ? default_output(args.scene) : args.output;
-    validate(args, output);
-    check_directory(output);
+    const std::vector<std::string> outputs =
+        args.outputs.empty() ? std::vector<std::string>{default_output(args.scene)} : args.outputs;
+    validate(args, outputs);
+    for (const std::string& output : outputs) check_directory(output);
     if (!args.stats.empty()) check_directory(args.stats);
     LoadOptions load;
     load.defines = parse_defines(args.defines);
@@ -101,14 +105,14 @@ int run_render(const RenderArgs& args) {
     display.finish();
 
     if (result.spp == 0)
-        throw FileError(output, "interrupted before the first pass completed; nothing was written");
-    write_image(output, result.mean);
+        throw FileError(outputs.front(), "interrupted before the first pass completed; nothing was written");
+    for (const std::string& output : outputs) write_image(output, result.mean);
     std::string var_output;
     if (scene->integrator().writes_variance()) {
-        var_output = variance_path(output);
+        var_output = variance_path(outputs.front());
         write_exr(var_output, result.variance);
     }
-    if (!args.stats.empty()) write_stats(args.stats, args, output, var_output, load_seconds, result);
+    if (!args.stats.empty()) write_stats(args.stats, args, outputs, var_output, load_seconds, result);
 
     const RenderStats& s = result.stats;
     if (s.cancelled) fmt::print("interrupted: wrote the {} completed samples per pixel\n", result.spp);
@@ -121,7 +125,7 @@ int run_render(const RenderArgs& args) {
         warn({}, "{} non-finite samples were dropped; the first: pixel ({}, {}) sample {} (seed {})",
              s.nonfinite_samples, at.x, at.y, at.sample, s.seed);
     }
-    fmt::print("output: {}\n", output);
+    for (const std::string& output : outputs) fmt::print("output: {}\n", output);
     if (!var_output.empty()) fmt::print("variance: {}\n", var_output);
     return 0;
 }

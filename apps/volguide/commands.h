@@ -22,7 +22,9 @@ struct FileError : std::runtime_error {
 
 struct RenderArgs {
     std::string scene;
-    std::string output;                // empty: <scene stem>.exr in the current directory
+    // Empty: <scene stem>.exr in the current directory. Several outputs (e.g. EXR + PNG preview) are
+    // written from one render; the variance image follows the first one.
+    std::vector<std::string> outputs;
     std::vector<std::string> defines;  // name=value
     std::optional<int> spp;
     std::optional<double> time;

@@ -20,6 +20,8 @@ InterruptGuard::InterruptGuard() {
     g_interrupted = false;
     g_previous = std::signal(SIGINT, on_sigint);
     if (g_previous == SIG_ERR) g_previous = SIG_DFL;
+    // A process started with SIGINT ignored (a background job of a script) keeps ignoring it.
+    if (g_previous == SIG_IGN) std::signal(SIGINT, SIG_IGN);
 }
 
 InterruptGuard::~InterruptGuard() { std::signal(SIGINT, g_previous); }

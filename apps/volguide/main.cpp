@@ -35,7 +35,10 @@ int main(int argc, char** argv) {
     RenderArgs render;
     CLI::App* render_cmd = app.add_subcommand("render", "render a scene to an image");
     render_cmd->add_option("scene", render.scene, "Mitsuba 3 XML scene")->required();
-    render_cmd->add_option("-o,--output", render.output, "output image (.exr: linear float32 RGB; .png: 8-bit sRGB)");
+    render_cmd
+        ->add_option("-o,--output", render.outputs,
+                     "output image (.exr: linear float32 RGB; .png: 8-bit sRGB); repeat for several formats")
+        ->allow_extra_args(false);
     render_cmd->add_option("-D,--define", render.defines, "set a scene <default> (name=value); repeatable")
         ->allow_extra_args(false);
     render_cmd->add_option("--spp", render.spp, "samples per pixel (overrides the sampler's sample_count)");

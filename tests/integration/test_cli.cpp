@@ -12,6 +12,8 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <thread>
+#include <csignal>
 
 #include "support/test_support.h"
 #include "volguide/core/image.h"
@@ -183,14 +185,59 @@ TEST_F(Cli, RenderWritesImageVarianceAndStats) {
     Image other = read_image(path("other.exr").string());
     EXPECT_NE(std::memcmp(other.pixels.data(), img.pixels.data(), img.pixels.size() * sizeof(Color3)), 0);
 
-    // -D sets a <default>; PNG preview output.
-    CliResult d = run("render s.xml -D spp=2 -o prev.png --stats d.json --quiet");
+    // -D sets a <default>; PNG preview output; several outputs from one render.
+    CliResult d = run("render s.xml -D spp=2 -o prev.png -o both.exr --stats d.json --quiet");
     ASSERT_EQ(d.code, 0) << d.err;
     EXPECT_EQ(nlohmann::json::parse(slurp(path("d.json")))["spp"].get<int>(), 2);
     std::string png = slurp(path("prev.png"));
     ASSERT_GE(png.size(), 8u);
     EXPECT_EQ(png.substr(1, 3), "PNG");
-    EXPECT_TRUE(fs::exists(path("prev_var.exr")));
+    EXPECT_TRUE(fs::exists(path("prev_var.exr")));  // named after the first output
+    EXPECT_EQ(read_image(path("both.exr").string()).width, 16);
+}
+
+// Ctrl-C: the render stops, the completed passes are written, the exit code is 0.
+TEST_F(Cli, InterruptWritesTheCompletedPasses) {
+    write("s.xml", kScene);
+    for (int attempt = 0; attempt < 4; ++attempt) {
+        fs::remove(path("int.exr"));
+        pid_t pid = fork();
+        ASSERT_GE(pid, 0);
+        if (pid == 0) {
+            if (chdir(dir_.c_str()) != 0) _exit(99);
+            FILE* out = freopen("int_stdout.txt", "w", stdout);
+            FILE* err = freopen("int_stderr.txt", "w", stderr);
+            (void)out;
+            (void)err;
+            std::string cli = test::cli_path();
+            execl(cli.c_str(), cli.c_str(), "render", "s.xml", "-o", "int.exr", "--spp", "1000000", "--stats",
+                  "int.json", "--threads", "1", static_cast<char*>(nullptr));
+            _exit(98);
+        }
+        // Wait for the first pass (a few milliseconds of work) before interrupting; longer on retries.
+        std::this_thread::sleep_for(std::chrono::milliseconds(500 << attempt));
+        kill(pid, SIGINT);
+        int status = 0;
+        waitpid(pid, &status, 0);
+        ASSERT_TRUE(WIFEXITED(status));
+        std::string err = slurp(path("int_stderr.txt"));
+        if (WEXITSTATUS(status) == 1 && err.find("before the first pass") != std::string::npos) continue;
+        ASSERT_EQ(WEXITSTATUS(status), 0) << err;
+        auto st = nlohmann::json::parse(slurp(path("int.json")));
+        EXPECT_TRUE(st["cancelled"].get<bool>());
+        int spp = st["spp"].get<int>();
+        EXPECT_GE(spp, 1);
+        EXPECT_LT(spp, 1000000);
+        Image img = read_image(path("int.exr").string());
+        EXPECT_EQ(img.width, 16);
+        EXPECT_TRUE(fs::exists(path("int_var.exr")));
+        EXPECT_NE(slurp(path("int_stdout.txt")).find("interrupted"), std::string::npos);
+        // Atomic writes: no temporary files left behind.
+        for (const auto& entry : fs::directory_iterator(dir_))
+            EXPECT_EQ(entry.path().string().find(".tmp"), std::string::npos) << entry.path();
+        return;
+    }
+    FAIL() << "the render never completed its first pass before the interrupt";
 }
 
 TEST_F(Cli, InputErrorsAreOneLineWithExitOne) {
