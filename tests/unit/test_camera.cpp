@@ -214,6 +214,19 @@ TEST(Camera, RejectsBadParameters) {
     expect_input_error(Properties("sensor", "thinlens", kLoc), "unsupported sensor");
 }
 
+TEST(Camera, PrincipalPointOffsetShiftsTheImage) {
+    Properties p = sensor_props("perspective", 40, 20);
+    p.set("fov", "float", 50.0, kLoc);
+    p.set("principal_point_offset_x", "float", 0.1, kLoc);
+    p.set("principal_point_offset_y", "float", -0.2, kLoc);
+    auto sensor = std::dynamic_pointer_cast<Sensor>(create_sensor(p));
+    p.check_all_used();
+    // The optical axis now passes through film position (0.5 - 0.1, 0.5 + 0.2).
+    Vec3f d = sensor->sample_ray({0.4f, 0.7f}, {}).first.d;
+    EXPECT_NEAR(d.x, 0.f, 1e-6f);
+    EXPECT_NEAR(d.y, 0.f, 1e-6f);
+}
+
 TEST(Camera, PerspectiveAllowsAMirror) {
     Properties p = sensor_props("perspective", 8, 8);
     p.set("to_world", "transform", Transform::scale({-1, 1, 1}), kLoc);

@@ -80,6 +80,11 @@ PerspectiveCamera::PerspectiveCamera(const Properties& props) : ProjectiveCamera
     if (!(x_fov > 0.0 && x_fov < 180.0))
         props.fail_at(fov_param, "the horizontal field of view must be in (0, 180) degrees, got {}", x_fov);
     x_fov_ = float(x_fov);
+    // Mitsuba's principal point offset shifts the image plane, in fractions of the film size.
+    principal_point_offset_ = {props.get_float("principal_point_offset_x", 0.f),
+                               props.get_float("principal_point_offset_y", 0.f)};
+    if (!std::isfinite(principal_point_offset_.x) || !std::isfinite(principal_point_offset_.y))
+        props.fail_at("principal_point_offset_x", "principal point offsets must be finite");
     if (has_scale(to_world_)) props.fail_at("to_world", "scale factors in the camera-to-world transform are not allowed");
     configure(&props);
 }
@@ -96,7 +101,8 @@ void PerspectiveCamera::configure(const Properties*) {
     origin_ = to_world_.apply_point(Point3f(0.f));
 }
 
-std::pair<Ray, Color3> PerspectiveCamera::sample_ray(Point2f uv, Point2f) const {
+std::pair<Ray, Color3> PerspectiveCamera::sample_ray(Point2f film_uv, Point2f) const {
+    const Point2f uv = film_uv + principal_point_offset_;
     // Film u = 0 is camera +x (left), v = 0 is camera +y (up); the near plane spans
     // x in [-1, 1] * tan_half_x and y in [-1, 1] * tan_half_x / aspect.
     Vec3f local = normalize(Vec3f((1.f - 2.f * uv.x) * tan_half_x_, (1.f - 2.f * uv.y) * tan_half_x_ / aspect_, 1.f));

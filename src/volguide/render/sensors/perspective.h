@@ -29,6 +29,7 @@ private:
     void configure(const Properties* props);
     float x_fov_;
     float tan_half_x_;  // tan(x_fov / 2)
+    Vec2f principal_point_offset_{0.f, 0.f};  // in film units (fractions of width and height)
     Point3f origin_;
 };
 

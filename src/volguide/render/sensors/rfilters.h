@@ -17,7 +17,8 @@ class BoxFilter final : public ReconstructionFilter {
 public:
     BoxFilter() { radius_ = 0.5f; }
     explicit BoxFilter(const Properties& props) : BoxFilter() {}
-    float eval(float x) const override { return std::abs(x) <= radius_ ? 1.f : 0.f; }
+    // Half-open, as Mitsuba 3 (the film bypasses eval for the box and uses the pixel a sample falls in).
+    float eval(float x) const override { return x >= -0.5f && x < 0.5f ? 1.f : 0.f; }
     std::string to_string() const override { return "box"; }
 };
 
