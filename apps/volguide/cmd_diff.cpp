@@ -12,13 +12,17 @@ namespace volguide::cli {
 int run_diff(const DiffArgs& args) {
     Image image = read_image(args.image), reference = read_image(args.reference);
     if (image.width != reference.width || image.height != reference.height)
-        throw FileError(args.image, fmt::format("size {}x{} differs from the reference '{}' ({}x{})", image.width,
-                                                image.height, args.reference, reference.width, reference.height));
+        throw FileError(args.image,
+                        fmt::format("size {}x{} differs from the reference '{}' ({}x{})", image.width,
+                                    image.height, args.reference, reference.width, reference.height));
     ImageDiff d = compare_images(image, reference);
     if (!args.error_image.empty()) write_exr(args.error_image, relative_error_image(image, reference, 1e-2));
     if (args.json) {
-        nlohmann::json j{{"relmse_1e-2", d.relmse_1e2}, {"relmse_1e-3", d.relmse_1e3}, {"mse", d.mse},
-                         {"mean", d.mean},              {"reference_mean", d.reference_mean}};
+        nlohmann::json j{{"relmse_1e-2", d.relmse_1e2},
+                         {"relmse_1e-3", d.relmse_1e3},
+                         {"mse", d.mse},
+                         {"mean", d.mean},
+                         {"reference_mean", d.reference_mean}};
         j["ratio"] = std::isfinite(d.ratio) ? nlohmann::json(d.ratio) : nlohmann::json(nullptr);
         j["nonfinite"] = d.nonfinite;
         fmt::print("{}\n", j.dump());

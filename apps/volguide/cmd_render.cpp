@@ -26,7 +26,8 @@ void validate(const RenderArgs& a, const std::vector<std::string>& outputs) {
     if (a.spp && *a.spp <= 0) throw UsageError(fmt::format("--spp must be positive, got {}", *a.spp));
     if (a.time && !(*a.time > 0 && std::isfinite(*a.time)))
         throw UsageError(fmt::format("--time must be a positive number of seconds, got {}", *a.time));
-    if (a.threads && *a.threads <= 0) throw UsageError(fmt::format("--threads must be positive, got {}", *a.threads));
+    if (a.threads && *a.threads <= 0)
+        throw UsageError(fmt::format("--threads must be positive, got {}", *a.threads));
     for (const std::string& output : outputs) {
         std::string ext = extension_of(output);
         if (ext != ".exr" && ext != ".png")
@@ -41,7 +42,8 @@ void check_directory(const std::string& file) {
     std::filesystem::path dir = std::filesystem::path(file).parent_path();
     if (dir.empty()) return;
     std::error_code ec;
-    if (!std::filesystem::is_directory(dir, ec)) throw FileError(file, fmt::format("directory '{}' does not exist", dir.string()));
+    if (!std::filesystem::is_directory(dir, ec))
+        throw FileError(file, fmt::format("directory '{}' does not exist", dir.string()));
 }
 
 void write_stats(const std::string& path, const RenderArgs& args, const std::vector<std::string>& outputs,
@@ -64,7 +66,8 @@ void write_stats(const std::string& path, const RenderArgs& args, const std::vec
     j["discarded_samples"] = s.discarded_samples;
     j["nonfinite_samples"] = s.nonfinite_samples;
     if (s.first_nonfinite)
-        j["first_nonfinite"] = {{"x", s.first_nonfinite->x}, {"y", s.first_nonfinite->y}, {"sample", s.first_nonfinite->sample}};
+        j["first_nonfinite"] = {
+            {"x", s.first_nonfinite->x}, {"y", s.first_nonfinite->y}, {"sample", s.first_nonfinite->sample}};
     j["cancelled"] = s.cancelled;
     j["time_limited"] = s.time_limited;
     j["time"] = {{"load", load_seconds},
@@ -116,8 +119,8 @@ int run_render(const RenderArgs& args) {
 
     const RenderStats& s = result.stats;
     if (s.cancelled) fmt::print("interrupted: wrote the {} completed samples per pixel\n", result.spp);
-    fmt::print("time: {:.3f} s (load {:.3f} s, preprocess {:.3f} s, render {:.3f} s)\n", load_seconds + s.total_seconds,
-               load_seconds, s.preprocess_seconds, s.render_seconds);
+    fmt::print("time: {:.3f} s (load {:.3f} s, preprocess {:.3f} s, render {:.3f} s)\n",
+               load_seconds + s.total_seconds, load_seconds, s.preprocess_seconds, s.render_seconds);
     fmt::print("spp: {}\n", result.spp);
     if (s.nonfinite_samples > 0) {
         fmt::print("non-finite samples dropped: {}\n", s.nonfinite_samples);

@@ -16,7 +16,8 @@ struct UsageError : std::runtime_error {
 
 // An error about one file without a line number: printed as `volguide: FILE: message`.
 struct FileError : std::runtime_error {
-    FileError(std::string file, const std::string& message) : std::runtime_error(message), file(std::move(file)) {}
+    FileError(std::string file, const std::string& message)
+        : std::runtime_error(message), file(std::move(file)) {}
     std::string file;
 };
 

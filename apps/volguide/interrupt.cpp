@@ -24,10 +24,16 @@ InterruptGuard::InterruptGuard() {
     if (g_previous == SIG_IGN) std::signal(SIGINT, SIG_IGN);
 }
 
-InterruptGuard::~InterruptGuard() { std::signal(SIGINT, g_previous); }
+InterruptGuard::~InterruptGuard() {
+    std::signal(SIGINT, g_previous);
+}
 
-const std::atomic<bool>* InterruptGuard::flag() const { return &g_interrupted; }
+const std::atomic<bool>* InterruptGuard::flag() const {
+    return &g_interrupted;
+}
 
-bool InterruptGuard::interrupted() const { return g_interrupted.load(); }
+bool InterruptGuard::interrupted() const {
+    return g_interrupted.load();
+}
 
 }  // namespace volguide::cli

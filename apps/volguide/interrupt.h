@@ -6,8 +6,8 @@
 namespace volguide::cli {
 
 class InterruptGuard {
-public:
-    InterruptGuard();  // installs the handler
+  public:
+    InterruptGuard();   // installs the handler
     ~InterruptGuard();  // restores the previous one
     const std::atomic<bool>* flag() const;
     bool interrupted() const;

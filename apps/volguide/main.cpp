@@ -1,7 +1,6 @@
 // volguide command line: render | diff | info (docs/interface.md). Exit codes: 0 success, 1 input or
 // I/O error (one line `volguide: FILE:LINE: message` on stderr), 2 usage error.
 #include <CLI/CLI.hpp>
-
 #include <cstdio>
 #include <exception>
 #include <string>
@@ -29,7 +28,8 @@ void print_error(const std::string& where, const std::string& message) {
 
 int main(int argc, char** argv) {
     using namespace volguide::cli;
-    CLI::App app{"volguide: a physically based renderer for Mitsuba 3 scenes with volume path guiding", "volguide"};
+    CLI::App app{"volguide: a physically based renderer for Mitsuba 3 scenes with volume path guiding",
+                 "volguide"};
     app.require_subcommand(1);
 
     RenderArgs render;
@@ -53,7 +53,8 @@ int main(int argc, char** argv) {
     diff_cmd->add_option("image", diff.image, "image (.exr)")->required();
     diff_cmd->add_option("reference", diff.reference, "reference image (.exr)")->required();
     diff_cmd->add_flag("--json", diff.json, "print the metrics as one JSON object");
-    diff_cmd->add_option("--error-image", diff.error_image, "write the per-pixel relative squared error (EXR)");
+    diff_cmd->add_option("--error-image", diff.error_image,
+                         "write the per-pixel relative squared error (EXR)");
 
     InfoArgs info;
     CLI::App* info_cmd = app.add_subcommand("info", "summarise a scene");

@@ -23,7 +23,8 @@ std::string describe(const Progress& p) {
     std::string spp = p.spp_target > 0 ? fmt::format("{}/{} spp", p.spp_done, p.spp_target)
                                        : fmt::format("{} spp", p.spp_done);
     std::string eta = p.eta >= 0 ? ", ETA " + format_seconds(p.eta) : "";
-    return fmt::format("{} {:3.0f}%  {}  {} elapsed{}", p.phase, 100.0 * p.fraction, spp, format_seconds(p.elapsed), eta);
+    return fmt::format("{} {:3.0f}%  {}  {} elapsed{}", p.phase, 100.0 * p.fraction, spp,
+                       format_seconds(p.elapsed), eta);
 }
 }  // namespace
 

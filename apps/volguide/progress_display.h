@@ -9,13 +9,13 @@
 namespace volguide::cli {
 
 class ProgressDisplay {
-public:
+  public:
     explicit ProgressDisplay(bool quiet);
     void update(const Progress& p);
     // Ends the bar's line (call once rendering is over).
     void finish();
 
-private:
+  private:
     bool quiet_, tty_;
     bool drawn_ = false;
     std::string last_phase_;

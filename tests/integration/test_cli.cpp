@@ -2,18 +2,18 @@
 // metrics, and small renders (outputs, variance image, stats, seeds, thread-count independence).
 #include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cmath>
-#include <cstring>
-#include <unistd.h>
+#include <csignal>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <thread>
-#include <csignal>
 
 #include "support/test_support.h"
 #include "volguide/core/image.h"
@@ -37,11 +37,12 @@ std::string slurp(const fs::path& p) {
 }
 
 class Cli : public ::testing::Test {
-protected:
+  protected:
     void SetUp() override {
-        dir_ = fs::temp_directory_path() /
-               ("volguide_cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + "_" +
-                std::to_string(::getpid()));
+        dir_ =
+            fs::temp_directory_path() /
+            ("volguide_cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) +
+             "_" + std::to_string(::getpid()));
         fs::remove_all(dir_);
         fs::create_directories(dir_);
     }
@@ -50,7 +51,8 @@ protected:
     }
     // Runs the CLI in the test directory (arguments are passed through the shell as given).
     CliResult run(const std::string& args) {
-        std::string cmd = "cd '" + dir_.string() + "' && '" + test::cli_path() + "' " + args + " >stdout.txt 2>stderr.txt";
+        std::string cmd =
+            "cd '" + dir_.string() + "' && '" + test::cli_path() + "' " + args + " >stdout.txt 2>stderr.txt";
         int status = std::system(cmd.c_str());
         CliResult r;
         r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;

@@ -18,9 +18,13 @@ namespace {
 
 const SourceLocation kLoc{"camera_test.xml", 7};
 constexpr double kPi = 3.14159265358979323846;
-double rad(double deg) { return deg * kPi / 180.0; }
+double rad(double deg) {
+    return deg * kPi / 180.0;
+}
 
-std::shared_ptr<Film> film(int w, int h) { return std::make_shared<Film>(w, h, std::make_shared<BoxFilter>()); }
+std::shared_ptr<Film> film(int w, int h) {
+    return std::make_shared<Film>(w, h, std::make_shared<BoxFilter>());
+}
 
 Properties sensor_props(const std::string& type, int w, int h) {
     Properties p("sensor", type, kLoc);
@@ -107,7 +111,9 @@ TEST(Camera, FovAxisFollowsMitsuba) {
         auto cam = std::dynamic_pointer_cast<PerspectiveCamera>(create_sensor(p));
         ASSERT_TRUE(cam);
         p.check_all_used();
-        Point2f edge = c.measured == 'x' ? Point2f(0.f, 0.5f) : c.measured == 'y' ? Point2f(0.5f, 0.f) : Point2f(0.f, 0.f);
+        Point2f edge = c.measured == 'x'   ? Point2f(0.f, 0.5f)
+                       : c.measured == 'y' ? Point2f(0.5f, 0.f)
+                                           : Point2f(0.f, 0.f);
         Vec3f d = cam->sample_ray(edge, {}).first.d;
         double off_axis = std::sqrt(double(d.x) * d.x + double(d.y) * d.y);
         EXPECT_NEAR(std::atan2(off_axis, double(d.z)), rad(fov) / 2, 1e-5);
@@ -122,7 +128,8 @@ TEST(Camera, HorizontalFovConversions) {
     EXPECT_NEAR(horizontal_fov(90, "larger", 0.5), horizontal_fov(90, "y", 0.5), 1e-12);
     EXPECT_THROW(horizontal_fov(45, "z", 1.0), std::invalid_argument);
     // 50 mm on 35 mm film: diagonal 43.27 mm.
-    EXPECT_NEAR(focal_length_to_diagonal_fov("50mm"), 2 * std::atan(std::sqrt(36.0 * 36 + 24 * 24) / 100) * 180 / kPi, 1e-9);
+    EXPECT_NEAR(focal_length_to_diagonal_fov("50mm"),
+                2 * std::atan(std::sqrt(36.0 * 36 + 24 * 24) / 100) * 180 / kPi, 1e-9);
     EXPECT_LT(focal_length_to_diagonal_fov("fifty"), 0);
 }
 
@@ -236,7 +243,8 @@ TEST(Camera, PerspectiveAllowsAMirror) {
 
 TEST(Camera, OrthographicExtentsFollowToWorldScale) {
     // Film 40 x 20 (aspect 2): camera space x in [-1, 1], y in [-0.5, 0.5], scaled by (3, 3, 1).
-    OrthographicCamera cam(film(40, 20), Transform::translate({0, 0, -2}) * Transform::scale({3, 3, 1}), 0.5f, 10.f);
+    OrthographicCamera cam(film(40, 20), Transform::translate({0, 0, -2}) * Transform::scale({3, 3, 1}), 0.5f,
+                           10.f);
     auto corner = cam.sample_ray({0.f, 0.f}, {}).first;
     EXPECT_NEAR(corner.o.x, 3.f, 1e-5f);  // left = +x
     EXPECT_NEAR(corner.o.y, 1.5f, 1e-5f);
@@ -294,7 +302,8 @@ TEST(Sampler, CountsSeedsAndOtherTypes) {
     p.set("sample_count", "integer", int64_t(10), kLoc);
     p.set("jitter", "boolean", true, kLoc);
     std::vector<std::string> warnings;
-    auto previous = set_warning_handler([&](const SourceLocation&, const std::string& m) { warnings.push_back(m); });
+    auto previous =
+        set_warning_handler([&](const SourceLocation&, const std::string& m) { warnings.push_back(m); });
     auto s = std::dynamic_pointer_cast<SamplerSettings>(create_sampler(p));
     p.check_all_used();
     ASSERT_EQ(warnings.size(), 1u);

@@ -34,7 +34,8 @@ TEST(Filters, Box) {
 }
 
 TEST(Filters, TentDefaultAndRadius) {
-    auto f = std::dynamic_pointer_cast<ReconstructionFilter>(create_rfilter(Properties("rfilter", "tent", kLoc)));
+    auto f =
+        std::dynamic_pointer_cast<ReconstructionFilter>(create_rfilter(Properties("rfilter", "tent", kLoc)));
     EXPECT_EQ(f->radius(), 1.f);
     EXPECT_FLOAT_EQ(f->eval(0.f), 1.f);
     EXPECT_FLOAT_EQ(f->eval(0.25f), 0.75f);
@@ -66,7 +67,8 @@ TEST(Filters, GaussianMatchesMitsubasWindowedFormula) {
     EXPECT_EQ(f.eval(2.f), 0.f);
     EXPECT_EQ(f.eval(3.f), 0.f);
     // Integral: sqrt(2 pi) stddev erf(4 / sqrt 2) - 2 radius bias.
-    const double s = 0.5, expected = std::sqrt(2 * M_PI) * s * std::erf(4 / std::sqrt(2.0)) - 2 * 4 * s * bias;
+    const double s = 0.5,
+                 expected = std::sqrt(2 * M_PI) * s * std::erf(4 / std::sqrt(2.0)) - 2 * 4 * s * bias;
     EXPECT_NEAR(integrate(f), expected, 1e-5);
     EXPECT_EQ(filter_border_size(f), 2);
 
@@ -109,7 +111,8 @@ TEST(FilmBuffer, SplatsWithNormalisedFilterWeights) {
     FilmBuffer film(5, 5, false);
     film.add(tile);
     Image m = film.mean();
-    // Pixel 2 sees both samples with weight 0.75 each; pixel 3 only the first (0.25); pixel 1 only the second.
+    // Pixel 2 sees both samples with weight 0.75 each; pixel 3 only the first (0.25); pixel 1 only the
+    // second.
     EXPECT_FLOAT_EQ(m.at(2, 2).r, 6.f);
     EXPECT_FLOAT_EQ(m.at(3, 2).r, 4.f);
     EXPECT_FLOAT_EQ(m.at(1, 2).r, 8.f);

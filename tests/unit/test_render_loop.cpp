@@ -172,7 +172,8 @@ TEST(RenderLoop, MeanAndPerSampleVariance) {
     // Radiance = u ~ U[0,1) independent of position: mean 1/2, per-sample variance 1/12.
     BoxFilter box;
     FrameSetup setup{8, 8, &box, false, 256, 7, true};
-    RenderResult r = render_frame(setup, [](Point2f, Sampler& s) { return Color3(s.next_1d()); }, RenderOptions{});
+    RenderResult r = render_frame(
+        setup, [](Point2f, Sampler& s) { return Color3(s.next_1d()); }, RenderOptions{});
     double mean = 0, var = 0;
     for (size_t p = 0; p < r.mean.pixels.size(); ++p) {
         mean += r.mean.pixels[p].r;
@@ -186,7 +187,8 @@ TEST(RenderLoop, MeanAndPerSampleVariance) {
     // A horizontal ramp through a Gaussian filter: interior pixels are unbiased at their centre.
     GaussianFilter g;
     FrameSetup ramp{24, 4, &g, true, 64, 7, false};
-    RenderResult rr = render_frame(ramp, [](Point2f uv, Sampler&) { return Color3(uv.x); }, RenderOptions{});
+    RenderResult rr = render_frame(
+        ramp, [](Point2f uv, Sampler&) { return Color3(uv.x); }, RenderOptions{});
     for (int x = 0; x < 24; ++x) EXPECT_NEAR(rr.mean.at(x, 2).r, (x + 0.5f) / 24.f, 4e-3f) << x;
 }
 

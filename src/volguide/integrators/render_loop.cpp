@@ -18,7 +18,9 @@
 
 namespace volguide {
 
-int pass_size(int index) { return index <= 1 ? 1 : std::min(1 << std::min(index - 1, 3), 8); }
+int pass_size(int index) {
+    return index <= 1 ? 1 : std::min(1 << std::min(index - 1, 3), 8);
+}
 
 std::vector<int> pass_schedule(int spp) {
     std::vector<int> passes;
@@ -33,11 +35,13 @@ std::vector<int> pass_schedule(int spp) {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+double seconds_since(Clock::time_point t) {
+    return std::chrono::duration<double>(Clock::now() - t).count();
+}
 
 // Throttled, serialised progress reporting (called from worker threads).
 class ProgressReporter {
-public:
+  public:
     ProgressReporter(const ProgressCallback& cb, Clock::time_point job_start, double budget, int target)
         : cb_(cb), job_start_(job_start), budget_(budget), target_(target) {}
     void set_render_start(Clock::time_point t) { render_start_ = t; }
@@ -73,7 +77,7 @@ public:
         cb_(p);
     }
 
-private:
+  private:
     const ProgressCallback& cb_;
     Clock::time_point job_start_, render_start_, last_{};
     double budget_;
@@ -89,11 +93,13 @@ int arena_threads(int requested) {
 // An explicit thread count may exceed the hardware's: lift TBB's worker limit for the render.
 std::unique_ptr<tbb::global_control> thread_limit(int requested) {
     if (requested <= 0) return nullptr;
-    return std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, size_t(requested));
+    return std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                 size_t(requested));
 }
 
-RenderResult render_frame_impl(const FrameSetup& setup, const RadianceFn& radiance, const RenderOptions& options,
-                               tbb::task_arena& arena, Clock::time_point job_start) {
+RenderResult render_frame_impl(const FrameSetup& setup, const RadianceFn& radiance,
+                               const RenderOptions& options, tbb::task_arena& arena,
+                               Clock::time_point job_start) {
     if (setup.width <= 0 || setup.height <= 0) throw std::invalid_argument("render: empty film");
     if (!setup.filter) throw std::invalid_argument("render: no reconstruction filter");
     if (options.spp < 0) throw std::invalid_argument("render: spp must be >= 0");
@@ -105,9 +111,10 @@ RenderResult render_frame_impl(const FrameSetup& setup, const RadianceFn& radian
     const double budget = options.time_budget > 0 ? options.time_budget : 0.0;
     // 0 = unbounded: only the time budget (or a cancel) ends the render.
     const int target = options.spp > 0 ? options.spp : (budget > 0 ? 0 : std::max(setup.default_spp, 1));
-    const auto deadline = budget > 0 ? job_start + std::chrono::duration_cast<Clock::duration>(
-                                                      std::chrono::duration<double>(budget))
-                                     : Clock::time_point::max();
+    const auto deadline =
+        budget > 0
+            ? job_start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(budget))
+            : Clock::time_point::max();
     stats.seed = seed;
     stats.threads = arena.max_concurrency();
 
@@ -148,7 +155,8 @@ RenderResult render_frame_impl(const FrameSetup& setup, const RadianceFn& radian
         std::atomic<uint64_t> samples_done{0};
 
         auto render_tile = [&](size_t t) {
-            if (stop_cancel.load(std::memory_order_relaxed) || stop_time.load(std::memory_order_relaxed)) return;
+            if (stop_cancel.load(std::memory_order_relaxed) || stop_time.load(std::memory_order_relaxed))
+                return;
             const PixelRect& rect = tiles[t];
             auto buf = std::make_unique<TileBuffer>(splatter, splatter.footprint(rect), setup.variance);
             uint64_t bad = 0;
@@ -184,9 +192,10 @@ RenderResult render_frame_impl(const FrameSetup& setup, const RadianceFn& radian
             reporter.report(spp_done, spp_done + double(n) * double(done) / double(pass_samples), false);
         };
         arena.execute([&] {
-            tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
-                for (size_t t = r.begin(); t != r.end(); ++t) render_tile(t);
-            });
+            tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles.size(), 1),
+                              [&](const tbb::blocked_range<size_t>& r) {
+                                  for (size_t t = r.begin(); t != r.end(); ++t) render_tile(t);
+                              });
         });
 
         if (stop_cancel || stop_time) {

@@ -20,10 +20,10 @@ namespace volguide {
 class Scene;
 
 struct RenderOptions {
-    int spp = 0;               // > 0 overrides the sensor's sample_count
-    double time_budget = 0;    // seconds (> 0): stop at the end of the last pass that fits
+    int spp = 0;                   // > 0 overrides the sensor's sample_count
+    double time_budget = 0;        // seconds (> 0): stop at the end of the last pass that fits
     std::optional<uint64_t> seed;  // default: the sampler's seed
-    int threads = 0;           // 0 = all hardware threads
+    int threads = 0;               // 0 = all hardware threads
     int tile_size = 16;
     ProgressCallback progress;
     const std::atomic<bool>* cancel = nullptr;  // set it to stop at the end of the current pass
@@ -38,9 +38,9 @@ struct SampleLocation {
 
 struct RenderStats {
     double preprocess_seconds = 0, render_seconds = 0, total_seconds = 0;
-    uint64_t samples = 0;            // camera samples in the image
-    uint64_t discarded_samples = 0;  // samples of an interrupted pass (not in the image)
-    uint64_t nonfinite_samples = 0;  // NaN/Inf radiance samples dropped from the image
+    uint64_t samples = 0;                           // camera samples in the image
+    uint64_t discarded_samples = 0;                 // samples of an interrupted pass (not in the image)
+    uint64_t nonfinite_samples = 0;                 // NaN/Inf radiance samples dropped from the image
     std::optional<SampleLocation> first_nonfinite;  // the first in pass, tile and pixel order
     int passes = 0;
     int threads = 0;
@@ -71,8 +71,8 @@ struct FrameSetup {
     int width = 0, height = 0;
     const ReconstructionFilter* filter = nullptr;
     bool sample_border = false;
-    int default_spp = 4;     // used when options.spp == 0 and there is no time budget
-    uint64_t seed = 0;       // used when options.seed is empty
+    int default_spp = 4;  // used when options.spp == 0 and there is no time budget
+    uint64_t seed = 0;    // used when options.seed is empty
     bool variance = false;
 };
 using RadianceFn = std::function<Color3(Point2f film_uv, Sampler& sampler)>;

@@ -14,7 +14,9 @@ ObjectPtr create_sensor(const Properties& props) {
     props.fail_here("unsupported sensor plugin '{}' (supported: perspective, orthographic)", props.type());
 }
 
-ObjectPtr create_film(const Properties& props) { return make_hdrfilm(props); }
+ObjectPtr create_film(const Properties& props) {
+    return make_hdrfilm(props);
+}
 
 ObjectPtr create_rfilter(const Properties& props) {
     if (props.type() == "box") return std::make_shared<BoxFilter>(props);
@@ -23,6 +25,8 @@ ObjectPtr create_rfilter(const Properties& props) {
     props.fail_here("unsupported rfilter plugin '{}' (supported: box, tent, gaussian)", props.type());
 }
 
-ObjectPtr create_sampler(const Properties& props) { return std::make_shared<SamplerSettings>(props); }
+ObjectPtr create_sampler(const Properties& props) {
+    return std::make_shared<SamplerSettings>(props);
+}
 
 }  // namespace volguide

@@ -51,8 +51,10 @@ void TileBuffer::splat(Point2f pos, const Color3& value) {
     // Relative to pixel centres: pixel i is affected when |i - q| <= radius.
     const float r = splatter_->radius();
     const float qx = pos.x - 0.5f, qy = pos.y - 0.5f;
-    const int lo_x = std::max(int(std::ceil(qx - r)), rect_.x0), hi_x = std::min(int(std::floor(qx + r)), rect_.x1 - 1);
-    const int lo_y = std::max(int(std::ceil(qy - r)), rect_.y0), hi_y = std::min(int(std::floor(qy + r)), rect_.y1 - 1);
+    const int lo_x = std::max(int(std::ceil(qx - r)), rect_.x0),
+              hi_x = std::min(int(std::floor(qx + r)), rect_.x1 - 1);
+    const int lo_y = std::max(int(std::ceil(qy - r)), rect_.y0),
+              hi_y = std::min(int(std::floor(qy + r)), rect_.y1 - 1);
     if (lo_x > hi_x || lo_y > hi_y) return;
     constexpr int kMaxTaps = 64;
     float wx[kMaxTaps], wy[kMaxTaps];
@@ -93,7 +95,8 @@ Image FilmBuffer::mean() const {
     for (size_t p = 0; p < weight_.size(); ++p) {
         if (weight_[p] == 0.0) continue;
         double inv = 1.0 / weight_[p];
-        img.pixels[p] = Color3(float(sum_[3 * p] * inv), float(sum_[3 * p + 1] * inv), float(sum_[3 * p + 2] * inv));
+        img.pixels[p] =
+            Color3(float(sum_[3 * p] * inv), float(sum_[3 * p + 1] * inv), float(sum_[3 * p + 2] * inv));
     }
     return img;
 }

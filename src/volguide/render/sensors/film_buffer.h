@@ -23,7 +23,7 @@ struct PixelRect {
 
 // How a filter maps a sample position to pixels.
 class Splatter {
-public:
+  public:
     Splatter(const ReconstructionFilter& filter, int film_width, int film_height);
     // Film pixels a sample at a position inside `samples` can reach (clipped to the film).
     PixelRect footprint(const PixelRect& samples) const;
@@ -33,7 +33,7 @@ public:
     int film_width() const { return width_; }
     int film_height() const { return height_; }
 
-private:
+  private:
     const ReconstructionFilter* filter_;
     bool box_;
     float radius_;
@@ -41,14 +41,14 @@ private:
 };
 
 class TileBuffer {
-public:
+  public:
     // `rect` = the film pixels this buffer covers (Splatter::footprint of the tile's samples).
     TileBuffer(const Splatter& splatter, PixelRect rect, bool second_moment);
     // Adds a sample at continuous film position `pos` (pixel (i, j) spans [i, i+1) x [j, j+1)).
     void splat(Point2f pos, const Color3& value);
     const PixelRect& rect() const { return rect_; }
 
-private:
+  private:
     friend class FilmBuffer;
     const Splatter* splatter_;
     PixelRect rect_;
@@ -58,7 +58,7 @@ private:
 };
 
 class FilmBuffer {
-public:
+  public:
     FilmBuffer(int width, int height, bool second_moment);
     void add(const TileBuffer& tile);
     // sum(w L) / sum(w) per pixel (0 where no weight arrived).
@@ -68,7 +68,7 @@ public:
     int width() const { return width_; }
     int height() const { return height_; }
 
-private:
+  private:
     int width_, height_;
     bool second_moment_;
     std::vector<double> weight_, sum_, sum2_;  // sums are 3 doubles per pixel

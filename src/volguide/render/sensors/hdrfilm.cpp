@@ -12,22 +12,29 @@ void check_format(const Properties& props, const char* name, std::initializer_li
     std::string value = props.get_string(name);
     for (const char* s : silent)
         if (value == s) return;
-    warn(props.location_of(name), "hdrfilm {} '{}' is not honoured: volguide writes float32 RGB", name, value);
+    warn(props.location_of(name), "hdrfilm {} '{}' is not honoured: volguide writes float32 RGB", name,
+         value);
 }
 
 }  // namespace
 
 std::shared_ptr<Film> make_hdrfilm(const Properties& props) {
-    if (props.type() != "hdrfilm") props.fail_here("unsupported film plugin '{}' (supported: hdrfilm)", props.type());
+    if (props.type() != "hdrfilm")
+        props.fail_here("unsupported film plugin '{}' (supported: hdrfilm)", props.type());
     int64_t width = props.get_int("width", 768), height = props.get_int("height", 576);
-    if (width <= 0 || width > 65536) props.fail_at("width", "film width must be in [1, 65536], got {}", width);
-    if (height <= 0 || height > 65536) props.fail_at("height", "film height must be in [1, 65536], got {}", height);
+    if (width <= 0 || width > 65536)
+        props.fail_at("width", "film width must be in [1, 65536], got {}", width);
+    if (height <= 0 || height > 65536)
+        props.fail_at("height", "film height must be in [1, 65536], got {}", height);
 
     // A crop window equal to the full film is harmless; anything else is not supported.
     int64_t cx = props.get_int("crop_offset_x", 0), cy = props.get_int("crop_offset_y", 0);
     int64_t cw = props.get_int("crop_width", width), ch = props.get_int("crop_height", height);
     if (cx != 0 || cy != 0 || cw != width || ch != height) {
-        const char* culprit = cx != 0 ? "crop_offset_x" : cy != 0 ? "crop_offset_y" : cw != width ? "crop_width" : "crop_height";
+        const char* culprit = cx != 0       ? "crop_offset_x"
+                              : cy != 0     ? "crop_offset_y"
+                              : cw != width ? "crop_width"
+                                            : "crop_height";
         props.fail_at(culprit, "hdrfilm: crop windows are not supported");
     }
 
@@ -48,6 +55,8 @@ std::shared_ptr<Film> make_hdrfilm(const Properties& props) {
     return std::make_shared<Film>(int(width), int(height), std::move(filter), sample_border);
 }
 
-std::shared_ptr<Film> make_default_film() { return std::make_shared<Film>(768, 576, std::make_shared<GaussianFilter>()); }
+std::shared_ptr<Film> make_default_film() {
+    return std::make_shared<Film>(768, 576, std::make_shared<GaussianFilter>());
+}
 
 }  // namespace volguide

@@ -15,7 +15,9 @@ OrthographicCamera::OrthographicCamera(std::shared_ptr<Film> film, const Transfo
     configure();
 }
 
-void OrthographicCamera::configure() { direction_ = normalize(to_world_.apply_vector(Vec3f(0.f, 0.f, 1.f))); }
+void OrthographicCamera::configure() {
+    direction_ = normalize(to_world_.apply_vector(Vec3f(0.f, 0.f, 1.f)));
+}
 
 std::pair<Ray, Color3> OrthographicCamera::sample_ray(Point2f uv, Point2f) const {
     Point3f near_p((1.f - 2.f * uv.x), (1.f - 2.f * uv.y) / aspect_, near_clip_);

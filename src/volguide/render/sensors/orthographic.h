@@ -6,14 +6,14 @@
 namespace volguide {
 
 class OrthographicCamera final : public ProjectiveCamera {
-public:
+  public:
     explicit OrthographicCamera(const Properties& props);
     OrthographicCamera(std::shared_ptr<Film> film, const Transform& to_world, float near_clip = 1e-2f,
                        float far_clip = 1e4f);
     std::pair<Ray, Color3> sample_ray(Point2f film_uv, Point2f aperture) const override;
     std::string to_string() const override;
 
-private:
+  private:
     void configure();
     Vec3f direction_;
 };

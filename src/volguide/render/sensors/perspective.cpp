@@ -9,8 +9,12 @@ namespace volguide {
 
 namespace {
 constexpr double kPi = 3.14159265358979323846;
-double to_rad(double d) { return d * kPi / 180.0; }
-double to_deg(double r) { return r * 180.0 / kPi; }
+double to_rad(double d) {
+    return d * kPi / 180.0;
+}
+double to_deg(double r) {
+    return r * 180.0 / kPi;
+}
 
 // Mitsuba forbids scale in a pinhole's to_world (a mirror, scale -1, is allowed): every column of
 // the linear part must have unit length.
@@ -28,11 +32,16 @@ double horizontal_fov(double fov, const std::string& axis_in, double aspect) {
     std::string axis = axis_in;
     for (auto& ch : axis) ch = char(std::tolower(static_cast<unsigned char>(ch)));
     char which = 0;  // 'x', 'y' or 'd'iagonal
-    if (axis == "x") which = 'x';
-    else if (axis == "y") which = 'y';
-    else if (axis == "diagonal") which = 'd';
-    else if (axis == "smaller") which = aspect > 1 ? 'y' : 'x';
-    else if (axis == "larger") which = aspect > 1 ? 'x' : 'y';
+    if (axis == "x")
+        which = 'x';
+    else if (axis == "y")
+        which = 'y';
+    else if (axis == "diagonal")
+        which = 'd';
+    else if (axis == "smaller")
+        which = aspect > 1 ? 'y' : 'x';
+    else if (axis == "larger")
+        which = aspect > 1 ? 'x' : 'y';
     if (which == 'x') return fov;
     if (which == 'y') return to_deg(2.0 * std::atan(std::tan(0.5 * to_rad(fov)) * aspect));
     if (which == 'd') {
@@ -56,7 +65,8 @@ double focal_length_to_diagonal_fov(const std::string& text) {
 
 PerspectiveCamera::PerspectiveCamera(const Properties& props) : ProjectiveCamera(props) {
     if (props.has("fov") && props.has("focal_length"))
-        props.fail_at("focal_length", "specify either a field of view ('fov') or a focal length ('focal_length'), not both");
+        props.fail_at("focal_length",
+                      "specify either a field of view ('fov') or a focal length ('focal_length'), not both");
     double fov, aspect = double(film_->width()) / double(film_->height());
     std::string axis;
     if (props.has("fov")) {
@@ -66,11 +76,13 @@ PerspectiveCamera::PerspectiveCamera(const Properties& props) : ProjectiveCamera
         if (props.has("fov_axis")) props.fail_at("fov_axis", "fov_axis needs a 'fov'");
         std::string f = props.get_string("focal_length", "50mm");
         fov = focal_length_to_diagonal_fov(f);
-        if (fov < 0) props.fail_at("focal_length", "could not parse focal_length '{}' (expected e.g. '50mm')", f);
+        if (fov < 0)
+            props.fail_at("focal_length", "could not parse focal_length '{}' (expected e.g. '50mm')", f);
         axis = "diagonal";
     }
     const char* fov_param = props.has("fov") ? "fov" : "focal_length";
-    if (!(fov > 0.0 && fov < 180.0)) props.fail_at(fov_param, "the field of view must be in (0, 180) degrees, got {}", fov);
+    if (!(fov > 0.0 && fov < 180.0))
+        props.fail_at(fov_param, "the field of view must be in (0, 180) degrees, got {}", fov);
     double x_fov;
     try {
         x_fov = horizontal_fov(fov, axis, aspect);
@@ -85,7 +97,8 @@ PerspectiveCamera::PerspectiveCamera(const Properties& props) : ProjectiveCamera
                                props.get_float("principal_point_offset_y", 0.f)};
     if (!std::isfinite(principal_point_offset_.x) || !std::isfinite(principal_point_offset_.y))
         props.fail_at("principal_point_offset_x", "principal point offsets must be finite");
-    if (has_scale(to_world_)) props.fail_at("to_world", "scale factors in the camera-to-world transform are not allowed");
+    if (has_scale(to_world_))
+        props.fail_at("to_world", "scale factors in the camera-to-world transform are not allowed");
     configure(&props);
 }
 
@@ -105,7 +118,8 @@ std::pair<Ray, Color3> PerspectiveCamera::sample_ray(Point2f film_uv, Point2f) c
     const Point2f uv = film_uv + principal_point_offset_;
     // Film u = 0 is camera +x (left), v = 0 is camera +y (up); the near plane spans
     // x in [-1, 1] * tan_half_x and y in [-1, 1] * tan_half_x / aspect.
-    Vec3f local = normalize(Vec3f((1.f - 2.f * uv.x) * tan_half_x_, (1.f - 2.f * uv.y) * tan_half_x_ / aspect_, 1.f));
+    Vec3f local =
+        normalize(Vec3f((1.f - 2.f * uv.x) * tan_half_x_, (1.f - 2.f * uv.y) * tan_half_x_ / aspect_, 1.f));
     float inv_z = 1.f / local.z;
     float near_t = near_clip_ * inv_z, far_t = far_clip_ * inv_z;
     Vec3f d = normalize(to_world_.apply_vector(local));

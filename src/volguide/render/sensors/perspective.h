@@ -15,20 +15,20 @@ double horizontal_fov(double fov_deg, const std::string& axis, double aspect);
 double focal_length_to_diagonal_fov(const std::string& focal_length);
 
 class PerspectiveCamera final : public ProjectiveCamera {
-public:
+  public:
     explicit PerspectiveCamera(const Properties& props);
     // Programmatic construction (tests): horizontal fov in degrees.
-    PerspectiveCamera(std::shared_ptr<Film> film, const Transform& to_world, float x_fov_deg, float near_clip = 1e-2f,
-                      float far_clip = 1e4f);
+    PerspectiveCamera(std::shared_ptr<Film> film, const Transform& to_world, float x_fov_deg,
+                      float near_clip = 1e-2f, float far_clip = 1e4f);
 
     std::pair<Ray, Color3> sample_ray(Point2f film_uv, Point2f aperture) const override;
     float x_fov() const { return x_fov_; }
     std::string to_string() const override;
 
-private:
+  private:
     void configure(const Properties* props);
     float x_fov_;
-    float tan_half_x_;  // tan(x_fov / 2)
+    float tan_half_x_;                        // tan(x_fov / 2)
     Vec2f principal_point_offset_{0.f, 0.f};  // in film units (fractions of width and height)
     Point3f origin_;
 };

@@ -61,7 +61,8 @@ void ProjectiveCamera::check_clip(const Properties* props) const {
     };
     if (!(near_clip_ > 0.f) || !std::isfinite(near_clip_))
         bad("near_clip", fmt::format("near_clip must be positive and finite, got {}", near_clip_));
-    if (!(far_clip_ > near_clip_)) bad("far_clip", fmt::format("far_clip ({}) must exceed near_clip ({})", far_clip_, near_clip_));
+    if (!(far_clip_ > near_clip_))
+        bad("far_clip", fmt::format("far_clip ({}) must exceed near_clip ({})", far_clip_, near_clip_));
 }
 
 }  // namespace volguide

@@ -10,13 +10,13 @@
 namespace volguide {
 
 class ProjectiveCamera : public Sensor {
-public:
+  public:
     float near_clip() const { return near_clip_; }
     float far_clip() const { return far_clip_; }
     // Film width / height.
     float aspect() const { return aspect_; }
 
-protected:
+  protected:
     // Reads to_world, near_clip, far_clip, focus_distance, shutter_open/close and the <film> and
     // <sampler> children (Mitsuba's defaults when absent).
     explicit ProjectiveCamera(const Properties& props);
@@ -24,7 +24,7 @@ protected:
 
     float near_clip_ = 1e-2f, far_clip_ = 1e4f, aspect_ = 1.f;
 
-private:
+  private:
     void check_clip(const Properties* props) const;
 };
 

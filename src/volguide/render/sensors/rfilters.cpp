@@ -12,10 +12,13 @@ TentFilter::TentFilter(float radius) {
 TentFilter::TentFilter(const Properties& props) : TentFilter(props.get_float("radius", 1.f)) {
     if (!(radius_ > 0.f) || !std::isfinite(radius_))
         props.fail_at("radius", "tent filter radius must be positive and finite, got {}", radius_);
-    if (radius_ > kMaxFilterRadius) props.fail_at("radius", "tent filter radius above {} pixels is not supported", kMaxFilterRadius);
+    if (radius_ > kMaxFilterRadius)
+        props.fail_at("radius", "tent filter radius above {} pixels is not supported", kMaxFilterRadius);
 }
 
-std::string TentFilter::to_string() const { return fmt::format("tent[radius={}]", radius_); }
+std::string TentFilter::to_string() const {
+    return fmt::format("tent[radius={}]", radius_);
+}
 
 GaussianFilter::GaussianFilter(float stddev) : stddev_(stddev) {
     radius_ = 4.f * stddev;
@@ -27,9 +30,12 @@ GaussianFilter::GaussianFilter(const Properties& props) : GaussianFilter(props.g
     if (!(stddev_ > 0.f) || !std::isfinite(stddev_))
         props.fail_at("stddev", "gaussian filter stddev must be positive and finite, got {}", stddev_);
     if (radius_ > kMaxFilterRadius)
-        props.fail_at("stddev", "gaussian filter radius 4 * stddev above {} pixels is not supported", kMaxFilterRadius);
+        props.fail_at("stddev", "gaussian filter radius 4 * stddev above {} pixels is not supported",
+                      kMaxFilterRadius);
 }
 
-std::string GaussianFilter::to_string() const { return fmt::format("gaussian[stddev={}]", stddev_); }
+std::string GaussianFilter::to_string() const {
+    return fmt::format("gaussian[stddev={}]", stddev_);
+}
 
 }  // namespace volguide

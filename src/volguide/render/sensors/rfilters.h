@@ -14,7 +14,7 @@ inline constexpr float kMaxFilterRadius = 16.f;
 
 // One pixel wide: every sample counts, with weight 1, for the pixel it falls in.
 class BoxFilter final : public ReconstructionFilter {
-public:
+  public:
     BoxFilter() { radius_ = 0.5f; }
     explicit BoxFilter(const Properties& props) : BoxFilter() {}
     // Half-open, as Mitsuba 3 (the film bypasses eval for the box and uses the pixel a sample falls in).
@@ -24,32 +24,34 @@ public:
 
 // Triangle of the given radius (Mitsuba's `radius`, default 1).
 class TentFilter final : public ReconstructionFilter {
-public:
+  public:
     explicit TentFilter(float radius);
     explicit TentFilter(const Properties& props);
     float eval(float x) const override { return std::max(0.f, 1.f - std::abs(x) * inv_radius_); }
     std::string to_string() const override;
 
-private:
+  private:
     float inv_radius_;
 };
 
 // Gaussian of standard deviation `stddev` (default 0.5) cut off at 4 stddev, shifted down so that
 // it reaches zero at the cut-off: max(0, exp(-x^2 / (2 stddev^2)) - exp(-8)), as Mitsuba 3.
 class GaussianFilter final : public ReconstructionFilter {
-public:
+  public:
     explicit GaussianFilter(float stddev = 0.5f);
     explicit GaussianFilter(const Properties& props);
     float eval(float x) const override { return std::max(0.f, std::exp(alpha_ * x * x) - bias_); }
     float stddev() const { return stddev_; }
     std::string to_string() const override;
 
-private:
+  private:
     float stddev_, alpha_, bias_;
 };
 
 // Mitsuba's border size of a filter: how many pixels outside the image a sample can lie and still
 // reach the image (used with hdrfilm's sample_border).
-inline int filter_border_size(const ReconstructionFilter& f) { return int(std::ceil(f.radius() - 0.5f)); }
+inline int filter_border_size(const ReconstructionFilter& f) {
+    return int(std::ceil(f.radius() - 0.5f));
+}
 
 }  // namespace volguide

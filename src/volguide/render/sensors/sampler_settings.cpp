@@ -11,9 +11,10 @@ SamplerSettings::SamplerSettings(const Properties& props) {
     const bool known = type == "independent" || type == "stratified" || type == "multijitter" ||
                        type == "orthogonal" || type == "ldsampler";
     if (!known)
-        props.fail_here("unsupported sampler plugin '{}' (supported: independent; stratified, multijitter, "
-                        "orthogonal, ldsampler are sampled independently)",
-                        type);
+        props.fail_here(
+            "unsupported sampler plugin '{}' (supported: independent; stratified, multijitter, "
+            "orthogonal, ldsampler are sampled independently)",
+            type);
     int64_t count = props.get_int("sample_count", 4);
     if (count <= 0 || count > (int64_t(1) << 30))
         props.fail_at("sample_count", "sample_count must be in [1, 2^30], got {}", count);

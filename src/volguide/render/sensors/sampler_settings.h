@@ -12,7 +12,7 @@
 namespace volguide {
 
 class SamplerSettings final : public Object {
-public:
+  public:
     SamplerSettings() = default;
     explicit SamplerSettings(const Properties& props);
     int sample_count = 4;
