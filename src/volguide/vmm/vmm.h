@@ -1,0 +1,214 @@
+#pragma once
+// Mixture of von Mises-Fisher lobes with a fixed maximum lobe count (theory.md §3.6), stored as a
+// structure of arrays so that evaluation streams through contiguous floats. A value type: no heap,
+// no virtuals; copying a 32-lobe mixture copies 0.8 KB.
+//
+// Products and convolutions return mixtures whose capacity is the product of the inputs'
+// capacities (K x J lobes), so nothing is ever truncated.
+#include <array>
+#include <cassert>
+
+#include "volguide/vmm/vmf.h"
+
+namespace volguide {
+
+// Default capacity of a radiance mixture (theory.md §15: 8 lobes by default, at most 32).
+inline constexpr int kVmmMaxLobes = 32;
+
+// Moment-matched merge of two weighted lobes (theory.md §3.6): weights add, the weighted mean
+// vectors r = w A3(kappa) mu add, and kappa = A3^-1(|r| / w).
+struct WeightedLobe {
+    float weight = 0.f;
+    VmfLobe lobe;
+};
+WeightedLobe merge_lobes(const WeightedLobe& a, const WeightedLobe& b);
+
+template <int MaxLobes>
+struct VmfMixture {
+    static constexpr int kCapacity = MaxLobes;
+
+    int count = 0;
+    std::array<float, MaxLobes> weight{};  // sum to 1 for a normalised mixture
+    std::array<float, MaxLobes> mu_x{}, mu_y{}, mu_z{};
+    std::array<float, MaxLobes> kappa{};
+    std::array<float, MaxLobes> norm{};  // c~(kappa), cached
+
+    int size() const { return count; }
+    bool full() const { return count == MaxLobes; }
+
+    VmfLobe lobe(int k) const {
+        VmfLobe l;
+        l.mu = {mu_x[k], mu_y[k], mu_z[k]};
+        l.kappa = kappa[k];
+        l.norm = norm[k];
+        return l;
+    }
+    void set_lobe(int k, float w, const VmfLobe& l) {
+        weight[k] = w;
+        mu_x[k] = l.mu.x;
+        mu_y[k] = l.mu.y;
+        mu_z[k] = l.mu.z;
+        kappa[k] = l.kappa;
+        norm[k] = l.norm;
+    }
+    // Appends a lobe; returns false (and changes nothing) when the mixture is full.
+    bool add_lobe(float w, const VmfLobe& l) {
+        if (count >= MaxLobes) return false;
+        set_lobe(count++, w, l);
+        return true;
+    }
+    // Removes lobe k, keeping the order of the others.
+    void remove_lobe(int k) {
+        for (int i = k; i + 1 < count; ++i) set_lobe(i, weight[i + 1], lobe(i + 1));
+        --count;
+    }
+    // Replaces lobes a and b by their moment-matched merge (stored at min(a, b)).
+    void merge(int a, int b) {
+        if (a > b) std::swap(a, b);
+        WeightedLobe m = merge_lobes({weight[a], lobe(a)}, {weight[b], lobe(b)});
+        set_lobe(a, m.weight, m.lobe);
+        remove_lobe(b);
+    }
+
+    double weight_sum() const {
+        double s = 0.0;
+        for (int k = 0; k < count; ++k) s += weight[k];
+        return s;
+    }
+    // Rescales the weights to sum to one; returns the previous sum (0 leaves them unchanged).
+    double normalize_weights() {
+        double s = weight_sum();
+        if (s > 0.0)
+            for (int k = 0; k < count; ++k) weight[k] = float(weight[k] / s);
+        return s;
+    }
+
+    // sum_k weight_k v_k(w). For a normalised mixture this is the pdf per unit solid angle.
+    float eval(const Vec3f& w) const {
+        float sum = 0.f;
+        for (int k = 0; k < count; ++k) {
+            float dx = w.x - mu_x[k], dy = w.y - mu_y[k], dz = w.z - mu_z[k];
+            float one_minus = std::min(0.5f * (dx * dx + dy * dy + dz * dz), 2.f);
+            sum += weight[k] * norm[k] * std::exp(-kappa[k] * one_minus);
+        }
+        return sum;
+    }
+    float pdf(const Vec3f& w) const { return eval(w); }
+
+    // Picks lobe k with probability weight_k and rescales u to [0, 1) for reuse (theory.md §3.6).
+    int select_lobe(float& u) const {
+        for (int k = 0; k + 1 < count; ++k) {
+            if (u < weight[k]) {
+                u = std::min(u / weight[k], OneMinusEpsilon);
+                return k;
+            }
+            u -= weight[k];
+        }
+        // Last lobe takes the remainder (absorbs rounding of the weight sum).
+        int last = count - 1;
+        u = weight[last] > 0.f ? std::clamp(u / weight[last], 0.f, OneMinusEpsilon) : 0.f;
+        return last;
+    }
+    // Samples a direction from a normalised, non-empty mixture with one 2-D random number.
+    Vec3f sample(Point2f u) const {
+        assert(count > 0);
+        int k = select_lobe(u.x);
+        return lobe(k).sample(u);
+    }
+
+    // Weighted mean direction vector sum_k w_k A3(kappa_k) mu_k (its length is the mean cosine).
+    Vec3f mean_vector() const {
+        Vec3d r(0.0);
+        for (int k = 0; k < count; ++k) r += Vec3d(lobe(k).mu) * (double(weight[k]) * vmf_mean_cosine(kappa[k]));
+        return Vec3f(r);
+    }
+};
+
+using Vmm = VmfMixture<kVmmMaxLobes>;
+
+// A rotation-invariant kernel (e.g. a phase function): lobes centred on sign * axis, where the
+// axis is only known at query time. Used for convolutions and products with the phase function.
+template <int MaxLobes>
+struct ZonalMixture {
+    static constexpr int kCapacity = MaxLobes;
+    int count = 0;
+    std::array<float, MaxLobes> weight{};
+    std::array<float, MaxLobes> kappa{};
+    std::array<float, MaxLobes> sign{};  // +1: centred on the axis, -1: on its opposite
+
+    // The kernel as an ordinary mixture around a concrete axis.
+    VmfMixture<MaxLobes> oriented(const Vec3f& axis) const {
+        VmfMixture<MaxLobes> m;
+        for (int j = 0; j < count; ++j) m.add_lobe(weight[j], VmfLobe(axis * sign[j], kappa[j]));
+        return m;
+    }
+};
+
+// Product of two mixtures: K x J lobes with weights w_k w'_j s_kj, normalised. `integral`
+// receives Z = sum_kj w_k w'_j s_kj = the integral of the product over the sphere. If Z
+// underflows to 0 the result is empty (the caller must fall back to another strategy).
+template <int A, int B>
+VmfMixture<A * B> product(const VmfMixture<A>& a, const VmfMixture<B>& b, double* integral = nullptr) {
+    VmfMixture<A * B> out;
+    double z = 0.0;
+    std::array<double, A * B> raw{};
+    for (int k = 0; k < a.count; ++k) {
+        VmfLobe la = a.lobe(k);
+        for (int j = 0; j < b.count; ++j) {
+            VmfProduct p = vmf_product(la, b.lobe(j));
+            double w = double(a.weight[k]) * b.weight[j] * p.scale;
+            raw[out.count] = w;
+            out.add_lobe(0.f, p.lobe);
+            z += w;
+        }
+    }
+    if (integral) *integral = z;
+    if (!(z > 0.0)) {
+        out.count = 0;
+        return out;
+    }
+    for (int i = 0; i < out.count; ++i) out.weight[i] = float(raw[i] / z);
+    return out;
+}
+
+// Convolution with a single rotation-invariant vMF kernel of concentration kernel_kappa, each lobe
+// approximated by A3(kappa') = A3(kappa) A3(kernel_kappa) (theory.md eq. 3.5).
+template <int N>
+VmfMixture<N> convolve(const VmfMixture<N>& m, float kernel_kappa) {
+    VmfMixture<N> out = m;
+    for (int k = 0; k < m.count; ++k)
+        out.set_lobe(k, m.weight[k], VmfLobe(m.lobe(k).mu, vmf_convolved_kappa(m.kappa[k], kernel_kappa)));
+    return out;
+}
+
+// Convolution with a zonal kernel (theory.md eq. 5.1): (f * L)(w) = integral f(w . w') L(w') dw'
+// with f = sum_j w_j v(. | sign_j w, kappa_j). Lobe (k, j) has weight pi_k w_j, axis sign_j mu_k
+// and the A3-product concentration.
+template <int N, int J>
+VmfMixture<N * J> convolve(const VmfMixture<N>& m, const ZonalMixture<J>& kernel) {
+    VmfMixture<N * J> out;
+    for (int k = 0; k < m.count; ++k) {
+        Vec3f mu = m.lobe(k).mu;
+        for (int j = 0; j < kernel.count; ++j)
+            out.add_lobe(m.weight[k] * kernel.weight[j],
+                         VmfLobe(mu * kernel.sign[j], vmf_convolved_kappa(m.kappa[k], kernel.kappa[j])));
+    }
+    return out;
+}
+
+// Exact value of the same convolution at direction w (theory.md eq. 3.4): sum_kj pi_k w_j s_kj.
+// Equals the normaliser Z of the product of m with kernel.oriented(w).
+template <int N, int J>
+double convolve_exact(const VmfMixture<N>& m, const ZonalMixture<J>& kernel, const Vec3f& w) {
+    double sum = 0.0;
+    for (int k = 0; k < m.count; ++k) {
+        Vec3f mu = m.lobe(k).mu;
+        for (int j = 0; j < kernel.count; ++j) {
+            double omc = one_minus_cos(mu, w * kernel.sign[j]);
+            sum += double(m.weight[k]) * kernel.weight[j] * vmf_convolution_exact(m.kappa[k], kernel.kappa[j], omc);
+        }
+    }
+    return sum;
+}
+
+}  // namespace volguide
