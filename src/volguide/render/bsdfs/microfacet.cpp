@@ -193,10 +193,16 @@ MicrofacetParams MicrofacetParams::parse(const Properties& props) {
         p.alpha_u = p.alpha_v = texture_param(props, "alpha", Color3(0.1f));
         check("alpha", p.alpha_u);
     }
+    if (p.alpha_u->is_constant() && p.alpha_v->is_constant()) {
+        p.constant = true;
+        p.const_alpha_u = p.alpha_u->mean().average();
+        p.const_alpha_v = p.alpha_v->mean().average();
+    }
     return p;
 }
 
 MicrofacetDistribution MicrofacetParams::at(const SurfaceInteraction& si) const {
+    if (constant) return MicrofacetDistribution(type, const_alpha_u, const_alpha_v, sample_visible);
     return MicrofacetDistribution(type, alpha_u->eval_1(si), alpha_v->eval_1(si), sample_visible);
 }
 

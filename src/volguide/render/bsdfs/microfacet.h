@@ -59,6 +59,9 @@ struct MicrofacetParams {
     std::shared_ptr<Texture> alpha_u, alpha_v;
     bool sample_visible = true;
     bool anisotropic = false;
+    // Constant roughness is looked up once instead of per query.
+    bool constant = false;
+    float const_alpha_u = 0.1f, const_alpha_v = 0.1f;
 
     static MicrofacetParams parse(const Properties& props);
     MicrofacetDistribution at(const SurfaceInteraction& si) const;
