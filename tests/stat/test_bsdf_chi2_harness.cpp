@@ -98,3 +98,17 @@ TEST(Chi2Harness, PlaneAndDiscrete) {
     auto d2 = chi2_test_discrete({2800, 7200}, {0.25, 0.75});
     EXPECT_FALSE(d2.passed) << d2.report;
 }
+
+TEST(Chi2Harness, NonFiniteSamplesFail) {
+    ChiSquareOptions opt;
+    opt.sample_count = 100000;
+    auto r = chi2_test_sphere(
+        [](Sampler& s) {
+            ChiSquareSample c = cosine_sample(s);
+            if (s.next_1d() < 1e-3f) c.d = Vec3f(NAN, 0.f, 1.f);
+            return c;
+        },
+        [](const Vec3f& d) { return double(warp::square_to_cosine_hemisphere_pdf(d)); }, opt);
+    EXPECT_FALSE(r.passed);
+    EXPECT_NE(r.report.find("non-finite"), std::string::npos) << r.report;
+}

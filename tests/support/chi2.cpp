@@ -255,7 +255,7 @@ ChiSquareResult run(const ChiSquareSampleFn& sample, const ChiSquarePdfFn& pdf, 
     r.report.clear();
     pearson(obs, expct, opt, label, r);
     r.report += details;
-    if (bad || outside) {
+    if ((bad || outside) && r.passed) {
         r.passed = false;
         r.report.replace(r.report.find("passed"), 6, "FAILED");
     }
