@@ -27,8 +27,9 @@ TEST(Chi2Distribution, KnownQuantiles) {
 
 TEST(Chi2Harness, CosineHemispherePasses) {
     ChiSquareOptions opt;
-    auto r = chi2_test_sphere(cosine_sample, [](const Vec3f& d) { return double(warp::square_to_cosine_hemisphere_pdf(d)); },
-                              opt, [](const Vec3f& d) { return Color3(std::max(d.z, 0.f) * InvPi); });
+    auto r = chi2_test_sphere(
+        cosine_sample, [](const Vec3f& d) { return double(warp::square_to_cosine_hemisphere_pdf(d)); }, opt,
+        [](const Vec3f& d) { return Color3(std::max(d.z, 0.f) * InvPi); });
     EXPECT_TRUE(r.passed) << r.report;
     EXPECT_NEAR(r.pdf_integral, 1.0, 1e-5);
     EXPECT_EQ(r.weight_mismatches, 0u);
@@ -37,11 +38,12 @@ TEST(Chi2Harness, CosineHemispherePasses) {
 TEST(Chi2Harness, WrongPdfFails) {
     ChiSquareOptions opt;
     opt.sample_count = 200000;
-    auto r = chi2_test_sphere(cosine_sample, [](const Vec3f& d) { return double(warp::square_to_uniform_hemisphere_pdf(d)); }, opt);
+    auto r = chi2_test_sphere(
+        cosine_sample, [](const Vec3f& d) { return double(warp::square_to_uniform_hemisphere_pdf(d)); }, opt);
     EXPECT_FALSE(r.passed) << r.report;
     // A subtle error: pdf proportional to cos^1.1 instead of cos.
-    auto r2 = chi2_test_sphere(cosine_sample,
-                               [](const Vec3f& d) { return d.z > 0 ? std::pow(d.z, 1.1) * 2.1 / (2 * M_PI) : 0.0; });
+    auto r2 = chi2_test_sphere(
+        cosine_sample, [](const Vec3f& d) { return d.z > 0 ? std::pow(d.z, 1.1) * 2.1 / (2 * M_PI) : 0.0; });
     EXPECT_FALSE(r2.passed) << r2.report;
 }
 
@@ -49,8 +51,9 @@ TEST(Chi2Harness, ZeroPdfCellFails) {
     ChiSquareOptions opt;
     opt.sample_count = 100000;
     // Samples the whole sphere; the pdf claims the upper hemisphere only (and integrates to 1).
-    auto r = chi2_test_sphere([](Sampler& s) { return ChiSquareSample{warp::square_to_uniform_sphere(s.next_2d())}; },
-                              [](const Vec3f& d) { return d.z > 0 ? double(InvTwoPi) : 0.0; }, opt);
+    auto r = chi2_test_sphere(
+        [](Sampler& s) { return ChiSquareSample{warp::square_to_uniform_sphere(s.next_2d())}; },
+        [](const Vec3f& d) { return d.z > 0 ? double(InvTwoPi) : 0.0; }, opt);
     EXPECT_FALSE(r.passed);
     EXPECT_GT(r.zero_pdf_hits, 0u) << r.report;
 }
@@ -58,8 +61,9 @@ TEST(Chi2Harness, ZeroPdfCellFails) {
 TEST(Chi2Harness, WrongWeightFails) {
     ChiSquareOptions opt;
     opt.sample_count = 100000;
-    auto r = chi2_test_sphere(cosine_sample, [](const Vec3f& d) { return double(warp::square_to_cosine_hemisphere_pdf(d)); },
-                              opt, [](const Vec3f& d) { return Color3(0.9f * std::max(d.z, 0.f) * InvPi); });
+    auto r = chi2_test_sphere(
+        cosine_sample, [](const Vec3f& d) { return double(warp::square_to_cosine_hemisphere_pdf(d)); }, opt,
+        [](const Vec3f& d) { return Color3(0.9f * std::max(d.z, 0.f) * InvPi); });
     EXPECT_FALSE(r.passed);
     EXPECT_GT(r.weight_mismatches, 0u) << r.report;
 }
@@ -88,9 +92,11 @@ TEST(Chi2Harness, PlaneAndDiscrete) {
         Vec2f u = s.next_2d();
         return ChiSquareSample{Vec3f(std::sqrt(u.x), 2.f * u.y, 0.f)};
     };
-    auto good = chi2_test_plane(sample, [](const Vec3f& p) { return double(p.x); }, Rect2{0, 0, 1, 2}, opt);
+    auto good = chi2_test_plane(
+        sample, [](const Vec3f& p) { return double(p.x); }, Rect2{0, 0, 1, 2}, opt);
     EXPECT_TRUE(good.passed) << good.report;
-    auto bad = chi2_test_plane(sample, [](const Vec3f& p) { return 0.5; }, Rect2{0, 0, 1, 2}, opt);
+    auto bad = chi2_test_plane(
+        sample, [](const Vec3f& p) { return 0.5; }, Rect2{0, 0, 1, 2}, opt);
     EXPECT_FALSE(bad.passed) << bad.report;
 
     auto d1 = chi2_test_discrete({2480, 7520}, {0.25, 0.75});

@@ -19,8 +19,8 @@ ChiSquareOptions options() {
 }
 
 // Counts samples per sampled lobe flag (in the order given) over n samples.
-std::vector<uint64_t> count_lobes(const BSDF& bsdf, const SurfaceInteraction& si, const std::vector<uint32_t>& lobes,
-                                  int n = 200000) {
+std::vector<uint64_t> count_lobes(const BSDF& bsdf, const SurfaceInteraction& si,
+                                  const std::vector<uint32_t>& lobes, int n = 200000) {
     std::vector<uint64_t> counts(lobes.size(), 0);
     BSDFContext ctx;
     for (int i = 0; i < n; ++i) {
@@ -46,7 +46,8 @@ TEST(BsdfDeltaLobes, DielectricChoosesReflectionWithFresnelProbability) {
         EXPECT_TRUE(r.passed) << "cos_i " << c << " F " << F << "\n" << r.report;
     }
     // Total internal reflection: always reflected.
-    auto counts = count_lobes(*bsdf, local_si(dir(-0.5f)), {bsdf_flags::DeltaReflection, bsdf_flags::DeltaTransmission});
+    auto counts = count_lobes(*bsdf, local_si(dir(-0.5f)),
+                              {bsdf_flags::DeltaReflection, bsdf_flags::DeltaTransmission});
     EXPECT_EQ(counts[1], 0u);
 }
 
@@ -63,7 +64,8 @@ TEST(BsdfDeltaLobes, ThinDielectric) {
 
 TEST(BsdfDeltaLobes, PlasticSpecularProbability) {
     // Mitsuba's choice: F * w_s against (1 - F) * (1 - w_s), w_s = s_mean / (d_mean + s_mean).
-    auto bsdf = make_bsdf("plastic", {{"diffuse_reflectance", Color3(0.2f, 0.4f, 0.6f)}, {"int_ior", 1.5}, {"ext_ior", 1.0}});
+    auto bsdf = make_bsdf(
+        "plastic", {{"diffuse_reflectance", Color3(0.2f, 0.4f, 0.6f)}, {"int_ior", 1.5}, {"ext_ior", 1.0}});
     for (float c : {0.8f, 0.1f}) {
         SurfaceInteraction si = local_si(dir(c));
         const double F = fresnel_dielectric(c, 1.5f).F, ws = 1.0 / 1.4;

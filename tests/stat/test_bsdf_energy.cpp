@@ -62,9 +62,11 @@ TEST(BsdfFurnace, NoModelCreatesEnergy) {
     };
     for (const auto& [type, params] : models) {
         auto bsdf = make_bsdf(type, params);
-        for (float c : {0.95f, 0.5f, 0.1f}) expect_at_most_one(albedo(*bsdf, local_si(dir(c))), type + " cos " + std::to_string(c));
+        for (float c : {0.95f, 0.5f, 0.1f})
+            expect_at_most_one(albedo(*bsdf, local_si(dir(c))), type + " cos " + std::to_string(c));
         if (bsdf->has(bsdf_flags::Transmission))
-            for (float c : {-0.9f, -0.3f}) expect_at_most_one(albedo(*bsdf, local_si(dir(c))), type + " inside");
+            for (float c : {-0.9f, -0.3f})
+                expect_at_most_one(albedo(*bsdf, local_si(dir(c))), type + " inside");
     }
 }
 
@@ -114,8 +116,11 @@ TEST(BsdfFurnace, SampledAlbedoMatchesIntegratedEval) {
         ctx.mode = TransportMode::Importance;
         ChiSquareOptions opt;
         opt.sample_count = 1;  // only the quadrature is used
-        auto q = chi2_test_sphere([](Sampler&) { return ChiSquareSample{Vec3f(0, 0, 1), Color3(1.f), false}; },
-                                  [&](const Vec3f& wo) { return double(bsdf->eval(ctx, si, wo).g); }, opt);
+        auto q = chi2_test_sphere(
+            [](Sampler&) {
+                return ChiSquareSample{Vec3f(0, 0, 1), Color3(1.f), false};
+            },
+            [&](const Vec3f& wo) { return double(bsdf->eval(ctx, si, wo).g); }, opt);
         Albedo a = albedo(*bsdf, si);
         EXPECT_NEAR(a.mean, q.pdf_integral, 5 * a.stderr_ + 1e-3 * q.pdf_integral) << type;
     }

@@ -91,14 +91,18 @@ void pearson(const std::vector<double>& obs, const std::vector<double>& expct, c
     r.passed = ok;
 
     std::string& s = r.report;
-    s += fmt::format("chi-square test {}: statistic {:.2f}, dof {}, p-value {:.4g} (alpha' = {:.4g}: alpha {} over {} tests)\n",
-                     ok ? "passed" : "FAILED", r.statistic, r.dof, r.p_value, r.alpha_corrected, opt.alpha,
-                     opt.test_count);
+    s += fmt::format(
+        "chi-square test {}: statistic {:.2f}, dof {}, p-value {:.4g} (alpha' = {:.4g}: alpha {} over {} "
+        "tests)\n",
+        ok ? "passed" : "FAILED", r.statistic, r.dof, r.p_value, r.alpha_corrected, opt.alpha,
+        opt.test_count);
     if (r.dof <= 0) s += "  too few bins with enough expected samples for a test\n";
     // The bins contributing most to the statistic, to locate a disagreement.
     std::vector<size_t> order(bins.size());
     std::iota(order.begin(), order.end(), 0);
-    auto contrib = [&](size_t i) { return bins[i].e > 0.0 ? sqr(bins[i].o - bins[i].e) / bins[i].e : INFINITY; };
+    auto contrib = [&](size_t i) {
+        return bins[i].e > 0.0 ? sqr(bins[i].o - bins[i].e) / bins[i].e : INFINITY;
+    };
     std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return contrib(a) > contrib(b); });
     s += "  largest contributions (observed vs expected):\n";
     for (size_t k = 0; k < std::min<size_t>(6, order.size()); ++k) {
@@ -128,8 +132,8 @@ struct Domain {
 // 5-point Gauss-Legendre on [-1, 1].
 constexpr double kNodes[5] = {-0.9061798459386640, -0.5384693101056831, 0.0, 0.5384693101056831,
                               0.9061798459386640};
-constexpr double kWeights[5] = {0.2369268850561891, 0.4786286704993665, 0.5688888888888889, 0.4786286704993665,
-                                0.2369268850561891};
+constexpr double kWeights[5] = {0.2369268850561891, 0.4786286704993665, 0.5688888888888889,
+                                0.4786286704993665, 0.2369268850561891};
 
 struct Integrator {
     const Domain& dom;
@@ -149,7 +153,8 @@ struct Integrator {
     }
     double adaptive(double x0, double x1, double y0, double y1, double whole, int depth) const {
         double xm = 0.5 * (x0 + x1), ym = 0.5 * (y0 + y1);
-        double q[4] = {gauss(x0, xm, y0, ym), gauss(xm, x1, y0, ym), gauss(x0, xm, ym, y1), gauss(xm, x1, ym, y1)};
+        double q[4] = {gauss(x0, xm, y0, ym), gauss(xm, x1, y0, ym), gauss(x0, xm, ym, y1),
+                       gauss(xm, x1, ym, y1)};
         double refined = q[0] + q[1] + q[2] + q[3];
         if (depth >= max_depth || std::abs(refined - whole) <= rel_tol * std::abs(refined) + abs_tol)
             return refined;
@@ -179,8 +184,9 @@ ChiSquareResult run(const ChiSquareSampleFn& sample, const ChiSquarePdfFn& pdf, 
         }
         bool finite = all_finite(s.d) && s.weight.is_finite();
         if (!finite || (dom.sphere && std::abs(squared_norm(s.d) - 1.f) > 1e-3f)) {
-            if (bad++ < 3) first_problems += fmt::format("  bad sample #{}: d = ({}, {}, {}), weight = ({}, {}, {})\n",
-                                                         i, s.d.x, s.d.y, s.d.z, s.weight.r, s.weight.g, s.weight.b);
+            if (bad++ < 3)
+                first_problems += fmt::format("  bad sample #{}: d = ({}, {}, {}), weight = ({}, {}, {})\n",
+                                              i, s.d.x, s.d.y, s.d.z, s.weight.r, s.weight.g, s.weight.b);
             continue;
         }
         Vec2<double> c = dom.coords(s.d);
@@ -189,7 +195,8 @@ ChiSquareResult run(const ChiSquareSampleFn& sample, const ChiSquarePdfFn& pdf, 
             col = std::clamp(col, 0, cols - 1);
             row = std::clamp(row, 0, rows - 1);
         } else if (col < 0 || col >= cols || row < 0 || row >= rows) {
-            if (outside++ < 3) first_problems += fmt::format("  sample #{} outside the domain: ({}, {})\n", i, c.x, c.y);
+            if (outside++ < 3)
+                first_problems += fmt::format("  sample #{} outside the domain: ({}, {})\n", i, c.x, c.y);
             continue;
         }
         obs[size_t(row) * cols + col] += 1.0;
@@ -200,11 +207,14 @@ ChiSquareResult run(const ChiSquareSampleFn& sample, const ChiSquarePdfFn& pdf, 
             Color3 f = eval(s.d);
             for (int k = 0; k < 3; ++k) {
                 double expected = p > 0.0 ? f[k] / p : 0.0;
-                double tol = opt.weight_rel_tolerance * std::max(std::abs(expected), double(std::abs(s.weight[k]))) + 1e-6;
+                double tol =
+                    opt.weight_rel_tolerance * std::max(std::abs(expected), double(std::abs(s.weight[k]))) +
+                    1e-6;
                 if (!(std::abs(s.weight[k] - expected) <= tol)) {
                     if (r.weight_mismatches++ < 3)
                         first_problems += fmt::format(
-                            "  weight mismatch #{}: d = ({:.5f}, {:.5f}, {:.5f}), weight[{}] = {:.6g}, eval/pdf = {:.6g}/{:.6g} = {:.6g}\n",
+                            "  weight mismatch #{}: d = ({:.5f}, {:.5f}, {:.5f}), weight[{}] = {:.6g}, "
+                            "eval/pdf = {:.6g}/{:.6g} = {:.6g}\n",
                             i, s.d.x, s.d.y, s.d.z, k, s.weight[k], f[k], p, expected);
                     break;
                 }
@@ -226,8 +236,9 @@ ChiSquareResult run(const ChiSquareSampleFn& sample, const ChiSquarePdfFn& pdf, 
             total += m;
             if (m == 0.0 && obs[idx] > 0.0) {
                 if (r.zero_pdf_hits == 0)
-                    first_problems += fmt::format("  {} samples in a cell with zero pdf: x [{:.4f}, {:.4f}], y [{:.4f}, {:.4f}]\n",
-                                                  obs[idx], x0, x0 + dx, y0, y0 + dy);
+                    first_problems += fmt::format(
+                        "  {} samples in a cell with zero pdf: x [{:.4f}, {:.4f}], y [{:.4f}, {:.4f}]\n",
+                        obs[idx], x0, x0 + dx, y0, y0 + dy);
                 r.zero_pdf_hits += uint64_t(obs[idx]);
             }
         }
@@ -235,11 +246,13 @@ ChiSquareResult run(const ChiSquareSampleFn& sample, const ChiSquarePdfFn& pdf, 
     obs.back() = double(r.rest_observed);
     expct.back() = std::max(0.0, 1.0 - total) * n;
 
-    r.report = fmt::format("  {} samples, pdf integral {:.6f}, rest bin (delta/invalid) observed {} expected {:.1f}\n",
-                           opt.sample_count, total, r.rest_observed, expct.back());
+    r.report = fmt::format(
+        "  {} samples, pdf integral {:.6f}, rest bin (delta/invalid) observed {} expected {:.1f}\n",
+        opt.sample_count, total, r.rest_observed, expct.back());
     if (r.zero_pdf_hits) r.report += fmt::format("  {} samples in zero-pdf cells\n", r.zero_pdf_hits);
     if (r.weight_mismatches)
-        r.report += fmt::format("  {} of {} checked weights differ from eval/pdf\n", r.weight_mismatches, weights_checked);
+        r.report += fmt::format("  {} of {} checked weights differ from eval/pdf\n", r.weight_mismatches,
+                                weights_checked);
     if (bad) r.report += fmt::format("  {} non-finite or non-unit samples\n", bad);
     if (outside) r.report += fmt::format("  {} samples outside the domain\n", outside);
     r.report += first_problems;
@@ -248,8 +261,9 @@ ChiSquareResult run(const ChiSquareSampleFn& sample, const ChiSquarePdfFn& pdf, 
         if (idx == obs.size() - 1) return std::string("rest bin (delta/invalid)");
         int row = int(idx / cols), col = int(idx % cols);
         double x0 = dom.r.x0 + col * dx, y0 = dom.r.y0 + row * dy;
-        return dom.sphere ? fmt::format("cos_theta [{:.3f}, {:.3f}] phi [{:.3f}, {:.3f}]", y0, y0 + dy, x0, x0 + dx)
-                          : fmt::format("x [{:.4g}, {:.4g}] y [{:.4g}, {:.4g}]", x0, x0 + dx, y0, y0 + dy);
+        return dom.sphere
+                   ? fmt::format("cos_theta [{:.3f}, {:.3f}] phi [{:.3f}, {:.3f}]", y0, y0 + dy, x0, x0 + dx)
+                   : fmt::format("x [{:.4g}, {:.4g}] y [{:.4g}, {:.4g}]", x0, x0 + dx, y0, y0 + dy);
     };
     std::string details = std::move(r.report);
     r.report.clear();
@@ -275,8 +289,8 @@ ChiSquareResult chi2_test_plane(const ChiSquareSampleFn& sample, const ChiSquare
     return run(sample, pdf, Domain{domain, false}, opt, eval);
 }
 
-ChiSquareResult chi2_test_discrete(const std::vector<uint64_t>& observed, const std::vector<double>& probabilities,
-                                   const ChiSquareOptions& opt) {
+ChiSquareResult chi2_test_discrete(const std::vector<uint64_t>& observed,
+                                   const std::vector<double>& probabilities, const ChiSquareOptions& opt) {
     ChiSquareResult r;
     double n = 0.0;
     for (uint64_t o : observed) n += double(o);
@@ -285,8 +299,10 @@ ChiSquareResult chi2_test_discrete(const std::vector<uint64_t>& observed, const 
         expct[i] = probabilities[i] * n;
         if (probabilities[i] == 0.0 && observed[i] > 0) r.zero_pdf_hits += observed[i];
     }
-    pearson(obs, expct, opt, [](size_t i) { return fmt::format("outcome {}", i); }, r);
-    if (r.zero_pdf_hits) r.report += fmt::format("  {} samples in zero-probability outcomes\n", r.zero_pdf_hits);
+    pearson(
+        obs, expct, opt, [](size_t i) { return fmt::format("outcome {}", i); }, r);
+    if (r.zero_pdf_hits)
+        r.report += fmt::format("  {} samples in zero-probability outcomes\n", r.zero_pdf_hits);
     return r;
 }
 
