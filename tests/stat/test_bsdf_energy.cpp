@@ -115,7 +115,8 @@ TEST(BsdfFurnace, SampledAlbedoMatchesIntegratedEval) {
         BSDFContext ctx;
         ctx.mode = TransportMode::Importance;
         ChiSquareOptions opt;
-        opt.sample_count = 1;  // only the quadrature is used
+        opt.sample_count = 1;      // only the quadrature is used
+        opt.abs_tolerance = 1e-8;  // absolute quadrature tolerance (divided by sample_count)
         auto q = chi2_test_sphere(
             [](Sampler&) {
                 return ChiSquareSample{Vec3f(0, 0, 1), Color3(1.f), false};

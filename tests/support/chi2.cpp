@@ -122,6 +122,13 @@ struct Domain {
         double st = std::sqrt(std::max(0.0, 1.0 - y * y));
         return Vec3f(float(st * std::cos(x)), float(st * std::sin(x)), float(y));
     }
+    // Quadrature runs in (phi, theta) on the sphere, with the Jacobian sin(theta): peaks at the
+    // poles are far narrower in cos(theta) than in theta and would be missed.
+    double quad_y(double y) const { return sphere ? std::acos(std::clamp(y, -1.0, 1.0)) : y; }
+    double integrand(const ChiSquarePdfFn& pdf, double x, double t) const {
+        if (!sphere) return pdf(point(x, t));
+        return pdf(point(x, std::cos(t))) * std::sin(t);
+    }
     // Parameter coordinates of a sample.
     Vec2<double> coords(const Vec3f& d) const {
         if (!sphere) return {double(d.x), double(d.y)};
@@ -146,7 +153,7 @@ struct Integrator {
         double sum = 0.0;
         for (int j = 0; j < 5; ++j)
             for (int i = 0; i < 5; ++i) {
-                double v = pdf(dom.point(cx + hx * kNodes[i], cy + hy * kNodes[j]));
+                double v = dom.integrand(pdf, cx + hx * kNodes[i], cy + hy * kNodes[j]);
                 sum += kWeights[i] * kWeights[j] * v;
             }
         return sum * hx * hy;
@@ -190,6 +197,10 @@ ChiSquareResult run(const ChiSquareSampleFn& sample, const ChiSquarePdfFn& pdf, 
             continue;
         }
         Vec2<double> c = dom.coords(s.d);
+        if (dom.sphere && c.y < dom.r.y0) {
+            ++r.rest_observed;  // outside a zoomed cap (min_cos_theta)
+            continue;
+        }
         int col = int(std::floor((c.x - dom.r.x0) / dx)), row = int(std::floor((c.y - dom.r.y0) / dy));
         if (dom.sphere) {
             col = std::clamp(col, 0, cols - 1);
@@ -230,7 +241,9 @@ ChiSquareResult run(const ChiSquareSampleFn& sample, const ChiSquarePdfFn& pdf, 
     for (int row = 0; row < rows; ++row)
         for (int col = 0; col < cols; ++col) {
             double x0 = dom.r.x0 + col * dx, y0 = dom.r.y0 + row * dy;
-            double m = integ.cell(x0, x0 + dx, y0, y0 + dy);
+            // In theta, the cell [y0, y0 + dy] of cos(theta) is [acos(y0 + dy), acos(y0)].
+            double t0 = dom.quad_y(y0), t1 = dom.quad_y(y0 + dy);
+            double m = std::abs(integ.cell(x0, x0 + dx, std::min(t0, t1), std::max(t0, t1)));
             size_t idx = size_t(row) * cols + col;
             expct[idx] = m * n;
             total += m;
@@ -247,7 +260,7 @@ ChiSquareResult run(const ChiSquareSampleFn& sample, const ChiSquarePdfFn& pdf, 
     expct.back() = std::max(0.0, 1.0 - total) * n;
 
     r.report = fmt::format(
-        "  {} samples, pdf integral {:.6f}, rest bin (delta/invalid) observed {} expected {:.1f}\n",
+        "  {} samples, pdf integral {:.6f}, rest bin (delta/invalid/outside) observed {} expected {:.1f}\n",
         opt.sample_count, total, r.rest_observed, expct.back());
     if (r.zero_pdf_hits) r.report += fmt::format("  {} samples in zero-pdf cells\n", r.zero_pdf_hits);
     if (r.weight_mismatches)
@@ -258,7 +271,7 @@ ChiSquareResult run(const ChiSquareSampleFn& sample, const ChiSquarePdfFn& pdf, 
     r.report += first_problems;
 
     auto label = [&](size_t idx) {
-        if (idx == obs.size() - 1) return std::string("rest bin (delta/invalid)");
+        if (idx == obs.size() - 1) return std::string("rest bin (delta/invalid/outside)");
         int row = int(idx / cols), col = int(idx % cols);
         double x0 = dom.r.x0 + col * dx, y0 = dom.r.y0 + row * dy;
         return dom.sphere
@@ -280,7 +293,7 @@ ChiSquareResult run(const ChiSquareSampleFn& sample, const ChiSquarePdfFn& pdf, 
 
 ChiSquareResult chi2_test_sphere(const ChiSquareSampleFn& sample, const ChiSquarePdfFn& pdf,
                                  const ChiSquareOptions& opt, const ChiSquareEvalFn& eval) {
-    Domain dom{Rect2{-M_PI, -1.0, M_PI, 1.0}, true};
+    Domain dom{Rect2{-M_PI, std::clamp(opt.min_cos_theta, -1.0, 0.999), M_PI, 1.0}, true};
     return run(sample, pdf, dom, opt, eval);
 }
 

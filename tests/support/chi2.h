@@ -9,8 +9,9 @@
 // exactly zero fails the test. With an `eval` function, every non-delta sample's weight must also
 // equal eval / pdf.
 //
-// Probability mass the pdf does not cover (discrete lobes, failed samples) is one extra
-// "rest" bin: expected N * (1 - integral of the pdf), observed = delta samples + invalid ones.
+// Probability mass the pdf does not cover (discrete lobes, failed samples, directions outside a
+// zoomed cap) is one extra "rest" bin: expected N * (1 - integral of the pdf over the grid),
+// observed = delta samples + invalid ones + those outside the grid.
 //
 // Usage:
 //   ChiSquareOptions opt;
@@ -41,6 +42,9 @@ struct ChiSquareOptions {
     uint64_t sample_count = 1000000;
     int rows = 40;  // sphere: bins in cos(theta) over [-1, 1]; plane: bins in y
     int cols = 80;  // sphere: bins in phi over [-pi, pi]; plane: bins in x
+    // Sphere only: the grid covers cos(theta) in [min_cos_theta, 1]; samples below count towards
+    // the rest bin. Zooms in on a narrow lobe around +z (rotate the lobe there first).
+    double min_cos_theta = -1.0;
     double min_expected = 5.0;
     double alpha = 0.01;  // significance level of the whole family of tests
     int test_count = 1;   // Sidak correction: alpha' = 1 - (1 - alpha)^(1 / test_count)
