@@ -157,6 +157,9 @@ std::pair<Vec3f, float> MicrofacetDistribution::sample(const Vec3f& wi, Point2f 
                   (sin_phi * slope.x + cos_phi * slope.y) * alpha_v_);
     // 4. Normal and density.
     const Vec3f m = normalize(Vec3f(-slope.x, -slope.y, 1.f));
+    // Samples on the boundary of the square can map to an infinite slope (a horizontal normal of
+    // zero density): report a failed sample instead of NaNs.
+    if (!all_finite(m)) return {Vec3f(0.f, 0.f, 1.f), 0.f};
     const float pdf = eval(m) * smith_g1(wi, m) * absdot(wi, m) / wi.z;
     return {m, pdf};
 }
