@@ -94,6 +94,12 @@ TEST(RenderLoop, NonFiniteSamplesAreCountedAndDropped) {
     RenderResult r = render_frame(setup, sometimes_nan, RenderOptions{});
     EXPECT_GT(r.stats.nonfinite_samples, 0u);
     EXPECT_LT(r.stats.nonfinite_samples, r.stats.samples);
+    // The replay location really produces a non-finite value.
+    ASSERT_TRUE(r.stats.first_nonfinite.has_value());
+    const SampleLocation& at = *r.stats.first_nonfinite;
+    Sampler replay(1, uint64_t(at.y) * 8 + uint64_t(at.x), uint64_t(at.sample));
+    Vec2f u = replay.next_2d();
+    EXPECT_FALSE(sometimes_nan(Point2f((at.x + u.x) / 8.f, (at.y + u.y) / 8.f), replay).is_finite());
     for (const Color3& c : r.mean.pixels) {
         EXPECT_TRUE(c.is_finite());
         EXPECT_TRUE(c == Color3(1.f) || c == Color3(0.f));

@@ -143,6 +143,7 @@ RenderResult render_frame_impl(const FrameSetup& setup, const RadianceFn& radian
 
         std::vector<std::unique_ptr<TileBuffer>> buffers(tiles.size());
         std::vector<uint64_t> nonfinite(tiles.size(), 0);
+        std::vector<SampleLocation> first_bad(tiles.size());
         std::atomic<bool> stop_cancel{false}, stop_time{false};
         std::atomic<uint64_t> samples_done{0};
 
@@ -169,7 +170,7 @@ RenderResult render_frame_impl(const FrameSetup& setup, const RadianceFn& radian
                         Point2f pos(float(x) + u.x, float(y) + u.y);
                         Color3 L = radiance(Point2f(pos.x / float(W), pos.y / float(H)), sampler);
                         if (!L.is_finite()) {
-                            ++bad;
+                            if (bad++ == 0) first_bad[t] = SampleLocation{x, y, s};
                             continue;
                         }
                         buf->splat(pos, L);
@@ -199,6 +200,7 @@ RenderResult render_frame_impl(const FrameSetup& setup, const RadianceFn& radian
             film.add(*buffers[t]);
             buffers[t].reset();
             stats.nonfinite_samples += nonfinite[t];
+            if (nonfinite[t] > 0 && !stats.first_nonfinite) stats.first_nonfinite = first_bad[t];
         }
         spp_done += n;
         stats.passes += 1;

@@ -29,11 +29,19 @@ struct RenderOptions {
     const std::atomic<bool>* cancel = nullptr;  // set it to stop at the end of the current pass
 };
 
+// Where a sample went wrong, to replay it: Sampler(seed, pixel index, sample) with the pixel index
+// y * width + x over the sampled grid (which includes the border with sample_border).
+struct SampleLocation {
+    int x = 0, y = 0;  // film pixel (may be outside the film with sample_border)
+    int sample = 0;
+};
+
 struct RenderStats {
     double preprocess_seconds = 0, render_seconds = 0, total_seconds = 0;
     uint64_t samples = 0;            // camera samples in the image
     uint64_t discarded_samples = 0;  // samples of an interrupted pass (not in the image)
     uint64_t nonfinite_samples = 0;  // NaN/Inf radiance samples dropped from the image
+    std::optional<SampleLocation> first_nonfinite;  // the first in pass, tile and pixel order
     int passes = 0;
     int threads = 0;
     uint64_t seed = 0;
