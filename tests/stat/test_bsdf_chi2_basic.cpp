@@ -51,7 +51,8 @@ TEST(BsdfChi2, RoughPlastic) {
                                                {"nonlinear", c.nonlinear},
                                                {"diffuse_reflectance", Color3(0.6f, 0.2f, 0.4f)}});
         auto r = chi2_bsdf(*bsdf, local_si(dir(c.cos_theta)), options());
-        EXPECT_TRUE(r.passed) << c.distr << " alpha " << c.alpha << " cos " << c.cos_theta << "\n" << r.report;
+        EXPECT_TRUE(r.passed) << c.distr << " alpha " << c.alpha << " cos " << c.cos_theta << "\n"
+                              << r.report;
     }
 }
 

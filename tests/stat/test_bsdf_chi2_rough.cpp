@@ -39,9 +39,14 @@ std::string name(const RoughCase& c) {
 // GGX (exact Smith term) covers grazing incidence.
 TEST(BsdfChi2, RoughConductor) {
     const RoughCase cases[] = {
-        {"beckmann", 0.05, 0.9f}, {"beckmann", 0.3, 0.5f}, {"beckmann", 0.8, 0.85f},
-        {"ggx", 0.05, 0.7f},      {"ggx", 0.3, 0.2f},      {"ggx", 0.8, 0.95f},
-        {"beckmann", 0.3, 0.6f, false}, {"ggx", 0.3, 0.6f, false},
+        {"beckmann", 0.05, 0.9f},
+        {"beckmann", 0.3, 0.5f},
+        {"beckmann", 0.8, 0.85f},
+        {"ggx", 0.05, 0.7f},
+        {"ggx", 0.3, 0.2f},
+        {"ggx", 0.8, 0.95f},
+        {"beckmann", 0.3, 0.6f, false},
+        {"ggx", 0.3, 0.6f, false},
     };
     for (const RoughCase& c : cases) {
         auto bsdf = make_bsdf("roughconductor", {{"distribution", c.distr},
@@ -63,7 +68,7 @@ TEST(BsdfChi2, RoughConductorAnisotropic) {
 
 TEST(BsdfChi2, RoughDielectricOutside) {
     const RoughCase cases[] = {
-        {"beckmann", 0.1, 0.8f}, {"beckmann", 0.5, 0.8f}, {"ggx", 0.1, 0.3f},
+        {"beckmann", 0.1, 0.8f}, {"beckmann", 0.5, 0.8f},   {"ggx", 0.1, 0.3f},
         {"ggx", 0.5, 0.9f},      {"ggx", 0.3, 0.5f, false}, {"beckmann", 0.3, 0.5f, false},
     };
     for (const RoughCase& c : cases) {
@@ -80,7 +85,7 @@ TEST(BsdfChi2, RoughDielectricOutside) {
 TEST(BsdfChi2, RoughDielectricInside) {
     // From inside, beyond the critical angle (cos < 0.745 for eta 1.5) most light is reflected.
     const RoughCase cases[] = {
-        {"beckmann", 0.1, -0.9f}, {"beckmann", 0.4, -0.5f}, {"ggx", 0.1, -0.6f},
+        {"beckmann", 0.1, -0.9f}, {"beckmann", 0.4, -0.5f},   {"ggx", 0.1, -0.6f},
         {"ggx", 0.4, -0.2f},      {"ggx", 0.3, -0.8f, false},
     };
     for (const RoughCase& c : cases) {

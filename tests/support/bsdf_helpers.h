@@ -16,7 +16,8 @@ namespace volguide::test {
 // One parameter: name and value (double = <float>, std::string = <string>, Color3 = <rgb>, bool, object).
 using Param = std::pair<std::string, Properties::Value>;
 
-inline Properties make_props(const std::string& category, const std::string& type, const std::vector<Param>& params) {
+inline Properties make_props(const std::string& category, const std::string& type,
+                             const std::vector<Param>& params) {
     Properties props(category, type, {"test.xml", 1});
     int line = 2;
     for (const auto& [name, value] : params) {

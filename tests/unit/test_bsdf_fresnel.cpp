@@ -38,7 +38,8 @@ TEST(Fresnel, MatchesClosedFormOverAngles) {
         for (int i = -20; i <= 20; ++i) {
             float c = i / 20.f;
             if (c == 0.f) continue;
-            EXPECT_NEAR(fresnel_dielectric(c, eta).F, fresnel_reference(c, eta), 2e-6) << "eta " << eta << " cos " << c;
+            EXPECT_NEAR(fresnel_dielectric(c, eta).F, fresnel_reference(c, eta), 2e-6)
+                << "eta " << eta << " cos " << c;
         }
 }
 
@@ -69,7 +70,8 @@ TEST(Fresnel, RefractionObeysSnell) {
 
 TEST(Fresnel, ConductorLimits) {
     // k = 0 reduces to a dielectric seen from outside.
-    for (float c : {1.f, 0.7f, 0.2f}) EXPECT_NEAR(fresnel_conductor(c, 1.5f, 0.f), fresnel_reference(c, 1.5), 1e-5);
+    for (float c : {1.f, 0.7f, 0.2f})
+        EXPECT_NEAR(fresnel_conductor(c, 1.5f, 0.f), fresnel_reference(c, 1.5), 1e-5);
     // Normal incidence: ((n-1)^2 + k^2) / ((n+1)^2 + k^2).
     EXPECT_NEAR(fresnel_conductor(1.f, 0.2f, 3.9f), (0.64 + 3.9 * 3.9) / (1.44 + 3.9 * 3.9), 1e-5);
     // Mitsuba's "none" material (eta 0, k 1) is a perfect mirror at every angle.

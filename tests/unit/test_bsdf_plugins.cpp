@@ -11,7 +11,8 @@ using namespace volguide::test;
 
 namespace {
 
-void expect_input_error(const std::string& type, const std::vector<Param>& params, const std::string& fragment) {
+void expect_input_error(const std::string& type, const std::vector<Param>& params,
+                        const std::string& fragment) {
     try {
         make_bsdf(type, params);
         ADD_FAILURE() << type << ": expected an input error mentioning '" << fragment << "'";
@@ -70,7 +71,8 @@ TEST(BsdfParams, Flags) {
     EXPECT_EQ(make_bsdf("thindielectric")->flags(), uint32_t(bsdf_flags::DeltaReflection | bsdf_flags::Null));
     EXPECT_EQ(make_bsdf("roughdielectric")->flags(),
               uint32_t(bsdf_flags::GlossyReflection | bsdf_flags::GlossyTransmission));
-    EXPECT_EQ(make_bsdf("roughplastic")->flags(), uint32_t(bsdf_flags::GlossyReflection | bsdf_flags::DiffuseReflection));
+    EXPECT_EQ(make_bsdf("roughplastic")->flags(),
+              uint32_t(bsdf_flags::GlossyReflection | bsdf_flags::DiffuseReflection));
     EXPECT_EQ(make_bsdf("null")->flags(), uint32_t(bsdf_flags::Null));
 }
 
@@ -124,8 +126,10 @@ TEST(BsdfReciprocity, RoughDielectricTransmissionIsAdjoint) {
             Vec3f a = dir(ci, 0.3f), b = dir(co, 3.0f);
             float f_imp_ab = bsdf->eval(imp, local_si(a), b).r / std::abs(b.z);
             float f_rad_ba = bsdf->eval(rad, local_si(b), a).r / std::abs(a.z);
-            if (ci == 0.9f && co == -0.3f) EXPECT_EQ(f_imp_ab, 0.f);  // unreachable by refraction
-            else EXPECT_GT(f_imp_ab, 0.f);
+            if (ci == 0.9f && co == -0.3f)
+                EXPECT_EQ(f_imp_ab, 0.f);  // unreachable by refraction
+            else
+                EXPECT_GT(f_imp_ab, 0.f);
             EXPECT_NEAR(f_imp_ab, f_rad_ba, 1e-4f * std::max(1.f, f_imp_ab)) << ci << " " << co;
         }
 }
@@ -144,7 +148,8 @@ TEST(RoughPlastic, SmoothLimitMatchesPlastic) {
     }
     const float r_int = float(2 * mean / 64), fdr = fresnel_diffuse_reflectance(1.f / eta);
     for (bool nonlinear : {false, true}) {
-        auto rough = make_bsdf("roughplastic", {{"alpha", 0.001}, {"nonlinear", nonlinear}, {"diffuse_reflectance", Color3(d)}});
+        auto rough = make_bsdf(
+            "roughplastic", {{"alpha", 0.001}, {"nonlinear", nonlinear}, {"diffuse_reflectance", Color3(d)}});
         auto smooth = make_bsdf("plastic", {{"nonlinear", nonlinear}, {"diffuse_reflectance", Color3(d)}});
         const float expected_ratio = nonlinear ? (1 - d * fdr) / (1 - d * r_int) : (1 - fdr) / (1 - r_int);
         for (float ci : {0.9f, 0.5f, 0.2f}) {

@@ -106,6 +106,29 @@ TEST(EnvmapEmitter, SamplePdfEvalAgree) {
     }
 }
 
+TEST(EnvmapEmitter, MisCompensation) {
+    // Luminance below the average gets no samples; sampling and pdf stay consistent.
+    Image image(8, 5, Color3(0.1f));
+    image.at(2, 2) = Color3(10.f);
+    const std::string file = write_temp_exr("mis.exr", image);
+    auto e = EmitterBuilder("envmap").set("filename", file).set("mis_compensation", true).build();
+    const Interaction ref = reference_point(Point3f(0.f));
+    Sampler s(11, 0, 0);
+    for (int i = 0; i < 500; ++i) {
+        auto [ds, w] = e->sample_direction(ref, s.next_2d());
+        ASSERT_GT(ds.pdf, 0.f);
+        EXPECT_NEAR(e->pdf_direction(ref, ds), ds.pdf, 2e-3f * ds.pdf);
+        // Every sample lies within one texel of the bright pixel's vertex.
+        EXPECT_NEAR(ds.uv.y, 0.5f, 0.25f + 1e-4f);
+    }
+    DirectionSample away;
+    away.d = envmap_direction(6.5f / 8.f, 0.5f);
+    EXPECT_EQ(e->pdf_direction(ref, away), 0.f);
+    // Without compensation the dim part is sampled too.
+    auto plain = EmitterBuilder("envmap").set("filename", file).build();
+    EXPECT_GT(plain->pdf_direction(ref, away), 0.f);
+}
+
 TEST(EnvmapEmitter, BlackMapEmitsNothing) {
     auto e = envmap(write_temp_exr("black.exr", Image(4, 3)));
     auto [ds, w] = e->sample_direction(reference_point(Point3f(0.f)), {0.3f, 0.4f});

@@ -109,7 +109,7 @@ TEST(MeshPly, UvNamedUV) {
     std::string ply =
         "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
         "property float u\nproperty float v\nelement face 1\nproperty list uchar int vertex_indices\n"
-        "end_header\n0 0 0 .1 .2\n1 0 0 .3 .4\n0 1 0 .5 .6\n3 0 1 2\n";
+        "end_header\n0 0 0 .1 .2\n1 0 0 +.3 4e-1\n0 1 0 .5 .6\n3 0 1 2\n";
     auto s = make_shape(ShapeProps("ply").s("filename", dir.write("uv.ply", ply)));
     const TriangleMesh& m = mesh_of(s);
     EXPECT_NEAR(m.uvs[1].y, 0.4f, 1e-7f);

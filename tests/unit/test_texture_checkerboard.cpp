@@ -38,7 +38,8 @@ TEST(Checkerboard, ColorsAndToUv) {
     // As in Mitsuba's test scene: color0 0.2, color1 0.4, to_uv = scale 16.
     Matrix4 m = Matrix4::identity();
     m.m[0][0] = m.m[1][1] = m.m[2][2] = 16.0;
-    auto tex = make_checkerboard_texture(make_props("texture", "checkerboard",
+    auto tex = make_checkerboard_texture(make_props(
+        "texture", "checkerboard",
         {{"color0", Color3(0.2f)}, {"color1", Color3(0.1f, 0.5f, 0.9f)}, {"to_uv", Transform(m)}}));
     EXPECT_EQ(tex->eval(at_uv(0.01f, 0.01f)), Color3(0.2f));
     EXPECT_EQ(tex->eval(at_uv(1.f / 32 + 0.01f, 0.01f)), Color3(0.1f, 0.5f, 0.9f));  // 16 * u = 0.66
@@ -46,12 +47,14 @@ TEST(Checkerboard, ColorsAndToUv) {
     // The translation column of a 4x4 to_uv is ignored (Mitsuba keeps the upper-left 3x3).
     Matrix4 t = Matrix4::identity();
     t.m[0][3] = 0.5;
-    auto shifted = make_checkerboard_texture(make_props("texture", "checkerboard", {{"to_uv", Transform(t)}}));
+    auto shifted =
+        make_checkerboard_texture(make_props("texture", "checkerboard", {{"to_uv", Transform(t)}}));
     EXPECT_EQ(shifted->eval(at_uv(0.25f, 0.25f)), Color3(0.4f));
     // ... but the third column (2-D translation of the 3x3 block) is applied.
     Matrix4 t2 = Matrix4::identity();
     t2.m[0][2] = 0.5;
-    auto shifted2 = make_checkerboard_texture(make_props("texture", "checkerboard", {{"to_uv", Transform(t2)}}));
+    auto shifted2 =
+        make_checkerboard_texture(make_props("texture", "checkerboard", {{"to_uv", Transform(t2)}}));
     EXPECT_EQ(shifted2->eval(at_uv(0.25f, 0.25f)), Color3(0.2f));
 }
 

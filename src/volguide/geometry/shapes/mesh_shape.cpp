@@ -163,6 +163,8 @@ PositionSample MeshShape::sample_position(Point2f u) const {
     Normal3f n = mesh_.normals.empty()
                      ? cross(e0, e1)
                      : mesh_.normals[idx[0]] * b0 + mesh_.normals[idx[1]] * b.x + mesh_.normals[idx[2]] * b.y;
+    // Interpolated normals can cancel out (inconsistent file normals): fall back to the face normal.
+    if (!(squared_norm(n) > 0.f)) n = cross(e0, e1);
     ps.n = normalize(n);
     if (flip_normals_) ps.n = -ps.n;
     return ps;

@@ -75,6 +75,7 @@ class BodyReader {
         if (pos_ >= data_.size()) ply_fail("unexpected end of file");
         const char* begin = data_.data() + pos_;
         const char* end = data_.data() + data_.size();
+        if (*begin == '+') ++begin;  // from_chars does not accept an explicit plus sign
         double v;
         auto [ptr, ec] = std::from_chars(begin, end, v);
         if (ec != std::errc() || (ptr < end && !std::isspace(static_cast<unsigned char>(*ptr)))) {

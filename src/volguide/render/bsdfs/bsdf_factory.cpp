@@ -25,9 +25,10 @@ ObjectPtr create_bsdf(const Properties& props) {
     };
     for (const Entry& e : kTable)
         if (props.type() == e.name) return e.make(props);
-    props.fail_here("unsupported bsdf plugin '{}' (supported: diffuse, dielectric, thindielectric, roughdielectric, "
-                    "conductor, roughconductor, plastic, roughplastic, twosided, null)",
-                    props.type());
+    props.fail_here(
+        "unsupported bsdf plugin '{}' (supported: diffuse, dielectric, thindielectric, roughdielectric, "
+        "conductor, roughconductor, plastic, roughplastic, twosided, null)",
+        props.type());
 }
 
 }  // namespace volguide

@@ -32,7 +32,9 @@ inline Color3 eval_or_one(const std::shared_ptr<Texture>& tex, const SurfaceInte
 }
 
 // Mitsuba's Texture::mean() is a scalar: the channel average for RGB values.
-inline float scalar_mean(const std::shared_ptr<Texture>& tex) { return tex ? tex->mean().average() : 1.f; }
+inline float scalar_mean(const std::shared_ptr<Texture>& tex) {
+    return tex ? tex->mean().average() : 1.f;
+}
 
 ObjectPtr make_diffuse_bsdf(const Properties& props);
 ObjectPtr make_dielectric_bsdf(const Properties& props);

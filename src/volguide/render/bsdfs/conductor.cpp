@@ -10,7 +10,7 @@ namespace volguide {
 namespace {
 
 class SmoothConductor final : public BSDF {
-public:
+  public:
     explicit SmoothConductor(const Properties& props) {
         specular_reflectance_ = nonnegative_texture(props, "specular_reflectance", Color3(1.f));
         ior_ = ConductorIor::parse(props);
@@ -30,17 +30,21 @@ public:
         return {bs, specular_reflectance_->eval(si) * F};
     }
 
-    Color3 eval(const BSDFContext&, const SurfaceInteraction&, const Vec3f&) const override { return Color3(0.f); }
+    Color3 eval(const BSDFContext&, const SurfaceInteraction&, const Vec3f&) const override {
+        return Color3(0.f);
+    }
     float pdf(const BSDFContext&, const SurfaceInteraction&, const Vec3f&) const override { return 0.f; }
     std::string to_string() const override { return "SmoothConductor[]"; }
 
-private:
+  private:
     std::shared_ptr<Texture> specular_reflectance_;
     ConductorIor ior_;
 };
 
 }  // namespace
 
-ObjectPtr make_conductor_bsdf(const Properties& props) { return std::make_shared<SmoothConductor>(props); }
+ObjectPtr make_conductor_bsdf(const Properties& props) {
+    return std::make_shared<SmoothConductor>(props);
+}
 
 }  // namespace volguide

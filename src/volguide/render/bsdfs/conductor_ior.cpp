@@ -9,8 +9,7 @@ ConductorIor ConductorIor::parse(const Properties& props) {
     ConductorIor c;
     const std::string material = props.get_string("material", "none");
     if (props.has("eta") || props.has("k") || material == "none") {
-        if (material != "none")
-            props.fail_at("material", "specify either 'eta'/'k' or 'material', not both");
+        if (material != "none") props.fail_at("material", "specify either 'eta'/'k' or 'material', not both");
         c.eta = nonnegative_texture(props, "eta", Color3(0.f));
         c.k = nonnegative_texture(props, "k", Color3(1.f));
         return c;

@@ -11,7 +11,7 @@ namespace volguide {
 namespace {
 
 class SmoothDielectric final : public BSDF {
-public:
+  public:
     explicit SmoothDielectric(const Properties& props) {
         const float int_ior = lookup_ior(props, "int_ior", "bk7");
         const float ext_ior = lookup_ior(props, "ext_ior", "air");
@@ -43,17 +43,21 @@ public:
         return {bs, weight};
     }
 
-    Color3 eval(const BSDFContext&, const SurfaceInteraction&, const Vec3f&) const override { return Color3(0.f); }
+    Color3 eval(const BSDFContext&, const SurfaceInteraction&, const Vec3f&) const override {
+        return Color3(0.f);
+    }
     float pdf(const BSDFContext&, const SurfaceInteraction&, const Vec3f&) const override { return 0.f; }
     std::string to_string() const override { return "SmoothDielectric[]"; }
 
-private:
+  private:
     float eta_;
     std::shared_ptr<Texture> specular_reflectance_, specular_transmittance_;
 };
 
 }  // namespace
 
-ObjectPtr make_dielectric_bsdf(const Properties& props) { return std::make_shared<SmoothDielectric>(props); }
+ObjectPtr make_dielectric_bsdf(const Properties& props) {
+    return std::make_shared<SmoothDielectric>(props);
+}
 
 }  // namespace volguide

@@ -8,7 +8,7 @@ namespace volguide {
 namespace {
 
 class Diffuse final : public BSDF {
-public:
+  public:
     explicit Diffuse(const Properties& props) {
         reflectance_ = nonnegative_texture(props, "reflectance", Color3(0.5f));
         flags_ = bsdf_flags::DiffuseReflection;
@@ -37,12 +37,14 @@ public:
 
     std::string to_string() const override { return "Diffuse[]"; }
 
-private:
+  private:
     std::shared_ptr<Texture> reflectance_;
 };
 
 }  // namespace
 
-ObjectPtr make_diffuse_bsdf(const Properties& props) { return std::make_shared<Diffuse>(props); }
+ObjectPtr make_diffuse_bsdf(const Properties& props) {
+    return std::make_shared<Diffuse>(props);
+}
 
 }  // namespace volguide

@@ -26,9 +26,13 @@ Color3 fresnel_conductor(float cos_theta_i, const Color3& eta, const Color3& k);
 float fresnel_diffuse_reflectance(float eta);
 
 // Mirror reflection about +z.
-inline Vec3f reflect_local(const Vec3f& wi) { return {-wi.x, -wi.y, wi.z}; }
+inline Vec3f reflect_local(const Vec3f& wi) {
+    return {-wi.x, -wi.y, wi.z};
+}
 // Mirror reflection about the normal m.
-inline Vec3f reflect_about(const Vec3f& wi, const Vec3f& m) { return m * (2.f * dot(wi, m)) - wi; }
+inline Vec3f reflect_about(const Vec3f& wi, const Vec3f& m) {
+    return m * (2.f * dot(wi, m)) - wi;
+}
 // Refraction about +z, with cos_theta_t and eta_ti from fresnel_dielectric().
 inline Vec3f refract_local(const Vec3f& wi, float cos_theta_t, float eta_ti) {
     return {-eta_ti * wi.x, -eta_ti * wi.y, cos_theta_t};

@@ -16,14 +16,14 @@ struct NamedIor {
 
 // Values at ~589 nm, 0-20 degrees C (Hecht, Optics), identical to Mitsuba's table.
 constexpr NamedIor kDielectrics[] = {
-    {"vacuum", 1.0f},          {"helium", 1.000036f},        {"hydrogen", 1.000132f},
-    {"air", 1.000277f},        {"carbon dioxide", 1.00045f}, {"water", 1.3330f},
-    {"acetone", 1.36f},        {"ethanol", 1.361f},          {"carbon tetrachloride", 1.461f},
-    {"glycerol", 1.4729f},     {"benzene", 1.501f},          {"silicone oil", 1.52045f},
-    {"bromine", 1.661f},       {"water ice", 1.31f},         {"fused quartz", 1.458f},
-    {"pyrex", 1.470f},         {"acrylic glass", 1.49f},     {"polypropylene", 1.49f},
-    {"bk7", 1.5046f},          {"sodium chloride", 1.544f},  {"amber", 1.55f},
-    {"pet", 1.5750f},          {"diamond", 2.419f},
+    {"vacuum", 1.0f},      {"helium", 1.000036f},        {"hydrogen", 1.000132f},
+    {"air", 1.000277f},    {"carbon dioxide", 1.00045f}, {"water", 1.3330f},
+    {"acetone", 1.36f},    {"ethanol", 1.361f},          {"carbon tetrachloride", 1.461f},
+    {"glycerol", 1.4729f}, {"benzene", 1.501f},          {"silicone oil", 1.52045f},
+    {"bromine", 1.661f},   {"water ice", 1.31f},         {"fused quartz", 1.458f},
+    {"pyrex", 1.470f},     {"acrylic glass", 1.49f},     {"polypropylene", 1.49f},
+    {"bk7", 1.5046f},      {"sodium chloride", 1.544f},  {"amber", 1.55f},
+    {"pet", 1.5750f},      {"diamond", 2.419f},
 };
 
 std::string to_lower(std::string s) {
@@ -50,8 +50,10 @@ float lookup_ior(const Properties& props, const std::string& param, const std::s
         std::optional<float> v = named_ior(name);
         if (!v) {
             std::string choices;
-            for (const NamedIor& n : kDielectrics) choices += (choices.empty() ? "" : ", ") + std::string(n.name);
-            props.fail_at(param, "unknown index of refraction '{}' for '{}'; valid names: {}", name, param, choices);
+            for (const NamedIor& n : kDielectrics)
+                choices += (choices.empty() ? "" : ", ") + std::string(n.name);
+            props.fail_at(param, "unknown index of refraction '{}' for '{}'; valid names: {}", name, param,
+                          choices);
         }
         value = *v;
     }

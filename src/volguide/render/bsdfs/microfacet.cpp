@@ -153,9 +153,13 @@ std::pair<Vec3f, float> MicrofacetDistribution::sample(const Vec3f& wi, Point2f 
     // 2. Sample the visible slopes of the unit-roughness distribution.
     Vec2f slope = sample_visible_11(wi_p.z, u);
     // 3. Rotate and unstretch.
-    slope = Vec2f((cos_phi * slope.x - sin_phi * slope.y) * alpha_u_, (sin_phi * slope.x + cos_phi * slope.y) * alpha_v_);
+    slope = Vec2f((cos_phi * slope.x - sin_phi * slope.y) * alpha_u_,
+                  (sin_phi * slope.x + cos_phi * slope.y) * alpha_v_);
     // 4. Normal and density.
     const Vec3f m = normalize(Vec3f(-slope.x, -slope.y, 1.f));
+    // Samples on the boundary of the square can map to an infinite slope (a horizontal normal of
+    // zero density): report a failed sample instead of NaNs.
+    if (!all_finite(m)) return {Vec3f(0.f, 0.f, 1.f), 0.f};
     const float pdf = eval(m) * smith_g1(wi, m) * absdot(wi, m) / wi.z;
     return {m, pdf};
 }
@@ -170,20 +174,23 @@ MicrofacetParams MicrofacetParams::parse(const Properties& props) {
         else if (d == "ggx")
             p.type = MicrofacetType::GGX;
         else
-            props.fail_at("distribution", "invalid microfacet distribution '{}': must be 'beckmann' or 'ggx'", d);
+            props.fail_at("distribution", "invalid microfacet distribution '{}': must be 'beckmann' or 'ggx'",
+                          d);
     }
     p.sample_visible = props.get_bool("sample_visible", true);
     auto check = [&](const std::string& name, const std::shared_ptr<Texture>& t) {
         // Constant roughness can be validated now; textures are clamped by the distribution.
         if (t->is_constant()) {
             Color3 v = t->mean();
-            if (!v.is_finite() || v.has_negative()) props.fail_at(name, "'{}' must be a finite value >= 0", name);
+            if (!v.is_finite() || v.has_negative())
+                props.fail_at(name, "'{}' must be a finite value >= 0", name);
         }
     };
     if (props.has("alpha_u") || props.has("alpha_v")) {
         if (!props.has("alpha_u") || !props.has("alpha_v"))
             props.fail_here("microfacet model: both 'alpha_u' and 'alpha_v' must be specified");
-        if (props.has("alpha")) props.fail_at("alpha", "microfacet model: specify either 'alpha' or 'alpha_u'/'alpha_v'");
+        if (props.has("alpha"))
+            props.fail_at("alpha", "microfacet model: specify either 'alpha' or 'alpha_u'/'alpha_v'");
         p.alpha_u = texture_param(props, "alpha_u");
         p.alpha_v = texture_param(props, "alpha_v");
         check("alpha_u", p.alpha_u);
@@ -193,10 +200,16 @@ MicrofacetParams MicrofacetParams::parse(const Properties& props) {
         p.alpha_u = p.alpha_v = texture_param(props, "alpha", Color3(0.1f));
         check("alpha", p.alpha_u);
     }
+    if (p.alpha_u->is_constant() && p.alpha_v->is_constant()) {
+        p.constant = true;
+        p.const_alpha_u = p.alpha_u->mean().average();
+        p.const_alpha_v = p.alpha_v->mean().average();
+    }
     return p;
 }
 
 MicrofacetDistribution MicrofacetParams::at(const SurfaceInteraction& si) const {
+    if (constant) return MicrofacetDistribution(type, const_alpha_u, const_alpha_v, sample_visible);
     return MicrofacetDistribution(type, alpha_u->eval_1(si), alpha_v->eval_1(si), sample_visible);
 }
 
@@ -227,7 +240,8 @@ struct GaussLegendre {
 };
 
 template <typename Integrand>
-float integrate_visible_normals(const MicrofacetDistribution& distr, const Vec3f& wi, float eta, Integrand f) {
+float integrate_visible_normals(const MicrofacetDistribution& distr, const Vec3f& wi, float eta,
+                                Integrand f) {
     // Mitsuba uses 32 nodes per dimension for eta > 1 and 128 otherwise.
     const GaussLegendre gl(eta > 1.f ? 32 : 128);
     const int n = int(gl.nodes.size());

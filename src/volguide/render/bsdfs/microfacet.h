@@ -16,7 +16,7 @@ struct SurfaceInteraction;
 enum class MicrofacetType { Beckmann, GGX };
 
 class MicrofacetDistribution {
-public:
+  public:
     MicrofacetDistribution(MicrofacetType type, float alpha_u, float alpha_v, bool sample_visible = true)
         : type_(type),
           alpha_u_(std::max(alpha_u, 1e-4f)),
@@ -40,10 +40,12 @@ public:
     // A microfacet normal and its density; wi must lie in the upper hemisphere for visible sampling.
     std::pair<Vec3f, float> sample(const Vec3f& wi, Point2f u) const;
     // Smith's separable shadowing-masking.
-    float G(const Vec3f& wi, const Vec3f& wo, const Vec3f& m) const { return smith_g1(wi, m) * smith_g1(wo, m); }
+    float G(const Vec3f& wi, const Vec3f& wo, const Vec3f& m) const {
+        return smith_g1(wi, m) * smith_g1(wo, m);
+    }
     float smith_g1(const Vec3f& v, const Vec3f& m) const;
 
-private:
+  private:
     // Slope sample of the visible normals for alpha = 1 and the given incident elevation.
     Vec2f sample_visible_11(float cos_theta_i, Point2f u) const;
 
@@ -59,6 +61,9 @@ struct MicrofacetParams {
     std::shared_ptr<Texture> alpha_u, alpha_v;
     bool sample_visible = true;
     bool anisotropic = false;
+    // Constant roughness is looked up once instead of per query.
+    bool constant = false;
+    float const_alpha_u = 0.1f, const_alpha_v = 0.1f;
 
     static MicrofacetParams parse(const Properties& props);
     MicrofacetDistribution at(const SurfaceInteraction& si) const;

@@ -8,7 +8,7 @@ namespace volguide {
 namespace {
 
 class NullBSDF final : public BSDF {
-public:
+  public:
     explicit NullBSDF(const Properties&) { flags_ = bsdf_flags::Null; }
 
     std::pair<BSDFSample, Color3> sample(const BSDFContext&, const SurfaceInteraction& si, float,
@@ -20,7 +20,9 @@ public:
         bs.sampled_flags = bsdf_flags::Null;
         return {bs, Color3(1.f)};
     }
-    Color3 eval(const BSDFContext&, const SurfaceInteraction&, const Vec3f&) const override { return Color3(0.f); }
+    Color3 eval(const BSDFContext&, const SurfaceInteraction&, const Vec3f&) const override {
+        return Color3(0.f);
+    }
     float pdf(const BSDFContext&, const SurfaceInteraction&, const Vec3f&) const override { return 0.f; }
     Color3 eval_null_transmission(const SurfaceInteraction&) const override { return Color3(1.f); }
     std::string to_string() const override { return "Null[]"; }
@@ -28,6 +30,8 @@ public:
 
 }  // namespace
 
-ObjectPtr make_null_bsdf(const Properties& props) { return std::make_shared<NullBSDF>(props); }
+ObjectPtr make_null_bsdf(const Properties& props) {
+    return std::make_shared<NullBSDF>(props);
+}
 
 }  // namespace volguide

@@ -12,7 +12,7 @@ namespace volguide {
 namespace {
 
 class SmoothPlastic final : public BSDF {
-public:
+  public:
     explicit SmoothPlastic(const Properties& props) {
         const float int_ior = lookup_ior(props, "int_ior", "polypropylene");
         const float ext_ior = lookup_ior(props, "ext_ior", "air");
@@ -54,8 +54,10 @@ public:
     Color3 eval(const BSDFContext&, const SurfaceInteraction& si, const Vec3f& wo) const override {
         const float cos_theta_i = si.wi.z, cos_theta_o = wo.z;
         if (!(cos_theta_i > 0.f && cos_theta_o > 0.f)) return Color3(0.f);
-        const float f_i = fresnel_dielectric(cos_theta_i, eta_).F, f_o = fresnel_dielectric(cos_theta_o, eta_).F;
-        return diffuse(si) * (warp::square_to_cosine_hemisphere_pdf(wo) * inv_eta_2_ * (1.f - f_i) * (1.f - f_o));
+        const float f_i = fresnel_dielectric(cos_theta_i, eta_).F,
+                    f_o = fresnel_dielectric(cos_theta_o, eta_).F;
+        return diffuse(si) *
+               (warp::square_to_cosine_hemisphere_pdf(wo) * inv_eta_2_ * (1.f - f_i) * (1.f - f_o));
     }
 
     float pdf(const BSDFContext&, const SurfaceInteraction& si, const Vec3f& wo) const override {
@@ -67,9 +69,10 @@ public:
 
     std::string to_string() const override { return "SmoothPlastic[]"; }
 
-private:
+  private:
     float specular_probability(float f_i) const {
-        const float ps = f_i * specular_sampling_weight_, pd = (1.f - f_i) * (1.f - specular_sampling_weight_);
+        const float ps = f_i * specular_sampling_weight_,
+                    pd = (1.f - f_i) * (1.f - specular_sampling_weight_);
         return ps / (ps + pd);
     }
     // Diffuse base including the internal-scattering normalisation 1 / (1 - fdr_int [* albedo]).
@@ -86,6 +89,8 @@ private:
 
 }  // namespace
 
-ObjectPtr make_plastic_bsdf(const Properties& props) { return std::make_shared<SmoothPlastic>(props); }
+ObjectPtr make_plastic_bsdf(const Properties& props) {
+    return std::make_shared<SmoothPlastic>(props);
+}
 
 }  // namespace volguide

@@ -10,7 +10,7 @@ namespace volguide {
 namespace {
 
 class RoughConductor final : public BSDF {
-public:
+  public:
     explicit RoughConductor(const Properties& props) {
         ior_ = ConductorIor::parse(props);
         micro_ = MicrofacetParams::parse(props);
@@ -29,8 +29,9 @@ public:
         bs.eta = 1.f;
         bs.sampled_flags = bsdf_flags::GlossyReflection;
         if (pdf_m == 0.f || bs.wo.z <= 0.f) return {BSDFSample{}, Color3(0.f)};
-        float weight = distr.sample_visible() ? distr.smith_g1(bs.wo, m)
-                                              : distr.G(si.wi, bs.wo, m) * dot(si.wi, m) / (cos_theta_i * m.z);
+        float weight = distr.sample_visible()
+                           ? distr.smith_g1(bs.wo, m)
+                           : distr.G(si.wi, bs.wo, m) * dot(si.wi, m) / (cos_theta_i * m.z);
         bs.pdf = pdf_m / (4.f * dot(bs.wo, m));
         const Color3 F = fresnel_conductor(dot(si.wi, m), ior_.eta->eval(si), ior_.k->eval(si));
         return {bs, eval_or_one(specular_reflectance_, si) * F * weight};
@@ -60,7 +61,7 @@ public:
 
     std::string to_string() const override { return "RoughConductor[]"; }
 
-private:
+  private:
     ConductorIor ior_;
     MicrofacetParams micro_;
     std::shared_ptr<Texture> specular_reflectance_;
@@ -68,6 +69,8 @@ private:
 
 }  // namespace
 
-ObjectPtr make_rough_conductor_bsdf(const Properties& props) { return std::make_shared<RoughConductor>(props); }
+ObjectPtr make_rough_conductor_bsdf(const Properties& props) {
+    return std::make_shared<RoughConductor>(props);
+}
 
 }  // namespace volguide

@@ -11,10 +11,12 @@ namespace volguide {
 
 namespace {
 
-inline Vec3f mulsign(const Vec3f& v, float s) { return s >= 0.f ? v : -v; }
+inline Vec3f mulsign(const Vec3f& v, float s) {
+    return s >= 0.f ? v : -v;
+}
 
 class RoughDielectric final : public BSDF {
-public:
+  public:
     explicit RoughDielectric(const Properties& props) {
         specular_reflectance_ = optional_texture(props, "specular_reflectance");
         specular_transmittance_ = optional_texture(props, "specular_transmittance");
@@ -109,7 +111,8 @@ public:
         const float dwh_dwo = reflect ? 1.f / (4.f * dot(wo, m))
                                       : eta * eta * dot(wo, m) / sqr(dot(si.wi, m) + eta * dot(wo, m));
         MicrofacetDistribution sample_distr = micro_.at(si);
-        if (!sample_distr.sample_visible()) sample_distr.scale_alpha(1.2f - 0.2f * std::sqrt(std::abs(cos_theta_i)));
+        if (!sample_distr.sample_visible())
+            sample_distr.scale_alpha(1.2f - 0.2f * std::sqrt(std::abs(cos_theta_i)));
         float prob = sample_distr.pdf(mulsign(si.wi, cos_theta_i), m);
         const float F = fresnel_dielectric(dot(si.wi, m), eta_).F;
         prob *= reflect ? F : 1.f - F;
@@ -119,7 +122,7 @@ public:
 
     std::string to_string() const override { return "RoughDielectric[]"; }
 
-private:
+  private:
     float eta_, inv_eta_;
     MicrofacetParams micro_;
     std::shared_ptr<Texture> specular_reflectance_, specular_transmittance_;
@@ -127,6 +130,8 @@ private:
 
 }  // namespace
 
-ObjectPtr make_rough_dielectric_bsdf(const Properties& props) { return std::make_shared<RoughDielectric>(props); }
+ObjectPtr make_rough_dielectric_bsdf(const Properties& props) {
+    return std::make_shared<RoughDielectric>(props);
+}
 
 }  // namespace volguide

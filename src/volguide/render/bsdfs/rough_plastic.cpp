@@ -24,7 +24,7 @@ namespace {
 constexpr int kTransmittanceRes = 64;
 
 class RoughPlastic final : public BSDF {
-public:
+  public:
     explicit RoughPlastic(const Properties& props) {
         const float int_ior = lookup_ior(props, "int_ior", "polypropylene");
         const float ext_ior = lookup_ior(props, "ext_ior", "air");
@@ -36,7 +36,8 @@ public:
 
         MicrofacetParams mp = MicrofacetParams::parse(props);
         if (mp.anisotropic) props.fail_at("alpha_u", "roughplastic does not support anisotropic roughness");
-        if (!mp.alpha_u->is_constant()) props.fail_at("alpha", "roughplastic: 'alpha' must be a number, not a texture");
+        if (!mp.alpha_u->is_constant())
+            props.fail_at("alpha", "roughplastic: 'alpha' must be a number, not a texture");
         type_ = mp.type;
         sample_visible_ = mp.sample_visible;
         alpha_ = mp.alpha_u->mean().average();
@@ -80,7 +81,8 @@ public:
 
         const float t_i = transmittance(cos_theta_i), t_o = transmittance(cos_theta_o);
         const Color3 d = diffuse_reflectance_->eval(si);
-        const Color3 denom = nonlinear_ ? Color3(1.f) - d * internal_reflectance_ : Color3(1.f - internal_reflectance_);
+        const Color3 denom =
+            nonlinear_ ? Color3(1.f) - d * internal_reflectance_ : Color3(1.f - internal_reflectance_);
         value += (d / denom) * (InvPi * inv_eta_2_ * cos_theta_o * t_i * t_o);
         return value;
     }
@@ -100,8 +102,10 @@ public:
 
     std::string to_string() const override { return "RoughPlastic[]"; }
 
-private:
-    MicrofacetDistribution distribution() const { return MicrofacetDistribution(type_, alpha_, alpha_, sample_visible_); }
+  private:
+    MicrofacetDistribution distribution() const {
+        return MicrofacetDistribution(type_, alpha_, alpha_, sample_visible_);
+    }
 
     // Linear interpolation in the table over cos(theta) in [0, 1].
     float transmittance(float cos_theta) const {
@@ -112,7 +116,8 @@ private:
 
     float specular_probability(float cos_theta_i) const {
         const float t_i = transmittance(cos_theta_i);
-        const float ps = (1.f - t_i) * specular_sampling_weight_, pd = t_i * (1.f - specular_sampling_weight_);
+        const float ps = (1.f - t_i) * specular_sampling_weight_,
+                    pd = t_i * (1.f - specular_sampling_weight_);
         return ps / (ps + pd);
     }
 
@@ -168,6 +173,8 @@ private:
 
 }  // namespace
 
-ObjectPtr make_rough_plastic_bsdf(const Properties& props) { return std::make_shared<RoughPlastic>(props); }
+ObjectPtr make_rough_plastic_bsdf(const Properties& props) {
+    return std::make_shared<RoughPlastic>(props);
+}
 
 }  // namespace volguide

@@ -10,7 +10,7 @@ namespace volguide {
 namespace {
 
 class ThinDielectric final : public BSDF {
-public:
+  public:
     explicit ThinDielectric(const Properties& props) {
         const float int_ior = lookup_ior(props, "int_ior", "bk7");
         const float ext_ior = lookup_ior(props, "ext_ior", "air");
@@ -37,14 +37,16 @@ public:
         return {bs, eval_or_one(specular_transmittance_, si)};
     }
 
-    Color3 eval(const BSDFContext&, const SurfaceInteraction&, const Vec3f&) const override { return Color3(0.f); }
+    Color3 eval(const BSDFContext&, const SurfaceInteraction&, const Vec3f&) const override {
+        return Color3(0.f);
+    }
     float pdf(const BSDFContext&, const SurfaceInteraction&, const Vec3f&) const override { return 0.f; }
     Color3 eval_null_transmission(const SurfaceInteraction& si) const override {
         return eval_or_one(specular_transmittance_, si) * (1.f - reflectance(si));
     }
     std::string to_string() const override { return "ThinDielectric[]"; }
 
-private:
+  private:
     float reflectance(const SurfaceInteraction& si) const {
         const float r = fresnel_dielectric(std::abs(si.wi.z), eta_).F;
         return r * 2.f / (1.f + r);
@@ -56,6 +58,8 @@ private:
 
 }  // namespace
 
-ObjectPtr make_thin_dielectric_bsdf(const Properties& props) { return std::make_shared<ThinDielectric>(props); }
+ObjectPtr make_thin_dielectric_bsdf(const Properties& props) {
+    return std::make_shared<ThinDielectric>(props);
+}
 
 }  // namespace volguide

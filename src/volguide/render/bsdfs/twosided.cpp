@@ -8,16 +8,18 @@ namespace volguide {
 namespace {
 
 class TwoSided final : public BSDF {
-public:
+  public:
     explicit TwoSided(const Properties& props) {
         auto children = props.children("bsdf");
         if (children.empty()) props.fail_here("twosided: a nested BSDF is required");
-        if (children.size() > 2) props.fail_at(children[2]->name, "twosided: at most two nested BSDFs can be specified");
+        if (children.size() > 2)
+            props.fail_at(children[2]->name, "twosided: at most two nested BSDFs can be specified");
         for (size_t i = 0; i < children.size(); ++i) {
             auto bsdf = std::dynamic_pointer_cast<BSDF>(std::get<ObjectPtr>(children[i]->value));
             if (!bsdf) props.fail_at(children[i]->name, "twosided: nested object is not a BSDF");
             if (bsdf->has(bsdf_flags::Transmission))
-                props.fail_at(children[i]->name, "twosided: only materials without transmission can be nested");
+                props.fail_at(children[i]->name,
+                              "twosided: only materials without transmission can be nested");
             brdf_[i] = std::move(bsdf);
         }
         if (!brdf_[1]) brdf_[1] = brdf_[0];
@@ -59,7 +61,7 @@ public:
 
     std::string to_string() const override { return "TwoSided[]"; }
 
-private:
+  private:
     // Mirrors (wi, wo) so that wi is on the front side; returns the BSDF to use (null if grazing
     // with two different BSDFs).
     const BSDF* front_side(SurfaceInteraction& si, Vec3f& wo) const {
@@ -82,6 +84,8 @@ private:
 
 }  // namespace
 
-ObjectPtr make_twosided_bsdf(const Properties& props) { return std::make_shared<TwoSided>(props); }
+ObjectPtr make_twosided_bsdf(const Properties& props) {
+    return std::make_shared<TwoSided>(props);
+}
 
 }  // namespace volguide

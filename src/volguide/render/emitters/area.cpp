@@ -31,6 +31,7 @@ class AreaEmitter final : public Emitter {
     }
 
     std::pair<DirectionSample, Color3> sample_direction(const Interaction& ref, Point2f u) const override {
+        if (!shape_) return {DirectionSample{}, Color3(0.f)};  // not attached to a shape
         DirectionSample ds = shape_->sample_direction(ref, u);
         ds.emitter = this;
         ds.delta = false;
@@ -42,7 +43,7 @@ class AreaEmitter final : public Emitter {
     }
 
     float pdf_direction(const Interaction& ref, const DirectionSample& ds) const override {
-        if (!(dot(ds.d, ds.n) < 0.f)) return 0.f;
+        if (!shape_ || !(dot(ds.d, ds.n) < 0.f)) return 0.f;
         return shape_->pdf_direction(ref, ds);
     }
 

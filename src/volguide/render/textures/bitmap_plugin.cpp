@@ -11,7 +11,8 @@ std::shared_ptr<Texture> make_bitmap_texture(const Properties& props) {
     std::filesystem::path path(filename);
     if (path.is_relative() && !std::filesystem::exists(path)) {
         // Mitsuba resolves relative paths against the scene file's folder.
-        std::filesystem::path scene_dir = std::filesystem::path(props.location_of("filename").file).parent_path();
+        std::filesystem::path scene_dir =
+            std::filesystem::path(props.location_of("filename").file).parent_path();
         if (std::filesystem::exists(scene_dir / path)) path = scene_dir / path;
     }
 

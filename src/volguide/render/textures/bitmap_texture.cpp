@@ -37,6 +37,8 @@ Color3 BitmapTexture::lookup(Vec2f uv) const {
     return v0 * w0y + v1 * w1y;
 }
 
-Color3 BitmapTexture::eval(const SurfaceInteraction& si) const { return lookup(to_uv_.apply(si.uv)); }
+Color3 BitmapTexture::eval(const SurfaceInteraction& si) const {
+    return lookup(to_uv_.apply(si.uv));
+}
 
 }  // namespace volguide

@@ -7,7 +7,7 @@ namespace volguide {
 namespace {
 
 class Checkerboard final : public Texture {
-public:
+  public:
     explicit Checkerboard(const Properties& props)
         : color0_(texture_param(props, "color0", Color3(0.4f))),
           color1_(texture_param(props, "color1", Color3(0.2f))),
@@ -23,7 +23,7 @@ public:
     Color3 mean() const override { return (color0_->mean() + color1_->mean()) * 0.5f; }
     std::string to_string() const override { return "Checkerboard[]"; }
 
-private:
+  private:
     // color0 where both fractional coordinates are on the same side of 1/2.
     bool first_color(const SurfaceInteraction& si) const {
         const Vec2f uv = to_uv_.apply(si.uv);

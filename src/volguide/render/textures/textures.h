@@ -19,7 +19,7 @@ enum class BitmapWrap { Repeat, Mirror, Clamp };
 // `bitmap` on an image already in memory (linear RGB, top row first). uv (0, 0) is the first
 // pixel of the top row and v grows downwards, as Mitsuba (whose mesh loaders flip v on input).
 class BitmapTexture final : public Texture {
-public:
+  public:
     BitmapTexture(Image image, BitmapFilter filter, BitmapWrap wrap, UvTransform to_uv);
     Color3 eval(const SurfaceInteraction& si) const override;
     // Mitsuba returns the luminance for RGB bitmaps.
@@ -30,7 +30,7 @@ public:
 
     Color3 lookup(Vec2f uv) const;  // after to_uv
 
-private:
+  private:
     int wrap(int value, int res) const;
 
     Image image_;
