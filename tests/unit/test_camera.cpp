@@ -218,6 +218,13 @@ TEST(Camera, RejectsBadParameters) {
         p.set("to_world", "transform", Transform::scale({2, 2, 2}), kLoc);
         expect_input_error(p, "scale");
     }
+    {
+        Matrix4 shear = Matrix4::identity();
+        shear.m[0][1] = 0.5;
+        Properties p = sensor_props("perspective", 8, 8);
+        p.set("to_world", "transform", Transform(shear), kLoc);
+        expect_input_error(p, "scale");
+    }
     expect_input_error(Properties("sensor", "thinlens", kLoc), "unsupported sensor");
 }
 

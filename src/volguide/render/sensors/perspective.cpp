@@ -16,14 +16,15 @@ double to_deg(double r) {
     return r * 180.0 / kPi;
 }
 
-// Mitsuba forbids scale in a pinhole's to_world (a mirror, scale -1, is allowed): every column of
-// the linear part must have unit length.
+// Mitsuba forbids scale (and shear) in a pinhole's to_world: the linear part M must satisfy
+// M M^T = I within 1e-3. A mirror (scale -1) passes.
 bool has_scale(const Transform& t) {
     const auto& m = t.matrix().m;
-    for (int c = 0; c < 3; ++c) {
-        double n2 = m[0][c] * m[0][c] + m[1][c] * m[1][c] + m[2][c] * m[2][c];
-        if (std::abs(n2 - 1.0) > 1e-3) return true;
-    }
+    for (int i = 0; i < 3; ++i)
+        for (int j = i; j < 3; ++j) {
+            double sum = m[i][0] * m[j][0] + m[i][1] * m[j][1] + m[i][2] * m[j][2];
+            if (std::abs(sum - (i == j ? 1.0 : 0.0)) > 1e-3) return true;
+        }
     return false;
 }
 }  // namespace
