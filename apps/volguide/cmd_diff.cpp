@@ -3,6 +3,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli_util.h"
 #include "commands.h"
 #include "volguide/render/image_compare.h"
 #include "volguide/render/image_io.h"
@@ -10,13 +11,19 @@
 namespace volguide::cli {
 
 int run_diff(const DiffArgs& args) {
+    if (!args.error_image.empty()) {
+        std::string ext = extension_of(args.error_image);
+        if (ext != ".exr" && ext != ".png")
+            throw UsageError(fmt::format("--error-image '{}' must end in .exr or .png", args.error_image));
+    }
     Image image = read_image(args.image), reference = read_image(args.reference);
     if (image.width != reference.width || image.height != reference.height)
         throw FileError(args.image,
                         fmt::format("size {}x{} differs from the reference '{}' ({}x{})", image.width,
                                     image.height, args.reference, reference.width, reference.height));
     ImageDiff d = compare_images(image, reference);
-    if (!args.error_image.empty()) write_exr(args.error_image, relative_error_image(image, reference, 1e-2));
+    if (!args.error_image.empty())
+        write_image(args.error_image, relative_error_image(image, reference, 1e-2));
     if (args.json) {
         nlohmann::json j{{"relmse_1e-2", d.relmse_1e2},
                          {"relmse_1e-3", d.relmse_1e3},

@@ -73,9 +73,10 @@ int count_lines(const std::string& s) {
 }
 
 TEST_F(Cli, UsageErrorsExitWithTwo) {
-    for (const char* args : {"", "frobnicate", "render", "render s.xml --spp 0", "render s.xml --spp abc",
-                             "render s.xml -D foo", "render s.xml --bogus", "render s.xml -o out.jpg",
-                             "render s.xml --threads 0", "render s.xml --time -1", "diff a.exr", "info"}) {
+    for (const char* args :
+         {"", "frobnicate", "render", "render s.xml --spp 0", "render s.xml --spp abc", "render s.xml -D foo",
+          "render s.xml --bogus", "render s.xml -o out.jpg", "render s.xml --threads 0",
+          "render s.xml --time -1", "diff a.exr", "info", "diff a.exr b.exr --error-image e.txt"}) {
         CliResult r = run(args);
         EXPECT_EQ(r.code, 2) << "args: " << args << "\nstderr: " << r.err;
         EXPECT_FALSE(r.err.empty()) << args;
