@@ -77,7 +77,48 @@ TEST(Filters, GaussianMatchesMitsubasWindowedFormula) {
     auto narrow = std::dynamic_pointer_cast<GaussianFilter>(create_rfilter(p));
     EXPECT_FLOAT_EQ(narrow->radius(), 1.f);
     EXPECT_NEAR(narrow->eval(0.25f), std::exp(-0.5) - bias, 1e-6);
-    EXPECT_THROW(create_rfilter(Properties("rfilter", "lanczos", kLoc)), InputError);
+    EXPECT_THROW(create_rfilter(Properties("rfilter", "sinc", kLoc)), InputError);
+}
+
+TEST(Filters, MitchellCatmullRomAndLanczos) {
+    auto mitchell = std::dynamic_pointer_cast<ReconstructionFilter>(
+        create_rfilter(Properties("rfilter", "mitchell", kLoc)));
+    EXPECT_EQ(mitchell->radius(), 2.f);
+    // B = C = 1/3: k(0) = (6 - 2B) / 6 = 8/9, k(1) = B / 6 = 1/18, zero from 2 on.
+    EXPECT_NEAR(mitchell->eval(0.f), 8.f / 9.f, 1e-6f);
+    EXPECT_NEAR(mitchell->eval(1.f), 1.f / 18.f, 1e-6f);
+    EXPECT_NEAR(mitchell->eval(-1.f), 1.f / 18.f, 1e-6f);
+    EXPECT_EQ(mitchell->eval(2.f), 0.f);
+    EXPECT_NEAR(integrate(*mitchell), 1.0, 1e-5);  // BC-splines integrate to one
+
+    Properties p("rfilter", "mitchell", kLoc);
+    p.set("B", "float", 0.25, kLoc);
+    p.set("C", "float", 0.55, kLoc);
+    auto custom = std::dynamic_pointer_cast<ReconstructionFilter>(create_rfilter(p));
+    p.check_all_used();
+    EXPECT_NEAR(custom->eval(0.f), (6 - 2 * 0.25) / 6, 1e-6);
+    EXPECT_NEAR(integrate(*custom), 1.0, 1e-5);
+
+    auto cr = std::dynamic_pointer_cast<ReconstructionFilter>(
+        create_rfilter(Properties("rfilter", "catmullrom", kLoc)));
+    // Interpolating: 1 at 0, 0 at the other integers; negative lobe in between.
+    EXPECT_NEAR(cr->eval(0.f), 1.f, 1e-6f);
+    EXPECT_NEAR(cr->eval(1.f), 0.f, 1e-6f);
+    EXPECT_LT(cr->eval(1.5f), 0.f);
+    EXPECT_NEAR(integrate(*cr), 1.0, 1e-5);
+
+    auto lanczos = std::dynamic_pointer_cast<ReconstructionFilter>(
+        create_rfilter(Properties("rfilter", "lanczos", kLoc)));
+    EXPECT_EQ(lanczos->radius(), 3.f);
+    EXPECT_EQ(lanczos->eval(0.f), 1.f);
+    for (float k : {1.f, 2.f, 3.f}) EXPECT_NEAR(lanczos->eval(k), 0.f, 1e-6f);
+    // sinc(x) sinc(x/3) at x = 0.5.
+    const double a = M_PI * 0.5;
+    EXPECT_NEAR(lanczos->eval(0.5f), std::sin(a) * std::sin(a / 3) / (a * a / 3), 1e-6);
+    EXPECT_EQ(lanczos->eval(3.5f), 0.f);
+    Properties bad("rfilter", "lanczos", kLoc);
+    bad.set("lobes", "integer", int64_t(0), kLoc);
+    EXPECT_THROW(create_rfilter(bad), InputError);
 }
 
 TEST(FilmBuffer, BoxFilterAveragesTheSamplesOfEachPixel) {

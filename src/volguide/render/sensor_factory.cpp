@@ -22,7 +22,12 @@ ObjectPtr create_rfilter(const Properties& props) {
     if (props.type() == "box") return std::make_shared<BoxFilter>(props);
     if (props.type() == "tent") return std::make_shared<TentFilter>(props);
     if (props.type() == "gaussian") return std::make_shared<GaussianFilter>(props);
-    props.fail_here("unsupported rfilter plugin '{}' (supported: box, tent, gaussian)", props.type());
+    if (props.type() == "mitchell") return std::make_shared<MitchellFilter>(props);
+    if (props.type() == "catmullrom") return make_catmull_rom();
+    if (props.type() == "lanczos") return std::make_shared<LanczosFilter>(props);
+    props.fail_here(
+        "unsupported rfilter plugin '{}' (supported: box, tent, gaussian, mitchell, catmullrom, lanczos)",
+        props.type());
 }
 
 ObjectPtr create_sampler(const Properties& props) {

@@ -3,6 +3,7 @@
 // sample to the pixels whose centres lie within radius() on both axes with weight
 // eval(dx) * eval(dy) and divides by the accumulated weight (hdrfilm semantics).
 #include <cmath>
+#include <memory>
 
 #include "volguide/core/properties.h"
 #include "volguide/render/sensor.h"
@@ -46,6 +47,34 @@ class GaussianFilter final : public ReconstructionFilter {
 
   private:
     float stddev_, alpha_, bias_;
+};
+
+// Mitchell-Netravali cubic of radius 2 with parameters B and C (default 1/3 each; Mitsuba reads
+// "B" and "C"). Negative lobes: pixels are still normalised by the sum of (signed) weights.
+class MitchellFilter final : public ReconstructionFilter {
+  public:
+    MitchellFilter(float b, float c, const char* name = "mitchell");
+    explicit MitchellFilter(const Properties& props);
+    float eval(float x) const override;
+    std::string to_string() const override;
+
+  private:
+    float b_, c_;
+    const char* name_;
+};
+
+// Catmull-Rom: the Mitchell-Netravali cubic with B = 0, C = 1/2 (no parameters).
+inline std::shared_ptr<MitchellFilter> make_catmull_rom() {
+    return std::make_shared<MitchellFilter>(0.f, 0.5f, "catmullrom");
+}
+
+// Lanczos-windowed sinc with `lobes` lobes (default 3), radius = lobes.
+class LanczosFilter final : public ReconstructionFilter {
+  public:
+    explicit LanczosFilter(int lobes = 3);
+    explicit LanczosFilter(const Properties& props);
+    float eval(float x) const override;
+    std::string to_string() const override;
 };
 
 // Mitsuba's border size of a filter: how many pixels outside the image a sample can lie and still
