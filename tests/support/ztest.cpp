@@ -12,8 +12,24 @@ std::string ZTestResult::summary() const {
                        total, pass_fraction, significance, passed ? "PASS" : "FAIL");
 }
 
-ZTestResult pixel_ztest(const Image& mean, double spp, const Image& ref, const Image& ref_var, double alpha,
-                        double required_fraction, double min_variance, Image* error_mask) {
+Image srgb_to_xyz(const Image& rgb) {
+    Image out = rgb;
+    for (auto& p : out.pixels) {
+        const Color3 c = p;
+        p = Color3(0.412453f * c.r + 0.357580f * c.g + 0.180423f * c.b,
+                   0.212671f * c.r + 0.715160f * c.g + 0.072169f * c.b,
+                   0.019334f * c.r + 0.119193f * c.g + 0.950227f * c.b);
+    }
+    return out;
+}
+
+ZTestResult pixel_ztest(const Image& mean_in, double spp, const Image& ref_in, const Image& ref_var_in,
+                        const ZTestOptions& options, Image* error_mask) {
+    const double alpha = options.alpha, required_fraction = options.required_fraction,
+                 min_variance = options.min_variance;
+    const Image mean = options.in_xyz ? srgb_to_xyz(mean_in) : mean_in;
+    const Image ref = options.in_xyz ? srgb_to_xyz(ref_in) : ref_in;
+    const Image ref_var = options.in_xyz ? srgb_to_xyz(ref_var_in) : ref_var_in;
     if (mean.width != ref.width || mean.height != ref.height || ref_var.width != ref.width ||
         ref_var.height != ref.height)
         throw std::invalid_argument("pixel_ztest: image sizes differ");

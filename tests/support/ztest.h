@@ -18,8 +18,21 @@ struct ZTestResult {
 // z = |mean - ref| * sqrt(spp / var_ref), var_ref clamped >= min_variance; p = 2(1 - Phi(z)); a
 // pixel-channel passes when p >= 1 - (1 - alpha)^(1/#pixels); the image passes when at least
 // `required_fraction` of pixel-channels pass. `error_mask` (optional) gets 1 where a channel failed.
-ZTestResult pixel_ztest(const Image& mean, double spp, const Image& ref, const Image& ref_var, double alpha = 0.01,
-                        double required_fraction = 0.9975, double min_variance = 1e-4, Image* error_mask = nullptr);
+//
+// Like Mitsuba's test_renders.py, all three images are first converted from linear sRGB to XYZ
+// (the variance image too, with the same linear map): Mitsuba's reference variances were computed
+// in XYZ and stored as RGB, so their RGB channels can be negative and only make sense back in XYZ.
+struct ZTestOptions {
+    double alpha = 0.01;
+    double required_fraction = 0.9975;
+    double min_variance = 1e-4;
+    bool in_xyz = true;
+};
+ZTestResult pixel_ztest(const Image& mean, double spp, const Image& ref, const Image& ref_var,
+                        const ZTestOptions& options = {}, Image* error_mask = nullptr);
+
+// Mitsuba's linear sRGB → CIE XYZ matrix, applied to every pixel.
+Image srgb_to_xyz(const Image& rgb);
 
 // Mean and standard error of the mean of an image rendered with `spp` samples per pixel, given its
 // per-sample variance image: Var(mean) = sum(var) / (spp * n^2) over n pixel-channels.
