@@ -61,7 +61,9 @@ TEST(VmmMixture, SelectLobeReusesTheRandomNumber) {
         ASSERT_GE(u, 0.f);
         ASSERT_LT(u, 1.f);
         ASSERT_GE(k, prev_k);
-        if (k == prev_k) EXPECT_GE(u, prev_u - 1e-4f);
+        if (k == prev_k) {
+            EXPECT_GE(u, prev_u - 1e-4f);
+        }
         prev_k = k;
         prev_u = u;
         hits[k]++;

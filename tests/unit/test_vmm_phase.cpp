@@ -2,6 +2,7 @@
 // reference K = 3 (and K = 4) fits, the generated table interpolates to mean cosine g +- 0.002,
 // g = 0 is one uniform lobe, g < 0 flips the axis, and in-scattered radiance of a vMF through the
 // phase mixture matches the exact HG integral near the peak.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include "support/sphere_quadrature.h"
@@ -41,12 +42,14 @@ TEST_P(HgFitK3, ReproducesTheReferenceFit) {
         EXPECT_NEAR(fit.weight[j], ref.w[j], 0.02 * ref.w[j]) << "g " << ref.g << " lobe " << j;
         EXPECT_NEAR(fit.kappa[j], ref.kappa[j], 0.03 * ref.kappa[j]) << "g " << ref.g << " lobe " << j;
     }
-    if (ref.g <= 0.9) EXPECT_NEAR(fit.mean_cosine, ref.g, 0.002);
+    if (ref.g <= 0.9) {
+        EXPECT_NEAR(fit.mean_cosine, ref.g, 0.002);
+    }
     EXPECT_NEAR(fit.weight[0] + fit.weight[1] + fit.weight[2], 1.0, 1e-12);
 }
 
 INSTANTIATE_TEST_SUITE_P(TheoryTable, HgFitK3, ::testing::ValuesIn(kK3),
-                         [](const auto& info) { return "g" + std::to_string(int(info.param.g * 100 + 0.5)); });
+                         [](const auto& info) { return fmt::format("g{}", int(info.param.g * 100 + 0.5)); });
 
 TEST(HgFit, ReproducesTheFourLobeReference) {
     HgFitSettings settings;
@@ -164,8 +167,7 @@ TEST(PhaseVmm, InScatteredRadianceOfAVmfWithinFivePercentNearThePeak) {
             }
             EXPECT_LT(worst_exact, 0.05) << "g " << g << " kappa_L " << kappa_l;
             EXPECT_LT(worst_approx, 0.05) << "g " << g << " kappa_L " << kappa_l;
-            RecordProperty("g" + std::to_string(g) + "_k" + std::to_string(int(kappa_l)),
-                           std::to_string(worst_exact) + " / " + std::to_string(worst_approx));
+            RecordProperty(fmt::format("g{}_k{}", g, kappa_l), fmt::format("{:.4f} / {:.4f}", worst_exact, worst_approx));
         }
     }
 }

@@ -109,9 +109,11 @@ struct VmfMixture {
         u = weight[last] > 0.f ? std::clamp(u / weight[last], 0.f, OneMinusEpsilon) : 0.f;
         return last;
     }
-    // Samples a direction from a normalised, non-empty mixture with one 2-D random number.
+    // Samples a direction from a normalised mixture with one 2-D random number. An empty mixture
+    // has pdf 0 everywhere and must not be sampled (asserted; release builds return +z).
     Vec3f sample(Point2f u) const {
         assert(count > 0);
+        if (count <= 0) return {0.f, 0.f, 1.f};
         int k = select_lobe(u.x);
         return lobe(k).sample(u);
     }
@@ -151,7 +153,7 @@ template <int A, int B>
 VmfMixture<A * B> product(const VmfMixture<A>& a, const VmfMixture<B>& b, double* integral = nullptr) {
     VmfMixture<A * B> out;
     double z = 0.0;
-    std::array<double, A * B> raw{};
+    std::array<double, A * B> raw;  // unnormalised weights (may be far below float range)
     for (int k = 0; k < a.count; ++k) {
         VmfLobe la = a.lobe(k);
         for (int j = 0; j < b.count; ++j) {
