@@ -76,6 +76,15 @@ static void BM_VmmProduct8x3(benchmark::State& state) {
 }
 BENCHMARK(BM_VmmProduct8x3);
 
+static void BM_HgPhaseVmmLookup(benchmark::State& state) {
+    float g = 0.1f;
+    for (auto _ : state) {
+        benchmark::DoNotOptimize(hg_phase_vmm(g));
+        g = g > 0.98f ? 0.1f : g + 0.0137f;
+    }
+}
+BENCHMARK(BM_HgPhaseVmmLookup);
+
 static void BM_VmmEmFit2000(benchmark::State& state) {
     Vmm truth = radiance_vmm(4);
     std::vector<DirectionalSample> samples;
