@@ -9,8 +9,9 @@
 // exactly zero fails the test. With an `eval` function, every non-delta sample's weight must also
 // equal eval / pdf.
 //
-// Probability mass the pdf does not cover (discrete lobes, failed samples) is one extra
-// "rest" bin: expected N * (1 - integral of the pdf), observed = delta samples + invalid ones.
+// Probability mass the pdf does not cover (discrete lobes, failed samples, directions outside a
+// zoomed cap) is one extra "rest" bin: expected N * (1 - integral of the pdf over the grid),
+// observed = delta samples + invalid ones + those outside the grid.
 //
 // Usage:
 //   ChiSquareOptions opt;
@@ -31,19 +32,22 @@
 namespace volguide::test {
 
 struct ChiSquareSample {
-    Vec3f d;                 // unit direction (sphere) or point with (x, y) used (plane)
-    Color3 weight{1.f};      // sample weight, checked against eval / pdf when eval is given
-    bool valid = true;       // false: the sampler failed (counts towards the rest bin)
-    bool delta = false;      // true: a discrete lobe (counts towards the rest bin, weight not checked)
+    Vec3f d;             // unit direction (sphere) or point with (x, y) used (plane)
+    Color3 weight{1.f};  // sample weight, checked against eval / pdf when eval is given
+    bool valid = true;   // false: the sampler failed (counts towards the rest bin)
+    bool delta = false;  // true: a discrete lobe (counts towards the rest bin, weight not checked)
 };
 
 struct ChiSquareOptions {
     uint64_t sample_count = 1000000;
-    int rows = 40;           // sphere: bins in cos(theta) over [-1, 1]; plane: bins in y
-    int cols = 80;           // sphere: bins in phi over [-pi, pi]; plane: bins in x
+    int rows = 40;  // sphere: bins in cos(theta) over [-1, 1]; plane: bins in y
+    int cols = 80;  // sphere: bins in phi over [-pi, pi]; plane: bins in x
+    // Sphere only: the grid covers cos(theta) in [min_cos_theta, 1]; samples below count towards
+    // the rest bin. Zooms in on a narrow lobe around +z (rotate the lobe there first).
+    double min_cos_theta = -1.0;
     double min_expected = 5.0;
-    double alpha = 0.01;     // significance level of the whole family of tests
-    int test_count = 1;      // Sidak correction: alpha' = 1 - (1 - alpha)^(1 / test_count)
+    double alpha = 0.01;  // significance level of the whole family of tests
+    int test_count = 1;   // Sidak correction: alpha' = 1 - (1 - alpha)^(1 / test_count)
     uint64_t seed = 1;
     // Adaptive quadrature per cell: refine while two estimates differ by more than this
     // (relative to the cell's integral) plus abs_tolerance / sample_count.
@@ -61,11 +65,11 @@ struct ChiSquareResult {
     int dof = 0;
     double p_value = 0.0;
     double alpha_corrected = 0.0;
-    double pdf_integral = 0.0;     // quadrature of the pdf over the whole domain
-    uint64_t rest_observed = 0;    // delta + invalid samples
-    uint64_t zero_pdf_hits = 0;    // samples in cells with zero integrated pdf
+    double pdf_integral = 0.0;   // quadrature of the pdf over the whole domain
+    uint64_t rest_observed = 0;  // delta + invalid samples
+    uint64_t zero_pdf_hits = 0;  // samples in cells with zero integrated pdf
     uint64_t weight_mismatches = 0;
-    std::string report;            // human-readable summary (always filled)
+    std::string report;  // human-readable summary (always filled)
 };
 
 using ChiSquareSampleFn = std::function<ChiSquareSample(Sampler&)>;
@@ -84,7 +88,8 @@ ChiSquareResult chi2_test_plane(const ChiSquareSampleFn& sample, const ChiSquare
                                 const ChiSquareOptions& opt = {}, const ChiSquareEvalFn& eval = {});
 
 // Discrete outcomes: observed counts against expected probabilities (which should sum to 1).
-ChiSquareResult chi2_test_discrete(const std::vector<uint64_t>& observed, const std::vector<double>& probabilities,
+ChiSquareResult chi2_test_discrete(const std::vector<uint64_t>& observed,
+                                   const std::vector<double>& probabilities,
                                    const ChiSquareOptions& opt = {});
 
 // Regularized upper incomplete gamma function Q(a, x) = Gamma(a, x) / Gamma(a).

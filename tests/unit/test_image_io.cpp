@@ -4,6 +4,7 @@
 #include <ImfHeader.h>
 #include <ImfOutputFile.h>
 #include <gtest/gtest.h>
+#include <stb/stb_image_write.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -131,6 +132,17 @@ TEST_F(ImageIo, PngClampsOutOfRange) {
     EXPECT_EQ(back.at(0, 0), Color3(0.f));
     EXPECT_EQ(back.at(1, 0), Color3(1.f));
     EXPECT_EQ(back.at(2, 0), Color3(0.f));
+}
+
+TEST_F(ImageIo, ReadsJpeg) {
+    // A flat mid-grey JPEG (written with stb) decodes to the linear value of its sRGB byte.
+    std::vector<unsigned char> bytes(16 * 8 * 3, 128);
+    ASSERT_TRUE(stbi_write_jpg(path("g.jpg").c_str(), 16, 8, 3, bytes.data(), 100));
+    const Image image = read_image(path("g.jpg"));
+    ASSERT_EQ(image.width, 16);
+    ASSERT_EQ(image.height, 8);
+    for (const Color3& c : image.pixels)
+        for (int k = 0; k < 3; ++k) EXPECT_NEAR(c[k], srgb_to_linear(128.f / 255.f), 0.01f);
 }
 
 TEST_F(ImageIo, ReadsMuseumExr) {

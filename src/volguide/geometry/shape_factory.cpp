@@ -1,10 +1,21 @@
-// Placeholder: the shape plugins replace this with the real factory table.
+// Shape plugins by XML type (Mitsuba 3 names).
+#include <string_view>
+
+#include "volguide/geometry/shapes/shape_plugins.h"
 #include "volguide/scene/factories.h"
 
 namespace volguide {
 
 ObjectPtr create_shape(const Properties& props) {
-    props.fail_here("unsupported {} plugin '{}'", props.category(), props.type());
+    const std::string& type = props.type();
+    if (type == "obj") return create_obj_shape(props);
+    if (type == "ply") return create_ply_shape(props);
+    if (type == "rectangle") return create_rectangle_shape(props);
+    if (type == "cube") return create_cube_shape(props);
+    if (type == "sphere") return create_sphere_shape(props);
+    if (type == "disk") return create_disk_shape(props);
+    props.fail_here("unsupported {} plugin '{}' (supported: obj, ply, rectangle, cube, sphere, disk)",
+                    props.category(), type);
 }
 
 }  // namespace volguide

@@ -53,6 +53,10 @@ public:
     virtual Color3 eval(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3f& wo) const = 0;
     // Solid-angle pdf of sample() producing wo through a non-delta lobe.
     virtual float pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3f& wo) const = 0;
+    // Mitsuba 3's eval_null_transmission(): the fraction of light passing straight through the
+    // surface along -wi (the Null lobe). 1 for `null`, 1 - R' for `thindielectric`, 0 otherwise.
+    // Shadow rays and transmittance estimation through surfaces multiply by it.
+    virtual Color3 eval_null_transmission(const SurfaceInteraction& si) const { return Color3(0.f); }
     uint32_t flags() const { return flags_; }
     bool has(uint32_t f) const { return (flags_ & f) != 0; }
     bool is_null() const { return flags_ == bsdf_flags::Null; }

@@ -1,10 +1,13 @@
-// Placeholder: the texture plugins replace this with the real factory table.
+// The texture factory table: XML type name -> plugin.
+#include "volguide/render/textures/textures.h"
 #include "volguide/scene/factories.h"
 
 namespace volguide {
 
 ObjectPtr create_texture(const Properties& props) {
-    props.fail_here("unsupported {} plugin '{}'", props.category(), props.type());
+    if (props.type() == "checkerboard") return make_checkerboard_texture(props);
+    if (props.type() == "bitmap") return make_bitmap_texture(props);
+    props.fail_here("unsupported texture plugin '{}' (supported: checkerboard, bitmap)", props.type());
 }
 
 }  // namespace volguide

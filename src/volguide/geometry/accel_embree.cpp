@@ -1,0 +1,210 @@
+// Accel on Embree 3: the only translation unit that includes Embree. Triangle meshes share
+// their vertex/index buffers with Embree; analytic shapes are user geometries whose callbacks
+// call Shape::intersect. Scenes are built in robust mode with high quality.
+#include <embree3/rtcore.h>
+#include <fmt/format.h>
+
+#include <mutex>
+#include <stdexcept>
+#include <string>
+
+#include "volguide/geometry/accel.h"
+
+namespace volguide {
+
+namespace {
+
+struct ErrorState {
+    std::mutex mutex;
+    std::string message;
+};
+
+void error_callback(void* user, RTCError code, const char* str) {
+    auto* state = static_cast<ErrorState*>(user);
+    std::lock_guard<std::mutex> lock(state->mutex);
+    if (state->message.empty())
+        state->message = fmt::format("Embree error {}: {}", int(code), str ? str : "");
+}
+
+void user_bounds(const RTCBoundsFunctionArguments* args) {
+    const auto* shape = static_cast<const Shape*>(args->geometryUserPtr);
+    BBox3f b = shape->bbox();
+    args->bounds_o->lower_x = b.lo.x;
+    args->bounds_o->lower_y = b.lo.y;
+    args->bounds_o->lower_z = b.lo.z;
+    args->bounds_o->upper_x = b.hi.x;
+    args->bounds_o->upper_y = b.hi.y;
+    args->bounds_o->upper_z = b.hi.z;
+}
+
+// Only rtcIntersect1/rtcOccluded1 are used, so the packets have width 1 and the N-wide
+// structures have the layout of RTCRayHit / RTCRay.
+void user_intersect(const RTCIntersectFunctionNArguments* args) {
+    if (!args->valid[0]) return;
+    const auto* shape = static_cast<const Shape*>(args->geometryUserPtr);
+    RTCRayHit* rh = reinterpret_cast<RTCRayHit*>(args->rayhit);
+    Ray ray({rh->ray.org_x, rh->ray.org_y, rh->ray.org_z}, {rh->ray.dir_x, rh->ray.dir_y, rh->ray.dir_z},
+            rh->ray.tfar);
+    float t;
+    Vec2f uv;
+    if (!shape->intersect(ray, t, uv) || !(t >= rh->ray.tnear)) return;
+    rh->ray.tfar = t;
+    rh->hit.u = uv.x;
+    rh->hit.v = uv.y;
+    rh->hit.Ng_x = rh->hit.Ng_y = 0.f;
+    rh->hit.Ng_z = 1.f;
+    rh->hit.primID = args->primID;
+    rh->hit.geomID = args->geomID;
+    rh->hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+}
+
+void user_occluded(const RTCOccludedFunctionNArguments* args) {
+    if (!args->valid[0]) return;
+    const auto* shape = static_cast<const Shape*>(args->geometryUserPtr);
+    RTCRay* r = reinterpret_cast<RTCRay*>(args->ray);
+    Ray ray({r->org_x, r->org_y, r->org_z}, {r->dir_x, r->dir_y, r->dir_z}, r->tfar);
+    float t;
+    Vec2f uv;
+    if (shape->intersect(ray, t, uv) && t >= r->tnear) r->tfar = -Infinity;  // Embree's "occluded" mark
+}
+
+}  // namespace
+
+struct Accel::Impl {
+    ErrorState errors;
+    RTCDevice device = nullptr;
+    RTCScene scene = nullptr;
+    std::vector<const Shape*> shapes;                    // by geometry id
+    std::vector<std::vector<Point3f>> padded_positions;  // copies when a buffer cannot be shared
+    std::vector<std::vector<uint32_t>> padded_indices;
+
+    void check(const char* what) {
+        RTCError code = rtcGetDeviceError(device);
+        std::string msg;
+        {
+            std::lock_guard<std::mutex> lock(errors.mutex);
+            msg = errors.message;
+        }
+        if (code != RTC_ERROR_NONE || !msg.empty())
+            throw std::runtime_error(
+                fmt::format("{}: {}", what, msg.empty() ? "Embree error " + std::to_string(int(code)) : msg));
+    }
+
+    // Embree reads 3-float/3-int elements with 16-byte loads, so the storage must extend at
+    // least 4 bytes past the last element. Shapes reserve one spare element; otherwise the data
+    // is copied with padding.
+    template <typename T>
+    const T* padded(const std::vector<T>& v, std::vector<std::vector<T>>& copies) {
+        if (v.capacity() > v.size()) return v.data();
+        auto& c = copies.emplace_back();
+        c.reserve(v.size() + 1);
+        c.assign(v.begin(), v.end());
+        return c.data();
+    }
+
+    void add_triangles(const Shape* shape, const TriangleMesh& mesh) {
+        RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+        const Point3f* pos = padded(mesh.positions, padded_positions);
+        const uint32_t* idx = padded(mesh.indices, padded_indices);
+        rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, pos, 0,
+                                   sizeof(Point3f), mesh.positions.size());
+        rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, idx, 0,
+                                   3 * sizeof(uint32_t), mesh.triangle_count());
+        attach(geom, shape);
+    }
+
+    void add_user(const Shape* shape) {
+        RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_USER);
+        rtcSetGeometryUserPrimitiveCount(geom, 1);
+        rtcSetGeometryUserData(geom, const_cast<Shape*>(shape));
+        rtcSetGeometryBoundsFunction(geom, user_bounds, nullptr);
+        rtcSetGeometryIntersectFunction(geom, user_intersect);
+        rtcSetGeometryOccludedFunction(geom, user_occluded);
+        attach(geom, shape);
+    }
+
+    void attach(RTCGeometry geom, const Shape* shape) {
+        rtcSetGeometryBuildQuality(geom, RTC_BUILD_QUALITY_HIGH);
+        rtcCommitGeometry(geom);
+        unsigned id = rtcAttachGeometry(scene, geom);
+        rtcReleaseGeometry(geom);
+        check("adding a shape to the acceleration structure");
+        if (id != shapes.size()) throw std::logic_error("Embree returned an unexpected geometry id");
+        shapes.push_back(shape);
+    }
+};
+
+Accel::Accel(const std::vector<const Shape*>& shapes) : impl_(std::make_unique<Impl>()) {
+    Impl& m = *impl_;
+    m.device = rtcNewDevice(nullptr);
+    if (!m.device)
+        throw std::runtime_error(
+            fmt::format("cannot create the Embree device (error {})", int(rtcGetDeviceError(nullptr))));
+    rtcSetDeviceErrorFunction(m.device, error_callback, &m.errors);
+    m.scene = rtcNewScene(m.device);
+    rtcSetSceneFlags(m.scene, RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneBuildQuality(m.scene, RTC_BUILD_QUALITY_HIGH);
+    m.check("creating the Embree scene");
+    m.padded_positions.reserve(shapes.size());
+    m.padded_indices.reserve(shapes.size());
+    for (const Shape* s : shapes) {
+        if (const TriangleMesh* mesh = s->triangle_mesh())
+            m.add_triangles(s, *mesh);
+        else
+            m.add_user(s);
+    }
+    rtcCommitScene(m.scene);
+    m.check("building the acceleration structure");
+}
+
+Accel::~Accel() {
+    if (impl_->scene) rtcReleaseScene(impl_->scene);
+    if (impl_->device) rtcReleaseDevice(impl_->device);
+}
+
+bool Accel::intersect(const Ray& ray, SurfaceInteraction& si) const {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    RTCRayHit rh;
+    rh.ray.org_x = ray.o.x;
+    rh.ray.org_y = ray.o.y;
+    rh.ray.org_z = ray.o.z;
+    rh.ray.dir_x = ray.d.x;
+    rh.ray.dir_y = ray.d.y;
+    rh.ray.dir_z = ray.d.z;
+    rh.ray.tnear = 0.f;
+    rh.ray.tfar = ray.tmax;
+    rh.ray.time = 0.f;
+    rh.ray.mask = ~0u;
+    rh.ray.id = 0;
+    rh.ray.flags = 0;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(impl_->scene, &ctx, &rh);
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+    const Shape* shape = impl_->shapes[rh.hit.geomID];
+    si = shape->compute_surface_interaction(ray, rh.ray.tfar, rh.hit.primID, {rh.hit.u, rh.hit.v});
+    return true;
+}
+
+bool Accel::occluded(const Ray& ray) const {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    RTCRay r;
+    r.org_x = ray.o.x;
+    r.org_y = ray.o.y;
+    r.org_z = ray.o.z;
+    r.dir_x = ray.d.x;
+    r.dir_y = ray.d.y;
+    r.dir_z = ray.d.z;
+    r.tnear = 0.f;
+    r.tfar = ray.tmax;
+    r.time = 0.f;
+    r.mask = ~0u;
+    r.id = 0;
+    r.flags = 0;
+    rtcOccluded1(impl_->scene, &ctx, &r);
+    return r.tfar < 0.f;
+}
+
+}  // namespace volguide

@@ -1,0 +1,306 @@
+// A small Stanford PLY reader (Debian has no PLY library). Reads the whole file, parses the
+// header, then walks every element in order (ascii tokens or packed binary of either byte
+// order); only vertex positions/normals/uvs and face index lists are kept.
+#include <bit>
+#include <cctype>
+#include <charconv>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <string_view>
+
+#include "volguide/geometry/shapes/mesh_files.h"
+
+namespace volguide {
+
+namespace {
+
+enum class Format { Ascii, BinaryLE, BinaryBE };
+enum class Type { I8, U8, I16, U16, I32, U32, F32, F64 };
+
+struct Property {
+    std::string name;
+    Type type = Type::F32;
+    bool is_list = false;
+    Type count_type = Type::U8;
+};
+
+struct Element {
+    std::string name;
+    size_t count = 0;
+    std::vector<Property> props;
+};
+
+struct PlyError {
+    std::string what;
+};
+
+[[noreturn]] void ply_fail(std::string what) {
+    throw PlyError{std::move(what)};
+}
+
+bool parse_type(const std::string& s, Type& t) {
+    static const std::pair<const char*, Type> names[] = {
+        {"char", Type::I8},   {"int8", Type::I8},     {"uchar", Type::U8},   {"uint8", Type::U8},
+        {"short", Type::I16}, {"int16", Type::I16},   {"ushort", Type::U16}, {"uint16", Type::U16},
+        {"int", Type::I32},   {"int32", Type::I32},   {"uint", Type::U32},   {"uint32", Type::U32},
+        {"float", Type::F32}, {"float32", Type::F32}, {"double", Type::F64}, {"float64", Type::F64}};
+    for (const auto& [name, type] : names)
+        if (s == name) {
+            t = type;
+            return true;
+        }
+    return false;
+}
+
+// Sequential reader over the body of the file.
+class BodyReader {
+  public:
+    BodyReader(const std::string& data, size_t pos, Format fmt) : data_(data), pos_(pos), fmt_(fmt) {}
+
+    double read(Type t) { return fmt_ == Format::Ascii ? read_ascii(t) : read_binary(t); }
+
+    void finish() {
+        if (fmt_ != Format::Ascii) return;
+        skip_space();
+        if (pos_ < data_.size()) ply_fail("unexpected data after the last element");
+    }
+
+  private:
+    void skip_space() {
+        while (pos_ < data_.size() && std::isspace(static_cast<unsigned char>(data_[pos_]))) ++pos_;
+    }
+    double read_ascii(Type t) {
+        skip_space();
+        if (pos_ >= data_.size()) ply_fail("unexpected end of file");
+        const char* begin = data_.data() + pos_;
+        const char* end = data_.data() + data_.size();
+        if (*begin == '+') ++begin;  // from_chars does not accept an explicit plus sign
+        double v;
+        auto [ptr, ec] = std::from_chars(begin, end, v);
+        if (ec != std::errc() || (ptr < end && !std::isspace(static_cast<unsigned char>(*ptr)))) {
+            const char* tok_end = begin;
+            while (tok_end < end && !std::isspace(static_cast<unsigned char>(*tok_end))) ++tok_end;
+            ply_fail(fmt::format("could not parse the value \"{}\"",
+                                 std::string_view(begin, size_t(tok_end - begin))));
+        }
+        pos_ = size_t(ptr - data_.data());
+        return v;
+    }
+    template <typename T>
+    T load() {
+        if (pos_ + sizeof(T) > data_.size()) ply_fail("unexpected end of file");
+        unsigned char bytes[sizeof(T)];
+        std::memcpy(bytes, data_.data() + pos_, sizeof(T));
+        pos_ += sizeof(T);
+        bool file_le = fmt_ == Format::BinaryLE;
+        if (file_le != (std::endian::native == std::endian::little))
+            for (size_t i = 0; i < sizeof(T) / 2; ++i) std::swap(bytes[i], bytes[sizeof(T) - 1 - i]);
+        T v;
+        std::memcpy(&v, bytes, sizeof(T));
+        return v;
+    }
+    double read_binary(Type t) {
+        switch (t) {
+            case Type::I8:
+                return load<int8_t>();
+            case Type::U8:
+                return load<uint8_t>();
+            case Type::I16:
+                return load<int16_t>();
+            case Type::U16:
+                return load<uint16_t>();
+            case Type::I32:
+                return load<int32_t>();
+            case Type::U32:
+                return load<uint32_t>();
+            case Type::F32:
+                return load<float>();
+            case Type::F64:
+                return load<double>();
+        }
+        return 0.0;
+    }
+
+    const std::string& data_;
+    size_t pos_;
+    Format fmt_;
+};
+
+// Returns the header's elements and the offset of the body.
+std::vector<Element> parse_header(const std::string& data, Format& fmt, size_t& body) {
+    std::vector<Element> elements;
+    size_t pos = 0;
+    bool first = true, have_format = false;
+    while (true) {
+        size_t eol = data.find('\n', pos);
+        if (eol == std::string::npos) ply_fail("header is not terminated by 'end_header'");
+        std::string line = data.substr(pos, eol - pos);
+        pos = eol + 1;
+        if (!line.empty() && line.back() == '\r') line.pop_back();
+        std::istringstream iss(line);
+        std::string token;
+        if (first) {
+            if (!(iss >> token) || token != "ply") ply_fail("not a PLY file (missing 'ply' magic)");
+            first = false;
+            continue;
+        }
+        if (!(iss >> token)) continue;
+        if (token == "comment" || token == "obj_info") continue;
+        if (token == "format") {
+            std::string kind, version;
+            iss >> kind >> version;
+            if (kind == "ascii")
+                fmt = Format::Ascii;
+            else if (kind == "binary_little_endian")
+                fmt = Format::BinaryLE;
+            else if (kind == "binary_big_endian")
+                fmt = Format::BinaryBE;
+            else
+                ply_fail(fmt::format("invalid format '{}'", kind));
+            if (version != "1.0") ply_fail(fmt::format("unsupported PLY version '{}'", version));
+            have_format = true;
+        } else if (token == "element") {
+            Element e;
+            long long count = -1;
+            if (!(iss >> e.name >> count) || count < 0)
+                ply_fail(fmt::format("malformed header line \"{}\"", line));
+            e.count = size_t(count);
+            elements.push_back(std::move(e));
+        } else if (token == "property") {
+            if (elements.empty()) ply_fail("'property' before any 'element' in the header");
+            Property p;
+            std::string type;
+            if (!(iss >> type)) ply_fail(fmt::format("malformed header line \"{}\"", line));
+            if (type == "list") {
+                std::string count_type, item_type;
+                p.is_list = true;
+                if (!(iss >> count_type >> item_type >> p.name) || !parse_type(count_type, p.count_type) ||
+                    !parse_type(item_type, p.type))
+                    ply_fail(fmt::format("malformed header line \"{}\"", line));
+            } else if (!parse_type(type, p.type) || !(iss >> p.name)) {
+                ply_fail(fmt::format("malformed header line \"{}\"", line));
+            }
+            elements.back().props.push_back(std::move(p));
+        } else if (token == "end_header") {
+            break;
+        } else {
+            ply_fail(fmt::format("unknown header keyword '{}'", token));
+        }
+    }
+    if (!have_format) ply_fail("missing 'format' line in the header");
+    body = pos;
+    return elements;
+}
+
+int find_prop(const Element& e, std::initializer_list<const char*> names) {
+    for (const char* n : names)
+        for (size_t i = 0; i < e.props.size(); ++i)
+            if (e.props[i].name == n && !e.props[i].is_list) return int(i);
+    return -1;
+}
+
+}  // namespace
+
+TriangleMesh read_ply(const std::string& path, const SourceLocation& loc) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) fail(loc, "error while loading PLY file \"{}\": cannot open the file", path);
+    std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+
+    TriangleMesh mesh;
+    try {
+        Format fmt = Format::Ascii;
+        size_t body = 0;
+        std::vector<Element> elements = parse_header(data, fmt, body);
+        BodyReader reader(data, body, fmt);
+        bool have_vertices = false, have_faces = false;
+        std::vector<double> values;
+        for (const Element& e : elements) {
+            values.assign(e.props.size(), 0.0);
+            if (e.name == "vertex") {
+                int ix = find_prop(e, {"x"}), iy = find_prop(e, {"y"}), iz = find_prop(e, {"z"});
+                if (ix < 0 || iy < 0 || iz < 0) ply_fail("vertex element lacks x, y or z");
+                int inx = find_prop(e, {"nx"}), iny = find_prop(e, {"ny"}), inz = find_prop(e, {"nz"});
+                bool normals = inx >= 0 && iny >= 0 && inz >= 0;
+                int iu = -1, iv = -1;
+                const std::pair<const char*, const char*> uv_names[] = {
+                    {"u", "v"}, {"texture_u", "texture_v"}, {"s", "t"}, {"texture_s", "texture_t"}};
+                for (const auto& [un, vn] : uv_names)
+                    if (iu < 0 || iv < 0) {
+                        iu = find_prop(e, {un});
+                        iv = find_prop(e, {vn});
+                    }
+                bool uvs = iu >= 0 && iv >= 0;
+                mesh.positions.reserve(e.count + 1);
+                for (size_t i = 0; i < e.count; ++i) {
+                    for (size_t k = 0; k < e.props.size(); ++k) {
+                        const Property& p = e.props[k];
+                        if (p.is_list) {
+                            size_t n = size_t(reader.read(p.count_type));
+                            for (size_t j = 0; j < n; ++j) reader.read(p.type);
+                        } else {
+                            values[k] = reader.read(p.type);
+                        }
+                    }
+                    mesh.positions.emplace_back(float(values[ix]), float(values[iy]), float(values[iz]));
+                    if (normals)
+                        mesh.normals.emplace_back(float(values[inx]), float(values[iny]), float(values[inz]));
+                    if (uvs) mesh.uvs.emplace_back(float(values[iu]), float(values[iv]));
+                }
+                have_vertices = true;
+            } else if (e.name == "face") {
+                int list = -1;
+                for (const char* name : {"vertex_indices", "vertex_index"})
+                    for (size_t k = 0; k < e.props.size() && list < 0; ++k)
+                        if (e.props[k].is_list && e.props[k].name == name) list = int(k);
+                if (list < 0) ply_fail("face element has no vertex_indices/vertex_index list");
+                mesh.indices.reserve(3 * e.count + 1);
+                uint32_t idx[4];
+                for (size_t i = 0; i < e.count; ++i) {
+                    for (size_t k = 0; k < e.props.size(); ++k) {
+                        const Property& p = e.props[k];
+                        if (!p.is_list) {
+                            reader.read(p.type);
+                            continue;
+                        }
+                        size_t n = size_t(reader.read(p.count_type));
+                        if (int(k) != list) {
+                            for (size_t j = 0; j < n; ++j) reader.read(p.type);
+                            continue;
+                        }
+                        if (n != 3 && n != 4)
+                            ply_fail(fmt::format(
+                                "face {} has {} vertices (only triangles and quads are supported)", i, n));
+                        for (size_t j = 0; j < n; ++j) {
+                            double v = reader.read(p.type);
+                            if (!(v >= 0.0) || v >= 4294967295.0)
+                                ply_fail(fmt::format("face {} has an invalid vertex index {}", i, v));
+                            idx[j] = uint32_t(v);
+                        }
+                        mesh.indices.insert(mesh.indices.end(), {idx[0], idx[1], idx[2]});
+                        if (n == 4) mesh.indices.insert(mesh.indices.end(), {idx[0], idx[2], idx[3]});
+                    }
+                }
+                have_faces = true;
+            } else {
+                for (size_t i = 0; i < e.count; ++i)
+                    for (const Property& p : e.props) {
+                        size_t n = p.is_list ? size_t(reader.read(p.count_type)) : 1;
+                        for (size_t j = 0; j < n; ++j) reader.read(p.type);
+                    }
+            }
+        }
+        reader.finish();
+        if (!have_vertices) ply_fail("no vertex element");
+        if (!have_faces) ply_fail("no face element");
+        for (uint32_t i : mesh.indices)
+            if (i >= mesh.positions.size())
+                ply_fail(fmt::format("a face refers to vertex {} but there are only {}", i,
+                                     mesh.positions.size()));
+    } catch (const PlyError& e) {
+        fail(loc, "error while loading PLY file \"{}\": {}", path, e.what);
+    }
+    return mesh;
+}
+
+}  // namespace volguide

@@ -1,0 +1,262 @@
+#include "volguide/integrators/render_loop.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <chrono>
+#include <memory>
+#include <mutex>
+#include <stdexcept>
+
+#include "volguide/integrators/integrator.h"
+#include "volguide/render/scene.h"
+#include "volguide/render/sensors/film_buffer.h"
+#include "volguide/render/sensors/rfilters.h"
+
+namespace volguide {
+
+int pass_size(int index) { return index <= 1 ? 1 : std::min(1 << std::min(index - 1, 3), 8); }
+
+std::vector<int> pass_schedule(int spp) {
+    std::vector<int> passes;
+    for (int done = 0, k = 0; done < spp; ++k) {
+        int n = std::min(pass_size(k), spp - done);
+        passes.push_back(n);
+        done += n;
+    }
+    return passes;
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+// Throttled, serialised progress reporting (called from worker threads).
+class ProgressReporter {
+public:
+    ProgressReporter(const ProgressCallback& cb, Clock::time_point job_start, double budget, int target)
+        : cb_(cb), job_start_(job_start), budget_(budget), target_(target) {}
+    void set_render_start(Clock::time_point t) { render_start_ = t; }
+    // `spp_progress` = completed spp plus the completed share of the current pass.
+    void report(int spp_done, double spp_progress, bool force) {
+        if (!cb_) return;
+        std::unique_lock lock(mutex_, std::defer_lock);
+        if (force)
+            lock.lock();
+        else if (!lock.try_lock())
+            return;
+        auto now = Clock::now();
+        if (!force && now - last_ < std::chrono::milliseconds(100)) return;
+        last_ = now;
+        Progress p;
+        p.phase = "rendering";
+        p.spp_done = spp_done;
+        p.spp_target = target_;
+        p.elapsed = std::chrono::duration<double>(now - job_start_).count();
+        double f_spp = target_ > 0 ? spp_progress / target_ : 0.0;
+        double f_time = budget_ > 0 ? p.elapsed / budget_ : 0.0;
+        p.fraction = std::clamp(std::max(f_spp, f_time), 0.0, 1.0);
+        double eta = -1;  // unknown
+        const double render_elapsed = std::chrono::duration<double>(now - render_start_).count();
+        // Extrapolate only once the rate means something.
+        if (target_ > 0 && f_spp > 0 && (render_elapsed > 1.0 || f_spp > 0.05))
+            eta = render_elapsed * (1.0 - f_spp) / f_spp;
+        if (budget_ > 0) {
+            double left = std::max(0.0, budget_ - p.elapsed);
+            eta = eta < 0 ? left : std::min(eta, left);
+        }
+        p.eta = eta;
+        cb_(p);
+    }
+
+private:
+    const ProgressCallback& cb_;
+    Clock::time_point job_start_, render_start_, last_{};
+    double budget_;
+    int target_;
+    std::mutex mutex_;
+};
+
+int arena_threads(int requested) {
+    if (requested < 0) throw std::invalid_argument("render: thread count must be >= 0");
+    return requested > 0 ? requested : tbb::task_arena::automatic;
+}
+
+// An explicit thread count may exceed the hardware's: lift TBB's worker limit for the render.
+std::unique_ptr<tbb::global_control> thread_limit(int requested) {
+    if (requested <= 0) return nullptr;
+    return std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, size_t(requested));
+}
+
+RenderResult render_frame_impl(const FrameSetup& setup, const RadianceFn& radiance, const RenderOptions& options,
+                               tbb::task_arena& arena, Clock::time_point job_start) {
+    if (setup.width <= 0 || setup.height <= 0) throw std::invalid_argument("render: empty film");
+    if (!setup.filter) throw std::invalid_argument("render: no reconstruction filter");
+    if (options.spp < 0) throw std::invalid_argument("render: spp must be >= 0");
+    if (options.tile_size <= 0) throw std::invalid_argument("render: tile size must be positive");
+
+    RenderResult result;
+    RenderStats& stats = result.stats;
+    const uint64_t seed = options.seed.value_or(setup.seed);
+    const double budget = options.time_budget > 0 ? options.time_budget : 0.0;
+    // 0 = unbounded: only the time budget (or a cancel) ends the render.
+    const int target = options.spp > 0 ? options.spp : (budget > 0 ? 0 : std::max(setup.default_spp, 1));
+    const auto deadline = budget > 0 ? job_start + std::chrono::duration_cast<Clock::duration>(
+                                                      std::chrono::duration<double>(budget))
+                                     : Clock::time_point::max();
+    stats.seed = seed;
+    stats.threads = arena.max_concurrency();
+
+    // Samples are taken over the film, plus the filter's border when sample_border is set.
+    const int border = setup.sample_border ? filter_border_size(*setup.filter) : 0;
+    const int W = setup.width, H = setup.height;
+    const int grid_w = W + 2 * border, grid_h = H + 2 * border;
+    const int T = options.tile_size;
+    std::vector<PixelRect> tiles;
+    for (int y = -border; y < H + border; y += T)
+        for (int x = -border; x < W + border; x += T)
+            tiles.push_back({x, y, std::min(x + T, W + border), std::min(y + T, H + border)});
+
+    Splatter splatter(*setup.filter, W, H);
+    FilmBuffer film(W, H, setup.variance);
+    ProgressReporter reporter(options.progress, job_start, budget, target);
+    reporter.set_render_start(Clock::now());
+    auto render_start = Clock::now();
+
+    int spp_done = 0;
+    for (int pass = 0; target == 0 || spp_done < target; ++pass) {
+        const bool first = spp_done == 0;
+        if (options.cancel && options.cancel->load()) {
+            stats.cancelled = true;
+            break;
+        }
+        if (!first && Clock::now() >= deadline) {
+            stats.time_limited = true;
+            break;
+        }
+        const int n = target > 0 ? std::min(pass_size(pass), target - spp_done) : pass_size(pass);
+        const uint64_t pass_samples = uint64_t(grid_w) * grid_h * n;
+
+        std::vector<std::unique_ptr<TileBuffer>> buffers(tiles.size());
+        std::vector<uint64_t> nonfinite(tiles.size(), 0);
+        std::vector<SampleLocation> first_bad(tiles.size());
+        std::atomic<bool> stop_cancel{false}, stop_time{false};
+        std::atomic<uint64_t> samples_done{0};
+
+        auto render_tile = [&](size_t t) {
+            if (stop_cancel.load(std::memory_order_relaxed) || stop_time.load(std::memory_order_relaxed)) return;
+            const PixelRect& rect = tiles[t];
+            auto buf = std::make_unique<TileBuffer>(splatter, splatter.footprint(rect), setup.variance);
+            uint64_t bad = 0;
+            for (int y = rect.y0; y < rect.y1; ++y) {
+                // Stop checks once per row: a cancelled or late pass is dropped as a whole.
+                if (options.cancel && options.cancel->load(std::memory_order_relaxed)) {
+                    stop_cancel = true;
+                    return;
+                }
+                if (!first && Clock::now() >= deadline) {
+                    stop_time = true;
+                    return;
+                }
+                for (int x = rect.x0; x < rect.x1; ++x) {
+                    const uint64_t pixel_index = uint64_t(y + border) * grid_w + uint64_t(x + border);
+                    for (int s = spp_done; s < spp_done + n; ++s) {
+                        Sampler sampler(seed, pixel_index, uint64_t(s));
+                        Vec2f u = sampler.next_2d();
+                        Point2f pos(float(x) + u.x, float(y) + u.y);
+                        Color3 L = radiance(Point2f(pos.x / float(W), pos.y / float(H)), sampler);
+                        if (!L.is_finite()) {
+                            if (bad++ == 0) first_bad[t] = SampleLocation{x, y, s};
+                            continue;
+                        }
+                        buf->splat(pos, L);
+                    }
+                }
+            }
+            nonfinite[t] = bad;
+            buffers[t] = std::move(buf);
+            uint64_t done = samples_done.fetch_add(uint64_t(rect.width()) * rect.height() * n) +
+                            uint64_t(rect.width()) * rect.height() * n;
+            reporter.report(spp_done, spp_done + double(n) * double(done) / double(pass_samples), false);
+        };
+        arena.execute([&] {
+            tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
+                for (size_t t = r.begin(); t != r.end(); ++t) render_tile(t);
+            });
+        });
+
+        if (stop_cancel || stop_time) {
+            stats.discarded_samples += samples_done.load();
+            stats.cancelled = stop_cancel.load();
+            stats.time_limited = !stats.cancelled;
+            break;
+        }
+        // Merge in tile order: the same floating-point sums whatever thread rendered which tile.
+        for (size_t t = 0; t < tiles.size(); ++t) {
+            film.add(*buffers[t]);
+            buffers[t].reset();
+            stats.nonfinite_samples += nonfinite[t];
+            if (nonfinite[t] > 0 && !stats.first_nonfinite) stats.first_nonfinite = first_bad[t];
+        }
+        spp_done += n;
+        stats.passes += 1;
+        stats.samples += pass_samples;
+        reporter.report(spp_done, spp_done, true);
+    }
+
+    result.spp = spp_done;
+    result.mean = film.mean();
+    if (setup.variance) result.variance = film.variance();
+    stats.render_seconds = seconds_since(render_start);
+    stats.total_seconds = seconds_since(job_start);
+    return result;
+}
+
+}  // namespace
+
+RenderResult render_frame(const FrameSetup& setup, const RadianceFn& radiance, const RenderOptions& options) {
+    auto limit = thread_limit(options.threads);
+    tbb::task_arena arena(arena_threads(options.threads));
+    return render_frame_impl(setup, radiance, options, arena, Clock::now());
+}
+
+RenderResult render(Scene& scene, const RenderOptions& options) {
+    const auto job_start = Clock::now();
+    auto limit = thread_limit(options.threads);
+    tbb::task_arena arena(arena_threads(options.threads));
+    // The scene owns its integrator; preprocessing (training) mutates it before rendering.
+    Integrator& integrator = const_cast<Integrator&>(scene.integrator());
+    if (options.progress) {
+        Progress p;
+        p.phase = "preprocess";
+        p.spp_target = options.spp;
+        options.progress(p);
+    }
+    arena.execute([&] { integrator.preprocess(scene); });
+    const double preprocess_seconds = seconds_since(job_start);
+
+    const Sensor& sensor = scene.sensor();
+    const Film& film = sensor.film();
+    FrameSetup setup;
+    setup.width = film.width();
+    setup.height = film.height();
+    setup.filter = &film.filter();
+    setup.sample_border = film.sample_border();
+    setup.default_spp = sensor.sample_count();
+    setup.seed = sensor.seed();
+    setup.variance = integrator.writes_variance();
+    const Scene& cscene = scene;
+    RadianceFn radiance = [&](Point2f uv, Sampler& sampler) {
+        auto [ray, weight] = sensor.sample_ray(uv, Point2f(0.5f, 0.5f));
+        return weight * integrator.Li(cscene, sampler, ray);
+    };
+    RenderResult result = render_frame_impl(setup, radiance, options, arena, job_start);
+    result.stats.preprocess_seconds = preprocess_seconds;
+    return result;
+}
+
+}  // namespace volguide

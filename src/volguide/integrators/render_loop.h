@@ -1,0 +1,81 @@
+#pragma once
+// The render loop: progressive passes over the image, each pass rendering a fixed number of samples
+// per pixel in 16 x 16 tiles with TBB. A pass is merged into the film only when it completes, so a
+// render stopped by its time budget or by cancellation is complete and unbiased at the spp of its
+// last whole pass. The pass schedule depends only on the sample count, every sample draws from
+// Sampler(seed, pixel, sample index) and tiles are merged in a fixed order: with a sample count the
+// image is bit-identical for any number of threads.
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <optional>
+
+#include "volguide/core/image.h"
+#include "volguide/core/progress.h"
+#include "volguide/core/sampler.h"
+#include "volguide/render/sensor.h"
+
+namespace volguide {
+
+class Scene;
+
+struct RenderOptions {
+    int spp = 0;               // > 0 overrides the sensor's sample_count
+    double time_budget = 0;    // seconds (> 0): stop at the end of the last pass that fits
+    std::optional<uint64_t> seed;  // default: the sampler's seed
+    int threads = 0;           // 0 = all hardware threads
+    int tile_size = 16;
+    ProgressCallback progress;
+    const std::atomic<bool>* cancel = nullptr;  // set it to stop at the end of the current pass
+};
+
+// Where a sample went wrong, to replay it: Sampler(seed, pixel index, sample) with the pixel index
+// y * width + x over the sampled grid (which includes the border with sample_border).
+struct SampleLocation {
+    int x = 0, y = 0;  // film pixel (may be outside the film with sample_border)
+    int sample = 0;
+};
+
+struct RenderStats {
+    double preprocess_seconds = 0, render_seconds = 0, total_seconds = 0;
+    uint64_t samples = 0;            // camera samples in the image
+    uint64_t discarded_samples = 0;  // samples of an interrupted pass (not in the image)
+    uint64_t nonfinite_samples = 0;  // NaN/Inf radiance samples dropped from the image
+    std::optional<SampleLocation> first_nonfinite;  // the first in pass, tile and pixel order
+    int passes = 0;
+    int threads = 0;
+    uint64_t seed = 0;
+    bool cancelled = false;     // stopped by the cancel flag
+    bool time_limited = false;  // stopped by the time budget
+};
+
+struct RenderResult {
+    Image mean;
+    Image variance;  // per-sample variance; empty unless requested
+    int spp = 0;     // samples per pixel in the image
+    RenderStats stats;
+};
+
+// Number of samples per pixel of pass `index` (0-based): 1, 1, 2, 4, 8, 8, 8, ... so that early
+// previews are quick and an interrupted pass never wastes more than the work already done.
+int pass_size(int index);
+// The passes of a render with `spp` samples per pixel (the last one truncated).
+std::vector<int> pass_schedule(int spp);
+
+// Renders the scene's sensor with its integrator (after integrator preprocessing, which counts
+// toward the time budget). The variance image is filled when the integrator writes_variance().
+RenderResult render(Scene& scene, const RenderOptions& options);
+
+// Scene-free core, also used by tests: `radiance(film_uv, sampler)` returns one sample's value.
+struct FrameSetup {
+    int width = 0, height = 0;
+    const ReconstructionFilter* filter = nullptr;
+    bool sample_border = false;
+    int default_spp = 4;     // used when options.spp == 0 and there is no time budget
+    uint64_t seed = 0;       // used when options.seed is empty
+    bool variance = false;
+};
+using RadianceFn = std::function<Color3(Point2f film_uv, Sampler& sampler)>;
+RenderResult render_frame(const FrameSetup& setup, const RadianceFn& radiance, const RenderOptions& options);
+
+}  // namespace volguide

@@ -1,0 +1,53 @@
+#pragma once
+// Helpers shared by the emitter plugins: Mitsuba's scene bounding sphere and parameter checks.
+#include <string>
+
+#include "volguide/core/bbox.h"
+#include "volguide/core/color.h"
+#include "volguide/core/properties.h"
+
+namespace volguide {
+
+// Mitsuba's math::RayEpsilon<float> (1500 ulp of 1), used to pad the scene's bounding sphere.
+inline constexpr float MitsubaRayEpsilon = 1500.f * 0x1p-24f;
+
+// The sphere that emitters at infinity place their sample points on: the scene's bounding
+// sphere padded by a relative RayEpsilon, or a tiny sphere at the origin for an empty scene.
+struct InfiniteEmitterSphere {
+    Point3f center{0.f};
+    float radius = 1.f;  // Mitsuba's default until the scene is known
+
+    void set(const BBox3f& bounds) {
+        if (bounds.valid()) {
+            const BSphere s = bounding_sphere(bounds);
+            center = s.center;
+            radius = std::max(MitsubaRayEpsilon, s.radius * (1.f + MitsubaRayEpsilon));
+        } else {
+            center = Point3f(0.f);
+            radius = MitsubaRayEpsilon;
+        }
+    }
+    // Distance at which sample points are placed: beyond the scene even when the reference point
+    // (e.g. a camera) lies outside the scene's bounds.
+    float sample_distance(const Point3f& ref) const { return 2.f * std::max(radius, norm(ref - center)); }
+};
+
+// Reads a color parameter that must be finite and non-negative (radiance, intensity, ...).
+inline Color3 nonnegative_color(const Properties& props, const std::string& name, const Color3& def) {
+    const Color3 c = props.get_color(name, def);
+    if (!c.is_finite() || c.has_negative())
+        props.fail_at(name, "{} '{}': '{}' must be finite and non-negative", props.category(), props.type(),
+                      name);
+    return c;
+}
+
+// Reads a float parameter that must be finite and non-negative.
+inline float nonnegative_float(const Properties& props, const std::string& name, float def) {
+    const float v = props.get_float(name, def);
+    if (!std::isfinite(v) || v < 0.f)
+        props.fail_at(name, "{} '{}': '{}' must be finite and non-negative", props.category(), props.type(),
+                      name);
+    return v;
+}
+
+}  // namespace volguide

@@ -1,0 +1,68 @@
+// `spot`: point light at the origin of `to_world` shining along its +z axis with Mitsuba's
+// linear-in-angle falloff between beam_width and cutoff_angle.
+#include <memory>
+
+#include "volguide/core/transform.h"
+#include "volguide/render/emitter.h"
+#include "volguide/render/emitters/emitter_common.h"
+#include "volguide/render/emitters/emitter_plugins.h"
+#include "volguide/render/emitters/spot_falloff.h"
+
+namespace volguide {
+namespace {
+
+class SpotEmitter final : public Emitter {
+  public:
+    explicit SpotEmitter(const Properties& props) {
+        if (props.has("texture"))
+            props.fail_at("texture", "emitter 'spot': projection textures ('texture') are not supported");
+        intensity_ = nonnegative_color(props, "intensity", Color3(1.f));
+        const float cutoff = props.get_float("cutoff_angle", 20.f);
+        if (!(cutoff > 0.f && cutoff <= 180.f))
+            props.fail_at("cutoff_angle", "emitter 'spot': 'cutoff_angle' must be in (0, 180] degrees");
+        const float beam = props.get_float("beam_width", cutoff * 3.f / 4.f);
+        if (!(beam > 0.f && beam <= cutoff))
+            props.fail_at("beam_width", "emitter 'spot': 'beam_width' must be in (0, cutoff_angle]");
+        falloff_ = SpotFalloff(cutoff, beam);
+        const Transform to_world = props.get_transform("to_world");
+        to_local_ = to_world.inverse();
+        position_ = to_world.apply_point(Point3f(0.f));
+        flags_ = emitter_flags::DeltaPosition;
+    }
+
+    Color3 eval(const SurfaceInteraction&) const override { return Color3(0.f); }
+
+    std::pair<DirectionSample, Color3> sample_direction(const Interaction& ref, Point2f) const override {
+        DirectionSample ds;
+        ds.p = position_;
+        ds.n = Normal3f(0.f);
+        ds.uv = Vec2f(0.f, 0.f);
+        ds.d = position_ - ref.p;
+        ds.dist = norm(ds.d);
+        const float inv_dist = 1.f / ds.dist;
+        ds.d *= inv_dist;
+        ds.pdf = 1.f;
+        ds.delta = true;
+        ds.emitter = this;
+        const float falloff = falloff_(to_local_.apply_vector(-ds.d));
+        return {ds, intensity_ * (falloff * inv_dist * inv_dist)};
+    }
+
+    float pdf_direction(const Interaction&, const DirectionSample&) const override { return 0.f; }
+
+    std::string to_string() const override { return "SpotEmitter"; }
+
+  private:
+    Point3f position_;
+    Transform to_local_;
+    Color3 intensity_;
+    SpotFalloff falloff_;
+};
+
+}  // namespace
+
+ObjectPtr make_spot_emitter(const Properties& props) {
+    return std::make_shared<SpotEmitter>(props);
+}
+
+}  // namespace volguide

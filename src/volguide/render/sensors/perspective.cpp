@@ -1,0 +1,113 @@
+#include "volguide/render/sensors/perspective.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <stdexcept>
+
+namespace volguide {
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+double to_rad(double d) { return d * kPi / 180.0; }
+double to_deg(double r) { return r * 180.0 / kPi; }
+
+// Mitsuba forbids scale in a pinhole's to_world (a mirror, scale -1, is allowed): every column of
+// the linear part must have unit length.
+bool has_scale(const Transform& t) {
+    const auto& m = t.matrix().m;
+    for (int c = 0; c < 3; ++c) {
+        double n2 = m[0][c] * m[0][c] + m[1][c] * m[1][c] + m[2][c] * m[2][c];
+        if (std::abs(n2 - 1.0) > 1e-3) return true;
+    }
+    return false;
+}
+}  // namespace
+
+double horizontal_fov(double fov, const std::string& axis_in, double aspect) {
+    std::string axis = axis_in;
+    for (auto& ch : axis) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+    char which = 0;  // 'x', 'y' or 'd'iagonal
+    if (axis == "x") which = 'x';
+    else if (axis == "y") which = 'y';
+    else if (axis == "diagonal") which = 'd';
+    else if (axis == "smaller") which = aspect > 1 ? 'y' : 'x';
+    else if (axis == "larger") which = aspect > 1 ? 'x' : 'y';
+    if (which == 'x') return fov;
+    if (which == 'y') return to_deg(2.0 * std::atan(std::tan(0.5 * to_rad(fov)) * aspect));
+    if (which == 'd') {
+        double diagonal = 2.0 * std::tan(0.5 * to_rad(fov));
+        double width = diagonal / std::sqrt(1.0 + 1.0 / (aspect * aspect));
+        return to_deg(2.0 * std::atan(0.5 * width));
+    }
+    throw std::invalid_argument("fov_axis must be one of x, y, diagonal, smaller, larger");
+}
+
+double focal_length_to_diagonal_fov(const std::string& text) {
+    std::string s = text;
+    if (s.size() >= 2 && s.compare(s.size() - 2, 2, "mm") == 0) s.resize(s.size() - 2);
+    if (s.empty()) return -1.0;
+    char* end = nullptr;
+    double f = std::strtod(s.c_str(), &end);
+    if (*end != '\0' || !(f > 0.0) || !std::isfinite(f)) return -1.0;
+    // Diagonal of a 36 x 24 mm frame.
+    return 2.0 * to_deg(std::atan(std::sqrt(36.0 * 36.0 + 24.0 * 24.0) / (2.0 * f)));
+}
+
+PerspectiveCamera::PerspectiveCamera(const Properties& props) : ProjectiveCamera(props) {
+    if (props.has("fov") && props.has("focal_length"))
+        props.fail_at("focal_length", "specify either a field of view ('fov') or a focal length ('focal_length'), not both");
+    double fov, aspect = double(film_->width()) / double(film_->height());
+    std::string axis;
+    if (props.has("fov")) {
+        fov = props.get_float("fov");
+        axis = props.get_string("fov_axis", "x");
+    } else {
+        if (props.has("fov_axis")) props.fail_at("fov_axis", "fov_axis needs a 'fov'");
+        std::string f = props.get_string("focal_length", "50mm");
+        fov = focal_length_to_diagonal_fov(f);
+        if (fov < 0) props.fail_at("focal_length", "could not parse focal_length '{}' (expected e.g. '50mm')", f);
+        axis = "diagonal";
+    }
+    const char* fov_param = props.has("fov") ? "fov" : "focal_length";
+    if (!(fov > 0.0 && fov < 180.0)) props.fail_at(fov_param, "the field of view must be in (0, 180) degrees, got {}", fov);
+    double x_fov;
+    try {
+        x_fov = horizontal_fov(fov, axis, aspect);
+    } catch (const std::invalid_argument& e) {
+        props.fail_at("fov_axis", "{}, got '{}'", e.what(), axis);
+    }
+    if (!(x_fov > 0.0 && x_fov < 180.0))
+        props.fail_at(fov_param, "the horizontal field of view must be in (0, 180) degrees, got {}", x_fov);
+    x_fov_ = float(x_fov);
+    if (has_scale(to_world_)) props.fail_at("to_world", "scale factors in the camera-to-world transform are not allowed");
+    configure(&props);
+}
+
+PerspectiveCamera::PerspectiveCamera(std::shared_ptr<Film> film, const Transform& to_world, float x_fov_deg,
+                                     float near_clip, float far_clip)
+    : ProjectiveCamera(std::move(film), to_world, near_clip, far_clip), x_fov_(x_fov_deg) {
+    if (!(x_fov_deg > 0.f && x_fov_deg < 180.f)) throw InputError({}, "perspective: fov must be in (0, 180)");
+    configure(nullptr);
+}
+
+void PerspectiveCamera::configure(const Properties*) {
+    tan_half_x_ = float(std::tan(0.5 * to_rad(x_fov_)));
+    origin_ = to_world_.apply_point(Point3f(0.f));
+}
+
+std::pair<Ray, Color3> PerspectiveCamera::sample_ray(Point2f uv, Point2f) const {
+    // Film u = 0 is camera +x (left), v = 0 is camera +y (up); the near plane spans
+    // x in [-1, 1] * tan_half_x and y in [-1, 1] * tan_half_x / aspect.
+    Vec3f local = normalize(Vec3f((1.f - 2.f * uv.x) * tan_half_x_, (1.f - 2.f * uv.y) * tan_half_x_ / aspect_, 1.f));
+    float inv_z = 1.f / local.z;
+    float near_t = near_clip_ * inv_z, far_t = far_clip_ * inv_z;
+    Vec3f d = normalize(to_world_.apply_vector(local));
+    return {Ray(origin_ + d * near_t, d, far_t - near_t), Color3(1.f)};
+}
+
+std::string PerspectiveCamera::to_string() const {
+    return fmt::format("perspective[x_fov={:.4g}, near_clip={}, far_clip={}]", x_fov_, near_clip_, far_clip_);
+}
+
+}  // namespace volguide

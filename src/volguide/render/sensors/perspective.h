@@ -1,0 +1,35 @@
+#pragma once
+// Mitsuba 3's `perspective` pinhole camera.
+#include <string>
+
+#include "volguide/render/sensors/projective_camera.h"
+
+namespace volguide {
+
+// Mitsuba's field-of-view rules: converts `fov` degrees measured along `axis` (x, y, diagonal,
+// smaller, larger) of a film with the given aspect (width / height) to the horizontal fov.
+// Throws std::invalid_argument for an unknown axis.
+double horizontal_fov(double fov_deg, const std::string& axis, double aspect);
+// Mitsuba's `focal_length` ("50mm": 35 mm film equivalent) as a diagonal fov in degrees; nullopt-like
+// negative value when the string cannot be parsed.
+double focal_length_to_diagonal_fov(const std::string& focal_length);
+
+class PerspectiveCamera final : public ProjectiveCamera {
+public:
+    explicit PerspectiveCamera(const Properties& props);
+    // Programmatic construction (tests): horizontal fov in degrees.
+    PerspectiveCamera(std::shared_ptr<Film> film, const Transform& to_world, float x_fov_deg, float near_clip = 1e-2f,
+                      float far_clip = 1e4f);
+
+    std::pair<Ray, Color3> sample_ray(Point2f film_uv, Point2f aperture) const override;
+    float x_fov() const { return x_fov_; }
+    std::string to_string() const override;
+
+private:
+    void configure(const Properties* props);
+    float x_fov_;
+    float tan_half_x_;  // tan(x_fov / 2)
+    Point3f origin_;
+};
+
+}  // namespace volguide

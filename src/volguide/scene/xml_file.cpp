@@ -1,0 +1,51 @@
+#include "volguide/scene/xml_file.h"
+
+#include <algorithm>
+#include <fstream>
+#include <sstream>
+
+namespace volguide {
+
+XmlFile::XmlFile(std::filesystem::path real_path, std::string display_path,
+                 const SourceLocation& include_site)
+    : path_(std::move(real_path)), display_(std::move(display_path)) {
+    std::ifstream in(path_, std::ios::binary);
+    if (!in) {
+        if (include_site.file.empty()) fail(SourceLocation{display_, 0}, "cannot open scene file");
+        fail(include_site, "cannot open included file '{}'", display_);
+    }
+    std::ostringstream buffer;
+    buffer << in.rdbuf();
+    text_ = buffer.str();
+
+    line_starts_.push_back(0);
+    for (size_t i = 0; i < text_.size(); ++i)
+        if (text_[i] == '\n') line_starts_.push_back(i + 1);
+
+    // parse_declaration keeps <?xml ...?> as a node so offsets stay meaningful; comments are skipped.
+    pugi::xml_parse_result result =
+        doc_.load_buffer(text_.data(), text_.size(), pugi::parse_default | pugi::parse_declaration);
+    if (!result) {
+        // pugixml reports an unclosed element as a tag mismatch at the very end of the file.
+        bool at_end = result.offset + 1 >= std::ptrdiff_t(text_.size());
+        if (result.status == pugi::status_end_element_mismatch && at_end)
+            fail(SourceLocation{display_, line_of_offset(result.offset)},
+                 "malformed XML: unexpected end of file (an element is not closed)");
+        fail(SourceLocation{display_, line_of_offset(result.offset)}, "malformed XML: {}",
+             result.description());
+    }
+    if (!doc_.document_element()) fail(SourceLocation{display_, 1}, "malformed XML: no root element");
+}
+
+std::string XmlFile::display_directory() const {
+    return std::filesystem::path(display_).parent_path().string();
+}
+
+int XmlFile::line_of_offset(std::ptrdiff_t offset) const {
+    if (offset < 0) return 0;
+    // The last line start that is <= offset.
+    auto it = std::upper_bound(line_starts_.begin(), line_starts_.end(), size_t(offset));
+    return int(it - line_starts_.begin());
+}
+
+}  // namespace volguide
