@@ -153,8 +153,10 @@ void maximization(Vmm& vmm, const VmmStatistics& stats, const VmmFitSettings& se
 }
 
 namespace {
-bool converged(double previous, double current, double tolerance) {
-    return std::abs(current - previous) <= tolerance * std::max(std::abs(previous), 1e-300);
+// Relative change of the log-likelihood, with |L| floored at the sample count N: a likelihood
+// near 0 (mixture pdf ~ 1 on average) would otherwise never count as converged.
+bool converged(double previous, double current, double tolerance, double sample_count) {
+    return std::abs(current - previous) <= tolerance * std::max({std::abs(previous), sample_count, 1e-300});
 }
 
 VmmFitReport run_em(Vmm& vmm, std::span<const DirectionalSample> samples, const VmmFitSettings& settings) {
@@ -166,7 +168,7 @@ VmmFitReport run_em(Vmm& vmm, std::span<const DirectionalSample> samples, const 
         maximization(vmm, stats, settings);
         report.iterations = it + 1;
         report.log_likelihood = ll;
-        if (it > 0 && converged(previous, ll, settings.convergence)) {
+        if (it > 0 && converged(previous, ll, settings.convergence, stats.total)) {
             report.converged = true;
             break;
         }
@@ -241,7 +243,7 @@ VmmFitReport StepwiseVmmFitter::add_batch(std::span<const DirectionalSample> sam
         maximization(vmm_, blended, settings_);
         report.iterations = it + 1;
         report.log_likelihood = ll;
-        if (it > 0 && converged(previous_ll, ll, settings_.convergence)) {
+        if (it > 0 && converged(previous_ll, ll, settings_.convergence, batch.total)) {
             report.converged = true;
             break;
         }

@@ -34,7 +34,7 @@ struct VmmFitSettings {
     // log-likelihood wins. Guards against the local optima of EM (two lobes on one cluster).
     int restarts = 1;
     int max_iterations = 100;
-    double convergence = 0.0025;    // relative change of the weighted log-likelihood
+    double convergence = 0.0025;    // relative change of the weighted log-likelihood (|L| floored at N)
     // MAP priors (theory.md §5.4 defaults): Dirichlet weight prior a; mean-cosine prior r0 with
     // strength b (pulls poorly supported lobes towards broad ones); kappa cap.
     double weight_prior = 0.1;
