@@ -27,7 +27,8 @@ VmfMixture<4> truth() {
 template <int N>
 std::vector<DirectionalSample> weighted_samples(const VmfMixture<N>& target, int n, uint64_t seed) {
     VmfMixture<N> broad = target;
-    for (int k = 0; k < broad.count; ++k) broad.set_lobe(k, target.weight[k], VmfLobe(target.lobe(k).mu, 0.5f * target.kappa[k]));
+    for (int k = 0; k < broad.count; ++k)
+        broad.set_lobe(k, target.weight[k], VmfLobe(target.lobe(k).mu, 0.5f * target.kappa[k]));
     std::vector<DirectionalSample> out;
     out.reserve(n);
     for (int i = 0; i < n; ++i) {
@@ -40,7 +41,9 @@ std::vector<DirectionalSample> weighted_samples(const VmfMixture<N>& target, int
     return out;
 }
 
-float angle_deg(const Vec3f& a, const Vec3f& b) { return rad_to_deg(2.f * std::asin(std::min(0.5f * norm(a - b), 1.f))); }
+float angle_deg(const Vec3f& a, const Vec3f& b) {
+    return rad_to_deg(2.f * std::asin(std::min(0.5f * norm(a - b), 1.f)));
+}
 
 // For every true lobe, the fitted lobe with the nearest mean.
 template <int N>
@@ -50,7 +53,8 @@ void expect_recovers(const Vmm& fit, const VmfMixture<N>& want, float dw, float 
     for (int k = 0; k < want.size(); ++k) {
         int best = 0;
         for (int j = 1; j < fit.size(); ++j)
-            if (angle_deg(fit.lobe(j).mu, want.lobe(k).mu) < angle_deg(fit.lobe(best).mu, want.lobe(k).mu)) best = j;
+            if (angle_deg(fit.lobe(j).mu, want.lobe(k).mu) < angle_deg(fit.lobe(best).mu, want.lobe(k).mu))
+                best = j;
         EXPECT_NEAR(fit.weight[best], want.weight[k], dw) << what << " lobe " << k;
         EXPECT_LT(angle_deg(fit.lobe(best).mu, want.lobe(k).mu), dangle) << what << " lobe " << k;
         EXPECT_NEAR(fit.kappa[best] / want.kappa[k], 1.f, dkappa_rel) << what << " lobe " << k;

@@ -80,7 +80,8 @@ TEST(HgDensity, NormalisedWithMeanCosineG) {
         double scale = std::max(1.0 - std::abs(g), 0.02);
         Vec3f axis(0, 0, 1);
         double norm = integrate_sphere([&](const Vec3f& w) { return hg_density(g, w.z); }, axis, scale, 16);
-        double mean = integrate_sphere([&](const Vec3f& w) { return w.z * hg_density(g, w.z); }, axis, scale, 16);
+        double mean =
+            integrate_sphere([&](const Vec3f& w) { return w.z * hg_density(g, w.z); }, axis, scale, 16);
         EXPECT_NEAR(norm, 1.0, 1e-6) << g;
         EXPECT_NEAR(mean, g, 1e-6) << g;
     }
@@ -151,9 +152,9 @@ TEST(PhaseVmm, InScatteredRadianceOfAVmfWithinFivePercentNearThePeak) {
             auto approx = convolve(light, phase);
             Vec3f peak_dir = g > 0 ? mu : -mu;
             auto truth = [&](const Vec3f& w) {
-                return integrate_sphere([&](const Vec3f& x) { return hg_density(g, dot(Vec3d(w), Vec3d(x))) * light.eval(x); },
-                                        w * (g > 0 ? 1.f : -1.f), std::min(1.0 - std::abs(g), 1.0 / std::sqrt(kappa_l)),
-                                        128);
+                return integrate_sphere(
+                    [&](const Vec3f& x) { return hg_density(g, dot(Vec3d(w), Vec3d(x))) * light.eval(x); },
+                    w * (g > 0 ? 1.f : -1.f), std::min(1.0 - std::abs(g), 1.0 / std::sqrt(kappa_l)), 128);
             };
             double peak = truth(peak_dir);
             double worst_exact = 0.0, worst_approx = 0.0;
@@ -167,7 +168,8 @@ TEST(PhaseVmm, InScatteredRadianceOfAVmfWithinFivePercentNearThePeak) {
             }
             EXPECT_LT(worst_exact, 0.05) << "g " << g << " kappa_L " << kappa_l;
             EXPECT_LT(worst_approx, 0.05) << "g " << g << " kappa_L " << kappa_l;
-            RecordProperty(fmt::format("g{}_k{}", g, kappa_l), fmt::format("{:.4f} / {:.4f}", worst_exact, worst_approx));
+            RecordProperty(fmt::format("g{}_k{}", g, kappa_l),
+                           fmt::format("{:.4f} / {:.4f}", worst_exact, worst_approx));
         }
     }
 }

@@ -73,7 +73,10 @@ double vmf_kappa_from_mean_cosine(double r, double max_kappa) {
         mean_cosine_and_derivative(k, a3, d);
         double f = a3 - r;
         if (std::abs(f) <= 2e-16) return k;
-        if (f > 0.0) hi = k; else lo = k;
+        if (f > 0.0)
+            hi = k;
+        else
+            lo = k;
         double step = f / d;
         double next = k - step;
         if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
@@ -147,7 +150,8 @@ double vmf_convolution_exact(double kappa1, double kappa2, double one_minus_cos)
     double one_minus = std::clamp(one_minus_cos, 0.0, 2.0);
     double k12, exponent;
     product_kappa(kappa1, kappa2, one_minus, 2.0 - one_minus, k12, exponent);
-    return vmf_normalization(kappa1) * vmf_normalization(kappa2) / vmf_normalization(k12) * std::exp(exponent);
+    return vmf_normalization(kappa1) * vmf_normalization(kappa2) / vmf_normalization(k12) *
+           std::exp(exponent);
 }
 
 float vmf_convolved_kappa(float kappa1, float kappa2) {

@@ -35,9 +35,9 @@ inline float one_minus_cos(const Vec3f& a, const Vec3f& b) {
 // Invariant: norm == c~(kappa). The constructor and the mixtures' set_lobe keep it; code that
 // assigns kappa directly must refresh norm too.
 struct VmfLobe {
-    Vec3f mu{0.f, 0.f, 1.f};      // mean direction (unit)
-    float kappa = 0.f;            // concentration >= 0
-    float norm = InvFourPi;       // c~(kappa), cached
+    Vec3f mu{0.f, 0.f, 1.f};  // mean direction (unit)
+    float kappa = 0.f;        // concentration >= 0
+    float norm = InvFourPi;   // c~(kappa), cached
 
     VmfLobe() = default;
     VmfLobe(const Vec3f& mean, float concentration)

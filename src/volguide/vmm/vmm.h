@@ -121,7 +121,8 @@ struct VmfMixture {
     // Weighted mean direction vector sum_k w_k A3(kappa_k) mu_k (its length is the mean cosine).
     Vec3f mean_vector() const {
         Vec3d r(0.0);
-        for (int k = 0; k < count; ++k) r += Vec3d(lobe(k).mu) * (double(weight[k]) * vmf_mean_cosine(kappa[k]));
+        for (int k = 0; k < count; ++k)
+            r += Vec3d(lobe(k).mu) * (double(weight[k]) * vmf_mean_cosine(kappa[k]));
         return Vec3f(r);
     }
 };
@@ -207,7 +208,8 @@ double convolve_exact(const VmfMixture<N>& m, const ZonalMixture<J>& kernel, con
         Vec3f mu = m.lobe(k).mu;
         for (int j = 0; j < kernel.count; ++j) {
             double omc = one_minus_cos(mu, w * kernel.sign[j]);
-            sum += double(m.weight[k]) * kernel.weight[j] * vmf_convolution_exact(m.kappa[k], kernel.kappa[j], omc);
+            sum += double(m.weight[k]) * kernel.weight[j] *
+                   vmf_convolution_exact(m.kappa[k], kernel.kappa[j], omc);
         }
     }
     return sum;

@@ -5,7 +5,6 @@
 #include <vector>
 
 #include "volguide/core/sampler.h"
-
 #include "volguide/vmm/vmm_split_merge.h"
 
 namespace volguide {
@@ -34,7 +33,8 @@ Vmm fibonacci_vmm(int lobes, float kappa) {
         double z = 1.0 - (2.0 * i + 1.0) / lobes;
         double r = std::sqrt(std::max(0.0, 1.0 - z * z));
         double phi = 2.0 * M_PI * std::fmod(i / golden, 1.0);
-        m.add_lobe(1.f / float(lobes), VmfLobe(Vec3f(float(r * std::cos(phi)), float(r * std::sin(phi)), float(z)), kappa));
+        m.add_lobe(1.f / float(lobes),
+                   VmfLobe(Vec3f(float(r * std::cos(phi)), float(r * std::sin(phi)), float(z)), kappa));
     }
     return m;
 }
@@ -45,7 +45,8 @@ Vmm kmeanspp_vmm(std::span<const DirectionalSample> samples, int lobes, float ka
     // distance[i] = weight x (1 - cos) to the nearest chosen axis (initially: the weight alone).
     std::vector<double> distance(samples.size()), trial(samples.size()), best(samples.size());
     double total = 0.0;
-    for (size_t i = 0; i < samples.size(); ++i) total += distance[i] = usable(samples[i]) ? samples[i].weight : 0.0;
+    for (size_t i = 0; i < samples.size(); ++i)
+        total += distance[i] = usable(samples[i]) ? samples[i].weight : 0.0;
     if (!(total > 0.0)) return fibonacci_vmm(lobes, kappa);
     // Greedy k-means++ (Arthur & Vassilvitskii 2007): of 2 + ln K candidates drawn ~ distance, keep
     // the one that lowers the total distance most; far more robust than a single draw.
@@ -90,7 +91,8 @@ Vmm kmeanspp_vmm(std::span<const DirectionalSample> samples, int lobes, float ka
 }
 
 Vmm initial_vmm(std::span<const DirectionalSample> samples, const VmmFitSettings& settings) {
-    if (settings.init == VmmInit::fibonacci) return fibonacci_vmm(settings.initial_lobes, settings.initial_kappa);
+    if (settings.init == VmmInit::fibonacci)
+        return fibonacci_vmm(settings.initial_lobes, settings.initial_kappa);
     return kmeanspp_vmm(samples, settings.initial_lobes, settings.initial_kappa, settings.init_seed);
 }
 
@@ -136,7 +138,8 @@ void maximization(Vmm& vmm, const VmmStatistics& stats, const VmmFitSettings& se
     const int K = stats.count;
     const double N = stats.total;
     if (!(N > 0.0)) return;
-    const double a = settings.weight_prior, b = settings.mean_cosine_prior_strength, r0 = settings.mean_cosine_prior;
+    const double a = settings.weight_prior, b = settings.mean_cosine_prior_strength,
+                 r0 = settings.mean_cosine_prior;
     const double r_max = vmf_mean_cosine(settings.max_kappa);
     for (int k = 0; k < K; ++k) {
         double n_k = stats.weight[k];
