@@ -157,7 +157,9 @@ TEST(VmmFit, StepwiseEmConvergesToTheBatchResult) {
     EXPECT_EQ(online.batches(), 10);
     VmfMixture<4> batch4;
     for (int k = 0; k < 4; ++k) batch4.add_lobe(batch.weight[k], batch.lobe(k));
-    expect_recovers(online.vmm(), batch4, 0.01f, 1.f, 0.05f, "stepwise vs batch");
+    // One pass over the batches lands on the batch fixed point (measured: 2e-4 in weight, 0.02
+    // degrees, 0.2 % in kappa); this needs the priors weighed against all samples seen.
+    expect_recovers(online.vmm(), batch4, 0.005f, 0.25f, 0.01f, "stepwise vs batch");
     // The default step size (beta = 0.7) still recovers the truth.
     StepwiseVmmFitter decaying(settings);
     for (size_t i = 0; i < samples.size(); i += batch_size)

@@ -136,14 +136,16 @@ double expectation(const Vmm& vmm, std::span<const DirectionalSample> samples, c
 
 void maximization(Vmm& vmm, const VmmStatistics& stats, const VmmFitSettings& settings) {
     const int K = stats.count;
-    const double N = stats.total;
-    if (!(N > 0.0)) return;
+    if (!(stats.total > 0.0)) return;
+    // Statistics in units of the evidence N the priors are weighed against.
+    const double N = stats.sample_count > 0.0 ? stats.sample_count : stats.total;
+    const double to_samples = N / stats.total;
     const double a = settings.weight_prior, b = settings.mean_cosine_prior_strength,
                  r0 = settings.mean_cosine_prior;
     const double r_max = vmf_mean_cosine(settings.max_kappa);
     for (int k = 0; k < K; ++k) {
         double n_k = stats.weight[k];
-        double pi = (n_k + a) / (N + K * a);
+        double pi = (n_k * to_samples + a) / (N + K * a);
         double length = norm(stats.direction[k]);
         Vec3f mu = length > 0.0 ? Vec3f(stats.direction[k] / length) : vmm.lobe(k).mu;
         double r = n_k > 0.0 ? std::min(length / n_k, 1.0) : 0.0;
@@ -228,6 +230,7 @@ void StepwiseVmmFitter::reset(const Vmm& vmm) {
     vmm_ = vmm;
     stats_ = VmmStatistics{};
     batches_ = 0;
+    samples_seen_ = 0.0;
 }
 
 VmmFitReport StepwiseVmmFitter::add_batch(std::span<const DirectionalSample> samples) {
@@ -243,6 +246,7 @@ VmmFitReport StepwiseVmmFitter::add_batch(std::span<const DirectionalSample> sam
         blended = batch;
         blended.scale(eta);
         if (eta < 1.0) blended.add_scaled(previous, 1.0 - eta);
+        blended.sample_count = samples_seen_ + batch.total;
         maximization(vmm_, blended, settings_);
         report.iterations = it + 1;
         report.log_likelihood = ll;
@@ -253,6 +257,7 @@ VmmFitReport StepwiseVmmFitter::add_batch(std::span<const DirectionalSample> sam
         previous_ll = ll;
     }
     stats_ = blended;
+    samples_seen_ = blended.sample_count;
     return report;
 }
 

@@ -62,6 +62,9 @@ struct VmmStatistics {
     std::array<double, kVmmMaxLobes> weight{};
     std::array<Vec3d, kVmmMaxLobes> direction{};
     double total = 0.0;  // sum of the normalised weights that entered the statistics
+    // Evidence the MAP priors are weighed against (N of theory.md §5.4). 0 means `total`. The
+    // stepwise fitter's statistics are batch averages, so it sets this to all samples seen.
+    double sample_count = 0.0;
 
     void scale(double s);
     void add_scaled(const VmmStatistics& o, double s);  // this += s * o (same lobe count)
@@ -87,7 +90,7 @@ Vmm initial_vmm(std::span<const DirectionalSample> samples, const VmmFitSettings
 // E-step: statistics of `samples` under `vmm`; returns the weighted log-likelihood.
 double expectation(const Vmm& vmm, std::span<const DirectionalSample> samples, const VmmFitSettings& settings,
                    VmmStatistics& stats);
-// M-step with the MAP priors; N of theory.md §5.4 is stats.total (the normalised sample count).
+// M-step with the MAP priors; N of theory.md §5.4 is stats.sample_count (or stats.total).
 void maximization(Vmm& vmm, const VmmStatistics& stats, const VmmFitSettings& settings);
 
 // Batch EM. Starts from `vmm` if it has lobes (restarts then ignored), from initial_vmm otherwise.
@@ -97,7 +100,9 @@ VmmFitReport fit_vmm(Vmm& vmm, std::span<const DirectionalSample> samples,
 // Stepwise (online) EM, Cappe & Moulines 2009: per batch t the statistics become
 // S = (1 - eta_t) S + eta_t S_t with eta_t = t^-beta, and the mixture is re-maximised. Inside a
 // batch the E-step is repeated (against the blended statistics) until the batch likelihood
-// converges or inner_iterations is reached. beta = 1 weights all batches equally.
+// converges or inner_iterations is reached. beta = 1 weights all batches equally. The priors are
+// weighed against the number of samples seen so far (no forgetting, as in Open PGL), so they
+// weaken as evidence accumulates exactly as in a batch fit of the same samples.
 class StepwiseVmmFitter {
   public:
     explicit StepwiseVmmFitter(const VmmFitSettings& settings = {}, double beta = 0.7,
@@ -117,6 +122,7 @@ class StepwiseVmmFitter {
     Vmm vmm_;
     VmmStatistics stats_;
     int batches_ = 0;
+    double samples_seen_ = 0.0;  // prior reference: all (normalised) samples so far
 };
 
 }  // namespace volguide
