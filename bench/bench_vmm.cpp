@@ -26,7 +26,8 @@ Vmm radiance_vmm(int lobes) {
     Vmm m;
     Sampler s(2, 0, 0);
     for (int k = 0; k < lobes; ++k)
-        m.add_lobe(0.2f + s.next_1d(), VmfLobe(warp::square_to_uniform_sphere(s.next_2d()), 1.f + 50.f * s.next_1d()));
+        m.add_lobe(0.2f + s.next_1d(),
+                   VmfLobe(warp::square_to_uniform_sphere(s.next_2d()), 1.f + 50.f * s.next_1d()));
     m.normalize_weights();
     return m;
 }
@@ -76,12 +77,22 @@ static void BM_VmmProduct8x3(benchmark::State& state) {
 }
 BENCHMARK(BM_VmmProduct8x3);
 
+static void BM_HgPhaseVmmLookup(benchmark::State& state) {
+    float g = 0.1f;
+    for (auto _ : state) {
+        benchmark::DoNotOptimize(hg_phase_vmm(g));
+        g = g > 0.98f ? 0.1f : g + 0.0137f;
+    }
+}
+BENCHMARK(BM_HgPhaseVmmLookup);
+
 static void BM_VmmEmFit2000(benchmark::State& state) {
     Vmm truth = radiance_vmm(4);
     std::vector<DirectionalSample> samples;
     for (int i = 0; i < 2000; ++i) {
         Sampler s(4, 0, uint64_t(i));
-        Vec3f w = s.next_1d() < 0.5f ? warp::square_to_uniform_sphere(s.next_2d()) : truth.sample(s.next_2d());
+        Vec3f w =
+            s.next_1d() < 0.5f ? warp::square_to_uniform_sphere(s.next_2d()) : truth.sample(s.next_2d());
         samples.push_back({w, truth.pdf(w) / (0.5f * InvFourPi + 0.5f * truth.pdf(w))});
     }
     VmmFitSettings settings;  // defaults: 8 lobes, MAP priors, tolerance 0.0025

@@ -8,11 +8,11 @@
 //
 // Usage (from the repository root, after building the target gen_phase_vmm_table):
 //   build/gen_phase_vmm_table --lobes 3 --max-g 0.99 > src/volguide/vmm/phase_vmm_table.cpp
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <algorithm>
-#include <cmath>
 #include <string>
 
 #include "volguide/vmm/phase_vmm_table.h"
@@ -33,8 +33,10 @@ int main(int argc, char** argv) {
     int lobes = 3;
     double max_g = 0.99;
     for (int i = 1; i + 1 < argc; i += 2) {
-        if (!std::strcmp(argv[i], "--lobes")) lobes = std::atoi(argv[i + 1]);
-        else if (!std::strcmp(argv[i], "--max-g")) max_g = std::atof(argv[i + 1]);
+        if (!std::strcmp(argv[i], "--lobes"))
+            lobes = std::atoi(argv[i + 1]);
+        else if (!std::strcmp(argv[i], "--max-g"))
+            max_g = std::atof(argv[i + 1]);
         else {
             std::fprintf(stderr, "usage: %s [--lobes K] [--max-g G]\n", argv[0]);
             return 2;
@@ -47,12 +49,17 @@ int main(int argc, char** argv) {
     const int n = kPhaseVmmTableEntries;
     std::printf("// GENERATED FILE, do not edit. Regenerate from the repository root with\n");
     std::printf("//   cmake --build build --target gen_phase_vmm_table\n");
-    std::printf("//   build/gen_phase_vmm_table --lobes %d --max-g %g > src/volguide/vmm/phase_vmm_table.cpp\n", lobes, max_g);
-    std::printf("// Henyey-Greenstein fits by %d zonal vMF lobes (theory.md §4.2), lobes sorted by kappa.\n", lobes);
-    std::printf("// Columns: g, weights, kappas, mean cosines A3(kappa). Entry 0 (g = 0) is isotropic: kappa 0\n");
+    std::printf(
+        "//   build/gen_phase_vmm_table --lobes %d --max-g %g > src/volguide/vmm/phase_vmm_table.cpp\n",
+        lobes, max_g);
+    std::printf("// Henyey-Greenstein fits by %d zonal vMF lobes (theory.md §4.2), lobes sorted by kappa.\n",
+                lobes);
+    std::printf(
+        "// Columns: g, weights, kappas, mean cosines A3(kappa). Entry 0 (g = 0) is isotropic: kappa 0\n");
     std::printf("// with entry 1's weights, so that interpolation towards g = 0 only moves the kappas.\n");
     std::printf("#include \"volguide/vmm/phase_vmm_table.h\"\n\nnamespace volguide {\n\n");
-    std::printf("// clang-format off\nconst PhaseVmmTable kHgPhaseVmmTable = {%d, %s, {{\n", lobes, literal(max_g).c_str());
+    std::printf("// clang-format off\nconst PhaseVmmTable kHgPhaseVmmTable = {%d, %s, {{\n", lobes,
+                literal(max_g).c_str());
     HgFitSettings settings;
     settings.lobes = lobes;
     std::array<ZonalFit, kPhaseVmmTableEntries> fits;
@@ -60,7 +67,8 @@ int main(int argc, char** argv) {
     auto distance = [&](const ZonalFit& a, const ZonalFit& b) {
         double d = 0.0;
         for (int j = 0; j < lobes; ++j)
-            d += std::abs(a.weight[j] - b.weight[j]) + std::abs(vmf_mean_cosine(a.kappa[j]) - vmf_mean_cosine(b.kappa[j]));
+            d += std::abs(a.weight[j] - b.weight[j]) +
+                 std::abs(vmf_mean_cosine(a.kappa[j]) - vmf_mean_cosine(b.kappa[j]));
         return d;
     };
     for (int i = n - 1; i >= 1; --i) {
@@ -74,10 +82,12 @@ int main(int argc, char** argv) {
             // The neighbour with every mean cosine scaled by g / g_next (exact to first order in g).
             ZonalFit scaled = next;
             double ratio = g / ((i + 1) * max_g / (n - 1));
-            for (int j = 0; j < lobes; ++j) scaled.kappa[j] = vmf_kappa_from_mean_cosine(vmf_mean_cosine(next.kappa[j]) * ratio, 1e6);
+            for (int j = 0; j < lobes; ++j)
+                scaled.kappa[j] = vmf_kappa_from_mean_cosine(vmf_mean_cosine(next.kappa[j]) * ratio, 1e6);
             scaled.rms_log = hg_fit_rms_log(g, scaled, settings);
             scaled.mean_cosine = 0.0;
-            for (int j = 0; j < lobes; ++j) scaled.mean_cosine += scaled.weight[j] * vmf_mean_cosine(scaled.kappa[j]);
+            for (int j = 0; j < lobes; ++j)
+                scaled.mean_cosine += scaled.weight[j] * vmf_mean_cosine(scaled.kappa[j]);
             // Among near-optimal candidates (RMS within 1e-4 of the best), keep the one closest to
             // the neighbour, so the entries form one continuous branch.
             double best_rms = std::min({fits[i].rms_log, warm.rms_log, scaled.rms_log});
@@ -104,8 +114,8 @@ int main(int argc, char** argv) {
     };
     for (int i = 0; i < n; ++i) {
         double g = i * max_g / (n - 1);
-        std::printf("    {%s, %s, %s, %s},\n", literal(g).c_str(), list(fits[i].weight, false).c_str(), list(fits[i].kappa, false).c_str(),
-                    list(fits[i].kappa, true).c_str());
+        std::printf("    {%s, %s, %s, %s},\n", literal(g).c_str(), list(fits[i].weight, false).c_str(),
+                    list(fits[i].kappa, false).c_str(), list(fits[i].kappa, true).c_str());
     }
     std::printf("}}};\n// clang-format on\n\n}  // namespace volguide\n");
     return 0;

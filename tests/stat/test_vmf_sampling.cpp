@@ -55,6 +55,7 @@ TEST(VmfSampling, MeanCosineIsA3) {
         double sigma = std::sqrt(std::max(e2 - a3 * a3, 0.0) / n);
         EXPECT_NEAR(sum / n, a3, 4.5 * sigma + 1e-7) << "kappa " << kappa;
         // The tail 1 - cos must keep its relative precision at high kappa: E[1 - cos] = 1 - A3.
-        EXPECT_NEAR(sum_one_minus / n / (1.0 - a3), 1.0, 4.5 * sigma / (1.0 - a3) + 1e-4) << "kappa " << kappa;
+        EXPECT_NEAR(sum_one_minus / n / (1.0 - a3), 1.0, 4.5 * sigma / (1.0 - a3) + 1e-4)
+            << "kappa " << kappa;
     }
 }

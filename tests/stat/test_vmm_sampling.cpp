@@ -4,6 +4,7 @@
 
 #include "support/chi2.h"
 #include "volguide/core/warp.h"
+#include "volguide/vmm/phase_vmm.h"
 #include "volguide/vmm/vmm.h"
 
 using namespace volguide;
@@ -34,7 +35,7 @@ ChiSquareResult check(const VmfMixture<N>& m, int test_count, uint64_t seed) {
 
 TEST(VmmSampling, EightLobeMixtureChiSquare) {
     auto m = random_mixture(1, 0.2f, 30.f);
-    auto r = check(m, 3, 17);
+    auto r = check(m, 4, 17);
     EXPECT_TRUE(r.passed) << r.report;
     EXPECT_NEAR(r.pdf_integral, 1.0, 1e-4);
 }
@@ -44,7 +45,23 @@ TEST(VmmSampling, ProductOfTwoEightLobeMixturesChiSquare) {
     double z = 0.0;
     VmfMixture<64> p = product(a, b, &z);
     ASSERT_GT(z, 0.0);
-    auto r = check(p, 3, 18);
+    auto r = check(p, 4, 18);
+    EXPECT_TRUE(r.passed) << r.report;
+    EXPECT_NEAR(r.pdf_integral, 1.0, 1e-4);
+}
+
+TEST(VmmSampling, RadianceTimesPhaseProductChiSquare) {
+    // The guided-direction product (theory.md §8): radiance VMM x HG(g = 0.7) VMM about a travel
+    // direction, 8 x 3 lobes.
+    auto radiance = random_mixture(5, 0.5f, 20.f);
+    Vmm big;
+    for (int k = 0; k < radiance.size(); ++k) big.add_lobe(radiance.weight[k], radiance.lobe(k));
+    PhaseVmm phase = hg_phase_vmm(0.7f);
+    double z = 0.0;
+    auto p = product(big, phase.oriented(normalize(Vec3f(0.3f, -0.2f, 0.9f))), &z);
+    ASSERT_EQ(p.size(), 8 * phase.count);
+    ASSERT_GT(z, 0.0);
+    auto r = check(p, 4, 19);
     EXPECT_TRUE(r.passed) << r.report;
     EXPECT_NEAR(r.pdf_integral, 1.0, 1e-4);
 }

@@ -52,7 +52,8 @@ double integrate_sphere(F&& f, const Vec3f& axis, double scale, int n_phi = 64, 
             double ring = 0.0;
             for (int k = 0; k < n_phi; ++k) {
                 double phi = 2.0 * M_PI * (k + 0.5) / n_phi;
-                Vec3d local(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
+                Vec3d local(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi),
+                            std::cos(theta));
                 Vec3d world = Vec3d(frame.s) * local.x + Vec3d(frame.t) * local.y + Vec3d(frame.n) * local.z;
                 ring += f(Vec3f(normalize(world)));
             }

@@ -27,7 +27,8 @@ VmfMixture<4> truth() {
 template <int N>
 std::vector<DirectionalSample> weighted_samples(const VmfMixture<N>& target, int n, uint64_t seed) {
     VmfMixture<N> broad = target;
-    for (int k = 0; k < broad.count; ++k) broad.set_lobe(k, target.weight[k], VmfLobe(target.lobe(k).mu, 0.5f * target.kappa[k]));
+    for (int k = 0; k < broad.count; ++k)
+        broad.set_lobe(k, target.weight[k], VmfLobe(target.lobe(k).mu, 0.5f * target.kappa[k]));
     std::vector<DirectionalSample> out;
     out.reserve(n);
     for (int i = 0; i < n; ++i) {
@@ -40,7 +41,9 @@ std::vector<DirectionalSample> weighted_samples(const VmfMixture<N>& target, int
     return out;
 }
 
-float angle_deg(const Vec3f& a, const Vec3f& b) { return rad_to_deg(2.f * std::asin(std::min(0.5f * norm(a - b), 1.f))); }
+float angle_deg(const Vec3f& a, const Vec3f& b) {
+    return rad_to_deg(2.f * std::asin(std::min(0.5f * norm(a - b), 1.f)));
+}
 
 // For every true lobe, the fitted lobe with the nearest mean.
 template <int N>
@@ -50,7 +53,8 @@ void expect_recovers(const Vmm& fit, const VmfMixture<N>& want, float dw, float 
     for (int k = 0; k < want.size(); ++k) {
         int best = 0;
         for (int j = 1; j < fit.size(); ++j)
-            if (angle_deg(fit.lobe(j).mu, want.lobe(k).mu) < angle_deg(fit.lobe(best).mu, want.lobe(k).mu)) best = j;
+            if (angle_deg(fit.lobe(j).mu, want.lobe(k).mu) < angle_deg(fit.lobe(best).mu, want.lobe(k).mu))
+                best = j;
         EXPECT_NEAR(fit.weight[best], want.weight[k], dw) << what << " lobe " << k;
         EXPECT_LT(angle_deg(fit.lobe(best).mu, want.lobe(k).mu), dangle) << what << " lobe " << k;
         EXPECT_NEAR(fit.kappa[best] / want.kappa[k], 1.f, dkappa_rel) << what << " lobe " << k;
@@ -153,7 +157,9 @@ TEST(VmmFit, StepwiseEmConvergesToTheBatchResult) {
     EXPECT_EQ(online.batches(), 10);
     VmfMixture<4> batch4;
     for (int k = 0; k < 4; ++k) batch4.add_lobe(batch.weight[k], batch.lobe(k));
-    expect_recovers(online.vmm(), batch4, 0.01f, 1.f, 0.05f, "stepwise vs batch");
+    // One pass over the batches lands on the batch fixed point (measured: 2e-4 in weight, 0.02
+    // degrees, 0.2 % in kappa); this needs the priors weighed against all samples seen.
+    expect_recovers(online.vmm(), batch4, 0.005f, 0.25f, 0.01f, "stepwise vs batch");
     // The default step size (beta = 0.7) still recovers the truth.
     StepwiseVmmFitter decaying(settings);
     for (size_t i = 0; i < samples.size(); i += batch_size)

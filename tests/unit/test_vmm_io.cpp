@@ -17,7 +17,8 @@ Vmm sample_vmm(int lobes) {
     Vmm m;
     Sampler s(4, 0, 0);
     for (int k = 0; k < lobes; ++k)
-        m.add_lobe(0.1f + s.next_1d(), VmfLobe(warp::square_to_uniform_sphere(s.next_2d()), 100.f * s.next_1d()));
+        m.add_lobe(0.1f + s.next_1d(),
+                   VmfLobe(warp::square_to_uniform_sphere(s.next_2d()), 100.f * s.next_1d()));
     m.normalize_weights();
     return m;
 }
@@ -76,7 +77,8 @@ TEST(VmmIo, SeveralRecordsInOneStream) {
 
 TEST(VmmIo, EveryTruncationThrows) {
     std::string bytes = serialize(sample_vmm(4));
-    for (size_t n = 0; n < bytes.size(); ++n) EXPECT_THROW(deserialize(bytes.substr(0, n)), VmmFormatError) << n;
+    for (size_t n = 0; n < bytes.size(); ++n)
+        EXPECT_THROW(deserialize(bytes.substr(0, n)), VmmFormatError) << n;
 }
 
 TEST(VmmIo, EverySingleByteCorruptionThrows) {
@@ -120,7 +122,10 @@ TEST(VmmIo, NewerVersionAndOverCapacityThrow) {
 TEST(VmmIo, InvalidValuesWithValidChecksumThrow) {
     const std::string bytes = serialize(sample_vmm(2));
     const size_t lobe0 = 16;  // weight, mu.x, mu.y, mu.z, kappa
-    struct Edit { size_t offset; float value; };
+    struct Edit {
+        size_t offset;
+        float value;
+    };
     for (Edit e : {Edit{lobe0, std::nanf("")}, Edit{lobe0, -0.5f}, Edit{lobe0, 0.9f}, Edit{lobe0 + 4, 2.f},
                    Edit{lobe0 + 16, -1.f}, Edit{lobe0 + 16, std::numeric_limits<float>::infinity()},
                    Edit{lobe0 + 16, 1e9f}}) {

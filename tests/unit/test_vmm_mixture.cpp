@@ -28,7 +28,8 @@ VmfMixture<N> random_mixture(int lobes, uint64_t seed, float kappa_min, float ka
 
 TEST(VmmMixture, NormalisedByQuadrature) {
     auto m = random_mixture<8>(8, 3, 0.5f, 40.f);
-    double integral = integrate_sphere([&](const Vec3f& w) { return double(m.pdf(w)); }, Vec3f(0, 0, 1), 0.05, 600, 24);
+    double integral =
+        integrate_sphere([&](const Vec3f& w) { return double(m.pdf(w)); }, Vec3f(0, 0, 1), 0.05, 600, 24);
     EXPECT_NEAR(integral, 1.0, 1e-4);
 }
 
@@ -61,7 +62,9 @@ TEST(VmmMixture, SelectLobeReusesTheRandomNumber) {
         ASSERT_GE(u, 0.f);
         ASSERT_LT(u, 1.f);
         ASSERT_GE(k, prev_k);
-        if (k == prev_k) EXPECT_GE(u, prev_u - 1e-4f);
+        if (k == prev_k) {
+            EXPECT_GE(u, prev_u - 1e-4f);
+        }
         prev_k = k;
         prev_u = u;
         hits[k]++;
@@ -82,8 +85,8 @@ TEST(VmmMixture, ProductPointwiseAndNormaliser) {
         double lhs = double(a.eval(w)) * b.eval(w), rhs = z * p.eval(w);
         EXPECT_NEAR(lhs, rhs, 1e-5 * lhs + 1e-12);
     }
-    double quad = integrate_sphere([&](const Vec3f& w) { return double(a.eval(w)) * b.eval(w); }, Vec3f(0, 0, 1), 0.05,
-                                   600, 24);
+    double quad = integrate_sphere([&](const Vec3f& w) { return double(a.eval(w)) * b.eval(w); },
+                                   Vec3f(0, 0, 1), 0.05, 600, 24);
     EXPECT_NEAR(z / quad, 1.0, 1e-4);
 }
 
@@ -117,8 +120,8 @@ TEST(VmmMixture, ConvolutionWithZonalKernelExactMatchesQuadrature) {
     for (int i = 0; i < 6; ++i) {
         Vec3f w = warp::square_to_uniform_sphere(s.next_2d());
         auto f = kernel.oriented(w);
-        double quad = integrate_sphere([&](const Vec3f& x) { return double(f.eval(x)) * m.eval(x); }, Vec3f(0, 0, 1),
-                                       0.05, 600, 24);
+        double quad = integrate_sphere([&](const Vec3f& x) { return double(f.eval(x)) * m.eval(x); },
+                                       Vec3f(0, 0, 1), 0.05, 600, 24);
         double z = 0.0;
         product(f, m, &z);
         double exact = convolve_exact(m, kernel, w);
@@ -168,10 +171,12 @@ TEST(VmmMixture, MergePreservesWeightAndMeanVector) {
     for (int i = 0; i < 3; ++i) EXPECT_NEAR(after[i], before[i], 1e-5f);
     EXPECT_EQ(m.kappa[1], 2.f);
     // Merging two identical lobes returns the lobe itself.
-    WeightedLobe same = merge_lobes({0.4f, VmfLobe(Vec3f(0, 1, 0), 7.f)}, {0.1f, VmfLobe(Vec3f(0, 1, 0), 7.f)});
+    WeightedLobe same =
+        merge_lobes({0.4f, VmfLobe(Vec3f(0, 1, 0), 7.f)}, {0.1f, VmfLobe(Vec3f(0, 1, 0), 7.f)});
     EXPECT_NEAR(same.weight, 0.5f, 1e-7f);
     EXPECT_NEAR(same.lobe.kappa, 7.f, 1e-4f);
     // Opposite lobes cancel to a uniform lobe.
-    WeightedLobe opposite = merge_lobes({0.5f, VmfLobe(Vec3f(0, 1, 0), 7.f)}, {0.5f, VmfLobe(Vec3f(0, -1, 0), 7.f)});
+    WeightedLobe opposite =
+        merge_lobes({0.5f, VmfLobe(Vec3f(0, 1, 0), 7.f)}, {0.5f, VmfLobe(Vec3f(0, -1, 0), 7.f)});
     EXPECT_EQ(opposite.lobe.kappa, 0.f);
 }

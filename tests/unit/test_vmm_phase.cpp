@@ -2,6 +2,7 @@
 // reference K = 3 (and K = 4) fits, the generated table interpolates to mean cosine g +- 0.002,
 // g = 0 is one uniform lobe, g < 0 flips the axis, and in-scattered radiance of a vMF through the
 // phase mixture matches the exact HG integral near the peak.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include "support/sphere_quadrature.h"
@@ -41,12 +42,14 @@ TEST_P(HgFitK3, ReproducesTheReferenceFit) {
         EXPECT_NEAR(fit.weight[j], ref.w[j], 0.02 * ref.w[j]) << "g " << ref.g << " lobe " << j;
         EXPECT_NEAR(fit.kappa[j], ref.kappa[j], 0.03 * ref.kappa[j]) << "g " << ref.g << " lobe " << j;
     }
-    if (ref.g <= 0.9) EXPECT_NEAR(fit.mean_cosine, ref.g, 0.002);
+    if (ref.g <= 0.9) {
+        EXPECT_NEAR(fit.mean_cosine, ref.g, 0.002);
+    }
     EXPECT_NEAR(fit.weight[0] + fit.weight[1] + fit.weight[2], 1.0, 1e-12);
 }
 
 INSTANTIATE_TEST_SUITE_P(TheoryTable, HgFitK3, ::testing::ValuesIn(kK3),
-                         [](const auto& info) { return "g" + std::to_string(int(info.param.g * 100 + 0.5)); });
+                         [](const auto& info) { return fmt::format("g{}", int(info.param.g * 100 + 0.5)); });
 
 TEST(HgFit, ReproducesTheFourLobeReference) {
     HgFitSettings settings;
@@ -77,7 +80,8 @@ TEST(HgDensity, NormalisedWithMeanCosineG) {
         double scale = std::max(1.0 - std::abs(g), 0.02);
         Vec3f axis(0, 0, 1);
         double norm = integrate_sphere([&](const Vec3f& w) { return hg_density(g, w.z); }, axis, scale, 16);
-        double mean = integrate_sphere([&](const Vec3f& w) { return w.z * hg_density(g, w.z); }, axis, scale, 16);
+        double mean =
+            integrate_sphere([&](const Vec3f& w) { return w.z * hg_density(g, w.z); }, axis, scale, 16);
         EXPECT_NEAR(norm, 1.0, 1e-6) << g;
         EXPECT_NEAR(mean, g, 1e-6) << g;
     }
@@ -148,9 +152,9 @@ TEST(PhaseVmm, InScatteredRadianceOfAVmfWithinFivePercentNearThePeak) {
             auto approx = convolve(light, phase);
             Vec3f peak_dir = g > 0 ? mu : -mu;
             auto truth = [&](const Vec3f& w) {
-                return integrate_sphere([&](const Vec3f& x) { return hg_density(g, dot(Vec3d(w), Vec3d(x))) * light.eval(x); },
-                                        w * (g > 0 ? 1.f : -1.f), std::min(1.0 - std::abs(g), 1.0 / std::sqrt(kappa_l)),
-                                        128);
+                return integrate_sphere(
+                    [&](const Vec3f& x) { return hg_density(g, dot(Vec3d(w), Vec3d(x))) * light.eval(x); },
+                    w * (g > 0 ? 1.f : -1.f), std::min(1.0 - std::abs(g), 1.0 / std::sqrt(kappa_l)), 128);
             };
             double peak = truth(peak_dir);
             double worst_exact = 0.0, worst_approx = 0.0;
@@ -164,8 +168,8 @@ TEST(PhaseVmm, InScatteredRadianceOfAVmfWithinFivePercentNearThePeak) {
             }
             EXPECT_LT(worst_exact, 0.05) << "g " << g << " kappa_L " << kappa_l;
             EXPECT_LT(worst_approx, 0.05) << "g " << g << " kappa_L " << kappa_l;
-            RecordProperty("g" + std::to_string(g) + "_k" + std::to_string(int(kappa_l)),
-                           std::to_string(worst_exact) + " / " + std::to_string(worst_approx));
+            RecordProperty(fmt::format("g{}_k{}", g, kappa_l),
+                           fmt::format("{:.4f} / {:.4f}", worst_exact, worst_approx));
         }
     }
 }

@@ -37,7 +37,8 @@ PhaseVmm hg_phase_vmm(float g) {
 
 float mean_cosine(const PhaseVmm& phase) {
     double m = 0.0;
-    for (int j = 0; j < phase.count; ++j) m += double(phase.weight[j]) * phase.sign[j] * vmf_mean_cosine(phase.kappa[j]);
+    for (int j = 0; j < phase.count; ++j)
+        m += double(phase.weight[j]) * phase.sign[j] * vmf_mean_cosine(phase.kappa[j]);
     return float(m);
 }
 

@@ -137,7 +137,8 @@ double levenberg_marquardt(const Problem& pr, double* x, int max_iterations) {
             continue;
         }
         for (int p = 0; p < P; ++p) trial[p] = x[p] - step[p];
-        for (int j = 0; j < pr.K; ++j) trial[P - pr.K + j] = std::clamp(trial[P - pr.K + j], kLogKappaMin, kLogKappaMax);
+        for (int j = 0; j < pr.K; ++j)
+            trial[P - pr.K + j] = std::clamp(trial[P - pr.K + j], kLogKappaMin, kLogKappaMax);
         for (int p = 0; p < pr.K - 1; ++p) trial[p] = std::clamp(trial[p], -30.0, 30.0);
         Model mt{pr.K, {}, {}};
         mt.set(trial.data());
@@ -171,7 +172,8 @@ ZonalFit to_fit(const Problem& pr, const double* x, double cost) {
     m.set(x);
     std::array<int, kPhaseVmmMaxLobes> order{0, 1, 2, 3};
     for (int i = 1; i < pr.K; ++i)  // insertion sort by decreasing kappa
-        for (int j = i; j > 0 && m.kappa[order[j]] > m.kappa[order[j - 1]]; --j) std::swap(order[j], order[j - 1]);
+        for (int j = i; j > 0 && m.kappa[order[j]] > m.kappa[order[j - 1]]; --j)
+            std::swap(order[j], order[j - 1]);
     ZonalFit f;
     f.lobes = pr.K;
     for (int j = 0; j < pr.K; ++j) {
@@ -184,8 +186,10 @@ ZonalFit to_fit(const Problem& pr, const double* x, double cost) {
 }
 
 void from_fit(const ZonalFit& f, int K, double* x) {
-    for (int j = 1; j < K; ++j) x[j - 1] = std::log(std::max(f.weight[j], 1e-12) / std::max(f.weight[0], 1e-12));
-    for (int j = 0; j < K; ++j) x[K - 1 + j] = std::clamp(std::log(std::max(f.kappa[j], 1e-6)), kLogKappaMin, kLogKappaMax);
+    for (int j = 1; j < K; ++j)
+        x[j - 1] = std::log(std::max(f.weight[j], 1e-12) / std::max(f.weight[0], 1e-12));
+    for (int j = 0; j < K; ++j)
+        x[K - 1 + j] = std::clamp(std::log(std::max(f.kappa[j], 1e-6)), kLogKappaMin, kLogKappaMax);
 }
 }  // namespace
 
@@ -210,7 +214,8 @@ ZonalFit fit_hg_zonal(double g, const HgFitSettings& settings, const ZonalFit* w
     for (int s = 0; s < settings.starts; ++s) {
         Sampler rng(settings.seed, uint64_t(std::llround(g * 1e6)), uint64_t(s));
         x.fill(0.0);
-        for (int j = 0; j < K; ++j) x[K - 1 + j] = std::log(kmin) + rng.next_1d() * (std::log(kmax) - std::log(kmin));
+        for (int j = 0; j < K; ++j)
+            x[K - 1 + j] = std::log(kmin) + rng.next_1d() * (std::log(kmax) - std::log(kmin));
         consider(levenberg_marquardt(pr, x.data(), settings.max_iterations));
     }
     (void)P;

@@ -21,10 +21,10 @@ struct ZonalFit {
 
 struct HgFitSettings {
     int lobes = 3;
-    int grid = 2001;          // uniform angles on [0, pi] (plus a refinement near 0 for g > 0.95)
-    int starts = 10;          // random starts, kappa log-uniform in [0.05, 5 / (1 - g)^2]
+    int grid = 2001;  // uniform angles on [0, pi] (plus a refinement near 0 for g > 0.95)
+    int starts = 10;  // random starts, kappa log-uniform in [0.05, 5 / (1 - g)^2]
     int max_iterations = 2000;
-    double epsilon = 1e-4;    // relative to max f_HG
+    double epsilon = 1e-4;  // relative to max f_HG
     uint64_t seed = 1;
 };
 

@@ -10,7 +10,7 @@ namespace volguide {
 
 struct PhaseVmmTableEntry {
     float g = 0.f;
-    std::array<float, kPhaseVmmMaxLobes> weight{};       // lobes sorted by decreasing kappa
+    std::array<float, kPhaseVmmMaxLobes> weight{};  // lobes sorted by decreasing kappa
     std::array<float, kPhaseVmmMaxLobes> kappa{};
     std::array<float, kPhaseVmmMaxLobes> mean_cosine{};  // A3(kappa), interpolated at lookup
 };

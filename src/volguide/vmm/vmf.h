@@ -32,10 +32,12 @@ inline float one_minus_cos(const Vec3f& a, const Vec3f& b) {
     return std::min(0.5f * squared_norm(a - b), 2.f);
 }
 
+// Invariant: norm == c~(kappa). The constructor and the mixtures' set_lobe keep it; code that
+// assigns kappa directly must refresh norm too.
 struct VmfLobe {
-    Vec3f mu{0.f, 0.f, 1.f};      // mean direction (unit)
-    float kappa = 0.f;            // concentration >= 0
-    float norm = InvFourPi;       // c~(kappa), cached
+    Vec3f mu{0.f, 0.f, 1.f};  // mean direction (unit)
+    float kappa = 0.f;        // concentration >= 0
+    float norm = InvFourPi;   // c~(kappa), cached
 
     VmfLobe() = default;
     VmfLobe(const Vec3f& mean, float concentration)

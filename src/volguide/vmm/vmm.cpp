@@ -6,7 +6,8 @@ WeightedLobe merge_lobes(const WeightedLobe& a, const WeightedLobe& b) {
     double w = double(a.weight) + b.weight;
     if (!(w > 0.0)) return {0.f, a.lobe};
     Vec3d r = (Vec3d(a.lobe.mu) * (a.weight * vmf_mean_cosine(a.lobe.kappa)) +
-               Vec3d(b.lobe.mu) * (b.weight * vmf_mean_cosine(b.lobe.kappa))) / w;
+               Vec3d(b.lobe.mu) * (b.weight * vmf_mean_cosine(b.lobe.kappa))) /
+              w;
     double len = norm(r);
     // Opposite lobes of equal strength cancel: the merge is uniform, keep a's axis.
     Vec3f mu = len > 1e-12 ? Vec3f(r / len) : a.lobe.mu;

@@ -109,9 +109,11 @@ struct VmfMixture {
         u = weight[last] > 0.f ? std::clamp(u / weight[last], 0.f, OneMinusEpsilon) : 0.f;
         return last;
     }
-    // Samples a direction from a normalised, non-empty mixture with one 2-D random number.
+    // Samples a direction from a normalised mixture with one 2-D random number. An empty mixture
+    // has pdf 0 everywhere and must not be sampled (asserted; release builds return +z).
     Vec3f sample(Point2f u) const {
         assert(count > 0);
+        if (count <= 0) return {0.f, 0.f, 1.f};
         int k = select_lobe(u.x);
         return lobe(k).sample(u);
     }
@@ -119,7 +121,8 @@ struct VmfMixture {
     // Weighted mean direction vector sum_k w_k A3(kappa_k) mu_k (its length is the mean cosine).
     Vec3f mean_vector() const {
         Vec3d r(0.0);
-        for (int k = 0; k < count; ++k) r += Vec3d(lobe(k).mu) * (double(weight[k]) * vmf_mean_cosine(kappa[k]));
+        for (int k = 0; k < count; ++k)
+            r += Vec3d(lobe(k).mu) * (double(weight[k]) * vmf_mean_cosine(kappa[k]));
         return Vec3f(r);
     }
 };
@@ -151,7 +154,7 @@ template <int A, int B>
 VmfMixture<A * B> product(const VmfMixture<A>& a, const VmfMixture<B>& b, double* integral = nullptr) {
     VmfMixture<A * B> out;
     double z = 0.0;
-    std::array<double, A * B> raw{};
+    std::array<double, A * B> raw;  // unnormalised weights (may be far below float range)
     for (int k = 0; k < a.count; ++k) {
         VmfLobe la = a.lobe(k);
         for (int j = 0; j < b.count; ++j) {
@@ -205,7 +208,8 @@ double convolve_exact(const VmfMixture<N>& m, const ZonalMixture<J>& kernel, con
         Vec3f mu = m.lobe(k).mu;
         for (int j = 0; j < kernel.count; ++j) {
             double omc = one_minus_cos(mu, w * kernel.sign[j]);
-            sum += double(m.weight[k]) * kernel.weight[j] * vmf_convolution_exact(m.kappa[k], kernel.kappa[j], omc);
+            sum += double(m.weight[k]) * kernel.weight[j] *
+                   vmf_convolution_exact(m.kappa[k], kernel.kappa[j], omc);
         }
     }
     return sum;

@@ -5,7 +5,6 @@
 #include <vector>
 
 #include "volguide/core/sampler.h"
-
 #include "volguide/vmm/vmm_split_merge.h"
 
 namespace volguide {
@@ -34,7 +33,8 @@ Vmm fibonacci_vmm(int lobes, float kappa) {
         double z = 1.0 - (2.0 * i + 1.0) / lobes;
         double r = std::sqrt(std::max(0.0, 1.0 - z * z));
         double phi = 2.0 * M_PI * std::fmod(i / golden, 1.0);
-        m.add_lobe(1.f / float(lobes), VmfLobe(Vec3f(float(r * std::cos(phi)), float(r * std::sin(phi)), float(z)), kappa));
+        m.add_lobe(1.f / float(lobes),
+                   VmfLobe(Vec3f(float(r * std::cos(phi)), float(r * std::sin(phi)), float(z)), kappa));
     }
     return m;
 }
@@ -45,7 +45,8 @@ Vmm kmeanspp_vmm(std::span<const DirectionalSample> samples, int lobes, float ka
     // distance[i] = weight x (1 - cos) to the nearest chosen axis (initially: the weight alone).
     std::vector<double> distance(samples.size()), trial(samples.size()), best(samples.size());
     double total = 0.0;
-    for (size_t i = 0; i < samples.size(); ++i) total += distance[i] = usable(samples[i]) ? samples[i].weight : 0.0;
+    for (size_t i = 0; i < samples.size(); ++i)
+        total += distance[i] = usable(samples[i]) ? samples[i].weight : 0.0;
     if (!(total > 0.0)) return fibonacci_vmm(lobes, kappa);
     // Greedy k-means++ (Arthur & Vassilvitskii 2007): of 2 + ln K candidates drawn ~ distance, keep
     // the one that lowers the total distance most; far more robust than a single draw.
@@ -90,7 +91,8 @@ Vmm kmeanspp_vmm(std::span<const DirectionalSample> samples, int lobes, float ka
 }
 
 Vmm initial_vmm(std::span<const DirectionalSample> samples, const VmmFitSettings& settings) {
-    if (settings.init == VmmInit::fibonacci) return fibonacci_vmm(settings.initial_lobes, settings.initial_kappa);
+    if (settings.init == VmmInit::fibonacci)
+        return fibonacci_vmm(settings.initial_lobes, settings.initial_kappa);
     return kmeanspp_vmm(samples, settings.initial_lobes, settings.initial_kappa, settings.init_seed);
 }
 
@@ -134,13 +136,16 @@ double expectation(const Vmm& vmm, std::span<const DirectionalSample> samples, c
 
 void maximization(Vmm& vmm, const VmmStatistics& stats, const VmmFitSettings& settings) {
     const int K = stats.count;
-    const double N = stats.total;
-    if (!(N > 0.0)) return;
-    const double a = settings.weight_prior, b = settings.mean_cosine_prior_strength, r0 = settings.mean_cosine_prior;
+    if (!(stats.total > 0.0)) return;
+    // Statistics in units of the evidence N the priors are weighed against.
+    const double N = stats.sample_count > 0.0 ? stats.sample_count : stats.total;
+    const double to_samples = N / stats.total;
+    const double a = settings.weight_prior, b = settings.mean_cosine_prior_strength,
+                 r0 = settings.mean_cosine_prior;
     const double r_max = vmf_mean_cosine(settings.max_kappa);
     for (int k = 0; k < K; ++k) {
         double n_k = stats.weight[k];
-        double pi = (n_k + a) / (N + K * a);
+        double pi = (n_k * to_samples + a) / (N + K * a);
         double length = norm(stats.direction[k]);
         Vec3f mu = length > 0.0 ? Vec3f(stats.direction[k] / length) : vmm.lobe(k).mu;
         double r = n_k > 0.0 ? std::min(length / n_k, 1.0) : 0.0;
@@ -153,8 +158,10 @@ void maximization(Vmm& vmm, const VmmStatistics& stats, const VmmFitSettings& se
 }
 
 namespace {
-bool converged(double previous, double current, double tolerance) {
-    return std::abs(current - previous) <= tolerance * std::max(std::abs(previous), 1e-300);
+// Relative change of the log-likelihood, with |L| floored at the sample count N: a likelihood
+// near 0 (mixture pdf ~ 1 on average) would otherwise never count as converged.
+bool converged(double previous, double current, double tolerance, double sample_count) {
+    return std::abs(current - previous) <= tolerance * std::max({std::abs(previous), sample_count, 1e-300});
 }
 
 VmmFitReport run_em(Vmm& vmm, std::span<const DirectionalSample> samples, const VmmFitSettings& settings) {
@@ -166,7 +173,7 @@ VmmFitReport run_em(Vmm& vmm, std::span<const DirectionalSample> samples, const 
         maximization(vmm, stats, settings);
         report.iterations = it + 1;
         report.log_likelihood = ll;
-        if (it > 0 && converged(previous, ll, settings.convergence)) {
+        if (it > 0 && converged(previous, ll, settings.convergence, stats.total)) {
             report.converged = true;
             break;
         }
@@ -223,6 +230,7 @@ void StepwiseVmmFitter::reset(const Vmm& vmm) {
     vmm_ = vmm;
     stats_ = VmmStatistics{};
     batches_ = 0;
+    samples_seen_ = 0.0;
 }
 
 VmmFitReport StepwiseVmmFitter::add_batch(std::span<const DirectionalSample> samples) {
@@ -238,16 +246,18 @@ VmmFitReport StepwiseVmmFitter::add_batch(std::span<const DirectionalSample> sam
         blended = batch;
         blended.scale(eta);
         if (eta < 1.0) blended.add_scaled(previous, 1.0 - eta);
+        blended.sample_count = samples_seen_ + batch.total;
         maximization(vmm_, blended, settings_);
         report.iterations = it + 1;
         report.log_likelihood = ll;
-        if (it > 0 && converged(previous_ll, ll, settings_.convergence)) {
+        if (it > 0 && converged(previous_ll, ll, settings_.convergence, batch.total)) {
             report.converged = true;
             break;
         }
         previous_ll = ll;
     }
     stats_ = blended;
+    samples_seen_ = blended.sample_count;
     return report;
 }
 

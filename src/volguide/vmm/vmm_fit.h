@@ -26,7 +26,7 @@ enum class VmmInit {
 };
 
 struct VmmFitSettings {
-    int initial_lobes = 8;          // K of the initialisation (when fit_vmm gets an empty mixture)
+    int initial_lobes = 8;  // K of the initialisation (when fit_vmm gets an empty mixture)
     float initial_kappa = 5.f;
     VmmInit init = VmmInit::kmeanspp;
     uint64_t init_seed = 0x766d6d;
@@ -34,7 +34,7 @@ struct VmmFitSettings {
     // log-likelihood wins. Guards against the local optima of EM (two lobes on one cluster).
     int restarts = 1;
     int max_iterations = 100;
-    double convergence = 0.0025;    // relative change of the weighted log-likelihood
+    double convergence = 0.0025;  // relative change of the weighted log-likelihood (|L| floored at N)
     // MAP priors (theory.md §5.4 defaults): Dirichlet weight prior a; mean-cosine prior r0 with
     // strength b (pulls poorly supported lobes towards broad ones); kappa cap.
     double weight_prior = 0.1;
@@ -62,6 +62,9 @@ struct VmmStatistics {
     std::array<double, kVmmMaxLobes> weight{};
     std::array<Vec3d, kVmmMaxLobes> direction{};
     double total = 0.0;  // sum of the normalised weights that entered the statistics
+    // Evidence the MAP priors are weighed against (N of theory.md §5.4). 0 means `total`. The
+    // stepwise fitter's statistics are batch averages, so it sets this to all samples seen.
+    double sample_count = 0.0;
 
     void scale(double s);
     void add_scaled(const VmmStatistics& o, double s);  // this += s * o (same lobe count)
@@ -87,19 +90,23 @@ Vmm initial_vmm(std::span<const DirectionalSample> samples, const VmmFitSettings
 // E-step: statistics of `samples` under `vmm`; returns the weighted log-likelihood.
 double expectation(const Vmm& vmm, std::span<const DirectionalSample> samples, const VmmFitSettings& settings,
                    VmmStatistics& stats);
-// M-step with the MAP priors; N of theory.md §5.4 is stats.total (the normalised sample count).
+// M-step with the MAP priors; N of theory.md §5.4 is stats.sample_count (or stats.total).
 void maximization(Vmm& vmm, const VmmStatistics& stats, const VmmFitSettings& settings);
 
 // Batch EM. Starts from `vmm` if it has lobes (restarts then ignored), from initial_vmm otherwise.
-VmmFitReport fit_vmm(Vmm& vmm, std::span<const DirectionalSample> samples, const VmmFitSettings& settings = {});
+VmmFitReport fit_vmm(Vmm& vmm, std::span<const DirectionalSample> samples,
+                     const VmmFitSettings& settings = {});
 
 // Stepwise (online) EM, Cappe & Moulines 2009: per batch t the statistics become
 // S = (1 - eta_t) S + eta_t S_t with eta_t = t^-beta, and the mixture is re-maximised. Inside a
 // batch the E-step is repeated (against the blended statistics) until the batch likelihood
-// converges or inner_iterations is reached. beta = 1 weights all batches equally.
+// converges or inner_iterations is reached. beta = 1 weights all batches equally. The priors are
+// weighed against the number of samples seen so far (no forgetting, as in Open PGL), so they
+// weaken as evidence accumulates exactly as in a batch fit of the same samples.
 class StepwiseVmmFitter {
-public:
-    explicit StepwiseVmmFitter(const VmmFitSettings& settings = {}, double beta = 0.7, int inner_iterations = 20);
+  public:
+    explicit StepwiseVmmFitter(const VmmFitSettings& settings = {}, double beta = 0.7,
+                               int inner_iterations = 20);
     // Continue from an existing mixture (e.g. a parent leaf's); its statistics start empty.
     void reset(const Vmm& vmm);
     VmmFitReport add_batch(std::span<const DirectionalSample> samples);
@@ -108,13 +115,14 @@ public:
     const VmmStatistics& statistics() const { return stats_; }
     int batches() const { return batches_; }
 
-private:
+  private:
     VmmFitSettings settings_;
     double beta_;
     int inner_iterations_;
     Vmm vmm_;
     VmmStatistics stats_;
     int batches_ = 0;
+    double samples_seen_ = 0.0;  // prior reference: all (normalised) samples so far
 };
 
 }  // namespace volguide

@@ -36,10 +36,12 @@ void validate(const std::vector<float>& lobes) {
     for (size_t k = 0; k < count; ++k) {
         const float* l = &lobes[5 * k];
         for (int i = 0; i < 5; ++i)
-            if (!std::isfinite(l[i])) throw VmmFormatError("VMM lobe " + std::to_string(k) + " has a non-finite value");
+            if (!std::isfinite(l[i]))
+                throw VmmFormatError("VMM lobe " + std::to_string(k) + " has a non-finite value");
         if (l[0] < 0.f) throw VmmFormatError("VMM lobe " + std::to_string(k) + " has a negative weight");
         double len = std::sqrt(double(l[1]) * l[1] + double(l[2]) * l[2] + double(l[3]) * l[3]);
-        if (std::abs(len - 1.0) > 1e-4) throw VmmFormatError("VMM lobe " + std::to_string(k) + " axis is not unit length");
+        if (std::abs(len - 1.0) > 1e-4)
+            throw VmmFormatError("VMM lobe " + std::to_string(k) + " axis is not unit length");
         if (l[4] < 0.f || l[4] > kMaxStoredKappa)
             throw VmmFormatError("VMM lobe " + std::to_string(k) + " kappa out of range");
         weight_sum += l[0];
@@ -66,7 +68,8 @@ void write_vmm_record(std::ostream& out, const std::vector<float>& lobes) {
 std::vector<float> read_vmm_record(std::istream& in, int capacity) {
     std::array<unsigned char, 8> magic{};
     read_exact(in, magic.data(), magic.size(), "magic");
-    if (std::memcmp(magic.data(), kMagic.data(), kMagic.size()) != 0) throw VmmFormatError("not a volguide VMM record");
+    if (std::memcmp(magic.data(), kMagic.data(), kMagic.size()) != 0)
+        throw VmmFormatError("not a volguide VMM record");
     std::vector<unsigned char> body(8);
     read_exact(in, body.data(), 8, "header");
     uint32_t version = get_u32(body.data()), count = get_u32(body.data() + 4);
@@ -74,15 +77,18 @@ std::vector<float> read_vmm_record(std::istream& in, int capacity) {
         throw VmmFormatError("unsupported VMM format version " + std::to_string(version) + " (expected " +
                              std::to_string(kVmmFormatVersion) + ")");
     if (count > uint32_t(capacity))
-        throw VmmFormatError("VMM record has " + std::to_string(count) + " lobes, capacity is " + std::to_string(capacity));
+        throw VmmFormatError("VMM record has " + std::to_string(count) + " lobes, capacity is " +
+                             std::to_string(capacity));
     body.resize(8 + size_t(count) * 5 * 4);
     read_exact(in, body.data() + 8, body.size() - 8, "lobes");
     std::array<unsigned char, 4> sum{};
     read_exact(in, sum.data(), 4, "checksum");
-    if (get_u32(sum.data()) != fnv1a(body.data(), body.size())) throw VmmFormatError("VMM record checksum mismatch");
+    if (get_u32(sum.data()) != fnv1a(body.data(), body.size()))
+        throw VmmFormatError("VMM record checksum mismatch");
 
     std::vector<float> lobes(size_t(count) * 5);
-    for (size_t i = 0; i < lobes.size(); ++i) lobes[i] = std::bit_cast<float>(get_u32(body.data() + 8 + 4 * i));
+    for (size_t i = 0; i < lobes.size(); ++i)
+        lobes[i] = std::bit_cast<float>(get_u32(body.data() + 8 + 4 * i));
     validate(lobes);
     return lobes;
 }

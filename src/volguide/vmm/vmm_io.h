@@ -23,7 +23,7 @@ namespace volguide {
 inline constexpr uint32_t kVmmFormatVersion = 1;
 
 class VmmFormatError : public std::runtime_error {
-public:
+  public:
     using std::runtime_error::runtime_error;
 };
 

@@ -10,7 +10,8 @@ namespace {
 template <int N>
 double log_likelihood(const VmfMixture<N>& m, std::span<const DirectionalSample> samples) {
     double ll = 0.0;
-    for (const DirectionalSample& s : samples) ll += s.weight * std::log(std::max(double(m.pdf(s.direction)), 1e-300));
+    for (const DirectionalSample& s : samples)
+        ll += s.weight * std::log(std::max(double(m.pdf(s.direction)), 1e-300));
     return ll;
 }
 }  // namespace
@@ -27,7 +28,8 @@ int split_lobes(Vmm& vmm, std::span<const DirectionalSample> samples, const VmmF
     std::vector<DirectionalSample> owned;
     int splits = 0;
     for (int k = 0; k < before.count && !vmm.full(); ++k) {
-        if (before.weight[k] < settings.min_split_weight || before.kappa[k] >= 0.9f * settings.max_kappa) continue;
+        if (before.weight[k] < settings.min_split_weight || before.kappa[k] >= 0.9f * settings.max_kappa)
+            continue;
         // The samples lobe k explains, weighted by its responsibility.
         owned.clear();
         double evidence = 0.0;
