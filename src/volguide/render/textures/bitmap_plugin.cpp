@@ -42,7 +42,7 @@ std::shared_ptr<Texture> make_bitmap_texture(const Properties& props) {
     try {
         image = read_image(path.string(), raw);
     } catch (const InputError& e) {
-        props.fail_at("filename", "bitmap: {}", e.message());
+        props.fail_at("filename", "bitmap '{}': {}", path.string(), e.message());
     }
     if (image.width < 1 || image.height < 1) props.fail_at("filename", "bitmap '{}' is empty", filename);
     return std::make_shared<BitmapTexture>(std::move(image), f, w, to_uv);
