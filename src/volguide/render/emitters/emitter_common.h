@@ -5,6 +5,7 @@
 #include "volguide/core/bbox.h"
 #include "volguide/core/color.h"
 #include "volguide/core/properties.h"
+#include "volguide/render/emitter.h"
 
 namespace volguide {
 
@@ -48,6 +49,25 @@ inline float nonnegative_float(const Properties& props, const std::string& name,
         props.fail_at(name, "{} '{}': '{}' must be finite and non-negative", props.category(), props.type(),
                       name);
     return v;
+}
+
+// Direction record towards a point light at `position` (a delta emitter: pdf 1). Sets
+// inv_dist_sqr to 1 / distance^2 for the caller's radiometric weight.
+inline DirectionSample delta_point_sample(const Interaction& ref, const Point3f& position, Vec2f uv,
+                                          const Emitter* emitter, float& inv_dist_sqr) {
+    DirectionSample ds;
+    ds.p = position;
+    ds.n = Normal3f(0.f);
+    ds.uv = uv;
+    ds.d = position - ref.p;
+    ds.dist = norm(ds.d);
+    const float inv_dist = 1.f / ds.dist;
+    ds.d *= inv_dist;
+    ds.pdf = 1.f;
+    ds.delta = true;
+    ds.emitter = emitter;
+    inv_dist_sqr = inv_dist * inv_dist;
+    return ds;
 }
 
 }  // namespace volguide

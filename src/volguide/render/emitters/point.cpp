@@ -27,18 +27,9 @@ class PointEmitter final : public Emitter {
     Color3 eval(const SurfaceInteraction&) const override { return Color3(0.f); }
 
     std::pair<DirectionSample, Color3> sample_direction(const Interaction& ref, Point2f) const override {
-        DirectionSample ds;
-        ds.p = position_;
-        ds.n = Normal3f(0.f);
-        ds.uv = Vec2f(0.5f, 0.5f);
-        ds.d = position_ - ref.p;
-        ds.dist = norm(ds.d);
-        const float inv_dist = 1.f / ds.dist;
-        ds.d *= inv_dist;
-        ds.pdf = 1.f;
-        ds.delta = true;
-        ds.emitter = this;
-        return {ds, intensity_ * (inv_dist * inv_dist)};
+        float inv_dist_sqr;
+        DirectionSample ds = delta_point_sample(ref, position_, Vec2f(0.5f, 0.5f), this, inv_dist_sqr);
+        return {ds, intensity_ * inv_dist_sqr};
     }
 
     // Delta emitters are never hit, so any given direction has density zero (as Mitsuba).

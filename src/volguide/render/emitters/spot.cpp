@@ -33,19 +33,10 @@ class SpotEmitter final : public Emitter {
     Color3 eval(const SurfaceInteraction&) const override { return Color3(0.f); }
 
     std::pair<DirectionSample, Color3> sample_direction(const Interaction& ref, Point2f) const override {
-        DirectionSample ds;
-        ds.p = position_;
-        ds.n = Normal3f(0.f);
-        ds.uv = Vec2f(0.f, 0.f);
-        ds.d = position_ - ref.p;
-        ds.dist = norm(ds.d);
-        const float inv_dist = 1.f / ds.dist;
-        ds.d *= inv_dist;
-        ds.pdf = 1.f;
-        ds.delta = true;
-        ds.emitter = this;
+        float inv_dist_sqr;
+        DirectionSample ds = delta_point_sample(ref, position_, Vec2f(0.f, 0.f), this, inv_dist_sqr);
         const float falloff = falloff_(to_local_.apply_vector(-ds.d));
-        return {ds, intensity_ * (falloff * inv_dist * inv_dist)};
+        return {ds, intensity_ * (falloff * inv_dist_sqr)};
     }
 
     float pdf_direction(const Interaction&, const DirectionSample&) const override { return 0.f; }
