@@ -1,6 +1,7 @@
 #include "volguide/geometry/shape.h"
 
 #include "volguide/render/bsdf.h"
+#include "volguide/media/medium.h"
 #include "volguide/render/emitter.h"
 
 namespace volguide {
@@ -27,6 +28,8 @@ void Shape::init_common(const Properties& props) {
             fail(emitters[0]->loc, "shape '{}': only area emitters can be attached to a shape", props.type());
         emitter_->set_shape(this);
     }
+    interior_ = get_object_as<Medium>(props, "interior");
+    exterior_ = get_object_as<Medium>(props, "exterior");
 }
 
 // Area sample converted to solid angle at the reference point (Mitsuba's Shape::sample_direction).

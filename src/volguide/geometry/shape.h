@@ -15,6 +15,7 @@ namespace volguide {
 
 class BSDF;
 class Emitter;
+class Medium;
 
 struct PositionSample {
     Point3f p;
@@ -69,16 +70,24 @@ public:
     const Emitter* emitter() const { return emitter_.get(); }
     const std::shared_ptr<Emitter>& emitter_ptr() const { return emitter_; }
     bool is_emitter() const { return emitter_ != nullptr; }
+    // Media on either side (nullptr = vacuum): interior is on the side opposite the normal.
+    const Medium* interior_medium() const { return interior_.get(); }
+    const Medium* exterior_medium() const { return exterior_.get(); }
+    // The medium a ray leaving the surface in direction d (world) enters, given the geometric normal.
+    const Medium* target_medium(const Normal3f& n, const Vec3f& d) const {
+        return dot(n, d) > 0.f ? exterior_.get() : interior_.get();
+    }
     // The scene gives shapes without a BSDF Mitsuba's default (diffuse, reflectance 0.5).
     void set_bsdf(std::shared_ptr<BSDF> bsdf) { bsdf_ = std::move(bsdf); }
 
 protected:
-    // Reads the optional BSDF child and area emitter child, and attaches the emitter to this
-    // shape. Call from subclass constructors once the geometry exists.
+    // Reads the optional BSDF child, area emitter child and `interior`/`exterior` media, and
+    // attaches the emitter to this shape. Call from subclass constructors once the geometry exists.
     void init_common(const Properties& props);
 
     std::shared_ptr<BSDF> bsdf_;
     std::shared_ptr<Emitter> emitter_;
+    std::shared_ptr<Medium> interior_, exterior_;
 };
 
 }  // namespace volguide

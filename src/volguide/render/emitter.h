@@ -14,6 +14,8 @@
 
 namespace volguide {
 
+class Medium;
+
 namespace emitter_flags {
 enum : uint32_t {
     None = 0,
@@ -35,6 +37,8 @@ public:
     // Area emitters are told which shape they sit on.
     virtual void set_shape(const Shape* shape) { shape_ = shape; }
     const Shape* shape() const { return shape_; }
+    // The medium the emitter sits in (nullptr = vacuum); for area emitters the shape's media apply.
+    const Medium* medium() const { return medium_.get(); }
 
     uint32_t flags() const { return flags_; }
     bool is_delta() const { return (flags_ & (emitter_flags::DeltaPosition | emitter_flags::DeltaDirection)) != 0; }
@@ -43,6 +47,7 @@ public:
 protected:
     uint32_t flags_ = 0;
     const Shape* shape_ = nullptr;
+    std::shared_ptr<Medium> medium_;
 };
 
 }  // namespace volguide

@@ -40,8 +40,12 @@ private:
     bool sample_border_ = false;
 };
 
+class Medium;
+
 class Sensor : public Object {
 public:
+    // The medium the camera sits in (nullptr = vacuum), from the sensor's `medium` reference.
+    const Medium* medium() const { return medium_.get(); }
     // film_uv in [0,1]^2 over the film (x right, y down); aperture sample for thin lenses.
     // Returns the world-space ray and its importance weight (1 for pinhole cameras).
     virtual std::pair<Ray, Color3> sample_ray(Point2f film_uv, Point2f aperture) const = 0;
@@ -56,6 +60,7 @@ protected:
     int sample_count_ = 4;  // Mitsuba's independent sampler default
     uint64_t seed_ = 0;
     Transform to_world_;
+    std::shared_ptr<Medium> medium_;
 };
 
 }  // namespace volguide

@@ -15,5 +15,8 @@ ObjectPtr create_film(const Properties& props);        // render/sensor_factory.
 ObjectPtr create_rfilter(const Properties& props);     // render/sensor_factory.cpp
 ObjectPtr create_sampler(const Properties& props);     // render/sensor_factory.cpp
 ObjectPtr create_integrator(const Properties& props);  // integrators/integrator_factory.cpp
+ObjectPtr create_medium(const Properties& props);      // media/media_factory.cpp
+ObjectPtr create_phase(const Properties& props);       // media/media_factory.cpp
+ObjectPtr create_volume(const Properties& props);      // media/media_factory.cpp
 
 }  // namespace volguide

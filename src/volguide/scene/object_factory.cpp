@@ -14,8 +14,9 @@ ObjectPtr create_object(const std::string& tag, const Properties& props) {
     if (tag == "rfilter") return create_rfilter(props);
     if (tag == "sampler") return create_sampler(props);
     if (tag == "integrator") return create_integrator(props);
-    if (tag == "medium" || tag == "phase" || tag == "volume")
-        props.fail_here("<{} type=\"{}\">: media are not supported yet", tag, props.type());
+    if (tag == "medium") return create_medium(props);
+    if (tag == "phase") return create_phase(props);
+    if (tag == "volume") return create_volume(props);
     props.fail_here("unknown object category <{}>", tag);
 }
 

@@ -1,0 +1,65 @@
+#pragma once
+// Participating media. A Medium owns its coefficients (homogeneous values or grid volumes, times
+// `scale`), its phase function, and the unbiased estimators the integrators use:
+//  - sample_free_flight: delta tracking (spectral tracking for chromatic media) over a majorant grid;
+//  - transmittance: ratio / residual ratio tracking for shadow rays.
+// Every estimator is unbiased for any majorant that bounds sigma_t; a looser majorant only costs
+// time. Integrators never see null collisions.
+#include <memory>
+
+#include "volguide/core/bbox.h"
+#include "volguide/core/color.h"
+#include "volguide/core/object.h"
+#include "volguide/core/ray.h"
+#include "volguide/core/sampler.h"
+#include "volguide/geometry/interaction.h"
+#include "volguide/media/phase.h"
+
+namespace volguide {
+
+class Medium;
+
+struct MediumCoefficients {
+    Color3 sigma_t;  // extinction (1/length), already multiplied by `scale`
+    Color3 sigma_s;  // scattering = albedo * sigma_t
+};
+
+// A real scattering vertex inside a medium (n = 0: no surface).
+struct MediumInteraction : Interaction {
+    Vec3f wi;  // world space, towards the previous vertex (= -ray.d)
+    MediumCoefficients coeffs;
+    const Medium* medium = nullptr;
+};
+
+struct FreeFlightSample {
+    bool scattered = false;  // true: a real scattering event at t < tmax; false: the ray reached tmax
+    float t = Infinity;
+    // Multiply the path throughput by this. With it the estimator is unbiased: it holds the
+    // transmittance/pdf ratio of the tracking and, at a scattering event, sigma_s over the
+    // probability density of stopping there (for monochromatic media simply the albedo).
+    Color3 weight{1.f};
+    MediumInteraction mi;  // valid when scattered
+};
+
+class Medium : public Object {
+public:
+    const PhaseFunction& phase() const { return *phase_; }
+    const std::shared_ptr<PhaseFunction>& phase_ptr() const { return phase_; }
+
+    // Coefficients at a world-space point.
+    virtual MediumCoefficients eval(const Point3f& p) const = 0;
+    // Samples the next real scattering event along ray.o + t ray.d, t in (0, tmax); tmax may be
+    // infinite (then the ray must scatter or be absorbed, or leave the medium's bounds).
+    virtual FreeFlightSample sample_free_flight(const Ray& ray, float tmax, Sampler& sampler) const = 0;
+    // Unbiased estimate of the transmittance over t in (0, tmax).
+    virtual Color3 transmittance(const Ray& ray, float tmax, Sampler& sampler) const = 0;
+
+    virtual bool is_homogeneous() const = 0;
+    // Where sigma_t can be non-zero (infinite for homogeneous media).
+    virtual BBox3f bbox() const = 0;
+
+protected:
+    std::shared_ptr<PhaseFunction> phase_;
+};
+
+}  // namespace volguide
