@@ -57,9 +57,12 @@ public:
     virtual bool is_homogeneous() const = 0;
     // Where sigma_t can be non-zero (infinite for homogeneous media).
     virtual BBox3f bbox() const = 0;
+    // Mitsuba's `sample_emitters` (default true): whether shadow rays (NEE) start inside this medium.
+    bool sample_emitters() const { return sample_emitters_; }
 
 protected:
     std::shared_ptr<PhaseFunction> phase_;
+    bool sample_emitters_ = true;
 };
 
 }  // namespace volguide
