@@ -45,6 +45,9 @@ class Medium : public Object {
 public:
     const PhaseFunction& phase() const { return *phase_; }
     const std::shared_ptr<PhaseFunction>& phase_ptr() const { return phase_; }
+    // Mitsuba's `sample_emitters` (default true): whether integrators do next-event estimation at
+    // scattering vertices inside this medium.
+    bool use_emitter_sampling() const { return sample_emitters_; }
 
     // Coefficients at a world-space point.
     virtual MediumCoefficients eval(const Point3f& p) const = 0;
