@@ -10,8 +10,9 @@
 // into the weight: real collisions always scatter); a null collision has P_n = 1 - P_c and
 // w <- w sigma_n / (mu P_n). For grey sigma_t this is delta tracking with weight = albedo.
 // With absolute values the estimator stays unbiased even where mu < sigma_t (only noisier).
-// Transmittance: ratio tracking, or residual ratio tracking with the per-cell per-channel minimum
-// as control (default); both unbiased for any majorant.
+// Transmittance: ratio tracking, or residual ratio tracking with the per-cell per-channel mean
+// as control (default); both unbiased for any majorant. Both stop small estimates by unbiased
+// Russian roulette (survival max|T| / 0.05 once max|T| < 0.05).
 #include "volguide/media/majorant_grid.h"
 #include "volguide/media/medium.h"
 #include "volguide/media/volume.h"

@@ -11,11 +11,11 @@ MajorantGrid::MajorantGrid(const VoxelGrid& grid, float scale) {
             for (int x = 0; x < res_[0]; ++x) {
                 const Point3f lo(float(x) / res_[0], float(y) / res_[1], float(z) / res_[2]);
                 const Point3f hi(float(x + 1) / res_[0], float(y + 1) / res_[1], float(z + 1) / res_[2]);
-                Color3 mn, mx;
-                grid.range(lo, hi, mn, mx);
+                Color3 mn, mx, mean;
+                grid.range(lo, hi, mn, mx, mean);
                 MajorantCell& c = cells_[(size_t(z) * res_[1] + y) * res_[0] + x];
                 c.majorant = scale * mx.max_value();
-                c.control = mn * scale;
+                c.control = mean * scale;
                 c.residual_rate = std::max({scale * mx.r - c.control.r, scale * mx.g - c.control.g,
                                             scale * mx.b - c.control.b, 0.f});
                 max_majorant_ = std::max(max_majorant_, c.majorant);

@@ -130,8 +130,8 @@ Color3 HeterogeneousMedium::residual_ratio_tracking(const Ray& ray, float tmax, 
         const MajorantCell& cell = majorants_.cell(dda.cell(0), dda.cell(1), dda.cell(2));
         const float seg_start = dda.t(), seg_end = dda.segment_end();
         if (!(seg_end > seg_start)) continue;
-        // Control variate: the cell's per-channel minimum, integrated exactly.
-        tr *= exp(cell.control * -(seg_end - seg_start));
+        // Control variate: the cell's per-channel mean extinction, integrated exactly.
+        if (!cell.control.is_black()) tr *= exp(cell.control * -(seg_end - seg_start));
         const float rate = majorant_scale_ * cell.residual_rate;
         if (!(rate > 0.f)) continue;
         // The residual sigma_t - control, by ratio tracking with a Poisson process of this rate.

@@ -61,7 +61,7 @@ Color3 VoxelGrid::lookup_nearest(const Point3f& u) const {
     return voxel(x, y, z);
 }
 
-void VoxelGrid::range(const Point3f& lo, const Point3f& hi, Color3& mn, Color3& mx) const {
+void VoxelGrid::range(const Point3f& lo, const Point3f& hi, Color3& mn, Color3& mx, Color3& mean) const {
     int first[3], last[3];
     for (int a = 0; a < 3; ++a) {
         // Trilinear reads floor(u res - 0.5) and the next voxel; nearest reads floor(u res),
@@ -77,15 +77,20 @@ void VoxelGrid::range(const Point3f& lo, const Point3f& hi, Color3& mn, Color3& 
     }
     mn = Color3(Infinity);
     mx = Color3(-Infinity);
+    Color3 sum(0.f);
+    int count = 0;
     for (int z = first[2]; z <= last[2]; ++z)
         for (int y = first[1]; y <= last[1]; ++y)
             for (int x = first[0]; x <= last[0]; ++x) {
                 const Color3 v = voxel(wrap(x, 0), wrap(y, 1), wrap(z, 2));
+                sum += v;
+                ++count;
                 for (int c = 0; c < 3; ++c) {
                     mn[c] = std::min(mn[c], v[c]);
                     mx[c] = std::max(mx[c], v[c]);
                 }
             }
+    mean = sum / float(std::max(count, 1));
 }
 
 }  // namespace volguide

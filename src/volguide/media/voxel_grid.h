@@ -36,7 +36,8 @@ public:
 
     // Per-channel min and max over the voxels that lookups anywhere in the local box [lo, hi]
     // can read (both filters), with one voxel of margin against rounding at the box faces.
-    void range(const Point3f& lo, const Point3f& hi, Color3& mn, Color3& mx) const;
+    // Also their per-channel mean.
+    void range(const Point3f& lo, const Point3f& hi, Color3& mn, Color3& mx, Color3& mean) const;
 
 private:
     int wrap(int i, int axis) const;
