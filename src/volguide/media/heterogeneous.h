@@ -1,0 +1,69 @@
+#pragma once
+// Mitsuba's `heterogeneous` medium: sigma_t (a volume, or a constant, which Mitsuba turns into a
+// constvolume over the unit cube) times `scale`, albedo (constant or volume), a phase function.
+// The medium exists inside the sigma_t volume's box (Mitsuba: intersect_aabb of sigma_t).
+//
+// Free flights: spectral tracking (Kutz et al. 2017) over a majorant grid with a 3-D DDA. At a
+// tentative collision with tracking weight w, a real collision is chosen with probability
+//   P_c = <|sigma_t w|> / (<|sigma_t w|> + <|sigma_n w|>),  sigma_n = mu - sigma_t,
+// (<.> = channel average) and the weight becomes w sigma_s / (mu P_c) (absorption is folded
+// into the weight: real collisions always scatter); a null collision has P_n = 1 - P_c and
+// w <- w sigma_n / (mu P_n). For grey sigma_t this is delta tracking with weight = albedo.
+// With absolute values the estimator stays unbiased even where mu < sigma_t (only noisier).
+// Transmittance: ratio tracking, or residual ratio tracking with the per-cell per-channel mean
+// as control (default); both unbiased for any majorant. Both stop small estimates by unbiased
+// Russian roulette (survival max|T| / 0.05 once max|T| < 0.05).
+#include "volguide/media/majorant_grid.h"
+#include "volguide/media/medium.h"
+#include "volguide/media/volume.h"
+
+namespace volguide {
+
+enum class TransmittanceEstimator { Ratio, ResidualRatio };
+
+// Event counters of one tracking call (for benchmarks and tests).
+struct TrackingCounts {
+    uint64_t null_collisions = 0;
+    uint64_t real_collisions = 0;
+    uint64_t cells = 0;  // majorant cells visited
+};
+
+class HeterogeneousMedium final : public Medium {
+public:
+    HeterogeneousMedium(std::shared_ptr<Volume> sigma_t, float scale, std::shared_ptr<Volume> albedo,
+                        std::shared_ptr<PhaseFunction> phase, bool sample_emitters = true);
+
+    // Tests and benchmarks: multiply every majorant (and residual rate) by `factor` > 0. A
+    // looser majorant (factor > 1) only costs time; the estimators stay unbiased.
+    void set_majorant_scale(float factor) { majorant_scale_ = factor; }
+    void set_transmittance_estimator(TransmittanceEstimator e) { estimator_ = e; }
+
+    MediumCoefficients eval(const Point3f& p) const override;
+    FreeFlightSample sample_free_flight(const Ray& ray, float tmax, Sampler& sampler) const override {
+        return sample_free_flight(ray, tmax, sampler, nullptr);
+    }
+    FreeFlightSample sample_free_flight(const Ray& ray, float tmax, Sampler& sampler, TrackingCounts* counts) const;
+    Color3 transmittance(const Ray& ray, float tmax, Sampler& sampler) const override;
+    Color3 ratio_tracking(const Ray& ray, float tmax, Sampler& sampler) const;
+    Color3 residual_ratio_tracking(const Ray& ray, float tmax, Sampler& sampler) const;
+    bool is_homogeneous() const override { return false; }
+    BBox3f bbox() const override { return sigma_t_->bbox(); }
+    const MajorantGrid& majorants() const { return majorants_; }
+    std::string to_string() const override;
+
+private:
+    // The ray in the sigma_t volume's local coordinates (t unchanged) clipped to the unit cube
+    // and (0, tmax); false when it misses.
+    bool local_segment(const Ray& ray, float tmax, Point3f& o, Vec3f& d, float& t0, float& t1) const;
+    Color3 sigma_t_local(const Point3f& u) const { return sigma_t_->grid().lookup(u) * scale_; }
+
+    std::shared_ptr<Volume> sigma_t_, albedo_;
+    float scale_;
+    MajorantGrid majorants_;
+    float majorant_scale_ = 1.f;
+    TransmittanceEstimator estimator_ = TransmittanceEstimator::ResidualRatio;
+};
+
+std::shared_ptr<Medium> make_heterogeneous_medium(const Properties& props);
+
+}  // namespace volguide

@@ -1,0 +1,39 @@
+#pragma once
+// Mitsuba's `homogeneous` medium: constant (possibly chromatic) sigma_t times `scale`, albedo a
+// constant or a volume (Mitsuba allows a spatially varying albedo here), a phase function.
+// Free flights are sampled in closed form with one-sample spectral MIS (theory.md §2.6): a
+// channel c is picked with probability 1/3, t ~ sigma_t,c exp(-sigma_t,c t), and every channel
+// is weighted with the averaged pdf  p(t) = 1/3 sum_c sigma_t,c exp(-sigma_t,c t)  (escape:
+// P = 1/3 sum_c exp(-sigma_t,c tmax)). Transmittance is exact.
+#include "volguide/media/medium.h"
+#include "volguide/media/volume.h"
+
+namespace volguide {
+
+class HomogeneousMedium final : public Medium {
+public:
+    // sigma_t already includes `scale`.
+    HomogeneousMedium(const Color3& sigma_t, std::shared_ptr<Volume> albedo, std::shared_ptr<PhaseFunction> phase,
+                      bool sample_emitters = true);
+
+    MediumCoefficients eval(const Point3f& p) const override;
+    FreeFlightSample sample_free_flight(const Ray& ray, float tmax, Sampler& sampler) const override;
+    Color3 transmittance(const Ray& ray, float tmax, Sampler& sampler) const override;
+    bool is_homogeneous() const override { return true; }
+    BBox3f bbox() const override;
+    const Color3& sigma_t() const { return sigma_t_; }
+    std::string to_string() const override;
+
+private:
+    Color3 albedo_at(const Point3f& p) const { return albedo_const_ ? albedo_value_ : albedo_->eval(p); }
+
+    Color3 sigma_t_;
+    std::shared_ptr<Volume> albedo_;
+    bool albedo_const_;
+    Color3 albedo_value_;
+    bool grey_;  // all channels of sigma_t equal: the MIS weights reduce to 1 and the albedo
+};
+
+std::shared_ptr<Medium> make_homogeneous_medium(const Properties& props);
+
+}  // namespace volguide

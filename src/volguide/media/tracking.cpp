@@ -1,0 +1,149 @@
+// Null-collision estimators of the heterogeneous medium (theory.md §2.2-2.4, §2.6), all driven by
+// a DDA over the majorant grid in the sigma_t volume's local coordinates (t is the world ray
+// parameter throughout, so distances need no conversion).
+#include "volguide/media/dda.h"
+#include "volguide/media/heterogeneous.h"
+
+namespace volguide {
+
+namespace {
+
+inline float exponential(Sampler& s) { return -std::log1p(-s.next_1d()); }
+inline Color3 abs(const Color3& c) { return {std::abs(c.r), std::abs(c.g), std::abs(c.b)}; }
+inline float max_abs(const Color3& c) { return std::max({std::abs(c.r), std::abs(c.g), std::abs(c.b)}); }
+
+// Unbiased Russian roulette on a transmittance estimate that has become small: survivors are
+// reweighted so that the expectation is unchanged.
+constexpr float kRouletteThreshold = 0.05f;
+inline bool roulette(Color3& tr, Sampler& s) {
+    const float m = max_abs(tr);
+    if (m >= kRouletteThreshold) return true;
+    if (m <= 0.f) return false;
+    const float q = m / kRouletteThreshold;
+    if (s.next_1d() >= q) return false;
+    tr *= 1.f / q;
+    return true;
+}
+
+}  // namespace
+
+FreeFlightSample HeterogeneousMedium::sample_free_flight(const Ray& ray, float tmax, Sampler& sampler,
+                                                         TrackingCounts* counts) const {
+    FreeFlightSample fs;
+    fs.t = tmax;
+    Point3f o;
+    Vec3f d;
+    float t0, t1;
+    if (!local_segment(ray, tmax, o, d, t0, t1)) return fs;
+
+    const int* res = majorants_.res();
+    const Vec3f cells{float(res[0]), float(res[1]), float(res[2])};
+    GridDda dda(o * cells, d * cells, res, t0, t1);
+    Color3 w(1.f);
+    float tau = exponential(sampler);  // remaining optical depth (majorant units) to the next collision
+    for (; !dda.done(); dda.advance()) {
+        if (counts) ++counts->cells;
+        const float mu = majorant_scale_ * majorants_.cell(dda.cell(0), dda.cell(1), dda.cell(2)).majorant;
+        const float seg_end = dda.segment_end();
+        float t = dda.t();
+        if (!(mu > 0.f)) continue;
+        while (true) {
+            const float dt = tau / mu;
+            if (t + dt >= seg_end) {
+                tau -= (seg_end - t) * mu;
+                break;
+            }
+            t += dt;
+            const Color3 sigma_t = sigma_t_local(o + d * t);
+            const Color3 sigma_n = Color3(mu) - sigma_t;
+            const float pc = abs(sigma_t * w).average(), pn = abs(sigma_n * w).average();
+            const float z = pc + pn;
+            if (!(z > 0.f)) {  // the tracking weight vanished: nothing can be carried further
+                fs.weight = Color3(0.f);
+                return fs;
+            }
+            if (sampler.next_1d() * z < pc) {
+                if (counts) ++counts->real_collisions;
+                fs.scattered = true;
+                fs.t = t;
+                MediumInteraction& mi = fs.mi;
+                mi.p = ray(t);
+                mi.t = t;
+                mi.wi = -ray.d;
+                mi.medium = this;
+                mi.coeffs = {sigma_t, sigma_t * albedo_->eval(mi.p)};
+                fs.weight = w * mi.coeffs.sigma_s * (z / (mu * pc));
+                return fs;
+            }
+            if (counts) ++counts->null_collisions;
+            w = w * sigma_n * (z / (mu * pn));
+            tau = exponential(sampler);
+        }
+    }
+    fs.weight = w;
+    return fs;
+}
+
+Color3 HeterogeneousMedium::transmittance(const Ray& ray, float tmax, Sampler& sampler) const {
+    return estimator_ == TransmittanceEstimator::Ratio ? ratio_tracking(ray, tmax, sampler)
+                                                       : residual_ratio_tracking(ray, tmax, sampler);
+}
+
+Color3 HeterogeneousMedium::ratio_tracking(const Ray& ray, float tmax, Sampler& sampler) const {
+    Point3f o;
+    Vec3f d;
+    float t0, t1;
+    if (!local_segment(ray, tmax, o, d, t0, t1)) return Color3(1.f);
+    const int* res = majorants_.res();
+    const Vec3f cells{float(res[0]), float(res[1]), float(res[2])};
+    Color3 tr(1.f);
+    float tau = exponential(sampler);
+    for (GridDda dda(o * cells, d * cells, res, t0, t1); !dda.done(); dda.advance()) {
+        const float mu = majorant_scale_ * majorants_.cell(dda.cell(0), dda.cell(1), dda.cell(2)).majorant;
+        const float seg_end = dda.segment_end();
+        float t = dda.t();
+        if (!(mu > 0.f)) continue;
+        while (true) {
+            const float dt = tau / mu;
+            if (t + dt >= seg_end) {
+                tau -= (seg_end - t) * mu;
+                break;
+            }
+            t += dt;
+            tr *= Color3(1.f) - sigma_t_local(o + d * t) * (1.f / mu);
+            if (!roulette(tr, sampler)) return Color3(0.f);
+            tau = exponential(sampler);
+        }
+    }
+    return tr;
+}
+
+Color3 HeterogeneousMedium::residual_ratio_tracking(const Ray& ray, float tmax, Sampler& sampler) const {
+    Point3f o;
+    Vec3f d;
+    float t0, t1;
+    if (!local_segment(ray, tmax, o, d, t0, t1)) return Color3(1.f);
+    const int* res = majorants_.res();
+    const Vec3f cells{float(res[0]), float(res[1]), float(res[2])};
+    Color3 tr(1.f);
+    for (GridDda dda(o * cells, d * cells, res, t0, t1); !dda.done(); dda.advance()) {
+        const MajorantCell& cell = majorants_.cell(dda.cell(0), dda.cell(1), dda.cell(2));
+        const float seg_start = dda.t(), seg_end = dda.segment_end();
+        if (!(seg_end > seg_start)) continue;
+        // Control variate: the cell's per-channel mean extinction, integrated exactly.
+        if (!cell.control.is_black()) tr *= exp(cell.control * -(seg_end - seg_start));
+        const float rate = majorant_scale_ * cell.residual_rate;
+        if (!(rate > 0.f)) continue;
+        // The residual sigma_t - control, by ratio tracking with a Poisson process of this rate.
+        float t = seg_start;
+        while (true) {
+            t += exponential(sampler) / rate;
+            if (t >= seg_end) break;
+            tr *= Color3(1.f) - (sigma_t_local(o + d * t) - cell.control) * (1.f / rate);
+            if (!roulette(tr, sampler)) return Color3(0.f);
+        }
+    }
+    return tr;
+}
+
+}  // namespace volguide

@@ -1,0 +1,65 @@
+// Mitsuba's binary .vol grid format: "VOL", version byte 3, int32 encoding (1 = float32),
+// int32 xres, yres, zres, channels, six float32 bbox values (xmin ymin zmin xmax ymax zmax), then
+// xres*yres*zres*channels float32 values with x fastest. Little endian.
+#include <bit>
+#include <cstdint>
+#include <cstring>
+#include <fstream>
+
+#include "volguide/core/error.h"
+#include "volguide/media/grid_data.h"
+
+namespace volguide {
+
+namespace {
+
+static_assert(std::endian::native == std::endian::little, ".vol reading assumes a little-endian host");
+
+[[noreturn]] void vol_fail(const std::string& path, const std::string& what) {
+    throw InputError(SourceLocation{path, 0}, fmt::format("\"{}\": {}", path, what));
+}
+
+}  // namespace
+
+GridData read_vol_file(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) vol_fail(path, "cannot open the .vol file");
+    in.seekg(0, std::ios::end);
+    const std::streamoff size = in.tellg();
+    in.seekg(0, std::ios::beg);
+    const std::streamoff header_size = 48;
+    if (size < header_size) vol_fail(path, fmt::format("truncated .vol header ({} bytes, need 48)", size));
+
+    char header[48];
+    in.read(header, header_size);
+    if (header[0] != 'V' || header[1] != 'O' || header[2] != 'L') vol_fail(path, "not a .vol file (no \"VOL\" magic)");
+    if (header[3] != 3) vol_fail(path, fmt::format("unsupported .vol version {} (expected 3)", int(header[3])));
+    int32_t ints[5];
+    std::memcpy(ints, header + 4, sizeof(ints));
+    const int32_t encoding = ints[0];
+    if (encoding != 1) vol_fail(path, fmt::format("unsupported .vol encoding {} (only 1 = float32)", encoding));
+    GridData g;
+    g.nx = ints[1];
+    g.ny = ints[2];
+    g.nz = ints[3];
+    g.channels = ints[4];
+    if (g.nx < 1 || g.ny < 1 || g.nz < 1)
+        vol_fail(path, fmt::format("invalid .vol resolution {}x{}x{}", g.nx, g.ny, g.nz));
+    if (g.channels != 1 && g.channels != 3)
+        vol_fail(path, fmt::format("{} channels (only 1 or 3 are supported)", g.channels));
+    float box[6];
+    std::memcpy(box, header + 24, sizeof(box));
+    g.bbox = BBox3f(Point3f(box[0], box[1], box[2]), Point3f(box[3], box[4], box[5]));
+
+    const uint64_t count = uint64_t(g.nx) * uint64_t(g.ny) * uint64_t(g.nz) * uint64_t(g.channels);
+    const uint64_t expected = uint64_t(header_size) + 4 * count;
+    if (uint64_t(size) < expected)
+        vol_fail(path, fmt::format("truncated .vol data ({} bytes, {}x{}x{}x{} floats need {})", size, g.nx, g.ny,
+                                   g.nz, g.channels, expected));
+    g.values.resize(count);
+    in.read(reinterpret_cast<char*>(g.values.data()), std::streamsize(4 * count));
+    if (!in) vol_fail(path, "read error in the .vol data");
+    return g;
+}
+
+}  // namespace volguide
