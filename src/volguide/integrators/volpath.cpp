@@ -270,7 +270,7 @@ Color3 VolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const Ray& ca
                         const float fp = phase.eval(mi.wi, es.ds.d);
                         const float pp = es.ds.delta ? 0.f : phase.pdf(mi.wi, es.ds.d);
                         float w;
-                        if (equi) {
+                        if (equi && equiangular_target(es.ds.emitter) && !std::isinf(es.ds.dist)) {
                             const float p_nee = light_point_density(scene, mi, es.ds);
                             const float g =
                                 es.ds.delta ? 0.f : std::abs(dot(es.ds.d, es.ds.n)) / (es.ds.dist * es.ds.dist);
