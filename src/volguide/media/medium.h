@@ -45,9 +45,6 @@ class Medium : public Object {
 public:
     const PhaseFunction& phase() const { return *phase_; }
     const std::shared_ptr<PhaseFunction>& phase_ptr() const { return phase_; }
-    // Mitsuba's `sample_emitters` (default true): whether integrators do next-event estimation at
-    // scattering vertices inside this medium.
-    bool use_emitter_sampling() const { return sample_emitters_; }
 
     // Coefficients at a world-space point.
     virtual MediumCoefficients eval(const Point3f& p) const = 0;
@@ -60,6 +57,9 @@ public:
     virtual bool is_homogeneous() const = 0;
     // Where sigma_t can be non-zero (infinite for homogeneous media).
     virtual BBox3f bbox() const = 0;
+    // Mitsuba's `sample_emitters` (default true): whether integrators do next-event estimation at
+    // scattering vertices inside this medium.
+    bool sample_emitters() const { return sample_emitters_; }
 
 protected:
     std::shared_ptr<PhaseFunction> phase_;
