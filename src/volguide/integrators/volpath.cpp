@@ -182,7 +182,7 @@ Color3 VolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const Ray& ca
 
         if (medium) {
             const float tmax = si.is_valid() ? si.t : ray.tmax;
-            const bool equi = s.equiangular && medium->is_homogeneous() && medium->use_emitter_sampling();
+            const bool equi = s.equiangular && medium->is_homogeneous() && medium->sample_emitters();
             bool scattered = false;
             MediumInteraction mi;
             EquiSegment seg;
@@ -262,7 +262,7 @@ Color3 VolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const Ray& ca
                 const Medium& m = mi.medium ? *mi.medium : *medium;
                 const PhaseFunction& phase = m.phase();
 
-                if (m.use_emitter_sampling()) {
+                if (m.sample_emitters()) {
                     specular_chain = false;
                     VolumeEmitterSample es =
                         sample_emitter_through_media(scene, mi, nullptr, medium, sampler.next_2d(), sampler);
