@@ -5,6 +5,8 @@
 
 #include "volguide/integrators/moment.h"
 #include "volguide/integrators/path.h"
+#include "volguide/integrators/simple_volpath.h"
+#include "volguide/integrators/volpath.h"
 #include "volguide/scene/factories.h"
 
 namespace volguide {
@@ -12,13 +14,12 @@ namespace volguide {
 ObjectPtr create_integrator(const Properties& props) {
     const std::string& type = props.type();
     if (type == "path") return std::make_shared<PathIntegrator>(props);
-    if (type == "volpath" || type == "volpathmis") {
-        // Until participating media land, a scene that reaches this point has no media (the
-        // loader rejects <medium>), and volpath renders exactly what path renders.
-        return std::make_shared<PathIntegrator>(props);
-    }
+    // volpathmis (Mitsuba's spectral-MIS variant) renders the same image as volpath; volguide's
+    // media already weight chromatic extinction spectrally, so both map to one integrator.
+    if (type == "volpath" || type == "volpathmis") return std::make_shared<VolPathIntegrator>(props);
+    if (type == "simple_volpath") return std::make_shared<SimpleVolPathIntegrator>(props);
     if (type == "moment") return std::make_shared<MomentIntegrator>(props);
-    props.fail_here("unsupported integrator plugin '{}' (supported: path, volpath, volpathmis, moment)", type);
+    props.fail_here("unsupported integrator plugin '{}' (supported: path, volpath, volpathmis, simple_volpath, moment)", type);
 }
 
 }  // namespace volguide

@@ -14,6 +14,7 @@ class ConstantEmitter final : public Emitter {
     explicit ConstantEmitter(const Properties& props) {
         radiance_ = nonnegative_color(props, "radiance", Color3(1.f));
         flags_ = emitter_flags::Infinite;
+        medium_ = emitter_medium(props);
     }
 
     void set_scene_bounds(const BBox3f& bounds) override { sphere_.set(bounds); }

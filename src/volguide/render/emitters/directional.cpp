@@ -26,6 +26,7 @@ class DirectionalEmitter final : public Emitter {
         direction_ = normalize(d);
         irradiance_ = nonnegative_color(props, "irradiance", Color3(1.f));
         flags_ = emitter_flags::Infinite | emitter_flags::DeltaDirection;
+        medium_ = emitter_medium(props);
     }
 
     void set_scene_bounds(const BBox3f& bounds) override { sphere_.set(bounds); }

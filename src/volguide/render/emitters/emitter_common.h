@@ -5,6 +5,7 @@
 #include "volguide/core/bbox.h"
 #include "volguide/core/color.h"
 #include "volguide/core/properties.h"
+#include "volguide/media/medium.h"
 #include "volguide/render/emitter.h"
 
 namespace volguide {
@@ -32,6 +33,9 @@ struct InfiniteEmitterSphere {
     // (e.g. a camera) lies outside the scene's bounds.
     float sample_distance(const Point3f& ref) const { return 2.f * std::max(radius, norm(ref - center)); }
 };
+
+// The optional `medium` reference of a non-area emitter (the medium it sits in; nullptr = vacuum).
+inline std::shared_ptr<Medium> emitter_medium(const Properties& props) { return get_object_as<Medium>(props, "medium"); }
 
 // Reads a color parameter that must be finite and non-negative (radiance, intensity, ...).
 inline Color3 nonnegative_color(const Properties& props, const std::string& name, const Color3& def) {

@@ -66,6 +66,7 @@ class EnvironmentMapEmitter final : public Emitter {
         half_texel_ = 0.5f / float(width_ - 1);
         build_distribution(mis_compensation);
         flags_ = emitter_flags::Infinite;
+        medium_ = emitter_medium(props);
     }
 
     void set_scene_bounds(const BBox3f& bounds) override { sphere_.set(bounds); }

@@ -22,6 +22,7 @@ class PointEmitter final : public Emitter {
         if (!all_finite(position_)) props.fail_here("emitter 'point': the position is not finite");
         intensity_ = nonnegative_color(props, "intensity", Color3(1.f));
         flags_ = emitter_flags::DeltaPosition;
+        medium_ = emitter_medium(props);
     }
 
     Color3 eval(const SurfaceInteraction&) const override { return Color3(0.f); }

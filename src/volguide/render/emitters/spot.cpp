@@ -28,6 +28,7 @@ class SpotEmitter final : public Emitter {
         to_local_ = to_world.inverse();
         position_ = to_world.apply_point(Point3f(0.f));
         flags_ = emitter_flags::DeltaPosition;
+        medium_ = emitter_medium(props);
     }
 
     Color3 eval(const SurfaceInteraction&) const override { return Color3(0.f); }

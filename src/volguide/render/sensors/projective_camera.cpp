@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "volguide/media/medium.h"
 #include "volguide/render/sensors/hdrfilm.h"
 #include "volguide/render/sensors/sampler_settings.h"
 
@@ -42,6 +43,7 @@ ProjectiveCamera::ProjectiveCamera(const Properties& props) {
         seed_ = sampler->seed;
     }
     aspect_ = float(film_->width()) / float(film_->height());
+    medium_ = get_object_as<Medium>(props, "medium");  // the medium the camera sits in
 }
 
 ProjectiveCamera::ProjectiveCamera(std::shared_ptr<Film> film, const Transform& to_world, float near_clip,

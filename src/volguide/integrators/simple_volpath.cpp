@@ -1,0 +1,81 @@
+#include "volguide/integrators/simple_volpath.h"
+
+#include <fmt/format.h>
+
+#include "volguide/integrators/volume_nee.h"
+#include "volguide/media/medium.h"
+#include "volguide/render/bsdf.h"
+#include "volguide/render/emitter.h"
+#include "volguide/render/scene.h"
+
+namespace volguide {
+
+SimpleVolPathIntegrator::SimpleVolPathIntegrator(const Properties& props) {
+    int64_t max_depth = props.get_int("max_depth", -1);
+    if (max_depth < -1) props.fail_at("max_depth", "max_depth must be -1 (unbounded) or >= 0, got {}", max_depth);
+    int64_t rr_depth = props.get_int("rr_depth", 5);
+    if (rr_depth <= 0) props.fail_at("rr_depth", "rr_depth must be > 0, got {}", rr_depth);
+    max_depth_ = int(max_depth);
+    rr_depth_ = int(rr_depth);
+    hide_emitters_ = props.get_bool("hide_emitters", false);
+}
+
+std::string SimpleVolPathIntegrator::to_string() const {
+    return fmt::format("simple_volpath[max_depth={}, rr_depth={}, hide_emitters={}]", max_depth_, rr_depth_,
+                       hide_emitters_);
+}
+
+Color3 SimpleVolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const Ray& camera_ray) const {
+    const BSDFContext ctx;
+    Color3 result(0.f), throughput(1.f);
+    Ray ray = camera_ray;
+    const Medium* medium = scene.sensor().medium();
+    int depth = 0;  // real scattering events
+    for (int steps = 0; steps < 100000; ++steps) {
+        if (max_depth_ >= 0 && depth >= max_depth_) break;
+        SurfaceInteraction si;
+        if (!scene.intersect(ray, si)) si = miss_interaction(ray);
+        if (medium) {
+            FreeFlightSample ff = medium->sample_free_flight(ray, si.is_valid() ? si.t : ray.tmax, sampler);
+            throughput *= ff.weight;
+            if (throughput.is_black()) break;
+            if (ff.scattered) {
+                ++depth;
+                const Medium& m = ff.mi.medium ? *ff.mi.medium : *medium;
+                PhaseSample ps = m.phase().sample(ff.mi.wi, sampler.next_2d());
+                if (!(ps.pdf > 0.f)) break;
+                throughput *= ps.weight;
+                ray = ff.mi.spawn_ray(ps.wo);
+                if (depth > rr_depth_) {
+                    const float q = std::min(throughput.max_value(), 0.95f);
+                    if (!(sampler.next_1d() < q)) break;
+                    throughput *= 1.f / q;
+                }
+                continue;
+            }
+        }
+        const Emitter* emitter = si.is_valid() ? si.shape->emitter() : scene.environment();
+        if (emitter && !(depth == 0 && hide_emitters_)) result += throughput * emitter->eval(si);
+        if (!si.is_valid()) break;
+
+        const BSDF& bsdf = *si.shape->bsdf();
+        const float u1 = sampler.next_1d();
+        auto [bs, weight] = bsdf.sample(ctx, si, u1, sampler.next_2d());
+        throughput *= weight;
+        if (throughput.is_black()) break;
+        const Vec3f wo = si.to_world(bs.wo);
+        medium = medium_after(si, wo, medium);
+        ray = si.spawn_ray(wo);
+        if (!(bs.sampled_flags & bsdf_flags::Null)) {
+            ++depth;
+            if (depth > rr_depth_) {
+                const float q = std::min(throughput.max_value(), 0.95f);
+                if (!(sampler.next_1d() < q)) break;
+                throughput *= 1.f / q;
+            }
+        }
+    }
+    return result;
+}
+
+}  // namespace volguide

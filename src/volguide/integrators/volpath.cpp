@@ -1,0 +1,360 @@
+// Volumetric path tracer (Mitsuba 3's volpath semantics, see volpath.h).
+//
+// Equiangular sampling (setting `equiangular`), homogeneous media only. Per medium segment
+// [0, tmax] of the ray o + t d, the direct light scattered once on the segment is the integral over
+// (t, y), y a point on a light (for point/spot lights y is fixed), estimated by three strategies:
+//   1. distance sampling t ~ p_d, then NEE y ~ p_nee(y | x_t)        density p1 = p_d(t) p_nee(y | x_t)
+//   2. distance sampling, then phase sampling hits y (area lights)   density p2 = p_d(t) p_phase G
+//   3. equiangular: y ~ p_E(y) (light sampled from o), t ~ p_e(t | y)  density p3 = p_E(y) p_e(t | y)
+// with light densities in y's measure (area for area lights, the choice probability for delta lights)
+// and G = |cos_y| / dist^2 converting the phase pdf. Each strategy is weighted by the power
+// heuristic over all three, so the weights sum to one for every (t, y): unbiased. The distance
+// sampler must expose its density for this, so in these segments the integrator samples the
+// distance itself (homogeneous: one channel chosen uniformly, density averaged over the channels,
+// theory.md §2.6) instead of calling Medium::sample_free_flight. In heterogeneous media the
+// integrator keeps plain free-flight sampling (preprocess warns): the tracking's density is not
+// available in closed form there.
+#include "volguide/integrators/volpath.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "volguide/core/log.h"
+#include "volguide/integrators/equiangular.h"
+#include "volguide/integrators/volume_nee.h"
+#include "volguide/media/medium.h"
+#include "volguide/render/bsdf.h"
+#include "volguide/render/emitter.h"
+#include "volguide/render/scene.h"
+
+namespace volguide {
+
+VolPathSettings VolPathSettings::from(const Properties& props) {
+    VolPathSettings s;
+    int64_t max_depth = props.get_int("max_depth", -1);
+    if (max_depth < -1) props.fail_at("max_depth", "max_depth must be -1 (unbounded) or >= 0, got {}", max_depth);
+    int64_t rr_depth = props.get_int("rr_depth", 5);
+    if (rr_depth <= 0) props.fail_at("rr_depth", "rr_depth must be > 0, got {}", rr_depth);
+    s.max_depth = int(max_depth);
+    s.rr_depth = int(rr_depth);
+    s.hide_emitters = props.get_bool("hide_emitters", false);
+    s.equiangular = props.get_bool("equiangular", false);
+    return s;
+}
+
+std::string VolPathIntegrator::to_string() const {
+    return fmt::format("volpath[max_depth={}, rr_depth={}, hide_emitters={}, equiangular={}]", settings_.max_depth,
+                       settings_.rr_depth, settings_.hide_emitters, settings_.equiangular);
+}
+
+void VolPathIntegrator::preprocess(const Scene& scene) {
+    if (!settings_.equiangular) return;
+    bool heterogeneous = scene.sensor().medium() && !scene.sensor().medium()->is_homogeneous();
+    for (const auto& shape : scene.shapes())
+        for (const Medium* m : {shape->interior_medium(), shape->exterior_medium()})
+            if (m && !m->is_homogeneous()) heterogeneous = true;
+    if (heterogeneous)
+        warn({}, "volpath: equiangular sampling is only used in homogeneous media; heterogeneous media keep "
+                 "distance sampling");
+}
+
+namespace {
+
+// Emitters equiangular sampling can aim at: point, spot (a position) and area lights.
+bool equiangular_target(const Emitter* e) {
+    if (!e) return false;
+    const uint32_t f = e->flags();
+    if (f & emitter_flags::Surface) return true;
+    return (f & emitter_flags::DeltaPosition) && !(f & emitter_flags::DeltaDirection);
+}
+
+float channel(const Color3& c, int i) { return i == 0 ? c.r : (i == 1 ? c.g : c.b); }
+
+// e^(-sigma t) with 0 * inf = 0 (an empty channel transmits everything, even to infinity).
+float transmit(float sigma, float t) { return sigma > 0.f ? std::exp(-sigma * t) : 1.f; }
+Color3 transmit(const Color3& sigma, float t) {
+    return Color3(transmit(sigma.r, t), transmit(sigma.g, t), transmit(sigma.b, t));
+}
+
+// Density of the channel-averaged exponential distance sampling at t.
+float distance_pdf(const Color3& sigma_t, float t) {
+    float p = 0.f;
+    for (int c = 0; c < 3; ++c) p += channel(sigma_t, c) * transmit(channel(sigma_t, c), t);
+    return p / 3.f;
+}
+
+// The segment of a homogeneous medium on which equiangular sampling runs.
+struct EquiSegment {
+    Point3f o;
+    Vec3f d;
+    float tmax = 0.f;
+    Color3 sigma_t, sigma_s;
+};
+
+// Density of a light point y (record seen from `ref`) in y's measure: the area density for
+// area lights, the choice probability for delta lights.
+float light_point_density(const Scene& scene, const Interaction& ref, const DirectionSample& ds) {
+    if (ds.delta) return 1.f / float(scene.emitters().size());
+    const float cos_y = std::abs(dot(ds.d, ds.n));
+    return scene.pdf_emitter_direction(ref, ds) * cos_y / (ds.dist * ds.dist);
+}
+
+// Record of the light point (p, n) seen from `x`.
+DirectionSample record_towards(const Point3f& x, const DirectionSample& y) {
+    DirectionSample ds = y;
+    Vec3f d = y.p - x;
+    ds.dist = norm(d);
+    ds.d = d / ds.dist;
+    return ds;
+}
+
+// p_E(y) * p_e(t | y) of the equiangular strategy for the light point y.
+float equiangular_density(const Scene& scene, const EquiSegment& seg, const DirectionSample& y, float t) {
+    if (!equiangular_target(y.emitter) || std::isinf(y.dist)) return 0.f;
+    Interaction origin;
+    origin.p = seg.o;
+    const float p_light = light_point_density(scene, origin, record_towards(seg.o, y));
+    if (!(p_light > 0.f)) return 0.f;
+    return p_light * EquiangularSampler(seg.o, seg.d, seg.tmax, y.p).pdf(t);
+}
+
+float power3(float a, float b, float c) {
+    const float a2 = a * a, s = a2 + b * b + c * c;
+    return s > 0.f && std::isfinite(s) ? a2 / s : 0.f;
+}
+
+// Radiance arriving at x from the light point y (record from x) times |cos_y| / dist^2, in y's
+// measure: I / dist^2 for delta lights, L_e |cos_y| / dist^2 for area lights.
+Color3 light_point_value(const DirectionSample& ds, const Interaction& x) {
+    const Emitter& e = *ds.emitter;
+    if (ds.delta) return e.sample_direction(x, Point2f(0.5f, 0.5f)).second;
+    SurfaceInteraction si;
+    si.p = ds.p;
+    si.n = ds.n;
+    si.t = 0.f;
+    si.uv = ds.uv;
+    si.sh_frame = Frame(ds.n);
+    si.wi = si.to_local(-ds.d);
+    si.shape = e.shape();
+    return e.eval(si) * (std::abs(dot(ds.d, ds.n)) / (ds.dist * ds.dist));
+}
+
+}  // namespace
+
+Color3 VolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const Ray& camera_ray) const {
+    const VolPathSettings& s = settings_;
+    auto depth_ok = [&](int d) { return s.max_depth < 0 || d < s.max_depth; };
+    const BSDFContext ctx;
+
+    Color3 result(0.f), throughput(1.f);
+    float eta = 1.f;
+    Ray ray = camera_ray;
+    const Medium* medium = scene.sensor().medium();
+    int depth = 0;             // real scattering events so far (null crossings do not count)
+    int rr_depth_done = -1;    // Russian roulette is played once per depth
+    bool specular_chain = false;  // the last real event was a delta lobe: emitter hits count fully
+    Interaction last_vertex;   // last real scattering vertex and the pdf of the direction it sampled
+    float last_pdf = 1.f;
+    // Equiangular bookkeeping of the last medium vertex (for the MIS of phase-sampled hits).
+    bool last_equi = false;
+    EquiSegment last_seg;
+    float last_t = 0.f, last_pd = 0.f;
+
+    SurfaceInteraction si;
+    bool need_intersection = true;
+    int null_crossings = 0;
+
+    while (true) {
+        if (throughput.is_black()) break;
+        if (depth > s.rr_depth && depth != rr_depth_done) {
+            rr_depth_done = depth;
+            const float q = std::min(throughput.max_value() * eta * eta, 0.95f);
+            if (!(sampler.next_1d() < q)) break;
+            throughput *= 1.f / q;
+        }
+        if (!depth_ok(depth)) break;
+
+        if (need_intersection) {
+            if (!scene.intersect(ray, si)) si = miss_interaction(ray);
+            need_intersection = false;
+        }
+
+        if (medium) {
+            const float tmax = si.is_valid() ? si.t : ray.tmax;
+            const bool equi = s.equiangular && medium->is_homogeneous() && medium->sample_emitters();
+            bool scattered = false;
+            MediumInteraction mi;
+            EquiSegment seg;
+            float t_d = 0.f, pd = 0.f;
+
+            if (equi) {
+                const MediumCoefficients mc = medium->eval(ray.o);
+                seg = {ray.o, ray.d, tmax, mc.sigma_t, mc.sigma_s};
+                const Vec3f wi = -ray.d;
+
+                // Strategy 3: equiangular sample towards a light point chosen from the origin.
+                if (depth_ok(depth + 1)) {
+                    Interaction origin;
+                    origin.p = ray.o;
+                    auto [ds_o, w_o] = scene.sample_emitter_direction(origin, sampler.next_2d(), false);
+                    const float u = sampler.next_1d();
+                    if (ds_o.pdf > 0.f && equiangular_target(ds_o.emitter)) {
+                        const float p_light = light_point_density(scene, origin, ds_o);
+                        EquiangularSampler eq(ray.o, ray.d, tmax, ds_o.p);
+                        if (p_light > 0.f && eq.valid()) {
+                            const float t = eq.sample(u), pe = eq.pdf(t);
+                            Interaction x;
+                            x.p = ray.o + ray.d * t;
+                            x.t = t;
+                            const DirectionSample ds = record_towards(x.p, ds_o);
+                            const Color3 value = pe > 0.f ? light_point_value(ds, x) : Color3(0.f);
+                            if (!value.is_black() && ds.dist > 0.f) {
+                                const PhaseFunction& phase = medium->phase();
+                                const float fp = phase.eval(wi, ds.d);
+                                const float p_d = distance_pdf(seg.sigma_t, t);
+                                const float p_nee = light_point_density(scene, x, ds);
+                                const float g = ds.delta ? 0.f : std::abs(dot(ds.d, ds.n)) / (ds.dist * ds.dist);
+                                const float p3 = p_light * pe;
+                                const float w = power3(p3, p_d * p_nee, p_d * phase.pdf(wi, ds.d) * g);
+                                if (w > 0.f && fp > 0.f) {
+                                    const Color3 tr = shadow_transmittance(scene, x, medium, ds, sampler);
+                                    result += throughput * transmit(seg.sigma_t, t) * seg.sigma_s * fp * value *
+                                              tr * (w / p3);
+                                }
+                            }
+                        }
+                    }
+                }
+
+                // Distance sampling with the channel-averaged density (its pdf is needed for MIS).
+                float u = sampler.next_1d() * 3.f;
+                const int c = std::min(int(u), 2);
+                u = std::min(u - float(c), OneMinusEpsilon);
+                const float sc = channel(seg.sigma_t, c);
+                const float t = sc > 0.f ? -std::log1p(-u) / sc : Infinity;
+                if (t < tmax) {
+                    pd = distance_pdf(seg.sigma_t, t);
+                    t_d = t;
+                    throughput *= transmit(seg.sigma_t, t) * seg.sigma_s * (1.f / pd);
+                    scattered = true;
+                    mi.p = ray.o + ray.d * t;
+                    mi.t = t;
+                    mi.wi = wi;
+                    mi.coeffs = mc;
+                    mi.medium = medium;
+                } else {
+                    const Color3 tr = transmit(seg.sigma_t, tmax);
+                    const float p_escape = (tr.r + tr.g + tr.b) / 3.f;
+                    throughput *= p_escape > 0.f ? tr * (1.f / p_escape) : Color3(0.f);
+                }
+            } else {
+                FreeFlightSample ff = medium->sample_free_flight(ray, tmax, sampler);
+                throughput *= ff.weight;
+                scattered = ff.scattered;
+                if (scattered) mi = ff.mi;
+            }
+
+            if (scattered) {
+                if (throughput.is_black()) break;
+                ++depth;
+                if (!depth_ok(depth)) break;
+                const Medium& m = mi.medium ? *mi.medium : *medium;
+                const PhaseFunction& phase = m.phase();
+
+                if (m.sample_emitters()) {
+                    specular_chain = false;
+                    VolumeEmitterSample es =
+                        sample_emitter_through_media(scene, mi, nullptr, medium, sampler.next_2d(), sampler);
+                    if (!es.weight.is_black()) {
+                        const float fp = phase.eval(mi.wi, es.ds.d);
+                        const float pp = es.ds.delta ? 0.f : phase.pdf(mi.wi, es.ds.d);
+                        float w;
+                        if (equi && equiangular_target(es.ds.emitter) && !std::isinf(es.ds.dist)) {
+                            const float p_nee = light_point_density(scene, mi, es.ds);
+                            const float g =
+                                es.ds.delta ? 0.f : std::abs(dot(es.ds.d, es.ds.n)) / (es.ds.dist * es.ds.dist);
+                            w = power3(pd * p_nee, pd * pp * g, equiangular_density(scene, seg, es.ds, t_d));
+                        } else {
+                            w = es.ds.delta ? 1.f : mis_power_heuristic(es.ds.pdf, pp);
+                        }
+                        result += throughput * fp * es.weight * w;
+                    }
+                } else {
+                    specular_chain = true;
+                }
+
+                PhaseSample ps = phase.sample(mi.wi, sampler.next_2d());
+                if (!(ps.pdf > 0.f)) break;
+                throughput *= ps.weight;
+                last_vertex = mi;
+                last_pdf = ps.pdf;
+                last_equi = equi;
+                last_seg = seg;
+                last_t = t_d;
+                last_pd = pd;
+                ray = mi.spawn_ray(ps.wo);
+                need_intersection = true;
+                continue;
+            }
+            if (throughput.is_black()) break;
+        }
+
+        // The ray reached the surface si (or left the scene).
+        const Emitter* emitter = si.is_valid() ? si.shape->emitter() : scene.environment();
+        if (emitter && !(depth == 0 && s.hide_emitters)) {
+            if (depth == 0 || specular_chain) {
+                result += throughput * emitter->eval(si);
+            } else {
+                const DirectionSample ds = emitter_hit_record(si, last_vertex, ray.d, emitter);
+                const float emitter_pdf = scene.pdf_emitter_direction(last_vertex, ds);
+                float w;
+                if (last_equi && equiangular_target(emitter) && !std::isinf(ds.dist)) {
+                    const float g = std::abs(dot(ds.d, ds.n)) / (ds.dist * ds.dist);
+                    w = power3(last_pd * last_pdf * g, last_pd * emitter_pdf * g,
+                               equiangular_density(scene, last_seg, ds, last_t));
+                } else {
+                    w = mis_power_heuristic(last_pdf, emitter_pdf);
+                }
+                result += throughput * emitter->eval(si) * w;
+            }
+        }
+        if (!si.is_valid()) break;
+
+        const BSDF& bsdf = *si.shape->bsdf();
+        // NEE (only when its path, one segment longer, is within max_depth).
+        if (bsdf.has(bsdf_flags::Smooth) && depth_ok(depth + 1)) {
+            VolumeEmitterSample es = sample_emitter_through_media(scene, si, &si, medium, sampler.next_2d(), sampler);
+            if (!es.weight.is_black()) {
+                const Vec3f wo = si.to_local(es.ds.d);
+                const Color3 f = bsdf.eval(ctx, si, wo);
+                const float bsdf_pdf = es.ds.delta ? 0.f : bsdf.pdf(ctx, si, wo);
+                const float w = es.ds.delta ? 1.f : mis_power_heuristic(es.ds.pdf, bsdf_pdf);
+                result += throughput * f * es.weight * w;
+            }
+        }
+
+        const float u1 = sampler.next_1d();
+        const Point2f u2 = sampler.next_2d();
+        auto [bs, bsdf_weight] = bsdf.sample(ctx, si, u1, u2);
+        throughput *= bsdf_weight;
+        if (throughput.is_black()) break;
+        eta *= bs.eta;
+        const Vec3f wo = si.to_world(bs.wo);
+        if (bs.sampled_flags & bsdf_flags::Null) {
+            if (++null_crossings > 1024) break;  // a ray stuck on a surface
+        } else {
+            ++depth;
+            last_vertex = si;
+            last_pdf = bs.pdf;
+            last_equi = false;
+            specular_chain = (bs.sampled_flags & bsdf_flags::Delta) != 0;
+        }
+        medium = medium_after(si, wo, medium);
+        ray = si.spawn_ray(wo);
+        need_intersection = true;
+    }
+    return result;
+}
+
+}  // namespace volguide

@@ -1,0 +1,43 @@
+#pragma once
+// Volumetric path tracer with Mitsuba 3's `volpath` semantics (`volpathmis` maps here too: it
+// renders the same image).
+//  - The ray's medium starts as the sensor's and changes at every surface crossing of a shape with
+//    interior/exterior media (Shape::target_medium with the geometric normal).
+//  - Free-flight sampling inside media up to the next surface; at medium scattering vertices NEE
+//    (when the medium samples emitters) and phase sampling, combined by MIS (power heuristic); at
+//    surfaces emission, NEE and BSDF sampling with MIS as `path`.
+//  - max_depth counts real scattering events only: crossing a null surface (null BSDF, the Null
+//    lobe of thindielectric) keeps the depth; max_depth = 1 shows only directly visible emitters.
+//  - NEE shadow rays pass through null surfaces and multiply every medium segment's transmittance
+//    and eval_null_transmission(). The MIS weight of a BSDF/phase-sampled emitter hit uses the pdf
+//    of the last real scattering vertex and the emitter pdf seen from it, exactly the pair NEE used.
+//  - `equiangular` (default false): in homogeneous media, equiangular sampling towards point, spot
+//    and area lights, combined with distance sampling + NEE and with phase sampling by a three-way
+//    power heuristic (see volpath.cpp). Heterogeneous media keep distance sampling (warning).
+#include "volguide/core/properties.h"
+#include "volguide/integrators/integrator.h"
+
+namespace volguide {
+
+struct VolPathSettings {
+    int max_depth = -1;
+    int rr_depth = 5;
+    bool hide_emitters = false;
+    bool equiangular = false;
+    static VolPathSettings from(const Properties& props);
+};
+
+class VolPathIntegrator final : public Integrator {
+public:
+    explicit VolPathIntegrator(const Properties& props) : settings_(VolPathSettings::from(props)) {}
+    explicit VolPathIntegrator(VolPathSettings s) : settings_(s) {}
+    Color3 Li(const Scene& scene, Sampler& sampler, const Ray& ray) const override;
+    void preprocess(const Scene& scene) override;
+    std::string to_string() const override;
+    const VolPathSettings& settings() const { return settings_; }
+
+private:
+    VolPathSettings settings_;
+};
+
+}  // namespace volguide
