@@ -4,7 +4,7 @@
 //
 // Supported subset (docs/scene-format.md has the user-facing description):
 //  - root <scene version="2.x.y|3.x.y">; object tags bsdf, texture, emitter, shape, sensor, film,
-//    rfilter, sampler, integrator (medium, phase, volume are recognised but rejected for now);
+//    rfilter, sampler, integrator, medium, phase, volume;
 //    <spectrum type=".."> is a texture object;
 //  - values integer, float, boolean, string, rgb, spectrum (constant, wavelength:value pairs or a
 //    .spd file; pairs are reduced to linear sRGB exactly as Mitsuba's RGB variants do), point,
