@@ -26,13 +26,15 @@ double scatter_first_moment(double sigma, double albedo, double s) {
     return albedo * (1.0 - std::exp(-sigma * s) * (1.0 + sigma * s)) / sigma;
 }
 
-void check_medium(const Color3& sigma_t, const Color3& albedo, float s, int n, uint64_t seed) {
+// `throughput` only steers the channel choice: the expectations do not depend on it.
+void check_medium(const Color3& sigma_t, const Color3& albedo, float s, int n, uint64_t seed,
+                  const Color3& throughput = Color3(1.f)) {
     auto m = make_medium(sigma_t, albedo);
     const Ray ray(Point3f(0.3f, -1.f, 2.f), normalize(Vec3f(1.f, 2.f, -0.5f)));
     RunningStats scat[3], scat_t[3], esc[3];
     for (int i = 0; i < n; ++i) {
         Sampler sampler(seed, 0, uint64_t(i));
-        FreeFlightSample fs = m->sample_free_flight(ray, s, sampler);
+        FreeFlightSample fs = m->sample_free_flight(ray, s, throughput, sampler);
         ASSERT_TRUE(fs.weight.is_finite());
         if (fs.scattered) {
             ASSERT_LT(fs.t, s);
@@ -65,6 +67,26 @@ TEST(MediaHomogeneous, ChromaticFreeFlightWeights) {
     check_medium(Color3(0.f, 0.7f, 2.f), Color3(0.3f), Infinity, 200000, 3);
 }
 
+TEST(MediaHomogeneous, ThroughputSteersTheChannelNotTheMean) {
+    // Channel probabilities proportional to the path throughput (one channel nearly dead).
+    check_medium(Color3(1.f, 0.2f, 3.f), Color3(0.5f, 0.9f, 0.99f), 1.5f, 200000, 4, Color3(0.05f, 1.f, 4.f));
+    check_medium(Color3(0.f, 0.7f, 2.f), Color3(0.3f), Infinity, 200000, 5, Color3(2.f, 0.5f, 1.f));
+}
+
+TEST(MediaHomogeneous, AlbedoOneKeepsTheThroughputAverage) {
+    // With albedo 1 the throughput-proportional choice conserves the channel average of the path
+    // throughput exactly, at a scattering event and on escape: weights cannot build a heavy tail
+    // over long walks (a uniform choice multiplies factors up to 3 per event).
+    auto m = make_medium(Color3(2.f, 1.f, 3.f), Color3(1.f));
+    const Ray ray(Point3f(0.f), Vec3f(0.f, 0.f, 1.f));
+    const Color3 throughput(0.3f, 1.7f, 0.9f);
+    for (int i = 0; i < 2000; ++i) {
+        Sampler sampler(6, 0, uint64_t(i));
+        FreeFlightSample fs = m->sample_free_flight(ray, 0.8f, throughput, sampler);
+        EXPECT_NEAR((throughput * fs.weight).average(), throughput.average(), 1e-5f) << "sample " << i;
+    }
+}
+
 TEST(MediaHomogeneous, GreyIsAnalog) {
     auto m = make_medium(Color3(2.f), Color3(0.8f, 0.6f, 0.4f));
     const Ray ray(Point3f(0.f), Vec3f(0.f, 0.f, 1.f));
@@ -72,7 +94,7 @@ TEST(MediaHomogeneous, GreyIsAnalog) {
     const int n = 100000;
     for (int i = 0; i < n; ++i) {
         Sampler sampler(4, 0, uint64_t(i));
-        FreeFlightSample fs = m->sample_free_flight(ray, 1.f, sampler);
+        FreeFlightSample fs = m->sample_free_flight(ray, 1.f, Color3(0.2f, 1.f, 3.f), sampler);
         if (fs.scattered) {
             ++scattered;
             EXPECT_EQ(fs.weight, Color3(0.8f, 0.6f, 0.4f));

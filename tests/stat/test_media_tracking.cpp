@@ -113,7 +113,7 @@ TEST(MediaTracking, DeltaTrackingDepthIsExponential) {
             Sampler extra(99, ri, uint64_t(ms));
             for (int i = 0; i < n; ++i) {
                 Sampler s(5 + ri, uint64_t(ms), uint64_t(i));
-                FreeFlightSample fs = m->sample_free_flight(r.ray, r.tmax, s);
+                FreeFlightSample fs = m->sample_free_flight(r.ray, r.tmax, Color3(1.f), s);
                 if (fs.scattered) {
                     ASSERT_LT(fs.t, r.tmax);
                     EXPECT_NEAR(fs.weight.r, 0.7f, 1e-5f);  // grey: the weight is the albedo
@@ -147,7 +147,7 @@ TEST(MediaTracking, SpectralTrackingWeights) {
             const int n = 40000;
             for (int i = 0; i < n; ++i) {
                 Sampler s(31 + ri, uint64_t(ms), uint64_t(i));
-                FreeFlightSample fs = m->sample_free_flight(r.ray, r.tmax, s);
+                FreeFlightSample fs = m->sample_free_flight(r.ray, r.tmax, Color3(1.f), s);
                 ASSERT_TRUE(fs.weight.is_finite());
                 if (fs.scattered) {
                     const MediumCoefficients ref = m->eval(fs.mi.p);
@@ -188,7 +188,7 @@ TEST(MediaTracking, MissingTheBoxIsFree) {
     auto m = cloud_medium(3, Color3(0.5f), 4.f);
     const Ray ray(Point3f(0.f, 5.f, 0.f), Vec3f(1.f, 0.f, 0.f));
     Sampler s(1, 0, 0);
-    FreeFlightSample fs = m->sample_free_flight(ray, Infinity, s);
+    FreeFlightSample fs = m->sample_free_flight(ray, Infinity, Color3(1.f), s);
     EXPECT_FALSE(fs.scattered);
     EXPECT_EQ(fs.weight, Color3(1.f));
     EXPECT_EQ(m->transmittance(ray, Infinity, s), Color3(1.f));

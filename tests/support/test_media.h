@@ -1,9 +1,10 @@
 #pragma once
 // Minimal, independently written homogeneous medium and phase functions for testing integrators in
-// isolation from the media module: analytic transmittance, exponential free flights with a uniformly
-// chosen channel (spectral MIS, theory.md §2.6), Henyey-Greenstein with Mitsuba's convention.
+// isolation from the media module: analytic transmittance, exponential free flights with a channel
+// chosen in proportion to the path throughput (spectral MIS, theory.md §2.6), Henyey-Greenstein with Mitsuba's convention.
 // load_scene_with_test_media() loads a Mitsuba XML scene whose <medium type="homogeneous"> (sigma_t,
 // albedo, scale as float or rgb) and <phase type="isotropic|hg"> use these.
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <string>
@@ -57,19 +58,25 @@ public:
         phase_ = std::move(phase);
     }
     MediumCoefficients eval(const Point3f&) const override { return coeffs_; }
-    FreeFlightSample sample_free_flight(const Ray& ray, float tmax, Sampler& sampler) const override {
+    FreeFlightSample sample_free_flight(const Ray& ray, float tmax, const Color3& throughput,
+                                        Sampler& sampler) const override {
         FreeFlightSample ff;
-        float u = sampler.next_1d() * 3.f;
-        const int c = std::min(int(u), 2);
-        u = std::min(u - float(c), OneMinusEpsilon);
+        // Channel c with probability q_c proportional to |throughput_c| (uniform if all vanish).
+        Color3 q(std::abs(throughput.r), std::abs(throughput.g), std::abs(throughput.b));
+        const float qsum = q.r + q.g + q.b;
+        q = qsum > 0.f && std::isfinite(qsum) ? q * (1.f / qsum) : Color3(1.f / 3.f);
+        float u = sampler.next_1d();
+        int c = 0;
+        while (c < 2 && !(u < ch(q, c))) u -= ch(q, c++);
+        u = ch(q, c) > 0.f ? std::clamp(u / ch(q, c), 0.f, OneMinusEpsilon) : 0.5f;
         const float sc = ch(coeffs_.sigma_t, c);
         const float t = sc > 0.f ? -std::log1p(-u) / sc : Infinity;
         if (t < tmax) {
             const Color3 tr = tr_at(t);
-            const Color3 dens = coeffs_.sigma_t * tr;
+            const Color3 dens = coeffs_.sigma_t * tr * q;
             ff.scattered = true;
             ff.t = t;
-            ff.weight = coeffs_.sigma_s * tr * (3.f / (dens.r + dens.g + dens.b));
+            ff.weight = coeffs_.sigma_s * tr * (1.f / (dens.r + dens.g + dens.b));
             ff.mi.p = ray.o + ray.d * t;
             ff.mi.t = t;
             ff.mi.wi = -ray.d;
@@ -77,7 +84,7 @@ public:
             ff.mi.medium = this;
         } else {
             const Color3 tr = tr_at(tmax);
-            const float p = (tr.r + tr.g + tr.b) / 3.f;
+            const float p = tr.r * q.r + tr.g * q.g + tr.b * q.b;
             ff.t = tmax;
             ff.weight = p > 0.f ? tr * (1.f / p) : Color3(0.f);
         }

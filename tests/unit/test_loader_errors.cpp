@@ -121,24 +121,12 @@ TEST(LoaderErrors, RelativeScenePathIsKeptInMessages) {
     fs::current_path(old);
 }
 
-TEST(LoaderErrors, MediaAreNotSupportedYet) {
+TEST(LoaderErrors, MediumReferencedButNeverDefined) {
     ScratchDir dir;
-    std::string path =
-        dir.write("s.xml", scene("<bsdf type=\"diffuse\" id=\"b\"/>\n<medium type=\"homogeneous\">\n"
-                                 "  <phase type=\"isotropic\"/>\n</medium>\n"));
-    // The real factory table: children first, so the <phase> at line 4 is the first to fail.
-    std::string message;
-    try {
-        load_scene_properties(path, {}, [](const std::string& tag, const Properties& props) -> ObjectPtr {
-            if (tag == "bsdf") return fake_factory(tag, props);  // keep the diffuse stub out of the way
-            return create_object(tag, props);
-        });
-        FAIL() << "media accepted";
-    } catch (const InputError& e) {
-        EXPECT_EQ(e.location().file, path);
-        EXPECT_EQ(e.location().line, 4);
-        EXPECT_NE(e.message().find("media are not supported yet"), std::string::npos) << e.what();
-    }
+    std::string path = dir.write("s.xml", scene("<shape type=\"sphere\">\n  <ref name=\"interior\" id=\"fog\"/>\n"
+                                                "</shape>\n"));
+    // The real factory table: media are supported, an undefined id is still an error at the ref.
+    expect_input_error([&] { load_scene_properties(path, {}, create_object); }, path, 3, "fog");
 }
 
 TEST(LoaderErrors, ReferenceCycle) {

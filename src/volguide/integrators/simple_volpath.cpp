@@ -36,7 +36,7 @@ Color3 SimpleVolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const R
         SurfaceInteraction si;
         if (!scene.intersect(ray, si)) si = miss_interaction(ray);
         if (medium) {
-            FreeFlightSample ff = medium->sample_free_flight(ray, si.is_valid() ? si.t : ray.tmax, sampler);
+            FreeFlightSample ff = medium->sample_free_flight(ray, si.is_valid() ? si.t : ray.tmax, throughput, sampler);
             throughput *= ff.weight;
             if (throughput.is_black()) break;
             if (ff.scattered) {

@@ -10,7 +10,7 @@
 // and G = |cos_y| / dist^2 converting the phase pdf. Each strategy is weighted by the power
 // heuristic over all three, so the weights sum to one for every (t, y): unbiased. The distance
 // sampler must expose its density for this, so in these segments the integrator samples the
-// distance itself (homogeneous: one channel chosen uniformly, density averaged over the channels,
+// distance itself (homogeneous: one channel chosen in proportion to the throughput, mixture density over the channels,
 // theory.md §2.6) instead of calling Medium::sample_free_flight. In heterogeneous media the
 // integrator keeps plain free-flight sampling (preprocess warns): the tracking's density is not
 // available in closed form there.
@@ -24,6 +24,7 @@
 #include "volguide/integrators/equiangular.h"
 #include "volguide/integrators/volume_nee.h"
 #include "volguide/media/medium.h"
+#include "volguide/media/spectral_mis.h"
 #include "volguide/render/bsdf.h"
 #include "volguide/render/emitter.h"
 #include "volguide/render/scene.h"
@@ -69,27 +70,15 @@ bool equiangular_target(const Emitter* e) {
     return (f & emitter_flags::DeltaPosition) && !(f & emitter_flags::DeltaDirection);
 }
 
-float channel(const Color3& c, int i) { return i == 0 ? c.r : (i == 1 ? c.g : c.b); }
-
-// e^(-sigma t) with 0 * inf = 0 (an empty channel transmits everything, even to infinity).
-float transmit(float sigma, float t) { return sigma > 0.f ? std::exp(-sigma * t) : 1.f; }
-Color3 transmit(const Color3& sigma, float t) {
-    return Color3(transmit(sigma.r, t), transmit(sigma.g, t), transmit(sigma.b, t));
-}
-
-// Density of the channel-averaged exponential distance sampling at t.
-float distance_pdf(const Color3& sigma_t, float t) {
-    float p = 0.f;
-    for (int c = 0; c < 3; ++c) p += channel(sigma_t, c) * transmit(channel(sigma_t, c), t);
-    return p / 3.f;
-}
-
-// The segment of a homogeneous medium on which equiangular sampling runs.
+// The segment of a homogeneous medium on which equiangular sampling runs, with the channel
+// probabilities its distance sampling uses.
 struct EquiSegment {
     Point3f o;
     Vec3f d;
     float tmax = 0.f;
     Color3 sigma_t, sigma_s;
+    Color3 channel_probs{1.f / 3.f};
+    float distance_pdf(float t) const { return spectral_distance_pdf(sigma_t, channel_probs, t); }
 };
 
 // Density of a light point y (record seen from `ref`) in y's measure: the area density for
@@ -190,7 +179,7 @@ Color3 VolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const Ray& ca
 
             if (equi) {
                 const MediumCoefficients mc = medium->eval(ray.o);
-                seg = {ray.o, ray.d, tmax, mc.sigma_t, mc.sigma_s};
+                seg = {ray.o, ray.d, tmax, mc.sigma_t, mc.sigma_s, channel_probabilities(throughput)};
                 const Vec3f wi = -ray.d;
 
                 // Strategy 3: equiangular sample towards a light point chosen from the origin.
@@ -212,14 +201,14 @@ Color3 VolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const Ray& ca
                             if (!value.is_black() && ds.dist > 0.f) {
                                 const PhaseFunction& phase = medium->phase();
                                 const float fp = phase.eval(wi, ds.d);
-                                const float p_d = distance_pdf(seg.sigma_t, t);
+                                const float p_d = seg.distance_pdf(t);
                                 const float p_nee = light_point_density(scene, x, ds);
                                 const float g = ds.delta ? 0.f : std::abs(dot(ds.d, ds.n)) / (ds.dist * ds.dist);
                                 const float p3 = p_light * pe;
                                 const float w = power3(p3, p_d * p_nee, p_d * phase.pdf(wi, ds.d) * g);
                                 if (w > 0.f && fp > 0.f) {
                                     const Color3 tr = shadow_transmittance(scene, x, medium, ds, sampler);
-                                    result += throughput * transmit(seg.sigma_t, t) * seg.sigma_s * fp * value *
+                                    result += throughput * transmittance_rgb(seg.sigma_t, t) * seg.sigma_s * fp * value *
                                               tr * (w / p3);
                                 }
                             }
@@ -227,16 +216,15 @@ Color3 VolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const Ray& ca
                     }
                 }
 
-                // Distance sampling with the channel-averaged density (its pdf is needed for MIS).
-                float u = sampler.next_1d() * 3.f;
-                const int c = std::min(int(u), 2);
-                u = std::min(u - float(c), OneMinusEpsilon);
-                const float sc = channel(seg.sigma_t, c);
+                // Distance sampling with the spectral-MIS mixture density (its pdf is needed for MIS).
+                float u = sampler.next_1d();
+                const int c = sample_channel(seg.channel_probs, u);
+                const float sc = seg.sigma_t[c];
                 const float t = sc > 0.f ? -std::log1p(-u) / sc : Infinity;
                 if (t < tmax) {
-                    pd = distance_pdf(seg.sigma_t, t);
+                    pd = seg.distance_pdf(t);
                     t_d = t;
-                    throughput *= transmit(seg.sigma_t, t) * seg.sigma_s * (1.f / pd);
+                    throughput *= transmittance_rgb(seg.sigma_t, t) * seg.sigma_s * (1.f / pd);
                     scattered = true;
                     mi.p = ray.o + ray.d * t;
                     mi.t = t;
@@ -244,12 +232,12 @@ Color3 VolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const Ray& ca
                     mi.coeffs = mc;
                     mi.medium = medium;
                 } else {
-                    const Color3 tr = transmit(seg.sigma_t, tmax);
-                    const float p_escape = (tr.r + tr.g + tr.b) / 3.f;
+                    const Color3 tr = transmittance_rgb(seg.sigma_t, tmax);
+                    const float p_escape = spectral_escape_probability(seg.sigma_t, seg.channel_probs, tmax);
                     throughput *= p_escape > 0.f ? tr * (1.f / p_escape) : Color3(0.f);
                 }
             } else {
-                FreeFlightSample ff = medium->sample_free_flight(ray, tmax, sampler);
+                FreeFlightSample ff = medium->sample_free_flight(ray, tmax, throughput, sampler);
                 throughput *= ff.weight;
                 scattered = ff.scattered;
                 if (scattered) mi = ff.mi;

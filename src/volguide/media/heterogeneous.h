@@ -39,10 +39,12 @@ public:
     void set_transmittance_estimator(TransmittanceEstimator e) { estimator_ = e; }
 
     MediumCoefficients eval(const Point3f& p) const override;
-    FreeFlightSample sample_free_flight(const Ray& ray, float tmax, Sampler& sampler) const override {
-        return sample_free_flight(ray, tmax, sampler, nullptr);
+    FreeFlightSample sample_free_flight(const Ray& ray, float tmax, const Color3& throughput,
+                                        Sampler& sampler) const override {
+        return sample_free_flight(ray, tmax, throughput, sampler, nullptr);
     }
-    FreeFlightSample sample_free_flight(const Ray& ray, float tmax, Sampler& sampler, TrackingCounts* counts) const;
+    FreeFlightSample sample_free_flight(const Ray& ray, float tmax, const Color3& throughput, Sampler& sampler,
+                                        TrackingCounts* counts) const;
     Color3 transmittance(const Ray& ray, float tmax, Sampler& sampler) const override;
     Color3 ratio_tracking(const Ray& ray, float tmax, Sampler& sampler) const;
     Color3 residual_ratio_tracking(const Ray& ray, float tmax, Sampler& sampler) const;

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include "volguide/media/medium_params.h"
+#include "volguide/media/spectral_mis.h"
 
 namespace volguide {
 
@@ -18,12 +19,12 @@ HomogeneousMedium::HomogeneousMedium(const Color3& sigma_t, std::shared_ptr<Volu
 
 MediumCoefficients HomogeneousMedium::eval(const Point3f& p) const { return {sigma_t_, sigma_t_ * albedo_at(p)}; }
 
-// exp(-sigma t) with exp(-0 * inf) = 1.
-static inline float transmittance_1(float sigma, float t) { return sigma > 0.f ? std::exp(-sigma * t) : 1.f; }
-
-FreeFlightSample HomogeneousMedium::sample_free_flight(const Ray& ray, float tmax, Sampler& sampler) const {
-    const float u_channel = sampler.next_1d(), u_t = sampler.next_1d();
-    const int c = std::min(int(u_channel * 3.f), 2);
+FreeFlightSample HomogeneousMedium::sample_free_flight(const Ray& ray, float tmax, const Color3& throughput,
+                                                       Sampler& sampler) const {
+    float u_channel = sampler.next_1d();
+    const float u_t = sampler.next_1d();
+    const Color3 probs = grey_ ? Color3(1.f / 3.f) : channel_probabilities(throughput);
+    const int c = sample_channel(probs, u_channel);
     const float sigma_c = sigma_t_[c];
     const float t = sigma_c > 0.f ? -std::log1p(-u_t) / sigma_c : Infinity;
 
@@ -40,28 +41,23 @@ FreeFlightSample HomogeneousMedium::sample_free_flight(const Ray& ray, float tma
         if (grey_) {
             fs.weight = mi.coeffs.sigma_s / sigma_t_;
         } else {
-            const Color3 tr(transmittance_1(sigma_t_.r, t), transmittance_1(sigma_t_.g, t),
-                            transmittance_1(sigma_t_.b, t));
-            const float pdf = (sigma_t_ * tr).average();
-            fs.weight = pdf > 0.f ? tr * mi.coeffs.sigma_s / pdf : Color3(0.f);
+            const float pdf = spectral_distance_pdf(sigma_t_, probs, t);
+            fs.weight = pdf > 0.f ? transmittance_rgb(sigma_t_, t) * mi.coeffs.sigma_s / pdf : Color3(0.f);
         }
     } else {
         fs.scattered = false;
         fs.t = tmax;
         if (!grey_) {
-            const Color3 tr(transmittance_1(sigma_t_.r, tmax), transmittance_1(sigma_t_.g, tmax),
-                            transmittance_1(sigma_t_.b, tmax));
-            const float prob = tr.average();
-            fs.weight = prob > 0.f ? tr / prob : Color3(0.f);
+            const float prob = spectral_escape_probability(sigma_t_, probs, tmax);
+            fs.weight = prob > 0.f ? transmittance_rgb(sigma_t_, tmax) / prob : Color3(0.f);
         }
     }
     return fs;
 }
 
 Color3 HomogeneousMedium::transmittance(const Ray&, float tmax, Sampler&) const {
-    return {transmittance_1(sigma_t_.r, tmax), transmittance_1(sigma_t_.g, tmax), transmittance_1(sigma_t_.b, tmax)};
+    return transmittance_rgb(sigma_t_, tmax);
 }
-
 BBox3f HomogeneousMedium::bbox() const {
     return BBox3f(Point3f(-Infinity, -Infinity, -Infinity), Point3f(Infinity, Infinity, Infinity));
 }

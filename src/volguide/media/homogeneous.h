@@ -2,9 +2,10 @@
 // Mitsuba's `homogeneous` medium: constant (possibly chromatic) sigma_t times `scale`, albedo a
 // constant or a volume (Mitsuba allows a spatially varying albedo here), a phase function.
 // Free flights are sampled in closed form with one-sample spectral MIS (theory.md §2.6): a
-// channel c is picked with probability 1/3, t ~ sigma_t,c exp(-sigma_t,c t), and every channel
-// is weighted with the averaged pdf  p(t) = 1/3 sum_c sigma_t,c exp(-sigma_t,c t)  (escape:
-// P = 1/3 sum_c exp(-sigma_t,c tmax)). Transmittance is exact.
+// channel c is picked with probability P_c proportional to the path throughput,
+// t ~ sigma_t,c exp(-sigma_t,c t), and every channel is weighted with the mixture pdf
+// p(t) = sum_c P_c sigma_t,c exp(-sigma_t,c t)  (escape: P = sum_c P_c exp(-sigma_t,c tmax)).
+// Transmittance is exact.
 #include "volguide/media/medium.h"
 #include "volguide/media/volume.h"
 
@@ -17,7 +18,8 @@ public:
                       bool sample_emitters = true);
 
     MediumCoefficients eval(const Point3f& p) const override;
-    FreeFlightSample sample_free_flight(const Ray& ray, float tmax, Sampler& sampler) const override;
+    FreeFlightSample sample_free_flight(const Ray& ray, float tmax, const Color3& throughput,
+                                        Sampler& sampler) const override;
     Color3 transmittance(const Ray& ray, float tmax, Sampler& sampler) const override;
     bool is_homogeneous() const override { return true; }
     BBox3f bbox() const override;

@@ -50,7 +50,10 @@ public:
     virtual MediumCoefficients eval(const Point3f& p) const = 0;
     // Samples the next real scattering event along ray.o + t ray.d, t in (0, tmax); tmax may be
     // infinite (then the ray must scatter or be absorbed, or leave the medium's bounds).
-    virtual FreeFlightSample sample_free_flight(const Ray& ray, float tmax, Sampler& sampler) const = 0;
+    // `throughput` is the path's current throughput: chromatic media choose the channel that drives
+    // the decision in proportion to it (media/spectral_mis.h); it does not scale the returned weight.
+    virtual FreeFlightSample sample_free_flight(const Ray& ray, float tmax, const Color3& throughput,
+                                                Sampler& sampler) const = 0;
     // Unbiased estimate of the transmittance over t in (0, tmax).
     virtual Color3 transmittance(const Ray& ray, float tmax, Sampler& sampler) const = 0;
 

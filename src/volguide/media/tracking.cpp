@@ -3,6 +3,7 @@
 // parameter throughout, so distances need no conversion).
 #include "volguide/media/dda.h"
 #include "volguide/media/heterogeneous.h"
+#include "volguide/media/spectral_mis.h"
 
 namespace volguide {
 
@@ -27,8 +28,11 @@ inline bool roulette(Color3& tr, Sampler& s) {
 
 }  // namespace
 
-FreeFlightSample HeterogeneousMedium::sample_free_flight(const Ray& ray, float tmax, Sampler& sampler,
-                                                         TrackingCounts* counts) const {
+// Spectral tracking (Kutz et al. 2017): the event probabilities weigh each channel by the path
+// weight, i.e. the throughput on entry (as channel probabilities) times the tracking weight w
+// accumulated here; w alone is returned.
+FreeFlightSample HeterogeneousMedium::sample_free_flight(const Ray& ray, float tmax, const Color3& throughput,
+                                                         Sampler& sampler, TrackingCounts* counts) const {
     FreeFlightSample fs;
     fs.t = tmax;
     Point3f o;
@@ -39,6 +43,7 @@ FreeFlightSample HeterogeneousMedium::sample_free_flight(const Ray& ray, float t
     const int* res = majorants_.res();
     const Vec3f cells{float(res[0]), float(res[1]), float(res[2])};
     GridDda dda(o * cells, d * cells, res, t0, t1);
+    const Color3 entry = channel_probabilities(throughput);
     Color3 w(1.f);
     float tau = exponential(sampler);  // remaining optical depth (majorant units) to the next collision
     for (; !dda.done(); dda.advance()) {
@@ -56,7 +61,8 @@ FreeFlightSample HeterogeneousMedium::sample_free_flight(const Ray& ray, float t
             t += dt;
             const Color3 sigma_t = sigma_t_local(o + d * t);
             const Color3 sigma_n = Color3(mu) - sigma_t;
-            const float pc = abs(sigma_t * w).average(), pn = abs(sigma_n * w).average();
+            const Color3 path_w = w * entry;
+            const float pc = abs(sigma_t * path_w).average(), pn = abs(sigma_n * path_w).average();
             const float z = pc + pn;
             if (!(z > 0.f)) {  // the tracking weight vanished: nothing can be carried further
                 fs.weight = Color3(0.f);
