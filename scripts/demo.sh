@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# `make demo`: renders the bundled demo scene once, to out/demo.exr and an sRGB preview out/demo.png.
+# `make demo`: renders the bundled volumetric demo (fog lit by the sun through a window) once,
+# to out/demo.exr and an sRGB preview out/demo.png (volpath until guiding lands).
 set -euo pipefail
 build_dir=${1:-build}
 mkdir -p out
-"$build_dir/volguide" render scenes/demo/cornell-box.xml -o out/demo.exr -o out/demo.png --stats out/demo-stats.json
+"$build_dir/volguide" render scenes/demo/light-shafts.xml -o out/demo.exr -o out/demo.png --stats out/demo-stats.json
