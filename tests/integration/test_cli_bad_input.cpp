@@ -48,6 +48,22 @@ std::vector<BadScene> bad_scenes() {
          "nosuchvar"},
         {"truncated_xml", "    <shape type=\"sphere\">\n        <float name=\"radius\" value=\"1\"/>\n", 0, ""},
         {"unknown_define", "", 0, "nosuchdefine", {"-D", "nosuchdefine=3"}},
+        {"negative_sigma_t",
+         "    <medium type=\"homogeneous\" id=\"m\">\n        <rgb name=\"sigma_t\" value=\"1, -1, 1\"/>\n    </medium>\n",
+         8, "sigma_t"},
+        {"non_finite_albedo",
+         "    <medium type=\"homogeneous\" id=\"m\">\n        <float name=\"albedo\" value=\"nan\"/>\n    </medium>\n",
+         8, "albedo"},
+        {"hg_g_out_of_range",
+         "    <medium type=\"homogeneous\" id=\"m\">\n        <phase type=\"hg\"><float name=\"g\" value=\"-1\"/></phase>\n"
+         "    </medium>\n",
+         8, "g"},
+        {"missing_grid_file",
+         "    <medium type=\"heterogeneous\" id=\"m\">\n        <volume type=\"gridvolume\" name=\"sigma_t\">\n"
+         "            <string name=\"filename\" value=\"nowhere.vol\"/>\n        </volume>\n    </medium>\n",
+         9, "nowhere.vol"},
+        {"undefined_medium", "    <shape type=\"sphere\">\n        <ref name=\"interior\" id=\"fog\"/>\n    </shape>\n", 8,
+         "fog"},
         {"unknown_tag", "    <shap type=\"sphere\"/>\n", 7, "shap"},
         {"cyclic_include", "    <include filename=\"a.xml\"/>\n", 2, "a.xml", {}, "b.xml"},
     };
