@@ -1,0 +1,196 @@
+#include "volguide/guiding/spatial_tree.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace volguide {
+
+SpatialTree::SpatialTree(const BBox3f& bounds) : bounds_(bounds) {
+    nodes_.push_back(Node{0.f, 0u, 3});
+    leaf_offset_ = {0u, 0u};
+    compute_leaf_bounds();
+}
+
+std::span<const uint32_t> SpatialTree::leaf_samples(int leaf) const {
+    if (leaf_offset_.size() != leaf_bounds_.size() + 1) return {};
+    return {sample_index_.data() + leaf_offset_[size_t(leaf)], leaf_offset_[size_t(leaf) + 1] - leaf_offset_[size_t(leaf)]};
+}
+
+namespace {
+
+struct Builder {
+    std::span<const Point3f> points;
+    const SpatialTreeSettings& settings;
+    std::vector<SpatialTree::Node>& nodes;
+    std::vector<uint32_t>& order;       // sample indices, grouped by leaf as leaves are made
+    std::vector<uint32_t>& leaf_offset;
+    int max_depth_reached = 0;
+
+    // Chooses the split of `idx` inside `box`: (axis, position), or axis 3 for "make a leaf".
+    std::pair<int, float> choose_split(const std::vector<uint32_t>& idx, const BBox3f& box) const {
+        double mean[3] = {0, 0, 0}, sq[3] = {0, 0, 0};
+        for (uint32_t i : idx)
+            for (int a = 0; a < 3; ++a) {
+                const double v = points[i][a];
+                mean[a] += v;
+                sq[a] += v * v;
+            }
+        const double n = double(idx.size());
+        int best = -1;
+        double best_var = 0;
+        for (int a = 0; a < 3; ++a) {
+            mean[a] /= n;
+            const double var = sq[a] / n - mean[a] * mean[a];
+            if (var > best_var) best_var = var, best = a;
+        }
+        auto separates = [&](int a, float s) {
+            bool below = false, above = false;
+            for (uint32_t i : idx) (points[i][a] < s ? below : above) = true;
+            return below && above && s > box.lo[a] && s < box.hi[a];
+        };
+        if (best >= 0 && separates(best, float(mean[best]))) return {best, float(mean[best])};
+        const Vec3f ext = box.extents();
+        const int longest = ext.x >= ext.y && ext.x >= ext.z ? 0 : (ext.y >= ext.z ? 1 : 2);
+        const float mid = 0.5f * (box.lo[longest] + box.hi[longest]);
+        if (mid > box.lo[longest] && mid < box.hi[longest]) return {longest, mid};
+        return {3, 0.f};
+    }
+
+    void make_leaf(uint32_t node, const std::vector<uint32_t>& idx) {
+        nodes[node] = SpatialTree::Node{0.f, uint32_t(leaf_offset.size() - 1), 3};
+        order.insert(order.end(), idx.begin(), idx.end());
+        leaf_offset.push_back(uint32_t(order.size()));
+    }
+
+    void build(uint32_t node, std::vector<uint32_t> idx, const BBox3f& box, int depth) {
+        max_depth_reached = std::max(max_depth_reached, depth);
+        if (int(idx.size()) <= settings.max_samples || depth >= settings.max_depth) return make_leaf(node, idx);
+        auto [axis, split] = choose_split(idx, box);
+        if (axis == 3) return make_leaf(node, idx);
+        std::vector<uint32_t> lower, upper;
+        for (uint32_t i : idx) (points[i][axis] < split ? lower : upper).push_back(i);
+        idx = {};
+        const uint32_t child = uint32_t(nodes.size());
+        nodes[node] = SpatialTree::Node{split, child, uint8_t(axis)};
+        nodes.resize(nodes.size() + 2);
+        BBox3f lo_box = box, hi_box = box;
+        lo_box.hi[axis] = split;
+        hi_box.lo[axis] = split;
+        build(child, std::move(lower), lo_box, depth + 1);
+        build(child + 1, std::move(upper), hi_box, depth + 1);
+    }
+};
+
+}  // namespace
+
+SpatialTree SpatialTree::build(const BBox3f& bounds, std::span<const Point3f> points,
+                               const SpatialTreeSettings& settings) {
+    if (!bounds.valid()) throw std::invalid_argument("SpatialTree::build: invalid bounds");
+    if (settings.max_samples < 1 || settings.max_depth < 0 || settings.max_depth > 60)
+        throw std::invalid_argument("SpatialTree::build: max_samples must be >= 1 and max_depth in [0, 60]");
+    std::vector<Point3f> clamped(points.begin(), points.end());
+    for (Point3f& p : clamped) p = min(max(p, bounds.lo), bounds.hi);
+
+    SpatialTree tree(bounds);
+    tree.nodes_.assign(1, Node{});
+    tree.sample_index_.clear();
+    tree.sample_index_.reserve(points.size());
+    tree.leaf_offset_ = {0u};
+    std::vector<uint32_t> all(points.size());
+    for (size_t i = 0; i < all.size(); ++i) all[i] = uint32_t(i);
+    Builder b{clamped, settings, tree.nodes_, tree.sample_index_, tree.leaf_offset_};
+    b.build(0, std::move(all), bounds, 0);
+    tree.depth_ = b.max_depth_reached;
+    tree.compute_leaf_bounds();
+    return tree;
+}
+
+int SpatialTree::leaf_at(const Point3f& p) const {
+    if (!bounds_.contains(p)) return -1;
+    uint32_t node = 0;
+    while (!nodes_[node].is_leaf()) {
+        const Node& n = nodes_[node];
+        node = n.child + (p[n.axis] >= n.split ? 1u : 0u);
+    }
+    return int(nodes_[node].child);
+}
+
+void SpatialTree::compute_leaf_bounds() {
+    size_t leaves = 0;
+    for (const Node& n : nodes_) leaves += n.is_leaf();
+    leaf_bounds_.assign(leaves, BBox3f());
+    int depth = 0;
+    struct Item {
+        uint32_t node;
+        BBox3f box;
+        int depth;
+    };
+    std::vector<Item> stack{{0u, bounds_, 0}};
+    while (!stack.empty()) {
+        Item it = stack.back();
+        stack.pop_back();
+        depth = std::max(depth, it.depth);
+        const Node& n = nodes_[it.node];
+        if (n.is_leaf()) {
+            leaf_bounds_[n.child] = it.box;
+            continue;
+        }
+        BBox3f lo = it.box, hi = it.box;
+        lo.hi[n.axis] = n.split;
+        hi.lo[n.axis] = n.split;
+        stack.push_back({n.child, lo, it.depth + 1});
+        stack.push_back({n.child + 1, hi, it.depth + 1});
+    }
+    depth_ = depth;
+}
+
+SpatialTree SpatialTree::from_nodes(const BBox3f& bounds, std::vector<Node> nodes) {
+    if (!bounds.valid()) throw std::invalid_argument("spatial tree: invalid bounds");
+    if (nodes.empty()) throw std::invalid_argument("spatial tree: no nodes");
+    // Every node reachable exactly once from the root, children after their parent, leaves
+    // numbered 0..L-1 each once, depth within the traversal stack, splits inside their boxes.
+    std::vector<uint8_t> seen(nodes.size(), 0);
+    std::vector<uint8_t> leaf_seen;
+    size_t leaves = 0;
+    for (const Node& n : nodes) leaves += n.is_leaf();
+    leaf_seen.assign(leaves, 0);
+    struct Item {
+        uint32_t node;
+        BBox3f box;
+        int depth;
+    };
+    std::vector<Item> stack{{0u, bounds, 0}};
+    size_t visited = 0;
+    while (!stack.empty()) {
+        Item it = stack.back();
+        stack.pop_back();
+        if (it.node >= nodes.size() || seen[it.node]) throw std::invalid_argument("spatial tree: malformed node links");
+        seen[it.node] = 1;
+        ++visited;
+        const Node& n = nodes[it.node];
+        if (n.axis > 3) throw std::invalid_argument("spatial tree: invalid split axis");
+        if (n.is_leaf()) {
+            if (n.child >= leaves || leaf_seen[n.child]) throw std::invalid_argument("spatial tree: invalid leaf index");
+            leaf_seen[n.child] = 1;
+            continue;
+        }
+        if (it.depth >= 60) throw std::invalid_argument("spatial tree: too deep");
+        if (n.child <= it.node || size_t(n.child) + 1 >= nodes.size())
+            throw std::invalid_argument("spatial tree: malformed node links");
+        if (!(n.split > it.box.lo[n.axis] && n.split < it.box.hi[n.axis]))
+            throw std::invalid_argument("spatial tree: split outside its node");
+        BBox3f lo = it.box, hi = it.box;
+        lo.hi[n.axis] = n.split;
+        hi.lo[n.axis] = n.split;
+        stack.push_back({n.child, lo, it.depth + 1});
+        stack.push_back({n.child + 1, hi, it.depth + 1});
+    }
+    if (visited != nodes.size()) throw std::invalid_argument("spatial tree: unreachable nodes");
+    SpatialTree tree(bounds);
+    tree.nodes_ = std::move(nodes);
+    tree.leaf_offset_.clear();
+    tree.compute_leaf_bounds();
+    return tree;
+}
+
+}  // namespace volguide

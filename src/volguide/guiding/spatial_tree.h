@@ -1,0 +1,117 @@
+#pragma once
+// The guiding field's spatial subdivision (theory.md §5.3): a kd-tree over the media's bounds whose
+// leaves hold at most `max_samples` training samples. A node splits at the sample mean of its
+// axis of largest positional variance; when that does not separate the samples (or the variance
+// is zero) it splits the longest axis at its midpoint; a node stops at `max_depth`.
+//
+// Queries: the leaf containing a point, and the leaves a ray segment crosses in order with their
+// entry/exit distances (the guided distance sampler's bins, theory.md §7.3). Building is sequential
+// and order-preserving, so the tree is a pure function of the samples in their given order.
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "volguide/core/bbox.h"
+
+namespace volguide {
+
+struct SpatialTreeSettings {
+    int max_samples = 2000;  // theory.md §15 ("leaf_samples")
+    int max_depth = 32;
+};
+
+class SpatialTree {
+public:
+    // An empty tree: one leaf covering `bounds`.
+    explicit SpatialTree(const BBox3f& bounds = BBox3f(Point3f(0.f), Point3f(0.f)));
+
+    // Builds the tree over `bounds` from sample positions (points outside the bounds are clamped
+    // into them). leaf_samples(i) then lists the indices of the samples in leaf i, in input order.
+    static SpatialTree build(const BBox3f& bounds, std::span<const Point3f> points,
+                             const SpatialTreeSettings& settings = {});
+
+    const BBox3f& bounds() const { return bounds_; }
+    int leaf_count() const { return int(leaf_bounds_.size()); }
+    int node_count() const { return int(nodes_.size()); }
+    int depth() const { return depth_; }
+    const BBox3f& leaf_bounds(int leaf) const { return leaf_bounds_[size_t(leaf)]; }
+    // Indices of the build samples that fell into `leaf` (empty for a tree not built from samples).
+    std::span<const uint32_t> leaf_samples(int leaf) const;
+
+    // The leaf containing p, or -1 outside the bounds. Points on a split plane go to the upper side.
+    int leaf_at(const Point3f& p) const;
+
+    // Calls visit(leaf, t_enter, t_exit) for the leaves crossed by ray(t), t in (t0, t1), in order
+    // of increasing t; the intervals are contiguous and cover the segment's overlap with the
+    // bounds. visit returns false to stop early. Returns false if it was stopped.
+    template <class Visit>
+    bool traverse(const Ray& ray, float t0, float t1, Visit&& visit) const;
+
+    // Flat storage, for serialization.
+    struct Node {
+        // Inner node: children at child and child + 1 (lower, upper), split plane on `axis`.
+        // Leaf: axis = 3 and child = the leaf index.
+        float split = 0.f;
+        uint32_t child = 0;
+        uint8_t axis = 3;
+        bool is_leaf() const { return axis == 3; }
+    };
+    const std::vector<Node>& nodes() const { return nodes_; }
+    // Rebuilds a tree from its nodes (leaf bounds are recomputed); throws std::invalid_argument
+    // when the nodes do not form a valid tree.
+    static SpatialTree from_nodes(const BBox3f& bounds, std::vector<Node> nodes);
+
+private:
+    void compute_leaf_bounds();
+
+    BBox3f bounds_;
+    std::vector<Node> nodes_;
+    std::vector<BBox3f> leaf_bounds_;
+    std::vector<uint32_t> sample_index_;  // samples grouped by leaf
+    std::vector<uint32_t> leaf_offset_;   // leaf i: sample_index_[leaf_offset_[i] .. leaf_offset_[i + 1])
+    int depth_ = 0;
+};
+
+template <class Visit>
+bool SpatialTree::traverse(const Ray& ray, float t0, float t1, Visit&& visit) const {
+    float b0, b1;
+    if (!bounds_.ray_intersect(ray, b0, b1)) return true;
+    t0 = std::max(t0, b0);
+    t1 = std::min(t1, b1);
+    if (!(t0 < t1)) return true;
+    const float inv_d[3] = {1.f / ray.d.x, 1.f / ray.d.y, 1.f / ray.d.z};
+    struct Todo {
+        uint32_t node;
+        float t0, t1;
+    };
+    Todo stack[64];
+    int top = 0;
+    uint32_t node = 0;
+    while (true) {
+        const Node& n = nodes_[node];
+        if (n.is_leaf()) {
+            if (!visit(int(n.child), t0, t1)) return false;
+            if (top == 0) return true;
+            --top;
+            node = stack[top].node;
+            t0 = stack[top].t0;
+            t1 = stack[top].t1;
+            continue;
+        }
+        const int a = n.axis;
+        const float t_split = (n.split - ray.o[a]) * inv_d[a];
+        // Which side a point of the segment lies on; points on the plane belong to the upper child.
+        auto upper_at = [&](float t) { return ray.o[a] + ray.d[a] * t >= n.split; };
+        if (!(t_split > t0) || !(t_split < t1)) {  // no crossing inside (t0, t1) (or parallel)
+            node = n.child + (upper_at(0.5f * (t0 + t1)) ? 1u : 0u);
+            continue;
+        }
+        const bool near_upper = upper_at(0.5f * (t0 + t_split));
+        const uint32_t near = n.child + (near_upper ? 1u : 0u), far = n.child + (near_upper ? 0u : 1u);
+        stack[top++] = {far, t_split, t1};
+        node = near;
+        t1 = t_split;
+    }
+}
+
+}  // namespace volguide

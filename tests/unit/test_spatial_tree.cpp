@@ -1,0 +1,165 @@
+// The guiding kd-tree (theory.md §5.3): leaves hold at most max_samples samples, leaves tile the
+// bounds, point lookup agrees with the build's partition, ray traversal yields contiguous ordered
+// intervals that agree with point lookup, and rebuilding from the node array is exact.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "volguide/core/sampler.h"
+#include "volguide/core/warp.h"
+#include "volguide/guiding/spatial_tree.h"
+
+using namespace volguide;
+
+namespace {
+
+const BBox3f kBounds(Point3f(-2.f, -1.f, 0.f), Point3f(2.f, 3.f, 1.f));
+
+// Clustered points: a dense blob, a plane of identical z, and uniform background.
+std::vector<Point3f> points(int n, uint64_t seed) {
+    std::vector<Point3f> out;
+    for (int i = 0; i < n; ++i) {
+        Sampler s(seed, 0, uint64_t(i));
+        const float kind = s.next_1d();
+        const Point3f u(s.next_1d(), s.next_1d(), s.next_1d());
+        const Vec3f ext = kBounds.extents();
+        if (kind < 0.4f)
+            out.push_back(Point3f(0.5f, 1.f, 0.3f) + (u - Point3f(0.5f)) * 0.2f);
+        else if (kind < 0.6f)
+            out.push_back(Point3f(kBounds.lo.x + u.x * ext.x, kBounds.lo.y + u.y * ext.y, 0.75f));
+        else
+            out.push_back(kBounds.lo + Vec3f(u.x * ext.x, u.y * ext.y, u.z * ext.z));
+    }
+    return out;
+}
+
+double volume(const BBox3f& b) {
+    const Vec3f e = b.extents();
+    return double(e.x) * e.y * e.z;
+}
+
+}  // namespace
+
+TEST(SpatialTree, LeavesRespectTheSampleLimitAndTileTheBounds) {
+    const auto pts = points(20000, 1);
+    SpatialTreeSettings settings;
+    settings.max_samples = 500;
+    SpatialTree tree = SpatialTree::build(kBounds, pts, settings);
+    EXPECT_GT(tree.leaf_count(), 40);
+    double vol = 0;
+    size_t total = 0;
+    for (int l = 0; l < tree.leaf_count(); ++l) {
+        EXPECT_LE(tree.leaf_samples(l).size(), 500u) << "leaf " << l;
+        total += tree.leaf_samples(l).size();
+        vol += volume(tree.leaf_bounds(l));
+        for (uint32_t i : tree.leaf_samples(l)) {
+            EXPECT_EQ(tree.leaf_at(pts[i]), l) << "sample " << i;
+            EXPECT_TRUE(tree.leaf_bounds(l).contains(pts[i]));
+        }
+    }
+    EXPECT_EQ(total, pts.size());
+    EXPECT_NEAR(vol, volume(kBounds), 1e-4 * volume(kBounds));
+    EXPECT_EQ(tree.leaf_at(Point3f(5.f, 0.f, 0.5f)), -1);
+}
+
+TEST(SpatialTree, IdenticalPointsStopAtTheDepthCapOrTheFloatLimit) {
+    std::vector<Point3f> same(100, Point3f(0.1f, 0.2f, 0.3f));
+    SpatialTreeSettings settings;
+    settings.max_samples = 10;
+    settings.max_depth = 12;
+    SpatialTree tree = SpatialTree::build(kBounds, same, settings);
+    EXPECT_LE(tree.depth(), 12);
+    const int leaf = tree.leaf_at(same[0]);
+    EXPECT_EQ(tree.leaf_samples(leaf).size(), 100u);
+}
+
+TEST(SpatialTree, BuildIsAPureFunctionOfTheSamples) {
+    const auto pts = points(5000, 2);
+    SpatialTreeSettings settings;
+    settings.max_samples = 100;
+    SpatialTree a = SpatialTree::build(kBounds, pts, settings), b = SpatialTree::build(kBounds, pts, settings);
+    ASSERT_EQ(a.nodes().size(), b.nodes().size());
+    for (size_t i = 0; i < a.nodes().size(); ++i) {
+        EXPECT_EQ(a.nodes()[i].split, b.nodes()[i].split);
+        EXPECT_EQ(a.nodes()[i].child, b.nodes()[i].child);
+        EXPECT_EQ(a.nodes()[i].axis, b.nodes()[i].axis);
+    }
+}
+
+TEST(SpatialTree, TraversalIsContiguousOrderedAndAgreesWithPointLookup) {
+    const auto pts = points(20000, 3);
+    SpatialTreeSettings settings;
+    settings.max_samples = 200;
+    SpatialTree tree = SpatialTree::build(kBounds, pts, settings);
+    for (int r = 0; r < 2000; ++r) {
+        Sampler s(4, 0, uint64_t(r));
+        // Origins inside and outside the bounds; some axis-parallel directions.
+        Point3f o(-3.f + 6.f * s.next_1d(), -2.f + 6.f * s.next_1d(), -0.5f + 2.f * s.next_1d());
+        Vec3f d = warp::square_to_uniform_sphere(s.next_2d());
+        if (r % 10 == 0) d = Vec3f(r % 20 == 0 ? 1.f : 0.f, r % 20 == 0 ? 0.f : -1.f, 0.f);
+        if (r % 7 == 0) o = pts[size_t(r)];  // starting exactly at a sample
+        const Ray ray(o, d);
+        const float t0 = (r % 3 == 0) ? 0.5f : 0.f, t1 = (r % 5 == 0) ? 2.f : Infinity;
+        float expect_start, expect_end;
+        const bool hits = kBounds.ray_intersect(ray, expect_start, expect_end) &&
+                          std::max(expect_start, t0) < std::min(expect_end, t1);
+        float prev_end = NAN;
+        int count = 0;
+        tree.traverse(ray, t0, t1, [&](int leaf, float ta, float tb) {
+            EXPECT_LT(ta, tb) << "ray " << r;
+            if (count == 0)
+                EXPECT_FLOAT_EQ(ta, std::max(expect_start, t0)) << "ray " << r;
+            else
+                EXPECT_EQ(ta, prev_end) << "ray " << r << " gap or overlap at interval " << count;
+            // The interval's midpoint lies in the reported leaf (away from its faces).
+            if (tb - ta > 1e-4f) {
+                EXPECT_EQ(tree.leaf_at(ray(0.5f * (ta + tb))), leaf) << "ray " << r;
+            }
+            prev_end = tb;
+            ++count;
+            return true;
+        });
+        if (hits) {
+            EXPECT_GT(count, 0) << "ray " << r;
+            EXPECT_FLOAT_EQ(prev_end, std::min(expect_end, t1)) << "ray " << r;
+        } else {
+            EXPECT_EQ(count, 0) << "ray " << r;
+        }
+    }
+}
+
+TEST(SpatialTree, TraversalStopsWhenAsked) {
+    SpatialTreeSettings settings;
+    settings.max_samples = 50;
+    SpatialTree tree = SpatialTree::build(kBounds, points(5000, 5), settings);
+    int visits = 0;
+    const bool finished = tree.traverse(Ray(Point3f(-3.f, 1.f, 0.3f), Vec3f(1.f, 0.f, 0.f)), 0.f, Infinity,
+                                        [&](int, float, float) { return ++visits < 2; });
+    EXPECT_FALSE(finished);
+    EXPECT_EQ(visits, 2);
+}
+
+TEST(SpatialTree, RebuiltFromNodesIsIdenticalAndBadNodesAreRejected) {
+    SpatialTreeSettings settings;
+    settings.max_samples = 100;
+    SpatialTree tree = SpatialTree::build(kBounds, points(5000, 6), settings);
+    SpatialTree copy = SpatialTree::from_nodes(kBounds, tree.nodes());
+    ASSERT_EQ(copy.leaf_count(), tree.leaf_count());
+    for (int i = 0; i < 1000; ++i) {
+        Sampler s(7, 0, uint64_t(i));
+        const Point3f p = kBounds.lo + Vec3f(s.next_1d() * 4.f, s.next_1d() * 4.f, s.next_1d());
+        EXPECT_EQ(copy.leaf_at(p), tree.leaf_at(p));
+    }
+    auto bad = tree.nodes();
+    bad[0].child = 0;  // a cycle
+    EXPECT_THROW(SpatialTree::from_nodes(kBounds, bad), std::invalid_argument);
+    bad = tree.nodes();
+    bad[0].split = 10.f;  // outside the bounds
+    EXPECT_THROW(SpatialTree::from_nodes(kBounds, bad), std::invalid_argument);
+    bad = tree.nodes();
+    bad[0].axis = 7;
+    EXPECT_THROW(SpatialTree::from_nodes(kBounds, bad), std::invalid_argument);
+    bad = tree.nodes();
+    bad.pop_back();  // a dangling child
+    EXPECT_THROW(SpatialTree::from_nodes(kBounds, bad), std::invalid_argument);
+}
