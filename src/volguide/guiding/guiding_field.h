@@ -1,0 +1,88 @@
+#pragma once
+// The guiding field (theory.md §5): a kd-tree over the media's bounds with, per leaf, a normalised
+// VMM of incident radiance V_L (directions towards the light, §1.1) and the RGB fluence Phi, so that
+//   incident radiance      L~(x, w)   = Phi * V_L(w)
+//   in-scattered radiance  L~_i(x, w) = Phi * (V_L convolved with the phase VMM)(w), w = travel direction.
+// The field only shapes probabilities; weights never read it (theory.md §1.4).
+//
+// It is built from radiance samples the renderer produces (photon collisions or camera-path
+// vertices); it never sees the scene. Leaves are fitted in parallel, each from its own samples in
+// input order, so the field is a pure function of the samples for any thread count.
+#include <span>
+#include <vector>
+
+#include "volguide/core/color.h"
+#include "volguide/guiding/spatial_tree.h"
+#include "volguide/vmm/phase_vmm.h"
+#include "volguide/vmm/vmm_fit.h"
+
+namespace volguide {
+
+// One training record: at `position`, radiance arrives from `direction` (towards the light).
+// `weight` is its fluence contribution: Phi_p / sigma_t for a photon collision (collision
+// estimator, theory.md §2.5, §5.2), or L^ / p(direction) for a camera-path vertex (§10.2).
+struct RadianceSample {
+    Point3f position;
+    Vec3f direction;
+    Color3 weight;
+};
+
+// How a leaf turns its samples' weights into fluence.
+enum class FluenceEstimator {
+    PerVolume,      // photons: Phi = sum(weight) / leaf volume
+    PerSampleMean,  // camera vertices: Phi = sum(weight) / sample count
+};
+
+enum class InscatterMode {
+    Exact,  // sum over lobe pairs of the exact vMF convolution value (theory.md eq. 3.4)
+    A3,     // the paper's single-lobe approximation A3(k') = A3(k1) A3(k2) (eq. 3.5 / 5.1)
+};
+
+struct GuidingFieldSettings {
+    SpatialTreeSettings tree;  // tree.max_samples is `leaf_samples`
+    int lobes = 8;             // VMM components per leaf (theory.md §15)
+    int min_samples = 64;      // fewer (positive-weight) samples: the leaf is invalid
+    VmmFitSettings fit;        // fit.initial_lobes is overridden by `lobes`
+    FluenceEstimator fluence = FluenceEstimator::PerVolume;
+};
+
+struct GuidingLeaf {
+    Vmm vmm;              // normalised; empty for an invalid leaf
+    Color3 fluence{0.f};  // Phi (RGB)
+    uint32_t samples = 0;
+    bool valid = false;  // enough samples: guided decisions may use it (otherwise defensive only)
+};
+
+class GuidingField {
+public:
+    GuidingField() = default;
+    static GuidingField build(const BBox3f& bounds, std::span<const RadianceSample> samples,
+                              const GuidingFieldSettings& settings = {});
+    // Assembles a field from its parts (loading); leaves.size() must equal tree.leaf_count().
+    GuidingField(SpatialTree tree, std::vector<GuidingLeaf> leaves);
+
+    const SpatialTree& tree() const { return tree_; }
+    const std::vector<GuidingLeaf>& leaves() const { return leaves_; }
+    bool empty() const { return leaves_.empty(); }
+
+    // The leaf at x, or nullptr outside the field's bounds.
+    const GuidingLeaf* leaf_at(const Point3f& x) const {
+        const int l = leaves_.empty() ? -1 : tree_.leaf_at(x);
+        return l < 0 ? nullptr : &leaves_[size_t(l)];
+    }
+
+    // L~(x, w), w towards the light; 0 outside the field or in invalid leaves.
+    Color3 incident(const Point3f& x, const Vec3f& w) const;
+    // L~_i(x, w) for a ray travelling along w through a medium whose phase VMM is `phase`.
+    Color3 inscattered(const Point3f& x, const Vec3f& w, const PhaseVmm& phase,
+                       InscatterMode mode = InscatterMode::Exact) const;
+
+    static Color3 incident(const GuidingLeaf& leaf, const Vec3f& w);
+    static Color3 inscattered(const GuidingLeaf& leaf, const Vec3f& w, const PhaseVmm& phase, InscatterMode mode);
+
+private:
+    SpatialTree tree_;
+    std::vector<GuidingLeaf> leaves_;
+};
+
+}  // namespace volguide
