@@ -17,7 +17,9 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <functional>
 
+#include "volguide/core/atomic_write.h"
 #include "volguide/core/error.h"
 
 namespace volguide {
@@ -104,22 +106,9 @@ Image read_ldr(const std::string& path, bool raw) {
     return image;
 }
 
-// Writes through `<path>.tmp-<pid>` and renames, so readers never see a partial file.
-template <typename WriteFn>
-void write_atomically(const std::string& path, WriteFn&& write) {
-    const std::string tmp = path + ".tmp-" + std::to_string(::getpid());
-    std::string error;
-    try {
-        write(tmp);
-    } catch (const std::exception& e) {
-        error = e.what();
-    }
-    if (error.empty() && std::rename(tmp.c_str(), path.c_str()) != 0)
-        error = std::string("rename failed: ") + std::strerror(errno);
-    if (!error.empty()) {
-        std::remove(tmp.c_str());
-        fail_file(path, "cannot write image: " + error);
-    }
+void write_image_atomically(const std::string& path, const std::function<void(const std::string&)>& write) {
+    const std::string error = write_atomically(path, write);
+    if (!error.empty()) fail_file(path, "cannot write image: " + error);
 }
 
 void check_image(const std::string& path, const Image& image) {
@@ -145,7 +134,7 @@ Image read_image(const std::string& path, bool raw) {
 
 void write_exr(const std::string& path, const Image& image) {
     check_image(path, image);
-    write_atomically(path, [&](const std::string& tmp) {
+    write_image_atomically(path, [&](const std::string& tmp) {
         Imf::Header header(image.width, image.height);
         header.channels().insert("R", Imf::Channel(Imf::FLOAT));
         header.channels().insert("G", Imf::Channel(Imf::FLOAT));
@@ -171,7 +160,7 @@ void write_png(const std::string& path, const Image& image) {
             v = std::isnan(v) ? 0.f : std::clamp(v, 0.f, 1.f);
             bytes[3 * i + c] = static_cast<unsigned char>(std::lround(linear_to_srgb(v) * 255.f));
         }
-    write_atomically(path, [&](const std::string& tmp) {
+    write_image_atomically(path, [&](const std::string& tmp) {
         if (!stbi_write_png(tmp.c_str(), image.width, image.height, 3, bytes.data(), image.width * 3))
             throw std::runtime_error("PNG encoder failed");
     });

@@ -1,0 +1,174 @@
+#include "volguide/guiding/field_io.h"
+
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+#include "volguide/core/atomic_write.h"
+#include "volguide/vmm/vmm_io.h"
+
+namespace volguide {
+
+namespace {
+
+constexpr char kMagic[8] = {'V', 'G', 'F', 'I', 'E', 'L', 'D', 0};
+constexpr size_t kNodeBytes = 9, kLeafBytes = 17;
+
+uint64_t fnv1a64(const char* p, size_t n) {
+    uint64_t h = 14695981039346656037ull;
+    for (size_t i = 0; i < n; ++i) h = (h ^ uint64_t(uint8_t(p[i]))) * 1099511628211ull;
+    return h;
+}
+
+void put_u32(std::string& s, uint32_t v) {
+    for (int i = 0; i < 4; ++i) s.push_back(char(uint8_t(v >> (8 * i))));
+}
+void put_f32(std::string& s, float v) { put_u32(s, std::bit_cast<uint32_t>(v)); }
+
+// Sequential reader over the checksummed body with bounds checks.
+struct Reader {
+    const std::string& bytes;
+    size_t pos, end;
+    void need(size_t n, const char* what) const {
+        if (end - pos < n) throw FieldFormatError(std::string("truncated guiding field (in ") + what + ")");
+    }
+    uint32_t u32(const char* what) {
+        need(4, what);
+        uint32_t v = 0;
+        for (int i = 0; i < 4; ++i) v |= uint32_t(uint8_t(bytes[pos + i])) << (8 * i);
+        pos += 4;
+        return v;
+    }
+    float f32(const char* what) { return std::bit_cast<float>(u32(what)); }
+    uint8_t u8(const char* what) {
+        need(1, what);
+        return uint8_t(bytes[pos++]);
+    }
+};
+
+}  // namespace
+
+std::string serialize_field(const GuidingField& field) {
+    std::string s(kMagic, sizeof(kMagic));
+    put_u32(s, kFieldFormatVersion);
+    const BBox3f& b = field.tree().bounds();
+    for (float v : {b.lo.x, b.lo.y, b.lo.z, b.hi.x, b.hi.y, b.hi.z}) put_f32(s, v);
+    const auto& nodes = field.tree().nodes();
+    put_u32(s, uint32_t(nodes.size()));
+    for (const SpatialTree::Node& n : nodes) {
+        put_f32(s, n.split);
+        put_u32(s, n.child);
+        s.push_back(char(n.axis));
+    }
+    put_u32(s, uint32_t(field.leaves().size()));
+    for (const GuidingLeaf& leaf : field.leaves()) {
+        for (int c = 0; c < 3; ++c) put_f32(s, leaf.fluence[c]);
+        put_u32(s, leaf.samples);
+        s.push_back(char(leaf.valid ? 1 : 0));
+        if (leaf.valid) {
+            std::ostringstream vmm;
+            write_vmm(vmm, leaf.vmm);
+            s += vmm.str();
+        }
+    }
+    const uint64_t sum = fnv1a64(s.data() + sizeof(kMagic), s.size() - sizeof(kMagic));
+    put_u32(s, uint32_t(sum));
+    put_u32(s, uint32_t(sum >> 32));
+    return s;
+}
+
+GuidingField deserialize_field(const std::string& bytes) {
+    if (bytes.size() < sizeof(kMagic) + 8 || std::memcmp(bytes.data(), kMagic, sizeof(kMagic)) != 0)
+        throw FieldFormatError("not a volguide guiding field (bad magic)");
+    Reader header{bytes, sizeof(kMagic), bytes.size()};
+    const uint32_t version = header.u32("header");
+    if (version != kFieldFormatVersion)
+        throw FieldFormatError("unsupported guiding field version " + std::to_string(version) + " (this build reads " +
+                               std::to_string(kFieldFormatVersion) + ")");
+    const size_t body_end = bytes.size() - 8;
+    Reader tail{bytes, body_end, bytes.size()};
+    const uint64_t stored = uint64_t(tail.u32("checksum")) | uint64_t(tail.u32("checksum")) << 32;
+    if (stored != fnv1a64(bytes.data() + sizeof(kMagic), body_end - sizeof(kMagic)))
+        throw FieldFormatError("guiding field checksum mismatch (corrupt or truncated file)");
+
+    Reader r{bytes, header.pos, body_end};
+    float box[6];
+    for (float& v : box) {
+        v = r.f32("bounds");
+        if (!std::isfinite(v)) throw FieldFormatError("guiding field bounds are not finite");
+    }
+    const BBox3f bounds(Point3f(box[0], box[1], box[2]), Point3f(box[3], box[4], box[5]));
+    const uint32_t node_count = r.u32("node count");
+    r.need(size_t(node_count) * kNodeBytes, "nodes");
+    std::vector<SpatialTree::Node> nodes(node_count);
+    for (SpatialTree::Node& n : nodes) {
+        n.split = r.f32("nodes");
+        n.child = r.u32("nodes");
+        n.axis = r.u8("nodes");
+    }
+    SpatialTree tree;
+    try {
+        tree = SpatialTree::from_nodes(bounds, std::move(nodes));
+    } catch (const std::invalid_argument& e) {
+        throw FieldFormatError(std::string("invalid guiding field: ") + e.what());
+    }
+    const uint32_t leaf_count = r.u32("leaf count");
+    if (int64_t(leaf_count) != tree.leaf_count())
+        throw FieldFormatError("guiding field has " + std::to_string(leaf_count) + " leaves, its tree " +
+                               std::to_string(tree.leaf_count()));
+    r.need(size_t(leaf_count) * kLeafBytes, "leaves");
+    std::vector<GuidingLeaf> leaves(leaf_count);
+    std::istringstream vmm_in(bytes);  // VMM records are read in place
+    for (uint32_t l = 0; l < leaf_count; ++l) {
+        GuidingLeaf& leaf = leaves[l];
+        for (int c = 0; c < 3; ++c) {
+            leaf.fluence[c] = r.f32("leaves");
+            if (!(leaf.fluence[c] >= 0.f) || !std::isfinite(leaf.fluence[c]))
+                throw FieldFormatError("guiding field leaf " + std::to_string(l) + " has an invalid fluence");
+        }
+        leaf.samples = r.u32("leaves");
+        const uint8_t valid = r.u8("leaves");
+        if (valid > 1) throw FieldFormatError("guiding field leaf " + std::to_string(l) + " has an invalid flag");
+        leaf.valid = valid == 1;
+        if (leaf.valid) {
+            vmm_in.seekg(std::streamoff(r.pos));
+            try {
+                leaf.vmm = read_vmm<kVmmMaxLobes>(vmm_in);
+            } catch (const VmmFormatError& e) {
+                throw FieldFormatError("guiding field leaf " + std::to_string(l) + ": " + e.what());
+            }
+            r.pos = size_t(vmm_in.tellg());
+            if (r.pos > r.end) throw FieldFormatError("truncated guiding field (in leaf VMMs)");
+            if (leaf.vmm.size() == 0) throw FieldFormatError("guiding field leaf " + std::to_string(l) + " is empty");
+        }
+    }
+    if (r.pos != r.end) throw FieldFormatError("guiding field has trailing data");
+    return GuidingField(std::move(tree), std::move(leaves));
+}
+
+void save_field(const std::string& path, const GuidingField& field) {
+    const std::string bytes = serialize_field(field);
+    const std::string error = write_atomically(path, [&](const std::string& tmp) {
+        std::ofstream out(tmp, std::ios::binary);
+        out.write(bytes.data(), std::streamsize(bytes.size()));
+        out.close();
+        if (!out) throw std::runtime_error("write failed");
+    });
+    if (!error.empty()) throw FieldFormatError("\"" + path + "\": cannot write the guiding field: " + error);
+}
+
+GuidingField load_field(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw FieldFormatError("\"" + path + "\": cannot open the guiding field");
+    std::ostringstream buf;
+    buf << in.rdbuf();
+    try {
+        return deserialize_field(buf.str());
+    } catch (const FieldFormatError& e) {
+        throw FieldFormatError("\"" + path + "\": " + e.what());
+    }
+}
+
+}  // namespace volguide
