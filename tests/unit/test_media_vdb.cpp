@@ -257,7 +257,7 @@ TEST(MediaVdb, BadFilesGridsAndTypesAreInputErrorsNamingTheFile) {
         const char* grid;  // nullptr: the default "density"
         std::vector<std::string> needles;
     } cases[] = {
-        {"missing.vdb", nullptr, {"cannot open"}},
+        {"missing.vdb", nullptr, {"not found"}},  // caught by the loader's file lookup
         {"text.vdb", nullptr, {"cannot read"}},
         {"dir.vdb", nullptr, {"directory"}},
         {"two.vdb", nullptr, {"\"density\"", "\"smoke\"", "\"temperature\""}},
@@ -282,12 +282,20 @@ TEST(MediaVdb, BadFilesGridsAndTypesAreInputErrorsNamingTheFile) {
             EXPECT_NE(e.message().find(c.file), std::string::npos) << e.what();
         }
     }
-    // The reader itself: InputErrors located at the file.
+    // The reader itself: InputErrors located at the file, naming it.
+    for (const char* file : {"two.vdb", "missing.vdb"}) {
+        try {
+            read_vdb_file(dir.path(file), "fog");
+            ADD_FAILURE() << file;
+        } catch (const InputError& e) {
+            EXPECT_EQ(e.location().file, dir.path(file));
+            EXPECT_NE(e.message().find(file), std::string::npos) << e.what();
+        }
+    }
     try {
-        read_vdb_file(dir.path("two.vdb"), "fog");
-        ADD_FAILURE();
+        read_vdb_file(dir.path("missing.vdb"), "density");
     } catch (const InputError& e) {
-        EXPECT_EQ(e.location().file, dir.path("two.vdb"));
+        EXPECT_NE(e.message().find("cannot open"), std::string::npos) << e.what();
     }
     // 'grid' is only for .vdb files.
     VolGrid g = make_vol_grid(2, 2, 2, 1, [](float, float, float, int) { return 1.f; });
