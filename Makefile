@@ -4,7 +4,8 @@ JOBS ?= $(shell nproc)
 # Debian packages the build and tests need. Keep in sync with CMakeLists.txt.
 APT_PACKAGES := build-essential cmake pkg-config libembree-dev libtbb-dev libopenexr-dev \
   libpugixml-dev libtinyobjloader-dev libfmt-dev libcli11-dev nlohmann-json3-dev libstb-dev \
-  libgtest-dev libgmock-dev libbenchmark-dev
+  libgtest-dev libgmock-dev libbenchmark-dev libopenvdb-dev \
+  libboost-iostreams-dev
 # CTest label expression for `make test`; CI runs everything.
 TEST_ARGS ?=
 

@@ -1,0 +1,307 @@
+// OpenVDB grids in `gridvolume` (volguide's extension): .vdb files written here with the OpenVDB
+// API must give the same volume as the same data in a Mitsuba .vol file (the linear-ramp oracle of
+// oracles.md §4, tau = sigma0 / 2 along +x), use_grid_bbox must place the grid where its VDB
+// transform puts it (voxel centres at integer index coordinates), inactive voxels read as the
+// background, and bad files, grid names, grid types and transforms are InputErrors naming the file.
+#include <gtest/gtest.h>
+#include <openvdb/io/File.h>
+#include <openvdb/openvdb.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include "support/vol_writer.h"
+#include "test_loader_util.h"
+#include "volguide/media/grid_data.h"
+#include "volguide/media/heterogeneous.h"
+#include "volguide/media/volume.h"
+
+using namespace volguide;
+using namespace volguide::test;
+
+namespace {
+
+template <typename T>
+std::shared_ptr<T> first(const Properties& root, const std::string& category) {
+    auto kids = root.children(category);
+    if (kids.empty()) return nullptr;
+    return std::dynamic_pointer_cast<T>(std::get<ObjectPtr>(kids[0]->value));
+}
+
+std::shared_ptr<Volume> load_volume(const ScratchDir& dir, const std::string& body) {
+    std::string path = dir.write("v.xml", scene(body));
+    return first<Volume>(load_scene_properties(path), "volume");
+}
+
+double optical_depth(const Medium& m, const Point3f& p0, const Vec3f& d, double len, int steps = 20000) {
+    double tau = 0.0;
+    for (int i = 0; i < steps; ++i) {
+        const double t = (i + 0.5) / steps * len;
+        tau += m.eval(p0 + d * float(t)).sigma_t.r * len / steps;
+    }
+    return tau;
+}
+
+void write_vdb(const std::string& path, const openvdb::GridPtrVec& grids) {
+    openvdb::initialize();
+    openvdb::io::File file(path);
+    file.write(grids);
+    file.close();
+}
+
+// A float grid holding f at every voxel of index [0, nx) x [0, ny) x [0, nz), named `name`, with
+// voxel size h (per axis) and voxel (0, 0, 0) centred at `origin`.
+openvdb::FloatGrid::Ptr float_grid(const std::string& name, int nx, int ny, int nz, const openvdb::Vec3d& h,
+                                   const openvdb::Vec3d& origin, const std::function<float(int, int, int)>& f,
+                                   float background = 0.f) {
+    openvdb::initialize();
+    auto grid = openvdb::FloatGrid::create(background);
+    grid->setName(name);
+    openvdb::math::Mat4d m = openvdb::math::Mat4d::identity();
+    for (int i = 0; i < 3; ++i) {
+        m(i, i) = h[i];
+        m(3, i) = origin[i];
+    }
+    grid->setTransform(openvdb::math::Transform::createLinearTransform(m));
+    auto acc = grid->getAccessor();
+    for (int z = 0; z < nz; ++z)
+        for (int y = 0; y < ny; ++y)
+            for (int x = 0; x < nx; ++x) acc.setValue(openvdb::Coord(x, y, z), f(x, y, z));
+    return grid;
+}
+
+}  // namespace
+
+TEST(MediaVdb, LinearRampMatchesVolFileAndGivesHalfSigma0) {
+    ScratchDir dir;
+    const float sigma0 = 3.f;
+    const int nx = 8, ny = 5, nz = 3;
+    // The same data as a .vol file (values at voxel centres (i + 0.5) / n of the unit cube) and as a
+    // VDB grid whose voxel (i, j, k) is centred at ((i + 0.5) / nx, (j + 0.5) / ny, (k + 0.5) / nz).
+    write_vol_file(dir.path("ramp.vol"),
+                   make_vol_grid(nx, ny, nz, 1, [&](float x, float, float, int) { return sigma0 * x; }));
+    write_vdb(dir.path("ramp.vdb"),
+              {float_grid("density", nx, ny, nz, openvdb::Vec3d(1.0 / nx, 1.0 / ny, 1.0 / nz),
+                          openvdb::Vec3d(0.5 / nx, 0.5 / ny, 0.5 / nz),
+                          [&](int x, int, int) { return sigma0 * (x + 0.5f) / nx; })});
+    auto load = [&](const std::string& file) {
+        std::string path = dir.write("s.xml", scene(R"(<medium type="heterogeneous">
+    <volume name="sigma_t" type="gridvolume"><string name="filename" value=")" +
+                                                    file + R"("/></volume>
+    <float name="albedo" value="0"/>
+</medium>
+)"));
+        return first<HeterogeneousMedium>(load_scene_properties(path), "medium");
+    };
+    auto vol = load("ramp.vol");
+    auto vdb = load("ramp.vdb");
+    ASSERT_TRUE(vol);
+    ASSERT_TRUE(vdb);
+    for (float y : {0.1f, 0.5f, 0.93f}) {
+        EXPECT_NEAR(optical_depth(*vdb, Point3f(-0.5f, y, 0.4f), Vec3f(1, 0, 0), 2.0), sigma0 / 2, 1e-4) << y;
+    }
+    for (const Point3f& p :
+         {Point3f(0.3f, 0.5f, 0.5f), Point3f(0.03f, 0.2f, 0.9f), Point3f(0.97f, 0.7f, 0.1f),
+          Point3f(0.5f, 0.5f, 0.5f), Point3f(0.71f, 0.01f, 0.33f), Point3f(1.01f, 0.5f, 0.5f)}) {
+        EXPECT_FLOAT_EQ(vdb->eval(p).sigma_t.r, vol->eval(p).sigma_t.r) << p.x << " " << p.y << " " << p.z;
+    }
+    EXPECT_NEAR(vdb->eval(Point3f(0.3f, 0.5f, 0.5f)).sigma_t.r, sigma0 * 0.3f, 1e-5f);
+    EXPECT_EQ(vdb->bbox().lo.x, vol->bbox().lo.x);
+    EXPECT_EQ(vdb->bbox().hi.z, vol->bbox().hi.z);
+    // With use_grid_bbox the VDB's own placement is the unit cube too: the same medium.
+    std::string path = dir.write("b.xml", scene(R"(<medium type="heterogeneous">
+    <volume name="sigma_t" type="gridvolume"><string name="filename" value="ramp.vdb"/>
+        <boolean name="use_grid_bbox" value="true"/></volume>
+    <float name="albedo" value="0"/>
+</medium>
+)"));
+    auto placed = first<HeterogeneousMedium>(load_scene_properties(path), "medium");
+    EXPECT_NEAR(placed->bbox().lo.x, 0.f, 1e-6f);
+    EXPECT_NEAR(placed->bbox().hi.x, 1.f, 1e-6f);
+    EXPECT_NEAR(placed->bbox().hi.y, 1.f, 1e-6f);
+    EXPECT_NEAR(optical_depth(*placed, Point3f(-0.5f, 0.5f, 0.4f), Vec3f(1, 0, 0), 2.0), sigma0 / 2, 1e-4);
+}
+
+TEST(MediaVdb, GridBBoxFollowsTheVdbTransform) {
+    ScratchDir dir;
+    // Voxel size 0.5; active voxels at index x in [-2, 1], y in [0, 2], z in [3, 4]; index (0,0,0) at
+    // world (10, -2, 1). Voxel value 100 x + 10 y + z (index), + 1000 to keep it positive.
+    const openvdb::Vec3d origin(10.0, -2.0, 1.0);
+    auto grid = openvdb::FloatGrid::create(0.f);
+    grid->setName("density");
+    auto xf = openvdb::math::Transform::createLinearTransform(0.5);
+    xf->postTranslate(origin);
+    grid->setTransform(xf);
+    auto value = [](int x, int y, int z) { return 1000.f + 100.f * x + 10.f * y + z; };
+    for (int z = 3; z <= 4; ++z)
+        for (int y = 0; y <= 2; ++y)
+            for (int x = -2; x <= 1; ++x) grid->tree().setValue(openvdb::Coord(x, y, z), value(x, y, z));
+    write_vdb(dir.path("g.vdb"), {grid});
+
+    GridData data = read_vdb_file(dir.path("g.vdb"), "density");
+    EXPECT_EQ(data.nx, 4);
+    EXPECT_EQ(data.ny, 3);
+    EXPECT_EQ(data.nz, 2);
+    EXPECT_EQ(data.channels, 1);
+    EXPECT_EQ(data.at(0, 0, 0), value(-2, 0, 3));
+    EXPECT_EQ(data.at(3, 2, 1), value(1, 2, 4));
+    // Cells: index [-2.5, 1.5] x [-0.5, 2.5] x [2.5, 4.5] through x -> 0.5 x + origin.
+    EXPECT_FLOAT_EQ(data.bbox.lo.x, 10.f - 1.25f);
+    EXPECT_FLOAT_EQ(data.bbox.hi.x, 10.f + 0.75f);
+    EXPECT_FLOAT_EQ(data.bbox.lo.y, -2.25f);
+    EXPECT_FLOAT_EQ(data.bbox.hi.y, -0.75f);
+    EXPECT_FLOAT_EQ(data.bbox.lo.z, 2.25f);
+    EXPECT_FLOAT_EQ(data.bbox.hi.z, 3.25f);
+
+    // Through the volume: with use_grid_bbox each VDB voxel's world centre holds its value (nearest
+    // and trilinear), then to_world applies on top.
+    auto v = load_volume(dir, R"(<volume type="gridvolume"><string name="filename" value="g.vdb"/>
+    <boolean name="use_grid_bbox" value="true"/><string name="filter_type" value="nearest"/></volume>
+)");
+    auto t = load_volume(dir, R"(<volume type="gridvolume"><string name="filename" value="g.vdb"/>
+    <boolean name="use_grid_bbox" value="true"/>
+    <transform name="to_world"><translate z="5"/></transform></volume>
+)");
+    ASSERT_TRUE(v);
+    ASSERT_TRUE(t);
+    for (int z = 3; z <= 4; ++z)
+        for (int y = 0; y <= 2; ++y)
+            for (int x = -2; x <= 1; ++x) {
+                const Point3f c(float(origin.x() + 0.5 * x), float(origin.y() + 0.5 * y),
+                                float(origin.z() + 0.5 * z));
+                EXPECT_EQ(v->eval(c).r, value(x, y, z)) << x << " " << y << " " << z;
+                EXPECT_NEAR(t->eval(c + Vec3f(0, 0, 5)).r, value(x, y, z), 0.05f)
+                    << x << " " << y << " " << z;
+            }
+    EXPECT_NEAR(t->bbox().lo.z, 7.25f, 1e-5f);
+    EXPECT_NEAR(t->bbox().hi.z, 8.25f, 1e-5f);
+}
+
+TEST(MediaVdb, InactiveVoxelsReadAsBackgroundAndVec3Grids) {
+    ScratchDir dir;
+    // Two active corner voxels; everything between is inactive and reads as the background 0.25.
+    auto grid = openvdb::FloatGrid::create(0.25f);
+    grid->setName("smoke");
+    grid->tree().setValue(openvdb::Coord(0, 0, 0), 2.f);
+    grid->tree().setValue(openvdb::Coord(3, 2, 1), 4.f);
+    grid->tree().setValueOff(openvdb::Coord(1, 1, 1), 7.f);  // inactive with a stored value
+    auto color = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.f));
+    color->setName("albedo");
+    for (int x = 0; x < 2; ++x)
+        color->tree().setValue(openvdb::Coord(x, 0, 0), openvdb::Vec3s(0.1f * x, 0.2f, 0.3f));
+    write_vdb(dir.path("two.vdb"), {grid, color});
+
+    GridData d = read_vdb_file(dir.path("two.vdb"), "smoke");
+    ASSERT_EQ(d.nx * d.ny * d.nz, 4 * 3 * 2);
+    EXPECT_EQ(d.at(0, 0, 0), 2.f);
+    EXPECT_EQ(d.at(3, 2, 1), 4.f);
+    EXPECT_EQ(d.at(1, 1, 1), 0.25f);
+    EXPECT_EQ(d.at(2, 0, 1), 0.25f);
+
+    GridData c = read_vdb_file(dir.path("two.vdb"), "albedo");
+    EXPECT_EQ(c.channels, 3);
+    EXPECT_EQ(c.nx, 2);
+    EXPECT_EQ(c.ny, 1);
+    EXPECT_FLOAT_EQ(c.at(1, 0, 0, 0), 0.1f);
+    EXPECT_FLOAT_EQ(c.at(1, 0, 0, 2), 0.3f);
+    auto v = load_volume(dir, R"(<volume type="gridvolume"><string name="filename" value="two.vdb"/>
+    <string name="grid" value="albedo"/><string name="filter_type" value="nearest"/></volume>
+)");
+    ASSERT_TRUE(v);
+    EXPECT_NEAR(v->eval(Point3f(0.75f, 0.5f, 0.5f)).r, 0.1f, 1e-6f);
+    EXPECT_NEAR(v->eval(Point3f(0.75f, 0.5f, 0.5f)).g, 0.2f, 1e-6f);
+}
+
+TEST(MediaVdb, NegativeScaleFlipsTheData) {
+    ScratchDir dir;
+    // x -> -x: index 0..3 at world x = 0, -1, -2, -3; the dense data runs along +x in world space.
+    auto grid = openvdb::FloatGrid::create(0.f);
+    grid->setName("density");
+    openvdb::math::Mat4d m = openvdb::math::Mat4d::identity();
+    m(0, 0) = -1.0;
+    grid->setTransform(openvdb::math::Transform::createLinearTransform(m));
+    for (int x = 0; x < 4; ++x) grid->tree().setValue(openvdb::Coord(x, 0, 0), float(x + 1));
+    write_vdb(dir.path("flip.vdb"), {grid});
+    GridData d = read_vdb_file(dir.path("flip.vdb"), "density");
+    ASSERT_EQ(d.nx, 4);
+    EXPECT_EQ(d.at(0, 0, 0), 4.f);  // world x = -3
+    EXPECT_EQ(d.at(3, 0, 0), 1.f);  // world x = 0
+    EXPECT_FLOAT_EQ(d.bbox.lo.x, -3.5f);
+    EXPECT_FLOAT_EQ(d.bbox.hi.x, 0.5f);
+}
+
+TEST(MediaVdb, BadFilesGridsAndTypesAreInputErrorsNamingTheFile) {
+    ScratchDir dir;
+    auto ramp = [](int x, int, int) { return float(x); };
+    write_vdb(dir.path("two.vdb"),
+              {float_grid("smoke", 2, 2, 2, openvdb::Vec3d(1.0), openvdb::Vec3d(0.0), ramp),
+               float_grid("temperature", 2, 2, 2, openvdb::Vec3d(1.0), openvdb::Vec3d(0.0), ramp)});
+    auto dgrid = openvdb::DoubleGrid::create(0.0);
+    dgrid->setName("density");
+    dgrid->tree().setValue(openvdb::Coord(0, 0, 0), 1.0);
+    write_vdb(dir.path("double.vdb"), {dgrid});
+    auto empty = openvdb::FloatGrid::create(0.f);
+    empty->setName("density");
+    write_vdb(dir.path("empty.vdb"), {empty});
+    auto rotated = float_grid("density", 2, 2, 2, openvdb::Vec3d(1.0), openvdb::Vec3d(0.0), ramp);
+    rotated->transform().postRotate(0.3, openvdb::math::Z_AXIS);
+    write_vdb(dir.path("rotated.vdb"), {rotated});
+    auto negative = float_grid("density", 2, 2, 2, openvdb::Vec3d(1.0), openvdb::Vec3d(0.0),
+                               [](int, int, int) { return -1.f; });
+    write_vdb(dir.path("negative.vdb"), {negative});
+    dir.write("text.vdb", "hello, not a VDB file\n");
+    std::filesystem::create_directories(dir.path("dir.vdb"));
+
+    struct Case {
+        const char* file;
+        const char* grid;  // nullptr: the default "density"
+        std::vector<std::string> needles;
+    } cases[] = {
+        {"missing.vdb", nullptr, {"not found"}},  // caught by the loader's file lookup
+        {"text.vdb", nullptr, {"cannot read"}},
+        {"dir.vdb", nullptr, {"directory"}},
+        {"two.vdb", nullptr, {"\"density\"", "\"smoke\"", "\"temperature\""}},
+        {"two.vdb", "fog", {"\"fog\"", "\"smoke\", \"temperature\""}},
+        {"double.vdb", nullptr, {"double", "unsupported type"}},
+        {"empty.vdb", nullptr, {"empty"}},
+        {"rotated.vdb", nullptr, {"rotated"}},
+        {"negative.vdb", nullptr, {"invalid value -1"}},
+    };
+    for (const Case& c : cases) {
+        std::string grid = c.grid ? std::string("<string name=\"grid\" value=\"") + c.grid + "\"/>" : "";
+        std::string xml =
+            dir.write("e.xml", scene(std::string("<volume type=\"gridvolume\">\n<string name=\"filename\" "
+                                                 "value=\"") +
+                                     c.file + "\"/>" + grid + "\n</volume>\n"));
+        for (const std::string& needle : c.needles)
+            expect_input_error([&] { load_scene_properties(xml); }, xml, 3, needle);
+        try {
+            load_scene_properties(xml);
+            ADD_FAILURE() << c.file;
+        } catch (const InputError& e) {
+            EXPECT_NE(e.message().find(c.file), std::string::npos) << e.what();
+        }
+    }
+    // The reader itself: InputErrors located at the file, naming it.
+    for (const char* file : {"two.vdb", "missing.vdb"}) {
+        try {
+            read_vdb_file(dir.path(file), "fog");
+            ADD_FAILURE() << file;
+        } catch (const InputError& e) {
+            EXPECT_EQ(e.location().file, dir.path(file));
+            EXPECT_NE(e.message().find(file), std::string::npos) << e.what();
+        }
+    }
+    try {
+        read_vdb_file(dir.path("missing.vdb"), "density");
+    } catch (const InputError& e) {
+        EXPECT_NE(e.message().find("cannot open"), std::string::npos) << e.what();
+    }
+    // 'grid' is only for .vdb files.
+    VolGrid g = make_vol_grid(2, 2, 2, 1, [](float, float, float, int) { return 1.f; });
+    write_vol_file(dir.path("a.vol"), g);
+    std::string xml =
+        dir.write("g.xml", scene("<volume type=\"gridvolume\">\n<string name=\"filename\" "
+                                 "value=\"a.vol\"/>\n<string name=\"grid\" value=\"x\"/>\n</volume>\n"));
+    expect_input_error([&] { load_scene_properties(xml); }, xml, 4, "grid");
+}
