@@ -1,16 +1,29 @@
 #pragma once
 // Integrators estimate the radiance arriving along a camera ray. The render loop
 // (integrators/render_loop.h) drives them; they never touch the film or threads.
+#include <atomic>
+#include <cstdint>
 #include <string>
 
 #include "volguide/core/color.h"
 #include "volguide/core/object.h"
+#include "volguide/core/progress.h"
 #include "volguide/core/ray.h"
 #include "volguide/core/sampler.h"
 
 namespace volguide {
 
 class Scene;
+
+// What a pre-pass needs from the render job: its seed (training must be reproducible), the time
+// budget of the whole job, progress reporting and cancellation (Ctrl-C).
+struct PreprocessContext {
+    uint64_t seed = 0;
+    double time_budget = 0;  // seconds for the whole render job; 0 = none
+    ProgressCallback progress;
+    const std::atomic<bool>* cancel = nullptr;
+    bool cancelled() const { return cancel && cancel->load(std::memory_order_relaxed); }
+};
 
 class Integrator : public Object {
 public:
@@ -19,7 +32,7 @@ public:
     // The `moment` integrator also writes the per-sample variance image.
     virtual bool writes_variance() const { return false; }
     // Work before rendering (training, pre-passes), counted in the time budget. Default: none.
-    virtual void preprocess(const Scene& scene) {}
+    virtual void preprocess(const Scene& scene, const PreprocessContext& context) {}
 };
 
 }  // namespace volguide

@@ -16,7 +16,9 @@ public:
         return nested_->Li(scene, sampler, ray);
     }
     bool writes_variance() const override { return true; }
-    void preprocess(const Scene& scene) override { nested_->preprocess(scene); }
+    void preprocess(const Scene& scene, const PreprocessContext& context) override {
+        nested_->preprocess(scene, context);
+    }
     const Integrator& nested() const { return *nested_; }
     std::string to_string() const override { return "moment[" + nested_->to_string() + "]"; }
 

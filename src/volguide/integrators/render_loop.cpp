@@ -245,7 +245,12 @@ RenderResult render(Scene& scene, const RenderOptions& options) {
         p.spp_target = options.spp;
         options.progress(p);
     }
-    arena.execute([&] { integrator.preprocess(scene); });
+    PreprocessContext context;
+    context.seed = options.seed.value_or(scene.sensor().seed());
+    context.time_budget = options.time_budget;
+    context.progress = options.progress;
+    context.cancel = options.cancel;
+    arena.execute([&] { integrator.preprocess(scene, context); });
     const double preprocess_seconds = seconds_since(job_start);
 
     const Sensor& sensor = scene.sensor();

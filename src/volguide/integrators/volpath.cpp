@@ -49,7 +49,7 @@ std::string VolPathIntegrator::to_string() const {
                        settings_.rr_depth, settings_.hide_emitters, settings_.equiangular);
 }
 
-void VolPathIntegrator::preprocess(const Scene& scene) {
+void VolPathIntegrator::preprocess(const Scene& scene, const PreprocessContext&) {
     if (!settings_.equiangular) return;
     bool heterogeneous = scene.sensor().medium() && !scene.sensor().medium()->is_homogeneous();
     for (const auto& shape : scene.shapes())

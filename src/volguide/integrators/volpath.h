@@ -32,7 +32,7 @@ public:
     explicit VolPathIntegrator(const Properties& props) : settings_(VolPathSettings::from(props)) {}
     explicit VolPathIntegrator(VolPathSettings s) : settings_(s) {}
     Color3 Li(const Scene& scene, Sampler& sampler, const Ray& ray) const override;
-    void preprocess(const Scene& scene) override;
+    void preprocess(const Scene& scene, const PreprocessContext& context) override;
     std::string to_string() const override;
     const VolPathSettings& settings() const { return settings_; }
 
