@@ -31,7 +31,7 @@ void check_medium(const Color3& sigma_t, const Color3& albedo, float s, int n, u
                   const Color3& throughput = Color3(1.f)) {
     auto m = make_medium(sigma_t, albedo);
     const Ray ray(Point3f(0.3f, -1.f, 2.f), normalize(Vec3f(1.f, 2.f, -0.5f)));
-    RunningStats scat[3], scat_t[3], esc[3];
+    RunningStats scat[3], scat_t[3], esc[3], flight[3];
     for (int i = 0; i < n; ++i) {
         Sampler sampler(seed, 0, uint64_t(i));
         FreeFlightSample fs = m->sample_free_flight(ray, s, throughput, sampler);
@@ -41,6 +41,12 @@ void check_medium(const Color3& sigma_t, const Color3& albedo, float s, int n, u
             ASSERT_NEAR(norm(fs.mi.p - ray(fs.t)), 0.f, 1e-5f);
             ASSERT_EQ(fs.mi.wi, -ray.d);
             ASSERT_EQ(fs.mi.medium, m.get());
+            for (int c = 0; c < 3; ++c)
+                ASSERT_NEAR(fs.weight[c], fs.flight_weight[c] * fs.mi.coeffs.sigma_s[c], 1e-5f * fs.weight[c] + 1e-7f);
+            // E[flight_weight] over collisions = int_0^s T_c(t) dt (the collision estimator's 1/sigma_t).
+            for (int c = 0; c < 3; ++c) flight[c].add(fs.flight_weight[c]);
+        } else {
+            for (int c = 0; c < 3; ++c) flight[c].add(0.0);
         }
         for (int c = 0; c < 3; ++c) {
             scat[c].add(fs.scattered ? fs.weight[c] : 0.0);
@@ -54,6 +60,10 @@ void check_medium(const Color3& sigma_t, const Color3& albedo, float s, int n, u
         EXPECT_LT(scat[c].z(scatter_mass(sig, a, s)), 4.5) << "channel " << c << " mean " << scat[c].mean();
         EXPECT_LT(scat_t[c].z(scatter_first_moment(sig, a, s)), 4.5) << "channel " << c;
         EXPECT_LT(esc[c].z(e_esc), 4.5) << "channel " << c << " mean " << esc[c].mean() << " exact " << e_esc;
+        if (sig > 0) {
+            const double e_flight = std::isinf(s) ? 1.0 / sig : -std::expm1(-sig * s) / sig;
+            EXPECT_LT(flight[c].z(e_flight), 4.5) << "channel " << c << " flight weight " << flight[c].mean();
+        }
     }
 }
 

@@ -152,6 +152,11 @@ TEST(MediaTracking, SpectralTrackingWeights) {
                 if (fs.scattered) {
                     const MediumCoefficients ref = m->eval(fs.mi.p);
                     ASSERT_NEAR(fs.mi.coeffs.sigma_t.r, ref.sigma_t.r, 1e-4f);
+                    for (int c = 0; c < 3; ++c)
+                        ASSERT_NEAR(fs.weight[c], fs.flight_weight[c] * fs.mi.coeffs.sigma_s[c],
+                                    1e-5f * std::abs(fs.weight[c]) + 1e-7f);
+                } else {
+                    ASSERT_EQ(fs.weight, fs.flight_weight);
                 }
                 for (int c = 0; c < 3; ++c) {
                     scat[c].add(fs.scattered ? fs.weight[c] : 0.0);

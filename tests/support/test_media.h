@@ -76,7 +76,8 @@ public:
             const Color3 dens = coeffs_.sigma_t * tr * q;
             ff.scattered = true;
             ff.t = t;
-            ff.weight = coeffs_.sigma_s * tr * (1.f / (dens.r + dens.g + dens.b));
+            ff.flight_weight = tr * (1.f / (dens.r + dens.g + dens.b));
+            ff.weight = coeffs_.sigma_s * ff.flight_weight;
             ff.mi.p = ray.o + ray.d * t;
             ff.mi.t = t;
             ff.mi.wi = -ray.d;
@@ -86,7 +87,7 @@ public:
             const Color3 tr = tr_at(tmax);
             const float p = tr.r * q.r + tr.g * q.g + tr.b * q.b;
             ff.t = tmax;
-            ff.weight = p > 0.f ? tr * (1.f / p) : Color3(0.f);
+            ff.weight = ff.flight_weight = p > 0.f ? tr * (1.f / p) : Color3(0.f);
         }
         return ff;
     }

@@ -39,11 +39,12 @@ FreeFlightSample HomogeneousMedium::sample_free_flight(const Ray& ray, float tma
         mi.medium = this;
         mi.coeffs = {sigma_t_, sigma_t_ * albedo_at(mi.p)};
         if (grey_) {
-            fs.weight = mi.coeffs.sigma_s / sigma_t_;
+            fs.flight_weight = Color3(1.f / sigma_t_.r);
         } else {
             const float pdf = spectral_distance_pdf(sigma_t_, probs, t);
-            fs.weight = pdf > 0.f ? transmittance_rgb(sigma_t_, t) * mi.coeffs.sigma_s / pdf : Color3(0.f);
+            fs.flight_weight = pdf > 0.f ? transmittance_rgb(sigma_t_, t) / pdf : Color3(0.f);
         }
+        fs.weight = fs.flight_weight * mi.coeffs.sigma_s;
     } else {
         fs.scattered = false;
         fs.t = tmax;
@@ -51,6 +52,7 @@ FreeFlightSample HomogeneousMedium::sample_free_flight(const Ray& ray, float tma
             const float prob = spectral_escape_probability(sigma_t_, probs, tmax);
             fs.weight = prob > 0.f ? transmittance_rgb(sigma_t_, tmax) / prob : Color3(0.f);
         }
+        fs.flight_weight = fs.weight;
     }
     return fs;
 }

@@ -38,6 +38,10 @@ struct FreeFlightSample {
     // transmittance/pdf ratio of the tracking and, at a scattering event, sigma_s over the
     // probability density of stopping there (for monochromatic media simply the albedo).
     Color3 weight{1.f};
+    // At a scattering event: the same ratio without sigma_s (weight = flight_weight * sigma_s), i.e.
+    // the collision estimator's 1/sigma_t in expectation. The photon pass deposits with it: flux
+    // arriving at the collision, before the albedo (theory.md §5.2). On escape: equal to weight.
+    Color3 flight_weight{1.f};
     MediumInteraction mi;  // valid when scattered
 };
 

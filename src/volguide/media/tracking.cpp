@@ -65,7 +65,7 @@ FreeFlightSample HeterogeneousMedium::sample_free_flight(const Ray& ray, float t
             const float pc = abs(sigma_t * path_w).average(), pn = abs(sigma_n * path_w).average();
             const float z = pc + pn;
             if (!(z > 0.f)) {  // the tracking weight vanished: nothing can be carried further
-                fs.weight = Color3(0.f);
+                fs.weight = fs.flight_weight = Color3(0.f);
                 return fs;
             }
             if (sampler.next_1d() * z < pc) {
@@ -78,7 +78,8 @@ FreeFlightSample HeterogeneousMedium::sample_free_flight(const Ray& ray, float t
                 mi.wi = -ray.d;
                 mi.medium = this;
                 mi.coeffs = {sigma_t, sigma_t * albedo_->eval(mi.p)};
-                fs.weight = w * mi.coeffs.sigma_s * (z / (mu * pc));
+                fs.flight_weight = w * (z / (mu * pc));
+                fs.weight = fs.flight_weight * mi.coeffs.sigma_s;
                 return fs;
             }
             if (counts) ++counts->null_collisions;
@@ -86,7 +87,7 @@ FreeFlightSample HeterogeneousMedium::sample_free_flight(const Ray& ray, float t
             tau = exponential(sampler);
         }
     }
-    fs.weight = w;
+    fs.weight = fs.flight_weight = w;
     return fs;
 }
 
