@@ -9,6 +9,7 @@
 #include "volguide/core/bbox.h"
 #include "volguide/core/color.h"
 #include "volguide/core/object.h"
+#include "volguide/core/ray.h"
 #include "volguide/geometry/interaction.h"
 #include "volguide/geometry/shape.h"
 
@@ -26,8 +27,24 @@ enum : uint32_t {
 };
 }
 
+// A ray leaving an emitter (for photon tracing). weight is the flux the ray carries for one sample,
+// Mitsuba's sample_ray convention: emitted radiance x cos / (pdf_pos x pdf_dir), so that the
+// expected weight is the emitter's power(). Zero weight = no emission for this sample.
+struct RaySample {
+    Ray ray;                // ray.d is the (unit) direction of propagation
+    Color3 weight{0.f};
+    Normal3f n{0.f};        // surface normal at the origin (area emitters, emitting side); else zero
+};
+
 class Emitter : public Object {
 public:
+    // Emission sampling: u_pos picks the origin, u_dir the direction.
+    virtual RaySample sample_ray(Point2f u_pos, Point2f u_dir) const = 0;
+    // Total flux (W) emitted into the scene, defined as E[sample_ray().weight]. Emitters at
+    // infinity (and directional) count the flux through the disk of the scene's bounding sphere,
+    // so call it after set_scene_bounds.
+    virtual Color3 power() const = 0;
+
     virtual std::pair<DirectionSample, Color3> sample_direction(const Interaction& ref, Point2f u) const = 0;
     virtual float pdf_direction(const Interaction& ref, const DirectionSample& ds) const = 0;
     virtual Color3 eval(const SurfaceInteraction& si) const = 0;

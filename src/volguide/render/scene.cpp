@@ -1,6 +1,7 @@
 #include "volguide/render/scene.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "volguide/integrators/integrator.h"
 #include "volguide/integrators/path.h"
@@ -61,6 +62,15 @@ Scene::Scene(const Properties& root) {
     for (const auto& s : shapes_) raw.push_back(s.get());
     accel_ = std::make_unique<Accel>(raw);
     for (const auto& e : emitters_) e->set_scene_bounds(bbox_);
+    // Photon emission picks lights by power (theory.md 5.2), known once the bounds are set.
+    std::vector<float> powers;
+    float total = 0.f;
+    for (const auto& e : emitters_) {
+        const float p = e->power().average();
+        powers.push_back(std::isfinite(p) && p > 0.f ? p : 0.f);
+        total += powers.back();
+    }
+    if (total > 0.f) emission_distr_ = DiscreteDistribution(powers);
 }
 
 Scene::~Scene() = default;
@@ -90,6 +100,19 @@ std::pair<DirectionSample, Color3> Scene::sample_emitter_direction(const Interac
 float Scene::pdf_emitter_direction(const Interaction& ref, const DirectionSample& ds) const {
     if (!ds.emitter || emitters_.empty()) return 0.f;
     return ds.emitter->pdf_direction(ref, ds) / float(emitters_.size());
+}
+
+std::pair<const Emitter*, float> Scene::sample_emitter_for_emission(float u) const {
+    if (emission_distr_.empty()) return {nullptr, 0.f};
+    const size_t index = emission_distr_.sample(u);
+    return {emitters_[index].get(), emission_distr_.pmf(index)};
+}
+
+float Scene::emission_probability(const Emitter* emitter) const {
+    if (emission_distr_.empty()) return 0.f;
+    for (size_t i = 0; i < emitters_.size(); ++i)
+        if (emitters_[i].get() == emitter) return emission_distr_.pmf(i);
+    return 0.f;
 }
 
 }  // namespace volguide

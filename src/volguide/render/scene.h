@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "volguide/core/bbox.h"
+#include "volguide/core/distribution.h"
 #include "volguide/core/properties.h"
 #include "volguide/geometry/accel.h"
 #include "volguide/geometry/shape.h"
@@ -32,6 +33,12 @@ public:
     // Solid-angle pdf of sample_emitter_direction producing ds (including the choice probability).
     float pdf_emitter_direction(const Interaction& ref, const DirectionSample& ds) const;
 
+    // Emitter choice for photon emission, proportional to power() (channel average), with its
+    // probability; {nullptr, 0} when no emitter has power. Built once when the scene is assembled.
+    std::pair<const Emitter*, float> sample_emitter_for_emission(float u) const;
+    // Probability that sample_emitter_for_emission picks `emitter`.
+    float emission_probability(const Emitter* emitter) const;
+
     const std::vector<std::shared_ptr<Shape>>& shapes() const { return shapes_; }
     const std::vector<std::shared_ptr<Emitter>>& emitters() const { return emitters_; }
     // The environment emitter evaluated by rays that leave the scene (nullptr when none).
@@ -48,6 +55,7 @@ private:
     std::shared_ptr<Integrator> integrator_;
     std::unique_ptr<Accel> accel_;
     BBox3f bbox_;
+    DiscreteDistribution emission_distr_;  // over emitters_, by power; empty when none emits
 };
 
 }  // namespace volguide

@@ -2,7 +2,9 @@
 // `radiance` on the side the shading normal points to; directions are sampled by the shape's
 // solid-angle sampling.
 #include <memory>
+#include <mutex>
 
+#include "volguide/core/warp.h"
 #include "volguide/render/emitter.h"
 #include "volguide/render/emitters/emitter_common.h"
 #include "volguide/render/emitters/emitter_plugins.h"
@@ -47,20 +49,66 @@ class AreaEmitter final : public Emitter {
         return shape_->pdf_direction(ref, ds);
     }
 
+    RaySample sample_ray(Point2f u_pos, Point2f u_dir) const override {
+        RaySample rs;
+        if (!shape_) return rs;
+        const PositionSample ps = shape_->sample_position(u_pos);  // uniform by area
+        if (!(ps.pdf > 0.f)) return rs;
+        // eval() emits on the side of the (shading) normal, which sample_position returns with
+        // flip_normals applied: cosine-weighted hemisphere about it, pdf_dir = cos / pi.
+        const Vec3f local = warp::square_to_cosine_hemisphere(u_dir);
+        const SurfaceInteraction si = emitter_point(ps.p, ps.n, ps.uv, local);
+        rs.ray = Ray(ps.p, si.to_world(local));
+        rs.n = ps.n;
+        // L cos / (pdf_pos cos / pi) = pi L / pdf_pos; eval() gives 0 for a grazing sample.
+        rs.weight = eval(si) * (Pi / ps.pdf);
+        return rs;
+    }
+
+    // Constant radiance: pi L A (Lambertian, one-sided). Textured: the expectation pi L / pdf_pos
+    // by a deterministic stratified estimate (computed once).
+    Color3 power() const override {
+        if (!shape_) return Color3(0.f);
+        if (radiance_->is_constant()) return radiance_->mean() * (Pi * shape_->surface_area());
+        std::call_once(power_once_, [this] {
+            constexpr int n = 256;
+            Color3 sum(0.f);
+            for (int j = 0; j < n; ++j)
+                for (int i = 0; i < n; ++i) {
+                    const PositionSample ps = shape_->sample_position({(i + 0.5f) / n, (j + 0.5f) / n});
+                    if (!(ps.pdf > 0.f)) continue;
+                    const SurfaceInteraction si = emitter_point(ps.p, ps.n, ps.uv, Vec3f(0.f, 0.f, 1.f));
+                    sum += radiance_->eval(si) / ps.pdf;
+                }
+            power_ = sum * (Pi / float(n * n));
+        });
+        return power_;
+    }
+
     std::string to_string() const override { return "AreaEmitter"; }
 
   private:
     SurfaceInteraction emitter_point(const DirectionSample& ds) const {
-        SurfaceInteraction si;
-        si.p = ds.p;
-        si.n = ds.n;
-        si.t = 0.f;
-        si.uv = ds.uv;
-        si.sh_frame = Frame(ds.n);
+        SurfaceInteraction si = emitter_point(ds.p, ds.n, ds.uv, Vec3f(0.f));
         si.wi = si.to_local(-ds.d);
+        return si;
+    }
+    // The emitter's surface record at p, seen from the local direction wi.
+    SurfaceInteraction emitter_point(const Point3f& p, const Normal3f& n, const Vec2f& uv,
+                                     const Vec3f& wi) const {
+        SurfaceInteraction si;
+        si.p = p;
+        si.n = n;
+        si.t = 0.f;
+        si.uv = uv;
+        si.sh_frame = Frame(n);
+        si.wi = wi;
         si.shape = shape_;
         return si;
     }
+
+    mutable std::once_flag power_once_;
+    mutable Color3 power_{0.f};
 
     std::shared_ptr<Texture> radiance_;
 };

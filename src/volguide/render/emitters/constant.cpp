@@ -38,6 +38,17 @@ class ConstantEmitter final : public Emitter {
         return warp::square_to_uniform_sphere_pdf();
     }
 
+    // Direction by the emitter's own (uniform) sampling, origin on the bounding sphere's disk.
+    RaySample sample_ray(Point2f u_pos, Point2f u_dir) const override {
+        Interaction ref;
+        ref.p = sphere_.center;
+        auto [ds, weight] = sample_direction(ref, u_dir);
+        return infinite_emitter_ray(sphere_, ds.d, weight, u_pos);
+    }
+
+    // E[weight] = disk area x integral of L over the sphere of directions = pi R^2 x 4 pi L.
+    Color3 power() const override { return radiance_ * (4.f * Pi * sphere_.disk_area()); }
+
     std::string to_string() const override { return "ConstantEmitter"; }
 
   private:

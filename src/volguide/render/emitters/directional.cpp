@@ -48,6 +48,15 @@ class DirectionalEmitter final : public Emitter {
 
     float pdf_direction(const Interaction&, const DirectionSample&) const override { return 0.f; }
 
+    // Every photon travels along direction_; origins cover the bounding sphere's disk uniformly,
+    // so weight = irradiance x disk area (pdf_pos = 1 / disk area, delta direction).
+    RaySample sample_ray(Point2f u_pos, Point2f) const override {
+        return infinite_emitter_ray(sphere_, -direction_, irradiance_, u_pos);
+    }
+
+    // Flux through the bounding sphere's cross-section: E pi R^2.
+    Color3 power() const override { return irradiance_ * sphere_.disk_area(); }
+
     std::string to_string() const override { return "DirectionalEmitter"; }
 
   private:

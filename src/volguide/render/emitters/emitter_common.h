@@ -4,7 +4,9 @@
 
 #include "volguide/core/bbox.h"
 #include "volguide/core/color.h"
+#include "volguide/core/frame.h"
 #include "volguide/core/properties.h"
+#include "volguide/core/warp.h"
 #include "volguide/media/medium.h"
 #include "volguide/render/emitter.h"
 
@@ -32,7 +34,23 @@ struct InfiniteEmitterSphere {
     // Distance at which sample points are placed: beyond the scene even when the reference point
     // (e.g. a camera) lies outside the scene's bounds.
     float sample_distance(const Point3f& ref) const { return 2.f * std::max(radius, norm(ref - center)); }
+    // Area of the sphere's cross-section: photons from infinity are launched through this disk.
+    float disk_area() const { return Pi * radius * radius; }
 };
+
+// Photon of an emitter at infinity arriving from `to_light` (a sample_direction's ds.d) with
+// weight = radiance / pdf_dir. The origin is uniform on the disk of the bounding sphere perpendicular
+// to the travel direction, pushed back by one radius so it starts outside the sphere (Mitsuba's
+// directional sample_ray). Flux = L cos / (pdf_pos pdf_dir) with cos = 1 and pdf_pos = 1 / disk area.
+inline RaySample infinite_emitter_ray(const InfiniteEmitterSphere& sphere, const Vec3f& to_light,
+                                      const Color3& weight, Point2f u_pos) {
+    RaySample rs;
+    const Frame frame(to_light);
+    const Point2f q = warp::square_to_uniform_disk_concentric(u_pos);
+    rs.ray = Ray(sphere.center + (frame.s * q.x + frame.t * q.y + to_light) * sphere.radius, -to_light);
+    rs.weight = weight * sphere.disk_area();
+    return rs;
+}
 
 // The optional `medium` reference of a non-area emitter (the medium it sits in; nullptr = vacuum).
 inline std::shared_ptr<Medium> emitter_medium(const Properties& props) { return get_object_as<Medium>(props, "medium"); }

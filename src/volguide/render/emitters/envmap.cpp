@@ -6,6 +6,7 @@
 //    appended so the interpolation wraps around in u.
 //  - Importance sampling follows the bilinear interpolant of luminance x sin(theta) on the same grid
 //    (sampled in a frame shifted by half a texel in u), converted to solid angle by 1 / (2 pi^2 sin theta).
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <memory>
@@ -76,26 +77,21 @@ class EnvironmentMapEmitter final : public Emitter {
     }
 
     std::pair<DirectionSample, Color3> sample_direction(const Interaction& ref, Point2f u) const override {
-        DirectionSample ds;
-        ds.emitter = this;
-        ds.delta = false;
-        ds.dist = Infinity;
-        auto [grid_uv, grid_pdf] = warp_.sample(u);
-        if (!(grid_pdf > 0.f)) return {ds, Color3(0.f)};
-
-        const Point2f uv{grid_uv.x + half_texel_, grid_uv.y};
-        const float theta = uv.y * Pi, phi = uv.x * (2.f * Pi);
-        const float sin_theta = std::sin(theta), cos_theta = std::cos(theta);
-        const Vec3f local{std::sin(phi) * sin_theta, cos_theta, -std::cos(phi) * sin_theta};
-        const float inv_sin_theta = 1.f / std::max(sin_theta, FloatEpsilon);
-
-        ds.d = rotated_ ? normalize(to_world_.apply_vector(local)) : local;
-        ds.p = ref.p + ds.d * sphere_.sample_distance(ref.p);
-        ds.n = -ds.d;
-        ds.uv = uv;
-        ds.pdf = grid_pdf * inv_sin_theta * InvTwoPiSquared;
-        return {ds, lookup(uv) / ds.pdf};
+        return sample_with(warp_, ref, u);
     }
+
+    // Direction by the map's own importance sampling (without MIS compensation, which would leave
+    // dim regions unsampled and bias the photons), origin on the bounding sphere's disk.
+    RaySample sample_ray(Point2f u_pos, Point2f u_dir) const override {
+        Interaction ref;
+        ref.p = sphere_.center;
+        auto [ds, weight] = sample_with(emission_warp(), ref, u_dir);
+        if (!(ds.pdf > 0.f)) return RaySample{};
+        return infinite_emitter_ray(sphere_, ds.d, weight, u_pos);
+    }
+
+    // E[weight] = disk area x integral of the radiance over the sphere of directions.
+    Color3 power() const override { return radiance_integral_ * sphere_.disk_area(); }
 
     float pdf_direction(const Interaction&, const DirectionSample& ds) const override {
         if (!warp_.valid()) return 0.f;
@@ -114,6 +110,32 @@ class EnvironmentMapEmitter final : public Emitter {
     }
 
   private:
+    const BilinearWarp2D& emission_warp() const { return emission_warp_.valid() ? emission_warp_ : warp_; }
+
+    // Mitsuba's envmap sample_direction with the given warp of the (shifted) uv square.
+    std::pair<DirectionSample, Color3> sample_with(const BilinearWarp2D& warp, const Interaction& ref,
+                                                   Point2f u) const {
+        DirectionSample ds;
+        ds.emitter = this;
+        ds.delta = false;
+        ds.dist = Infinity;
+        auto [grid_uv, grid_pdf] = warp.sample(u);
+        if (!(grid_pdf > 0.f)) return {ds, Color3(0.f)};
+
+        const Point2f uv{grid_uv.x + half_texel_, grid_uv.y};
+        const float theta = uv.y * Pi, phi = uv.x * (2.f * Pi);
+        const float sin_theta = std::sin(theta), cos_theta = std::cos(theta);
+        const Vec3f local{std::sin(phi) * sin_theta, cos_theta, -std::cos(phi) * sin_theta};
+        const float inv_sin_theta = 1.f / std::max(sin_theta, FloatEpsilon);
+
+        ds.d = rotated_ ? normalize(to_world_.apply_vector(local)) : local;
+        ds.p = ref.p + ds.d * sphere_.sample_distance(ref.p);
+        ds.n = -ds.d;
+        ds.uv = uv;
+        ds.pdf = grid_pdf * inv_sin_theta * InvTwoPiSquared;
+        return {ds, lookup(uv) / ds.pdf};
+    }
+
     Vec3f to_local(const Vec3f& world) const {
         return rotated_ ? normalize(to_local_.apply_vector(world)) : normalize(world);
     }
@@ -138,6 +160,37 @@ class EnvironmentMapEmitter final : public Emitter {
     }
 
     void build_distribution(bool mis_compensation) {
+        radiance_integral_ = integrate_radiance();
+        if (mis_compensation) emission_warp_ = make_warp(false);
+        warp_ = make_warp(mis_compensation);
+    }
+
+    // Integral of the bilinear map over solid angle, d omega = 2 pi^2 sin(pi v) du dv. Over a full
+    // period in u each row's interpolant averages to the mean of its pixels m_y; between rows y and
+    // y+1 (v = (y + t) h, h = 1 / (height - 1)) the interpolant is linear in t, and
+    // int_0^1 (m_y (1 - t) + m_{y+1} t) sin(a + b t) dt is closed-form (a = pi y h, b = pi h).
+    Color3 integrate_radiance() const {
+        const int w = width_ - 1;  // the original columns
+        std::vector<std::array<double, 3>> row_mean(height_);
+        for (int y = 0; y < height_; ++y) {
+            std::array<double, 3> m{0.0, 0.0, 0.0};
+            for (int x = 0; x < w; ++x)
+                for (int c = 0; c < 3; ++c) m[c] += data_[size_t(y) * width_ + x][c];
+            for (int c = 0; c < 3; ++c) row_mean[y][c] = m[c] / w;
+        }
+        const double pi = 3.14159265358979323846, h = 1.0 / double(height_ - 1), b = pi * h;
+        std::array<double, 3> sum{0.0, 0.0, 0.0};
+        for (int y = 0; y + 1 < height_; ++y) {
+            const double a = pi * y * h;
+            const double s0 = (std::cos(a) - std::cos(a + b)) / b;  // int sin(a + b t)
+            const double s1 = -std::cos(a + b) / b + (std::sin(a + b) - std::sin(a)) / (b * b);  // int t sin
+            for (int c = 0; c < 3; ++c) sum[c] += row_mean[y][c] * (s0 - s1) + row_mean[y + 1][c] * s1;
+        }
+        const double k = 2.0 * pi * pi * h * scale_;
+        return Color3(float(sum[0] * k), float(sum[1] * k), float(sum[2] * k));
+    }
+
+    BilinearWarp2D make_warp(bool mis_compensation) const {
         std::vector<float> lum(data_.size());
         for (size_t i = 0; i < data_.size(); ++i) lum[i] = data_[i].luminance();
 
@@ -164,7 +217,7 @@ class EnvironmentMapEmitter final : public Emitter {
                 l = std::max(l - offset, 0.f) * sin_theta;
             }
         }
-        warp_ = BilinearWarp2D(std::move(lum), width_, height_);
+        return BilinearWarp2D(std::move(lum), width_, height_);
     }
 
     int width_ = 0, height_ = 0;  // of the padded grid
@@ -174,6 +227,8 @@ class EnvironmentMapEmitter final : public Emitter {
     Transform to_world_, to_local_;
     bool rotated_ = false;
     BilinearWarp2D warp_;
+    BilinearWarp2D emission_warp_;  // without MIS compensation; only built when warp_ has it
+    Color3 radiance_integral_{0.f};  // integral of the radiance over solid angle (W / m^2)
     InfiniteEmitterSphere sphere_;
 };
 

@@ -2,6 +2,7 @@
 // `to_world`.
 #include <memory>
 
+#include "volguide/core/warp.h"
 #include "volguide/render/emitter.h"
 #include "volguide/render/emitters/emitter_common.h"
 #include "volguide/render/emitters/emitter_plugins.h"
@@ -35,6 +36,17 @@ class PointEmitter final : public Emitter {
 
     // Delta emitters are never hit, so any given direction has density zero (as Mitsuba).
     float pdf_direction(const Interaction&, const DirectionSample&) const override { return 0.f; }
+
+    // Uniform direction (pdf 1 / 4 pi): weight = I / pdf = 4 pi I, for every sample.
+    RaySample sample_ray(Point2f, Point2f u_dir) const override {
+        RaySample rs;
+        rs.ray = Ray(position_, warp::square_to_uniform_sphere(u_dir));
+        rs.weight = intensity_ * (4.f * Pi);
+        return rs;
+    }
+
+    // Isotropic intensity integrated over the sphere.
+    Color3 power() const override { return intensity_ * (4.f * Pi); }
 
     std::string to_string() const override { return "PointEmitter"; }
 

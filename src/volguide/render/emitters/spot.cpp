@@ -3,6 +3,7 @@
 #include <memory>
 
 #include "volguide/core/transform.h"
+#include "volguide/core/warp.h"
 #include "volguide/render/emitter.h"
 #include "volguide/render/emitters/emitter_common.h"
 #include "volguide/render/emitters/emitter_plugins.h"
@@ -25,6 +26,7 @@ class SpotEmitter final : public Emitter {
             props.fail_at("beam_width", "emitter 'spot': 'beam_width' must be in (0, cutoff_angle]");
         falloff_ = SpotFalloff(cutoff, beam);
         const Transform to_world = props.get_transform("to_world");
+        to_world_ = to_world;
         to_local_ = to_world.inverse();
         position_ = to_world.apply_point(Point3f(0.f));
         flags_ = emitter_flags::DeltaPosition;
@@ -42,11 +44,28 @@ class SpotEmitter final : public Emitter {
 
     float pdf_direction(const Interaction&, const DirectionSample&) const override { return 0.f; }
 
+    // Uniform direction in the cutoff cone (pdf 1 / (2 pi (1 - cos cutoff))), weighted by the same
+    // falloff sample_direction applies: weight = I falloff / pdf. The cone is mapped by to_world,
+    // assumed rigid (up to uniform scale) as in Mitsuba.
+    RaySample sample_ray(Point2f, Point2f u_dir) const override {
+        const float cos_cutoff = falloff_.cos_cutoff();
+        const Vec3f local = warp::square_to_uniform_cone(u_dir, cos_cutoff);
+        RaySample rs;
+        rs.ray = Ray(position_, normalize(to_world_.apply_vector(local)));
+        // 1 / pdf = 2 pi (1 - cos cutoff) (not square_to_uniform_cone_pdf: a rounded sample on the rim
+        // would get pdf 0; the falloff is 0 there anyway).
+        rs.weight = intensity_ * (falloff_(local) * (2.f * Pi * (1.f - cos_cutoff)));
+        return rs;
+    }
+
+    // Intensity times the falloff integrated over the cone.
+    Color3 power() const override { return intensity_ * float(falloff_.solid_angle_integral()); }
+
     std::string to_string() const override { return "SpotEmitter"; }
 
   private:
     Point3f position_;
-    Transform to_local_;
+    Transform to_world_, to_local_;
     Color3 intensity_;
     SpotFalloff falloff_;
 };

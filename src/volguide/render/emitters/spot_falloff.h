@@ -26,6 +26,17 @@ class SpotFalloff {
         return (cutoff_ - std::acos(cos_theta)) * inv_transition_width_;
     }
 
+    float cos_cutoff() const { return cos_cutoff_; }
+
+    // Integral of the profile over solid angle, 2 pi int_0^cutoff f(theta) sin(theta) dtheta:
+    // 2 pi (1 - cos b) inside the beam b, plus 2 pi int_b^c (c - theta) / (c - b) sin(theta) dtheta
+    // = 2 pi (cos b - (sin c - sin b) / (c - b)) on the linear ramp to the cutoff c.
+    double solid_angle_integral() const {
+        const double c = cutoff_, b = double(cutoff_) - 1.0 / double(inv_transition_width_);
+        if (!(c - b > 1e-7)) return 2.0 * 3.14159265358979323846 * (1.0 - std::cos(c));  // no ramp
+        return 2.0 * 3.14159265358979323846 * (1.0 - (std::sin(c) - std::sin(b)) / (c - b));
+    }
+
   private:
     float cutoff_ = 0.f, inv_transition_width_ = 0.f, cos_cutoff_ = 1.f, cos_beam_ = 1.f;
 };
