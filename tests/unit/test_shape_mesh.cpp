@@ -39,6 +39,8 @@ struct FakeEmitter : Emitter {
     }
     float pdf_direction(const Interaction&, const DirectionSample&) const override { return 0.f; }
     Color3 eval(const SurfaceInteraction&) const override { return Color3(0.f); }
+    RaySample sample_ray(Point2f, Point2f) const override { return {}; }
+    Color3 power() const override { return Color3(0.f); }
 };
 
 }  // namespace

@@ -3,6 +3,7 @@
 
 #include <cstdio>
 
+#include "volguide/integrators/guided_volpath.h"
 #include "volguide/integrators/moment.h"
 #include "volguide/integrators/path.h"
 #include "volguide/integrators/simple_volpath.h"
@@ -19,7 +20,8 @@ ObjectPtr create_integrator(const Properties& props) {
     if (type == "volpath" || type == "volpathmis") return std::make_shared<VolPathIntegrator>(props);
     if (type == "simple_volpath") return std::make_shared<SimpleVolPathIntegrator>(props);
     if (type == "moment") return std::make_shared<MomentIntegrator>(props);
-    props.fail_here("unsupported integrator plugin '{}' (supported: path, volpath, volpathmis, simple_volpath, moment)", type);
+    if (type == "guided_volpath") return std::make_shared<GuidedVolPathIntegrator>(props);
+    props.fail_here("unsupported integrator plugin '{}' (supported: path, volpath, volpathmis, simple_volpath, guided_volpath, moment)", type);
 }
 
 }  // namespace volguide

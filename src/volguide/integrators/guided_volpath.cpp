@@ -1,0 +1,132 @@
+#include "volguide/integrators/guided_volpath.h"
+
+#include <fmt/format.h>
+
+#include <filesystem>
+
+#include "volguide/core/log.h"
+#include "volguide/guiding/field_io.h"
+#include "volguide/integrators/photon_pass.h"
+#include "volguide/render/scene.h"
+
+namespace volguide {
+
+namespace {
+
+// A choice among `allowed`; `implemented` lists those that exist today. The default (parameter
+// absent) falls back to `fallback` with a warning when it is not implemented; an explicit request
+// for an unimplemented value is an error (interface.md).
+std::string read_choice(const Properties& props, const std::string& name, const std::string& def,
+                        std::initializer_list<const char*> allowed, std::initializer_list<const char*> implemented,
+                        const std::string& fallback) {
+    const bool given = props.has(name);
+    const std::string value = props.get_string(name, def);
+    auto in = [&](std::initializer_list<const char*> list) {
+        for (const char* v : list)
+            if (value == v) return true;
+        return false;
+    };
+    if (!in(allowed)) {
+        std::string options;
+        for (const char* v : allowed) options += (options.empty() ? "" : ", ") + std::string(v);
+        props.fail_at(name, "guided_volpath: invalid {} '{}' (one of: {})", name, value, options);
+    }
+    if (in(implemented)) return value;
+    if (given) props.fail_at(name, "guided_volpath: {}={} is not implemented yet", name, value);
+    warn(props.location(), "guided_volpath: {}={} (the default) is not implemented yet; using {}={}", name, value, name,
+         fallback);
+    return fallback;
+}
+
+}  // namespace
+
+GuidedVolPathSettings GuidedVolPathSettings::from(const Properties& props) {
+    GuidedVolPathSettings s;
+    s.location = props.location();
+    s.walk = VolPathSettings::from(props);
+    s.training = read_choice(props, "training", "photons", {"photons", "progressive"}, {"photons"}, "photons");
+    s.photons = props.get_int("photons", s.photons);
+    if (s.photons < 1) props.fail_at("photons", "guided_volpath: photons must be >= 1, got {}", s.photons);
+    s.training_fraction = props.get_float("training_fraction", s.training_fraction);
+    if (!(s.training_fraction > 0.f && s.training_fraction < 1.f))
+        props.fail_at("training_fraction", "guided_volpath: training_fraction must be in (0, 1), got {}",
+                      s.training_fraction);
+    const int64_t leaf_samples = props.get_int("leaf_samples", 2000);
+    if (leaf_samples < 1) props.fail_at("leaf_samples", "guided_volpath: leaf_samples must be >= 1, got {}", leaf_samples);
+    s.field.tree.max_samples = int(std::min<int64_t>(leaf_samples, 1 << 30));
+    const int64_t lobes = props.get_int("lobes", s.field.lobes);
+    if (lobes < 1 || lobes > kVmmMaxLobes)
+        props.fail_at("lobes", "guided_volpath: lobes must be in [1, {}], got {}", kVmmMaxLobes, lobes);
+    s.field.lobes = int(lobes);
+    // Not implemented yet: the guided decisions (issues 7 and 8). Their paper defaults fall back.
+    s.distance = read_choice(props, "distance", "incremental", {"standard", "incremental", "tabulated"}, {"standard"},
+                             "standard");
+    s.direction = read_choice(props, "direction", "product", {"phase", "incident", "product"}, {"phase"}, "phase");
+    s.rrs = read_choice(props, "rrs", "grrs", {"standard", "grr", "grrs"}, {"standard"}, "standard");
+    // The pixel estimate only serves guided RR and splitting (rrs=grrs), which does not exist yet.
+    if (props.has("pixel_estimate"))
+        props.fail_at("pixel_estimate", "guided_volpath: pixel_estimate is used by rrs=grrs, which is not implemented yet");
+    if (props.has("save_field")) s.save_field = props.get_string("save_field");
+    if (props.has("load_field")) {
+        std::filesystem::path p(props.get_string("load_field"));
+        // Like Mitsuba's file resolver: a relative path that does not exist here is looked up
+        // beside the scene file.
+        if (p.is_relative() && !std::filesystem::exists(p)) {
+            const auto beside = std::filesystem::path(props.location_of("load_field").file).parent_path() / p;
+            if (std::filesystem::exists(beside)) p = beside;
+        }
+        s.load_field = p.string();
+        if (!std::filesystem::exists(p))
+            props.fail_at("load_field", "guided_volpath: the guiding field \"{}\" does not exist", s.load_field);
+    }
+    return s;
+}
+
+GuidedVolPathIntegrator::GuidedVolPathIntegrator(const Properties& props)
+    : settings_(GuidedVolPathSettings::from(props)), walk_(settings_.walk) {}
+
+BBox3f guiding_bounds(const Scene& scene) {
+    BBox3f b = scene.bbox();
+    if (!b.valid()) return BBox3f(Point3f(-1.f), Point3f(1.f));
+    // A little margin so that collisions on the bounding surfaces fall inside.
+    const Vec3f margin = b.extents() * 1e-3f + Vec3f(1e-4f);
+    return BBox3f(b.lo - margin, b.hi + margin);
+}
+
+void GuidedVolPathIntegrator::preprocess(const Scene& scene, const PreprocessContext& context) {
+    walk_.preprocess(scene, context);
+    if (!settings_.load_field.empty()) {
+        try {
+            field_ = load_field(settings_.load_field);
+        } catch (const FieldFormatError& e) {
+            throw InputError(settings_.location, e.what());
+        }
+    } else {
+        PhotonPassSettings ps;
+        ps.photons = settings_.photons;
+        ps.max_depth = settings_.walk.max_depth;
+        ps.rr_depth = settings_.walk.rr_depth;
+        // Under a --time budget, training gets training_fraction of it (interface.md).
+        if (context.time_budget > 0) ps.time_limit = settings_.training_fraction * context.time_budget;
+        const PhotonPassResult photons = trace_photons(scene, ps, context);
+        field_ = GuidingField::build(guiding_bounds(scene), photons.samples, settings_.field);
+    }
+    if (!settings_.save_field.empty()) {
+        try {
+            save_field(settings_.save_field, field_);
+        } catch (const FieldFormatError& e) {
+            throw InputError(settings_.location, e.what());
+        }
+    }
+}
+
+std::string GuidedVolPathIntegrator::to_string() const {
+    const GuidedVolPathSettings& s = settings_;
+    return fmt::format(
+        "guided_volpath[max_depth={}, rr_depth={}, training={}, photons={}, leaf_samples={}, lobes={}, distance={}, "
+        "direction={}, rrs={}, equiangular={}]",
+        s.walk.max_depth, s.walk.rr_depth, s.training, s.photons, s.field.tree.max_samples, s.field.lobes, s.distance,
+        s.direction, s.rrs, s.walk.equiangular);
+}
+
+}  // namespace volguide

@@ -1,0 +1,143 @@
+#include "volguide/integrators/photon_pass.h"
+
+#include <tbb/parallel_for.h>
+
+#include <chrono>
+#include <mutex>
+
+#include "volguide/integrators/volume_nee.h"
+#include "volguide/media/medium.h"
+#include "volguide/render/bsdf.h"
+#include "volguide/render/emitter.h"
+#include "volguide/render/scene.h"
+
+namespace volguide {
+
+namespace {
+
+// A random-number stream no camera pixel uses (pixel indices are y * width + x).
+constexpr uint64_t kPhotonStream = 0xF07F07F0ull;
+constexpr int64_t kBatch = 4096;
+
+struct BatchResult {
+    std::vector<RadianceSample> samples;
+    int64_t collisions = 0;
+};
+
+// The medium a photon leaving `emitter` along `ray` starts in.
+const Medium* start_medium(const Emitter& emitter, const RaySample& rs) {
+    if (emitter.is_infinite() || (emitter.flags() & emitter_flags::DeltaDirection)) return nullptr;  // from outside
+    if (const Shape* shape = emitter.shape()) {
+        if (!is_medium_transition(*shape)) return nullptr;
+        return shape->target_medium(rs.n, rs.ray.d);
+    }
+    return emitter.medium();
+}
+
+void trace_one(const Scene& scene, const PhotonPassSettings& s, Sampler& sampler, BatchResult& out) {
+    auto [emitter, p_emitter] = scene.sample_emitter_for_emission(sampler.next_1d());
+    if (!emitter || !(p_emitter > 0.f)) return;
+    const Point2f u_pos = sampler.next_2d(), u_dir = sampler.next_2d();
+    const RaySample rs = emitter->sample_ray(u_pos, u_dir);
+    if (rs.weight.is_black() || !rs.weight.is_finite()) return;
+    const Color3 flux = rs.weight * (1.f / p_emitter);  // one photon's flux (divided by N later)
+    Ray ray = rs.ray;
+    const Medium* medium = start_medium(*emitter, rs);
+    Color3 throughput(1.f);
+    const BSDFContext ctx{TransportMode::Importance};
+    int depth = 0, null_crossings = 0;
+    while (true) {
+        SurfaceInteraction si;
+        if (!scene.intersect(ray, si)) si = miss_interaction(ray);
+        if (medium) {
+            const FreeFlightSample ff = medium->sample_free_flight(ray, si.is_valid() ? si.t : ray.tmax, throughput, sampler);
+            if (ff.scattered) {
+                ++out.collisions;
+                // Flux arriving at the collision over sigma_t, before the albedo (theory.md §5.2).
+                const Color3 deposit = flux * throughput * ff.flight_weight;
+                if (deposit.is_finite() && !deposit.is_black()) out.samples.push_back({ff.mi.p, -ray.d, deposit});
+                throughput *= ff.weight;
+                ++depth;
+                if (throughput.is_black() || (s.max_depth >= 0 && depth >= s.max_depth)) return;
+                if (depth > s.rr_depth) {
+                    // Russian roulette on the throughput relative to the photon's own flux.
+                    const float q = std::min(throughput.max_value(), 0.95f);
+                    if (!(sampler.next_1d() < q)) return;
+                    throughput *= 1.f / q;
+                }
+                const Medium& m = ff.mi.medium ? *ff.mi.medium : *medium;
+                const PhaseSample ps = m.phase().sample(ff.mi.wi, sampler.next_2d());
+                if (!(ps.pdf > 0.f)) return;
+                throughput *= ps.weight;
+                ray = ff.mi.spawn_ray(ps.wo);
+                continue;
+            }
+            throughput *= ff.weight;
+            if (throughput.is_black()) return;
+        }
+        if (!si.is_valid()) return;
+        const BSDF& bsdf = *si.shape->bsdf();
+        auto [bs, weight] = bsdf.sample(ctx, si, sampler.next_1d(), sampler.next_2d());
+        throughput *= weight;
+        if (throughput.is_black() || !throughput.is_finite()) return;
+        if (bs.sampled_flags & bsdf_flags::Null) {
+            if (++null_crossings > 1024) return;
+        } else {
+            if (s.max_depth >= 0 && ++depth >= s.max_depth) return;
+            if (depth > s.rr_depth) {
+                const float q = std::min(throughput.max_value(), 0.95f);
+                if (!(sampler.next_1d() < q)) return;
+                throughput *= 1.f / q;
+            }
+        }
+        const Vec3f wo = si.to_world(bs.wo);
+        medium = medium_after(si, wo, medium);
+        ray = si.spawn_ray(wo);
+    }
+}
+
+}  // namespace
+
+PhotonPassResult trace_photons(const Scene& scene, const PhotonPassSettings& settings, const PreprocessContext& context) {
+    PhotonPassResult result;
+    const int64_t batches = (settings.photons + kBatch - 1) / kBatch;
+    std::vector<BatchResult> per_batch(size_t(std::max<int64_t>(batches, 0)));
+    std::vector<uint8_t> done(per_batch.size(), 0);
+    std::mutex progress_mutex;
+    std::atomic<int64_t> finished{0};
+    const auto start = std::chrono::steady_clock::now();
+    tbb::parallel_for(int64_t(0), batches, [&](int64_t b) {
+        if (context.cancelled()) return;
+        if (settings.time_limit > 0 &&
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > settings.time_limit)
+            return;
+        const int64_t first = b * kBatch, last = std::min(settings.photons, first + kBatch);
+        BatchResult& out = per_batch[size_t(b)];
+        for (int64_t i = first; i < last; ++i) {
+            Sampler sampler(context.seed, kPhotonStream, uint64_t(i));
+            trace_one(scene, settings, sampler, out);
+        }
+        done[size_t(b)] = 1;
+        const int64_t n = ++finished;
+        if (context.progress) {
+            std::lock_guard lock(progress_mutex);
+            Progress p;
+            p.phase = "photons";
+            p.fraction = double(n) / double(batches);
+            p.elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            context.progress(p);
+        }
+    });
+    // Join completed batches in photon order; a cancelled pass keeps what it traced.
+    for (size_t b = 0; b < per_batch.size(); ++b) {
+        if (!done[b]) continue;
+        result.photons_traced += std::min(settings.photons, int64_t(b + 1) * kBatch) - int64_t(b) * kBatch;
+        result.collisions += per_batch[b].collisions;
+        result.samples.insert(result.samples.end(), per_batch[b].samples.begin(), per_batch[b].samples.end());
+    }
+    const float inv_n = result.photons_traced > 0 ? 1.f / float(result.photons_traced) : 0.f;
+    for (RadianceSample& s : result.samples) s.weight *= inv_n;
+    return result;
+}
+
+}  // namespace volguide

@@ -1,0 +1,35 @@
+#pragma once
+// The paper's training pre-pass (theory.md §5.2, §10.1): photons leave the lights (an emitter
+// chosen in proportion to its power, position and direction by its emission sampling), travel by
+// the media's free-flight sampling and BSDF sampling (importance transport), and at every real
+// collision inside a medium deposit a radiance sample for the guiding field:
+//   position, the arriving direction -omega_travel (towards the light), and the flux arriving at
+//   the collision divided by sigma_t (collision estimator, before the albedo).
+// Photon i draws its random numbers from Sampler(seed, kPhotonStream, i), and batches are joined in
+// photon order, so the samples are a pure function of (scene, settings, seed) for any thread count.
+#include <cstdint>
+#include <vector>
+
+#include "volguide/guiding/guiding_field.h"
+#include "volguide/integrators/integrator.h"
+
+namespace volguide {
+
+class Scene;
+
+struct PhotonPassSettings {
+    int64_t photons = 1000000;
+    int max_depth = -1;  // scattering events per photon (-1: until Russian roulette ends it)
+    int rr_depth = 5;
+    double time_limit = 0;  // seconds (> 0): stop starting new photon batches after this long
+};
+
+struct PhotonPassResult {
+    std::vector<RadianceSample> samples;
+    int64_t photons_traced = 0;  // fewer than requested when cancelled
+    int64_t collisions = 0;
+};
+
+PhotonPassResult trace_photons(const Scene& scene, const PhotonPassSettings& settings, const PreprocessContext& context);
+
+}  // namespace volguide

@@ -1,0 +1,186 @@
+// The photon pre-pass and the guiding field it trains (issue 6, theory.md §5.2, §14.12):
+//  - direction convention: photons from a point light deposit directions towards the light, so the
+//    fitted leaf mixtures point at it;
+//  - fluence: in a purely absorbing medium around a point light of intensity I the fluence is
+//    exactly I e^(-sigma r) / r^2; every leaf with >= 1000 samples matches its box average within 10 %
+//    (leaves of 2000-4000 samples) and the mean ratio over leaves is 1 within 1 %;
+//  - determinism: the same seed gives a bit-identical field for 1 and 2 threads;
+//  - guided_volpath: trains, saves and reloads the field through the CLI, and renders volpath's image.
+#include <gtest/gtest.h>
+
+#include <fmt/format.h>
+#include <tbb/task_arena.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "support/cli.h"
+#include "support/volpath_test_util.h"
+#include "volguide/core/sampler.h"
+#include "volguide/guiding/field_io.h"
+#include "volguide/integrators/guided_volpath.h"
+#include "volguide/integrators/photon_pass.h"
+#include "volguide/render/scene.h"
+#include "volguide/scene/loader.h"
+
+using namespace volguide;
+using namespace volguide::test;
+
+namespace {
+
+std::string point_light_scene(const Point3f& light, float sigma_t, float albedo, const std::string& integrator) {
+    return fmt::format(R"(<scene version="3.0.0">
+    <integrator type="moment">{4}</integrator>
+    <medium type="homogeneous" id="fog">
+        <float name="sigma_t" value="{3}"/><float name="albedo" value="{5}"/>
+        <phase type="isotropic"/>
+    </medium>
+    <shape type="sphere"><float name="radius" value="2"/><bsdf type="null"/><ref name="interior" id="fog"/></shape>
+    <emitter type="point">
+        <point name="position" value="{0}, {1}, {2}"/><rgb name="intensity" value="10"/>
+        <ref name="medium" id="fog"/>
+    </emitter>
+    <sensor type="perspective">
+        <ref name="medium" id="fog"/>
+        <transform name="to_world"><lookat origin="0, 0, 1.5" target="0, 0, 0" up="0, 1, 0"/></transform>
+        <film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/>
+            <rfilter type="box"/></film>
+    </sensor>
+</scene>)",
+                       light.x, light.y, light.z, sigma_t, integrator, albedo);
+}
+
+std::unique_ptr<Scene> load(const TempDir& dir, const std::string& xml) {
+    return load_scene(dir.write("scene.xml", xml));
+}
+
+GuidingField train(const Scene& scene, int64_t photons, uint64_t seed, int max_samples) {
+    PhotonPassSettings ps;
+    ps.photons = photons;
+    PreprocessContext ctx;
+    ctx.seed = seed;
+    PhotonPassResult r = trace_photons(scene, ps, ctx);
+    EXPECT_EQ(r.photons_traced, photons);
+    GuidingFieldSettings fs;
+    fs.tree.max_samples = max_samples;
+    fs.lobes = 4;
+    return GuidingField::build(guiding_bounds(scene), r.samples, fs);
+}
+
+}  // namespace
+
+TEST(PhotonPass, LeafMixturesPointTowardsThePointLight) {
+    TempDir dir("photons-direction");
+    const Point3f light(1.5f, 0.f, 0.f);
+    auto scene = load(dir, point_light_scene(light, 0.3f, 0.5f, R"(<integrator type="volpath"/>)"));
+    GuidingField field = train(*scene, 400000, 1, 2000);
+    int checked = 0;
+    for (int l = 0; l < field.tree().leaf_count(); ++l) {
+        const GuidingLeaf& leaf = field.leaves()[size_t(l)];
+        const Point3f c = field.tree().leaf_bounds(l).center();
+        const Vec3f to_light = light - c;
+        // Leaves well away from the light (on the -x side), where it subtends a small angle.
+        if (!leaf.valid || leaf.samples < 1000 || c.x > 0.f || norm(c) > 1.8f) continue;
+        ++checked;
+        EXPECT_GT(dot(normalize(leaf.vmm.mean_vector()), normalize(to_light)), 0.9f)
+            << "leaf " << l << " at (" << c.x << ", " << c.y << ", " << c.z << ")";
+    }
+    EXPECT_GE(checked, 4);
+}
+
+TEST(PhotonPass, FluenceOfAnAbsorbingMediumAroundAPointLight) {
+    TempDir dir("photons-fluence");
+    const float sigma = 0.5f, intensity = 10.f;
+    auto scene = load(dir, point_light_scene(Point3f(0.f), sigma, 0.f, R"(<integrator type="volpath"/>)"));
+    // Leaves of 2000-4000 samples: a per-leaf standard error of 1.6-2.2 %, so 10 % is > 4.5 sigma.
+    GuidingField field = train(*scene, 2000000, 2, 4000);
+    int checked = 0;
+    double ratio_sum = 0;
+    for (int l = 0; l < field.tree().leaf_count(); ++l) {
+        const GuidingLeaf& leaf = field.leaves()[size_t(l)];
+        const BBox3f box = field.tree().leaf_bounds(l);
+        bool inside = true;  // the whole box inside the medium sphere, and away from the light
+        for (int k = 0; k < 8; ++k) {
+            const Point3f corner((k & 1) ? box.hi.x : box.lo.x, (k & 2) ? box.hi.y : box.lo.y,
+                                 (k & 4) ? box.hi.z : box.lo.z);
+            inside &= norm(corner) < 1.99f;
+        }
+        const Vec3f e = box.extents();
+        if (!inside || leaf.samples < 1000 || box.contains(Point3f(0.f)) || norm(box.center()) < 0.6f) continue;
+        // The box average of I e^(-sigma r) / r^2 by stratified quadrature.
+        double sum = 0;
+        const int n = 24;
+        for (int i = 0; i < n; ++i)
+            for (int j = 0; j < n; ++j)
+                for (int k = 0; k < n; ++k) {
+                    const Point3f p = box.lo + Vec3f(e.x * (i + 0.5f) / n, e.y * (j + 0.5f) / n, e.z * (k + 0.5f) / n);
+                    const double r = norm(p);
+                    sum += intensity * std::exp(-sigma * r) / (r * r);
+                }
+        const double expected = sum / (n * n * n);
+        ++checked;
+        EXPECT_NEAR(leaf.fluence.r, expected, 0.1 * expected) << "leaf " << l << " with " << leaf.samples << " samples";
+        ratio_sum += leaf.fluence.r / expected;
+    }
+    EXPECT_GE(checked, 10);
+    // No systematic bias: the mean ratio over the leaves within 1 % (its standard error is ~0.2 %).
+    EXPECT_NEAR(ratio_sum / checked, 1.0, 0.01);
+}
+
+TEST(PhotonPass, FieldIsIdenticalForOneAndTwoThreads) {
+    TempDir dir("photons-determinism");
+    auto scene = load(dir, point_light_scene(Point3f(0.5f, 0.f, 0.f), 0.8f, 0.9f, R"(<integrator type="volpath"/>)"));
+    std::string a, b;
+    tbb::task_arena(1).execute([&] { a = serialize_field(train(*scene, 100000, 3, 500)); });
+    tbb::task_arena(2).execute([&] { b = serialize_field(train(*scene, 100000, 3, 500)); });
+    EXPECT_GT(a.size(), 1000u);
+    EXPECT_TRUE(a == b) << "the trained field depends on the thread count";
+    std::string c;
+    tbb::task_arena(2).execute([&] { c = serialize_field(train(*scene, 100000, 4, 500)); });
+    EXPECT_FALSE(a == c) << "another seed must give another field";
+}
+
+TEST(GuidedVolPath, TrainsSavesLoadsAndRendersWhatVolpathRenders) {
+    TempDir dir("guided-volpath");
+    const std::string field_path = dir.file("field.vgf");
+    const Point3f light(0.7f, 0.3f, 0.f);
+    const std::string guided =
+        fmt::format(R"(<integrator type="guided_volpath"><integer name="photons" value="50000"/>
+            <string name="distance" value="standard"/><string name="direction" value="phase"/>
+            <string name="rrs" value="standard"/><string name="save_field" value="{}"/></integrator>)",
+                    field_path);
+    Rendered g = render_scene_xml(point_light_scene(light, 0.8f, 0.9f, guided), 64, 5, false);
+    ASSERT_TRUE(std::filesystem::exists(field_path));
+    const GuidingField saved = load_field(field_path);
+    EXPECT_GT(saved.tree().leaf_count(), 1);
+    // Same seed, same walk: exactly volpath's image.
+    Rendered v = render_scene_xml(point_light_scene(light, 0.8f, 0.9f, R"(<integrator type="volpath"/>)"), 64, 5, false);
+    EXPECT_TRUE(g.mean.pixels == v.mean.pixels);
+    // Loading the saved field through the CLI; a corrupt one is an input error naming the file.
+    const std::string load_xml = point_light_scene(
+        light, 0.8f, 0.9f,
+        fmt::format(R"(<integrator type="guided_volpath"><string name="distance" value="standard"/>
+            <string name="direction" value="phase"/><string name="rrs" value="standard"/>
+            <string name="load_field" value="{}"/></integrator>)",
+                    field_path));
+    CliResult ok = run_cli({"render", dir.write("load.xml", load_xml), "-o", dir.file("l.exr"), "--spp", "4", "--quiet"});
+    EXPECT_EQ(ok.exit_code, 0) << ok.err;
+    {
+        std::ofstream(field_path, std::ios::binary | std::ios::trunc) << "garbage";
+    }
+    CliResult bad = run_cli({"render", dir.file("load.xml"), "-o", dir.file("b.exr"), "--spp", "4", "--quiet"});
+    EXPECT_EQ(bad.exit_code, 1);
+    EXPECT_NE(bad.err.find("field.vgf"), std::string::npos) << bad.err;
+    EXPECT_FALSE(std::filesystem::exists(dir.file("b.exr")));
+}
+
+TEST(GuidedVolPath, UnimplementedDecisionsAreErrorsWhenRequested) {
+    TempDir dir("guided-volpath-errors");
+    const std::string xml = point_light_scene(
+        Point3f(0.f), 0.5f, 0.5f, R"(<integrator type="guided_volpath"><string name="distance" value="incremental"/></integrator>)");
+    CliResult r = run_cli({"render", dir.write("s.xml", xml), "-o", dir.file("o.exr"), "--spp", "1", "--quiet"});
+    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_NE(r.err.find("not implemented"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("s.xml:2"), std::string::npos) << r.err;
+}
