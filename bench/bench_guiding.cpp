@@ -1,0 +1,96 @@
+// Guiding field costs (issue 6):
+//  - PhotonPass: photons/s of the pre-pass on the bundled demo (fog room, sun through a window);
+//  - FieldBuild: kd-tree + per-leaf EM fit (8 lobes) of the samples those photons deposited,
+//    reported per leaf;
+//  - Incident / Inscattered{Exact,A3}: one query of L~ and L~_i at a random point and direction;
+//  - memory per leaf (bytes of GuidingLeaf plus its tree nodes) as a counter.
+//   cmake --build build --target bench_guiding && build/bench_guiding
+#include <benchmark/benchmark.h>
+
+#include "volguide/core/sampler.h"
+#include "volguide/core/warp.h"
+#include "volguide/integrators/guided_volpath.h"
+#include "volguide/integrators/photon_pass.h"
+#include "volguide/render/scene.h"
+#include "volguide/scene/loader.h"
+
+using namespace volguide;
+
+namespace {
+
+constexpr int64_t kPhotons = 1000000;
+
+Scene& demo_scene() {
+    static std::unique_ptr<Scene> scene =
+        load_scene(std::string(VOLGUIDE_SOURCE_DIR) + "/scenes/demo/light-shafts.xml");
+    return *scene;
+}
+
+const PhotonPassResult& demo_photons() {
+    static PhotonPassResult r = [] {
+        PhotonPassSettings ps;
+        ps.photons = kPhotons;
+        return trace_photons(demo_scene(), ps, PreprocessContext{});
+    }();
+    return r;
+}
+
+const GuidingField& demo_field() {
+    static GuidingField f = GuidingField::build(guiding_bounds(demo_scene()), demo_photons().samples);
+    return f;
+}
+
+void BM_PhotonPass(benchmark::State& state) {
+    PhotonPassSettings ps;
+    ps.photons = kPhotons;
+    int64_t samples = 0;
+    for (auto _ : state) samples = int64_t(trace_photons(demo_scene(), ps, PreprocessContext{}).samples.size());
+    state.counters["photons/s"] = benchmark::Counter(double(kPhotons), benchmark::Counter::kIsIterationInvariantRate);
+    state.counters["deposits_per_photon"] = double(samples) / double(kPhotons);
+}
+
+void BM_FieldBuild(benchmark::State& state) {
+    const auto& samples = demo_photons().samples;
+    int leaves = 0;
+    for (auto _ : state) {
+        GuidingField f = GuidingField::build(guiding_bounds(demo_scene()), samples);
+        leaves = f.tree().leaf_count();
+        benchmark::DoNotOptimize(f);
+    }
+    state.counters["leaves"] = leaves;
+    state.counters["s_per_leaf"] =
+        benchmark::Counter(double(leaves), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+    state.counters["bytes_per_leaf"] =
+        double(sizeof(GuidingLeaf)) + double(sizeof(SpatialTree::Node)) * 2.0 + double(sizeof(BBox3f));
+}
+
+template <int Mode>
+void BM_Query(benchmark::State& state) {
+    const GuidingField& field = demo_field();
+    const BBox3f b = field.tree().bounds();
+    const PhaseVmm phase = hg_phase_vmm(0.6f);
+    std::vector<std::pair<Point3f, Vec3f>> queries;
+    for (int i = 0; i < 4096; ++i) {
+        Sampler s(5, 0, uint64_t(i));
+        const Vec3f e = b.extents();
+        queries.push_back({b.lo + Vec3f(e.x * s.next_1d(), e.y * s.next_1d(), e.z * s.next_1d()),
+                           warp::square_to_uniform_sphere(s.next_2d())});
+    }
+    size_t i = 0;
+    for (auto _ : state) {
+        const auto& [x, w] = queries[i++ & 4095];
+        Color3 v = Mode == 0   ? field.incident(x, w)
+                   : Mode == 1 ? field.inscattered(x, w, phase, InscatterMode::Exact)
+                               : field.inscattered(x, w, phase, InscatterMode::A3);
+        benchmark::DoNotOptimize(v);
+    }
+}
+
+}  // namespace
+
+BENCHMARK(BM_PhotonPass)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_FieldBuild)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Query<0>)->Name("BM_Incident");
+BENCHMARK(BM_Query<1>)->Name("BM_InscatteredExact");
+BENCHMARK(BM_Query<2>)->Name("BM_InscatteredA3");
+BENCHMARK_MAIN();
