@@ -2,7 +2,7 @@
 // homogeneous/heterogeneous media, phase children and volumes, and file:line errors for bad values.
 #include <gtest/gtest.h>
 
-#include "test_loader_util.h"
+#include "media_loading_util.h"
 #include "volguide/media/heterogeneous.h"
 #include "volguide/media/homogeneous.h"
 #include "volguide/media/phase_hg.h"
@@ -10,17 +10,6 @@
 
 using namespace volguide;
 using namespace volguide::test;
-
-namespace {
-
-template <typename T>
-std::shared_ptr<T> first(const Properties& root, const std::string& category) {
-    auto kids = root.children(category);
-    if (kids.empty()) return nullptr;
-    return std::dynamic_pointer_cast<T>(std::get<ObjectPtr>(kids[0]->value));
-}
-
-}  // namespace
 
 TEST(MediaPlugins, HomogeneousParameters) {
     ScratchDir dir;
