@@ -3,13 +3,49 @@
 
 #include "cli_util.h"
 #include "commands.h"
+#include "volguide/guiding/field_io.h"
 #include "volguide/integrators/integrator.h"
 #include "volguide/render/scene.h"
 #include "volguide/scene/loader.h"
 
 namespace volguide::cli {
 
+namespace {
+
+int run_field_info(const std::string& path) {
+    GuidingField field;
+    try {
+        field = load_field(path);
+    } catch (const FieldFormatError& e) {
+        throw FileError(path, e.what());
+    }
+    size_t valid = 0, samples = 0, lobes = 0, max_samples = 0;
+    for (const GuidingLeaf& leaf : field.leaves()) {
+        samples += leaf.samples;
+        max_samples = std::max<size_t>(max_samples, leaf.samples);
+        if (!leaf.valid) continue;
+        ++valid;
+        lobes += size_t(leaf.vmm.size());
+    }
+    const size_t leaves = field.leaves().size();
+    const size_t bytes = leaves * sizeof(GuidingLeaf) + field.tree().nodes().size() * sizeof(SpatialTree::Node) +
+                         leaves * sizeof(BBox3f);
+    const BBox3f& b = field.tree().bounds();
+    fmt::print("field: {}\n", path);
+    fmt::print("bounds: [{}, {}, {}] - [{}, {}, {}]\n", b.lo.x, b.lo.y, b.lo.z, b.hi.x, b.hi.y, b.hi.z);
+    fmt::print("leaves: {} ({} valid, {} invalid), tree depth {}\n", leaves, valid, leaves - valid, field.tree().depth());
+    fmt::print("samples: {} (max {} per leaf)\n", samples, max_samples);
+    fmt::print("lobes per valid leaf: {:.2f}\n", valid ? double(lobes) / double(valid) : 0.0);
+    fmt::print("memory: {:.2f} MiB ({} bytes per leaf)\n", double(bytes) / (1024.0 * 1024.0), leaves ? bytes / leaves : 0);
+    return 0;
+}
+
+}  // namespace
+
 int run_info(const InfoArgs& args) {
+    if (args.field.empty() == args.scene.empty())
+        throw UsageError("info takes either a scene or --field FILE");
+    if (!args.field.empty()) return run_field_info(args.field);
     LoadOptions load;
     load.defines = parse_defines(args.defines);
     std::unique_ptr<Scene> scene = load_scene(args.scene, load);

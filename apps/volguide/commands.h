@@ -45,6 +45,7 @@ int run_diff(const DiffArgs& args);
 struct InfoArgs {
     std::string scene;
     std::vector<std::string> defines;
+    std::string field;  // --field: summarise a saved guiding field instead of a scene
 };
 int run_info(const InfoArgs& args);
 

@@ -57,8 +57,9 @@ int main(int argc, char** argv) {
                          "write the per-pixel relative squared error (EXR)");
 
     InfoArgs info;
-    CLI::App* info_cmd = app.add_subcommand("info", "summarise a scene");
-    info_cmd->add_option("scene", info.scene, "Mitsuba 3 XML scene")->required();
+    CLI::App* info_cmd = app.add_subcommand("info", "summarise a scene, or a saved guiding field (--field)");
+    info_cmd->add_option("scene", info.scene, "Mitsuba 3 XML scene");
+    info_cmd->add_option("--field", info.field, "a guiding field written by guided_volpath's save_field");
     info_cmd->add_option("-D,--define", info.defines, "set a scene <default> (name=value); repeatable")
         ->allow_extra_args(false);
 
@@ -83,7 +84,7 @@ int main(int argc, char** argv) {
             context = diff.image;
             return run_diff(diff);
         }
-        context = info.scene;
+        context = info.field.empty() ? info.scene : info.field;
         return run_info(info);
     } catch (const UsageError& e) {
         print_error("", e.what());

@@ -5,7 +5,8 @@
 //    exactly I e^(-sigma r) / r^2; every leaf with >= 1000 samples matches its box average within 10 %
 //    (leaves of 2000-4000 samples) and the mean ratio over leaves is 1 within 1 %;
 //  - determinism: the same seed gives a bit-identical field for 1 and 2 threads;
-//  - guided_volpath: trains, saves and reloads the field through the CLI, and renders volpath's image.
+//  - guided_volpath: trains, saves and reloads the field through the CLI, and renders volpath's image;
+//    `volguide info --field` summarises a saved field.
 #include <gtest/gtest.h>
 
 #include <fmt/format.h>
@@ -166,9 +167,16 @@ TEST(GuidedVolPath, TrainsSavesLoadsAndRendersWhatVolpathRenders) {
                     field_path));
     CliResult ok = run_cli({"render", dir.write("load.xml", load_xml), "-o", dir.file("l.exr"), "--spp", "4", "--quiet"});
     EXPECT_EQ(ok.exit_code, 0) << ok.err;
+    CliResult info = run_cli({"info", "--field", field_path});
+    EXPECT_EQ(info.exit_code, 0) << info.err;
+    EXPECT_NE(info.out.find(fmt::format("leaves: {} (", saved.tree().leaf_count())), std::string::npos) << info.out;
+    EXPECT_EQ(run_cli({"info", "--field", field_path, dir.file("load.xml")}).exit_code, 2);  // one or the other
     {
         std::ofstream(field_path, std::ios::binary | std::ios::trunc) << "garbage";
     }
+    CliResult bad_info = run_cli({"info", "--field", field_path});
+    EXPECT_EQ(bad_info.exit_code, 1);
+    EXPECT_NE(bad_info.err.find("field.vgf"), std::string::npos) << bad_info.err;
     CliResult bad = run_cli({"render", dir.file("load.xml"), "-o", dir.file("b.exr"), "--spp", "4", "--quiet"});
     EXPECT_EQ(bad.exit_code, 1);
     EXPECT_NE(bad.err.find("field.vgf"), std::string::npos) << bad.err;
