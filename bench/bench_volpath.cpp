@@ -11,7 +11,6 @@
 #include <filesystem>
 #include <fstream>
 
-#include "../tests/support/vol_writer.h"
 #include "cloud.h"
 #include "volguide/integrators/render_loop.h"
 #include "volguide/media/heterogeneous.h"
@@ -52,11 +51,7 @@ std::string cloud_scene_path() {
         namespace fs = std::filesystem;
         const fs::path dir = fs::temp_directory_path() / "volguide-bench-cloud";
         fs::create_directories(dir);
-        const GridData g = bench::cloud_grid(64);
-        test::VolGrid vol;
-        vol.nx = g.nx, vol.ny = g.ny, vol.nz = g.nz, vol.channels = 1;
-        vol.values = g.values;
-        test::write_vol_file((dir / "cloud.vol").string(), vol);
+        write_vol_file((dir / "cloud.vol").string(), bench::cloud_grid(64));
         std::ofstream((dir / "cloud.xml").string()) << R"(<scene version="3.0.0">
     <integrator type="volpath"><integer name="max_depth" value="16"/></integrator>
     <medium type="heterogeneous" id="cloud">

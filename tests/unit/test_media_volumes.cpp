@@ -162,3 +162,23 @@ TEST(MediaVolumes, BadFilesAreInputErrorsNamingTheFile) {
 )"));
     expect_input_error([&] { load_scene_properties(hs); }, hs, 3, "constant");
 }
+
+TEST(MediaVolumes, WrittenVolFilesReadBackExactly) {
+    ScratchDir dir;
+    GridData g;
+    g.nx = 3, g.ny = 2, g.nz = 4, g.channels = 3;
+    g.bbox = BBox3f(Point3f(-1.f, 0.f, 2.f), Point3f(1.f, 0.5f, 3.f));
+    for (size_t i = 0; i < size_t(3 * 2 * 4 * 3); ++i) g.values.push_back(0.25f * float(i));
+    const std::string path = dir.path("w.vol");
+    write_vol_file(path, g);
+    const GridData back = read_vol_file(path);
+    EXPECT_EQ(back.nx, 3);
+    EXPECT_EQ(back.ny, 2);
+    EXPECT_EQ(back.nz, 4);
+    EXPECT_EQ(back.channels, 3);
+    EXPECT_EQ(back.values, g.values);
+    EXPECT_EQ(back.bbox.lo, g.bbox.lo);
+    EXPECT_EQ(back.bbox.hi, g.bbox.hi);
+    g.values.pop_back();
+    EXPECT_THROW(write_vol_file(path, g), std::runtime_error);
+}

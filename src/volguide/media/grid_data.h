@@ -20,6 +20,9 @@ struct GridData {
 
 // Mitsuba .vol (binary "VOL" version 3, float32 encoding). Throws InputError naming the file.
 GridData read_vol_file(const std::string& path);
+// Writes `grid` as a .vol file (its bbox, or the unit cube when it has none), through a temporary
+// file; throws std::runtime_error naming the file on failure.
+void write_vol_file(const std::string& path, const GridData& grid);
 // One grid of an OpenVDB file, densified over its active bounding box; bbox is its world-space
 // extent. Throws InputError naming the file (and the grid when it is missing).
 GridData read_vdb_file(const std::string& path, const std::string& grid_name);

@@ -5,7 +5,9 @@
 #include <cstdint>
 #include <cstring>
 #include <fstream>
+#include <stdexcept>
 
+#include "volguide/core/atomic_write.h"
 #include "volguide/core/error.h"
 #include "volguide/media/grid_data.h"
 
@@ -60,6 +62,25 @@ GridData read_vol_file(const std::string& path) {
     in.read(reinterpret_cast<char*>(g.values.data()), std::streamsize(4 * count));
     if (!in) vol_fail(path, "read error in the .vol data");
     return g;
+}
+
+void write_vol_file(const std::string& path, const GridData& g) {
+    if (g.values.size() != size_t(g.nx) * g.ny * g.nz * g.channels)
+        throw std::runtime_error("\"" + path + "\": grid size does not match its values");
+    const BBox3f box = g.bbox.valid() ? g.bbox : BBox3f(Point3f(0.f), Point3f(1.f));
+    const std::string error = write_atomically(path, [&](const std::string& tmp) {
+        std::ofstream out(tmp, std::ios::binary);
+        const char magic[4] = {'V', 'O', 'L', 3};
+        const int32_t ints[5] = {1, g.nx, g.ny, g.nz, g.channels};
+        const float b[6] = {box.lo.x, box.lo.y, box.lo.z, box.hi.x, box.hi.y, box.hi.z};
+        out.write(magic, 4);
+        out.write(reinterpret_cast<const char*>(ints), sizeof(ints));
+        out.write(reinterpret_cast<const char*>(b), sizeof(b));
+        out.write(reinterpret_cast<const char*>(g.values.data()), std::streamsize(g.values.size() * sizeof(float)));
+        out.close();
+        if (!out) throw std::runtime_error("write failed");
+    });
+    if (!error.empty()) throw std::runtime_error("\"" + path + "\": cannot write the .vol file: " + error);
 }
 
 }  // namespace volguide
