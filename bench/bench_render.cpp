@@ -2,7 +2,7 @@
 // sample count, for 1 and 2 threads. Reproduce: build/bench_render --benchmark_filter=Demo
 #include <benchmark/benchmark.h>
 
-#include "volguide/integrators/render_loop.h"
+#include "render_bench.h"
 #include "volguide/scene/loader.h"
 
 using namespace volguide;
@@ -15,16 +15,7 @@ void BM_DemoRender(benchmark::State& state) {
     LoadOptions load;
     load.defines = {{"res", std::to_string(kRes)}};
     auto scene = load_scene(std::string(VOLGUIDE_SOURCE_DIR) + "/scenes/demo/cornell-box.xml", load);
-    RenderOptions opt;
-    opt.spp = kSpp;
-    opt.seed = 1;
-    opt.threads = int(state.range(0));
-    for (auto _ : state) {
-        RenderResult r = render(*scene, opt);
-        benchmark::DoNotOptimize(r.mean.pixels.data());
-    }
-    state.counters["camera_paths/s"] =
-        benchmark::Counter(double(kRes) * kRes * kSpp, benchmark::Counter::kIsIterationInvariantRate);
+    bench::run_render_benchmark(state, *scene, kSpp, int(state.range(0)), double(kRes) * kRes);
 }
 
 }  // namespace

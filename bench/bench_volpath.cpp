@@ -12,6 +12,7 @@
 #include <fstream>
 
 #include "cloud.h"
+#include "render_bench.h"
 #include "volguide/integrators/render_loop.h"
 #include "volguide/media/heterogeneous.h"
 #include "volguide/render/scene.h"
@@ -21,28 +22,12 @@ using namespace volguide;
 
 namespace {
 
-void report_paths(benchmark::State& state, double paths_per_iteration) {
-    state.counters["camera_paths/s"] =
-        benchmark::Counter(paths_per_iteration, benchmark::Counter::kIsIterationInvariantRate);
-    state.counters["s_per_1M_paths"] =
-        benchmark::Counter(paths_per_iteration / 1e6, benchmark::Counter::kIsIterationInvariantRate |
-                                                          benchmark::Counter::kInvert);
-}
-
 void BM_LightShaftsVolpath(benchmark::State& state) {
     constexpr int kWidth = 160, kHeight = 90, kSpp = 4;
     LoadOptions load;
     load.defines = {{"width", std::to_string(kWidth)}, {"height", std::to_string(kHeight)}};
     auto scene = load_scene(std::string(VOLGUIDE_SOURCE_DIR) + "/scenes/demo/light-shafts.xml", load);
-    RenderOptions opt;
-    opt.spp = kSpp;
-    opt.seed = 1;
-    opt.threads = int(state.range(0));
-    for (auto _ : state) {
-        RenderResult r = render(*scene, opt);
-        benchmark::DoNotOptimize(r.mean.pixels.data());
-    }
-    report_paths(state, double(kWidth) * kHeight * kSpp);
+    bench::run_render_benchmark(state, *scene, kSpp, int(state.range(0)), double(kWidth) * kHeight);
 }
 
 // The cloud scene, written once to a temporary folder.
@@ -92,19 +77,7 @@ void BM_CloudVolpath(benchmark::State& state) {
     for (const auto& shape : scene->shapes())
         if (auto* m = dynamic_cast<const HeterogeneousMedium*>(shape->interior_medium()))
             const_cast<HeterogeneousMedium*>(m)->set_majorant_scale(float(state.range(0)));
-    RenderOptions opt;
-    opt.spp = kSpp;
-    opt.seed = 1;
-    opt.threads = 2;
-    double mean = 0;
-    for (auto _ : state) {
-        RenderResult r = render(*scene, opt);
-        mean = 0;
-        for (const Color3& p : r.mean.pixels) mean += p.average();
-        mean /= double(r.mean.pixels.size());
-    }
-    report_paths(state, double(kRes) * kRes * kSpp);
-    state.counters["image_mean"] = mean;
+    bench::run_render_benchmark(state, *scene, kSpp, 2, double(kRes) * kRes);
 }
 
 }  // namespace

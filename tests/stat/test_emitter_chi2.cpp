@@ -48,17 +48,6 @@ void print_summary(const ChiSquareResult& r) {
                 r.p_value, r.alpha_corrected, r.pdf_integral);
 }
 
-// A strongly non-uniform synthetic sky: bright sun, black band, smooth gradient.
-Image synthetic_sky() {
-    Image image(24, 12);
-    for (int y = 0; y < 12; ++y)
-        for (int x = 0; x < 24; ++x) image.at(x, y) = Color3(0.2f + 0.1f * x, 0.05f * y, y < 6 ? 1.f : 0.1f);
-    for (int x = 0; x < 24; ++x) image.at(x, 8) = Color3(0.f);
-    image.at(5, 3) = Color3(200.f, 150.f, 100.f);
-    image.at(6, 3) = Color3(80.f, 60.f, 40.f);
-    return image;
-}
-
 std::shared_ptr<Emitter> make_envmap(const std::string& file, const Transform& to_world = {}) {
     EmitterBuilder b("envmap");
     b.set("filename", file);

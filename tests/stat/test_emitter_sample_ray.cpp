@@ -338,16 +338,6 @@ TEST(EmitterSampleRay, Constant) {
 // ---- envmap ----------------------------------------------------------------------------------
 
 namespace {
-// A strongly non-uniform sky (as test_emitter_chi2): bright sun, black band, gradients.
-Image synthetic_sky() {
-    Image image(24, 12);
-    for (int y = 0; y < 12; ++y)
-        for (int x = 0; x < 24; ++x) image.at(x, y) = Color3(0.2f + 0.1f * x, 0.05f * y, y < 6 ? 1.f : 0.1f);
-    for (int x = 0; x < 24; ++x) image.at(x, 8) = Color3(0.f);
-    image.at(5, 3) = Color3(200.f, 150.f, 100.f);
-    image.at(6, 3) = Color3(80.f, 60.f, 40.f);
-    return image;
-}
 const Transform SkyRotation = Transform::rotate({1.f, 0.5f, 0.f}, 60.f);
 
 std::shared_ptr<Emitter> make_sky(const std::string& name, bool mis_compensation) {

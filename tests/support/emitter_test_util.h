@@ -3,6 +3,7 @@
 #include <memory>
 #include <string>
 
+#include "volguide/core/image.h"
 #include "volguide/core/properties.h"
 #include "volguide/render/emitter.h"
 #include "volguide/scene/factories.h"
@@ -80,6 +81,17 @@ inline std::string write_temp_exr(const std::string& name, const Image& image) {
 inline Vec3f envmap_direction(float u, float v) {
     const float theta = v * Pi, phi = u * 2.f * Pi;
     return {std::sin(phi) * std::sin(theta), std::cos(theta), -std::cos(phi) * std::sin(theta)};
+}
+
+// A strongly non-uniform synthetic sky for envmap tests: bright sun, black band, smooth gradient.
+inline Image synthetic_sky() {
+    Image image(24, 12);
+    for (int y = 0; y < 12; ++y)
+        for (int x = 0; x < 24; ++x) image.at(x, y) = Color3(0.2f + 0.1f * x, 0.05f * y, y < 6 ? 1.f : 0.1f);
+    for (int x = 0; x < 24; ++x) image.at(x, 8) = Color3(0.f);
+    image.at(5, 3) = Color3(200.f, 150.f, 100.f);
+    image.at(6, 3) = Color3(80.f, 60.f, 40.f);
+    return image;
 }
 
 }  // namespace volguide::test
