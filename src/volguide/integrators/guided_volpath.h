@@ -21,7 +21,7 @@ struct GuidedVolPathSettings {
     int64_t photons = 1000000;  // the paper uses ~50 M; 1 M trains in seconds on two cores
     float training_fraction = 0.25f;
     GuidingFieldSettings field;  // leaf_samples -> field.tree.max_samples, lobes -> field.lobes
-    std::string distance = "standard", direction = "phase", rrs = "standard", pixel_estimate = "raymarch";
+    std::string distance = "standard", direction = "phase", rrs = "standard";
     std::string save_field, load_field;  // resolved paths, empty = none
     SourceLocation location;
     static GuidedVolPathSettings from(const Properties& props);
