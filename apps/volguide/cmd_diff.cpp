@@ -1,4 +1,5 @@
-// `volguide diff`: relMSE (eps 1e-2 and 1e-3), MSE, means and their ratio.
+// `volguide diff`: relMSE (eps 1e-2 and 1e-3, plain and without the top 0.01 % pixels), MSE, means
+// and their ratio.
 #include <fmt/format.h>
 
 #include <nlohmann/json.hpp>
@@ -22,11 +23,16 @@ int run_diff(const DiffArgs& args) {
                         fmt::format("size {}x{} differs from the reference '{}' ({}x{})", image.width,
                                     image.height, args.reference, reference.width, reference.height));
     ImageDiff d = compare_images(image, reference);
+    // EXR: the raw per-channel relative squared errors; PNG: a false-colour map for viewing.
     if (!args.error_image.empty())
-        write_image(args.error_image, relative_error_image(image, reference, 1e-2));
+        write_image(args.error_image, extension_of(args.error_image) == ".png"
+                                          ? relative_error_heatmap(image, reference, 1e-2)
+                                          : relative_error_image(image, reference, 1e-2));
     if (args.json) {
         nlohmann::json j{{"relmse_1e-2", d.relmse_1e2},
                          {"relmse_1e-3", d.relmse_1e3},
+                         {"relmse_1e-2_trimmed", d.relmse_1e2_trimmed},
+                         {"relmse_1e-3_trimmed", d.relmse_1e3_trimmed},
                          {"mse", d.mse},
                          {"mean", d.mean},
                          {"reference_mean", d.reference_mean}};
@@ -37,6 +43,8 @@ int run_diff(const DiffArgs& args) {
     }
     fmt::print("relMSE(1e-2): {:.6g}\n", d.relmse_1e2);
     fmt::print("relMSE(1e-3): {:.6g}\n", d.relmse_1e3);
+    fmt::print("relMSE(1e-2) without the top 0.01% pixels: {:.6g}\n", d.relmse_1e2_trimmed);
+    fmt::print("relMSE(1e-3) without the top 0.01% pixels: {:.6g}\n", d.relmse_1e3_trimmed);
     fmt::print("MSE: {:.6g}\n", d.mse);
     fmt::print("mean: {:.6g}\n", d.mean);
     fmt::print("reference mean: {:.6g}\n", d.reference_mean);

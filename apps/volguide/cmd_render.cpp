@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <nlohmann/json.hpp>
 
 #include "cli_util.h"
@@ -14,6 +15,7 @@
 #include "volguide/core/log.h"
 #include "volguide/integrators/integrator.h"
 #include "volguide/integrators/render_loop.h"
+#include "volguide/render/image_compare.h"
 #include "volguide/render/image_io.h"
 #include "volguide/render/scene.h"
 #include "volguide/scene/loader.h"
@@ -35,6 +37,25 @@ void validate(const RenderArgs& a, const std::vector<std::string>& outputs) {
     }
     if (!a.stats.empty() && extension_of(a.stats) != ".json")
         throw UsageError(fmt::format("--stats file '{}' must end in .json", a.stats));
+    if (!a.reference.empty() && extension_of(a.reference) != ".exr")
+        throw UsageError(fmt::format("--reference '{}' must be an .exr image", a.reference));
+}
+
+// One point of the convergence curve against --reference.
+struct ConvergencePoint {
+    int spp = 0;
+    double seconds = 0;
+    ImageDiff diff;
+};
+
+nlohmann::json diff_json(const ImageDiff& d) {
+    return {{"relmse_1e-2", d.relmse_1e2},
+            {"relmse_1e-3", d.relmse_1e3},
+            {"relmse_1e-2_trimmed", d.relmse_1e2_trimmed},
+            {"relmse_1e-3_trimmed", d.relmse_1e3_trimmed},
+            {"mse", d.mse},
+            {"mean", d.mean},
+            {"reference_mean", d.reference_mean}};
 }
 
 // Fail before a long render, not after it, when an output cannot be written.
@@ -47,7 +68,8 @@ void check_directory(const std::string& file) {
 }
 
 void write_stats(const std::string& path, const RenderArgs& args, const std::vector<std::string>& outputs,
-                 const std::string& variance_output, double load_seconds, const RenderResult& r) {
+                 const std::string& variance_output, double load_seconds, const RenderResult& r,
+                 const std::optional<ImageDiff>& final_diff, const std::vector<ConvergencePoint>& convergence) {
     const RenderStats& s = r.stats;
     nlohmann::json j;
     j["scene"] = args.scene;
@@ -75,6 +97,18 @@ void write_stats(const std::string& path, const RenderArgs& args, const std::vec
                  {"render", s.render_seconds},
                  {"total", s.total_seconds},
                  {"total_with_load", load_seconds + s.total_seconds}};
+    if (final_diff) {
+        j["reference"] = diff_json(*final_diff);
+        j["reference"]["file"] = args.reference;
+        nlohmann::json curve = nlohmann::json::array();
+        for (const ConvergencePoint& p : convergence) {
+            nlohmann::json point = diff_json(p.diff);
+            point["spp"] = p.spp;
+            point["seconds"] = p.seconds;
+            curve.push_back(point);
+        }
+        j["convergence"] = curve;
+    }
     std::ofstream f(path);
     f << j.dump(2) << "\n";
     if (!f) throw FileError(path, "cannot write the statistics file");
@@ -95,6 +129,16 @@ int run_render(const RenderArgs& args) {
     std::unique_ptr<Scene> scene = load_scene(args.scene, load);
     const double load_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
+    std::optional<Image> reference;
+    if (!args.reference.empty()) {
+        reference = read_image(args.reference);
+        const Film& film = scene->sensor().film();
+        if (reference->width != film.width() || reference->height != film.height())
+            throw FileError(args.reference, fmt::format("size {}x{} differs from the film's {}x{}",
+                                                        reference->width, reference->height, film.width(),
+                                                        film.height()));
+    }
+
     InterruptGuard interrupt;
     ProgressDisplay display(args.quiet);
     RenderOptions options;
@@ -104,8 +148,20 @@ int run_render(const RenderArgs& args) {
     if (args.threads) options.threads = *args.threads;
     options.cancel = interrupt.flag();
     options.progress = [&](const Progress& p) { display.update(p); };
+    // Convergence against the reference at 1, 2, 4, ... spp (and the final image below).
+    std::vector<ConvergencePoint> convergence;
+    if (reference)
+        options.on_pass = [&](int spp, double seconds, const Image& mean) {
+            if ((spp & (spp - 1)) == 0) convergence.push_back({spp, seconds, compare_images(mean, *reference)});
+        };
     RenderResult result = render(*scene, options);
     display.finish();
+    std::optional<ImageDiff> final_diff;
+    if (reference && result.spp > 0) {
+        final_diff = compare_images(result.mean, *reference);
+        if (convergence.empty() || convergence.back().spp != result.spp)
+            convergence.push_back({result.spp, result.stats.total_seconds, *final_diff});
+    }
 
     if (result.spp == 0)
         throw FileError(outputs.front(), "interrupted before the first pass completed; nothing was written");
@@ -115,7 +171,8 @@ int run_render(const RenderArgs& args) {
         var_output = variance_path(outputs.front());
         write_exr(var_output, result.variance);
     }
-    if (!args.stats.empty()) write_stats(args.stats, args, outputs, var_output, load_seconds, result);
+    if (!args.stats.empty()) write_stats(args.stats, args, outputs, var_output, load_seconds, result, final_diff,
+                                          convergence);
 
     const RenderStats& s = result.stats;
     if (s.cancelled) fmt::print("interrupted: wrote the {} completed samples per pixel\n", result.spp);
@@ -128,6 +185,9 @@ int run_render(const RenderArgs& args) {
         warn({}, "{} non-finite samples were dropped; the first: pixel ({}, {}) sample {} (seed {})",
              s.nonfinite_samples, at.x, at.y, at.sample, s.seed);
     }
+    if (final_diff)
+        fmt::print("relMSE vs reference: {:.6g} (eps 1e-2), {:.6g} (eps 1e-3); MSE {:.6g}\n",
+                   final_diff->relmse_1e2, final_diff->relmse_1e3, final_diff->mse);
     for (const std::string& output : outputs) fmt::print("output: {}\n", output);
     if (!var_output.empty()) fmt::print("variance: {}\n", var_output);
     return 0;

@@ -1,5 +1,5 @@
 #pragma once
-// The three `volguide` commands. Each returns the process exit code; input and I/O errors are
+// The `volguide` commands. Each returns the process exit code; input and I/O errors are
 // thrown (volguide::InputError or std::exception) and usage errors as UsageError, and main()
 // turns them into one stderr line and exit code 1 or 2.
 #include <cstdint>
@@ -32,6 +32,9 @@ struct RenderArgs {
     std::optional<uint64_t> seed;
     std::optional<int> threads;
     std::string stats;  // JSON file, empty for none
+    // --reference: compare with this image during the render (convergence curve in the stats) and
+    // after it (printed); empty for none.
+    std::string reference;
     bool quiet = false;
 };
 int run_render(const RenderArgs& args);
@@ -41,6 +44,12 @@ struct DiffArgs {
     bool json = false;
 };
 int run_diff(const DiffArgs& args);
+
+struct ConvertArgs {
+    std::string input, output;
+    double exposure = 0;  // stops: the image is scaled by 2^exposure
+};
+int run_convert(const ConvertArgs& args);
 
 struct InfoArgs {
     std::string scene;

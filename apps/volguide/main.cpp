@@ -1,4 +1,4 @@
-// volguide command line: render | diff | info (docs/interface.md). Exit codes: 0 success, 1 input or
+// volguide command line: render | diff | convert | info (docs/interface.md). Exit codes: 0 success, 1 input or
 // I/O error (one line `volguide: FILE:LINE: message` on stderr), 2 usage error.
 #include <CLI/CLI.hpp>
 #include <cstdio>
@@ -46,6 +46,8 @@ int main(int argc, char** argv) {
     render_cmd->add_option("--seed", render.seed, "random seed (same seed, same image, any --threads)");
     render_cmd->add_option("--threads", render.threads, "worker threads (default: all)");
     render_cmd->add_option("--stats", render.stats, "write render statistics as JSON");
+    render_cmd->add_option("--reference", render.reference,
+                           "compare with this EXR: relMSE printed, convergence curve in --stats");
     render_cmd->add_flag("-q,--quiet", render.quiet, "no progress output");
 
     DiffArgs diff;
@@ -54,7 +56,13 @@ int main(int argc, char** argv) {
     diff_cmd->add_option("reference", diff.reference, "reference image (.exr)")->required();
     diff_cmd->add_flag("--json", diff.json, "print the metrics as one JSON object");
     diff_cmd->add_option("--error-image", diff.error_image,
-                         "write the per-pixel relative squared error (EXR)");
+                         "write the per-pixel relative squared error (EXR: raw values; PNG: false colour)");
+
+    ConvertArgs convert;
+    CLI::App* convert_cmd = app.add_subcommand("convert", "convert an image (EXR <-> PNG), optionally rescaled");
+    convert_cmd->add_option("input", convert.input, "input image (.exr, .png)")->required();
+    convert_cmd->add_option("output", convert.output, "output image (.exr, .png)")->required();
+    convert_cmd->add_option("--exposure", convert.exposure, "scale by 2^EXPOSURE (stops)");
 
     InfoArgs info;
     CLI::App* info_cmd = app.add_subcommand("info", "summarise a scene, or a saved guiding field (--field)");
@@ -83,6 +91,10 @@ int main(int argc, char** argv) {
         if (diff_cmd->parsed()) {
             context = diff.image;
             return run_diff(diff);
+        }
+        if (convert_cmd->parsed()) {
+            context = convert.input;
+            return run_convert(convert);
         }
         context = info.field.empty() ? info.scene : info.field;
         return run_info(info);

@@ -76,7 +76,8 @@ TEST_F(Cli, UsageErrorsExitWithTwo) {
     for (const char* args :
          {"", "frobnicate", "render", "render s.xml --spp 0", "render s.xml --spp abc", "render s.xml -D foo",
           "render s.xml --bogus", "render s.xml -o out.jpg", "render s.xml --threads 0",
-          "render s.xml --time -1", "diff a.exr", "info", "diff a.exr b.exr --error-image e.txt"}) {
+          "render s.xml --time -1", "diff a.exr", "info", "diff a.exr b.exr --error-image e.txt", "convert a.exr", "convert a.exr b.jpg",
+          "render s.xml --reference r.png"}) {
         CliResult r = run(args);
         EXPECT_EQ(r.code, 2) << "args: " << args << "\nstderr: " << r.err;
         EXPECT_FALSE(r.err.empty()) << args;
@@ -116,6 +117,14 @@ TEST_F(Cli, DiffMetrics) {
     ASSERT_EQ(err.width, 4);
     EXPECT_NEAR(err.at(0, 0).g, 1 / 1.01, 1e-6);
     EXPECT_NEAR(err.at(2, 1).r, d * d / 1.01, 1e-6);
+
+    // Nothing to trim below 10 000 pixels.
+    EXPECT_NEAR(j["relmse_1e-3_trimmed"].get<double>(), rel3, 1e-9);
+    EXPECT_NEAR(j["relmse_1e-2_trimmed"].get<double>(), rel2, 1e-9);
+    // A PNG error image is a false-colour map: the black pixel's error (1) is brighter than the rest.
+    ASSERT_EQ(run("diff i.exr r.exr --error-image heat.png").code, 0);
+    Image heat = read_image(path("heat.png").string());
+    EXPECT_GT(heat.at(0, 0).r, heat.at(1, 0).r);
 
     write_exr(path("small.exr").string(), Image(2, 2));
     CliResult mismatch = run("diff i.exr small.exr");
@@ -200,6 +209,54 @@ TEST_F(Cli, RenderWritesImageVarianceAndStats) {
 }
 
 // Ctrl-C: the render stops, the completed passes are written, the exit code is 0.
+TEST_F(Cli, ConvertScalesByExposure) {
+    Image image(3, 2, Color3(0.25f, 0.5f, 1.f));
+    write_exr(path("a.exr").string(), image);
+    ASSERT_EQ(run("convert a.exr b.exr --exposure 1").code, 0);
+    Image b = read_image(path("b.exr").string());
+    EXPECT_FLOAT_EQ(b.at(2, 1).r, 0.5f);
+    EXPECT_FLOAT_EQ(b.at(2, 1).b, 2.f);
+    CliResult png = run("convert a.exr a.png");
+    ASSERT_EQ(png.code, 0) << png.err;
+    EXPECT_NEAR(read_image(path("a.png").string()).at(0, 0).g, 0.5f, 0.01f);  // sRGB round trip
+    CliResult missing = run("convert nothere.exr x.png");
+    EXPECT_EQ(missing.code, 1);
+    EXPECT_EQ(count_lines(missing.err), 1) << missing.err;
+}
+
+TEST_F(Cli, ReferenceGivesRelMseAndAConvergenceCurve) {
+    write("s.xml", kScene);
+    ASSERT_EQ(run("render s.xml -o ref.exr --spp 64 --seed 9 --quiet").code, 0);
+    CliResult r = run("render s.xml -o img.exr --spp 10 --seed 3 --reference ref.exr --stats st.json --quiet");
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("relMSE vs reference: "), std::string::npos) << r.out;
+    auto st = nlohmann::json::parse(slurp(path("st.json")));
+    // The final figure is exactly what `diff` computes from the written images.
+    CliResult d = run("diff img.exr ref.exr --json");
+    ASSERT_EQ(d.code, 0) << d.err;
+    auto dj = nlohmann::json::parse(d.out);
+    EXPECT_DOUBLE_EQ(st["reference"]["relmse_1e-2"].get<double>(), dj["relmse_1e-2"].get<double>());
+    EXPECT_DOUBLE_EQ(st["reference"]["mse"].get<double>(), dj["mse"].get<double>());
+    EXPECT_EQ(st["reference"]["file"].get<std::string>(), "ref.exr");
+    // Points at 1, 2, 4, 8 spp and the final 10, with non-decreasing times; more samples, less error.
+    const auto& curve = st["convergence"];
+    ASSERT_EQ(curve.size(), 5u) << curve.dump();
+    const int expected[] = {1, 2, 4, 8, 10};
+    for (size_t k = 0; k < curve.size(); ++k) {
+        EXPECT_EQ(curve[k]["spp"].get<int>(), expected[k]);
+        if (k > 0) EXPECT_GE(curve[k]["seconds"].get<double>(), curve[k - 1]["seconds"].get<double>());
+    }
+    EXPECT_LT(curve[4]["relmse_1e-2"].get<double>(), curve[0]["relmse_1e-2"].get<double>());
+    EXPECT_DOUBLE_EQ(curve[4]["relmse_1e-2"].get<double>(), dj["relmse_1e-2"].get<double>());
+
+    // A reference of another size is an input error before rendering.
+    write_exr(path("small.exr").string(), Image(2, 2));
+    CliResult bad = run("render s.xml -o x.exr --reference small.exr --quiet");
+    EXPECT_EQ(bad.code, 1);
+    EXPECT_EQ(bad.err.rfind("volguide: small.exr: ", 0), 0u) << bad.err;
+    EXPECT_FALSE(fs::exists(path("x.exr")));
+}
+
 TEST_F(Cli, InterruptWritesTheCompletedPasses) {
     write("s.xml", kScene);
     for (int attempt = 0; attempt < 4; ++attempt) {

@@ -48,5 +48,59 @@ TEST(ImageCompare, NonFiniteValuesAreCountedNotSummed) {
     EXPECT_DOUBLE_EQ(d.ratio, 1.0);
 }
 
+TEST(ImageCompare, TrimmedRelMseDropsTheTopOneIn10000Pixels) {
+    Image ref(100, 100, Color3(1.f)), img(100, 100, Color3(1.f));
+    img.at(3, 5) = Color3(3.f);    // (3 - 1)^2 = 4 per channel: the one outlier of 10 000 pixels
+    img.at(7, 7) = Color3(1.5f);   // 0.25 per channel
+    const double n = 3.0 * 10000;  // pixel channels
+    ImageDiff d = compare_images(img, ref);
+    EXPECT_NEAR(d.relmse_1e2, 3 * (4 + 0.25) / 1.01 / n, 1e-12);
+    EXPECT_NEAR(d.relmse_1e3, 3 * (4 + 0.25) / 1.001 / n, 1e-12);
+    EXPECT_NEAR(d.relmse_1e2_trimmed, 3 * 0.25 / 1.01 / (n - 3), 1e-12);
+    EXPECT_NEAR(d.relmse_1e3_trimmed, 3 * 0.25 / 1.001 / (n - 3), 1e-12);
+
+    // Below 10 000 pixels nothing is trimmed.
+    Image small_ref(99, 100, Color3(1.f)), small(99, 100, Color3(1.f));
+    small.at(3, 5) = Color3(3.f);
+    ImageDiff s = compare_images(small, small_ref);
+    EXPECT_DOUBLE_EQ(s.relmse_1e3_trimmed, s.relmse_1e3);
+    EXPECT_GT(s.relmse_1e3, 0);
+}
+
+TEST(ImageCompare, HeatmapIsMonotoneInTheErrorAndMarksNonFinite) {
+    Image ref(4, 1, Color3(1.f)), img(4, 1, Color3(1.f));
+    img.at(1, 0) = Color3(1.01f);  // relMSE ~ 1e-4: the bottom of the scale
+    img.at(2, 0) = Color3(1.3f);   // ~ 0.09
+    img.at(3, 0).r = std::nanf("");
+    Image heat = relative_error_heatmap(img, ref);
+    auto luminance = [](Color3 c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b; };
+    EXPECT_LT(luminance(heat.at(0, 0)), 1e-3);  // zero error: black
+    EXPECT_LT(luminance(heat.at(0, 0)), luminance(heat.at(1, 0)) + 1e-6);
+    EXPECT_LT(luminance(heat.at(1, 0)), luminance(heat.at(2, 0)));
+    EXPECT_EQ(heat.at(3, 0).r, 1.f);
+    EXPECT_EQ(heat.at(3, 0).g, 0.f);
+    EXPECT_EQ(heat.at(3, 0).b, 1.f);
+}
+
+TEST(ImageCompare, MeanOfRendersEstimatesItsOwnError) {
+    // One pixel; channels: renders {1, 3} -> mean 2, MSE (1 - 3)^2 / 4 = 1; {0.5, 0.5} -> 0; {2, 0} -> 1, 1.
+    Image a(1, 1), b(1, 1);
+    a.at(0, 0) = Color3(1.f, 0.5f, 2.f);
+    b.at(0, 0) = Color3(3.f, 0.5f, 0.f);
+    MeanEstimate m = mean_of_renders({a, b});
+    EXPECT_FLOAT_EQ(m.mean.at(0, 0).r, 2.f);
+    EXPECT_FLOAT_EQ(m.mean.at(0, 0).g, 0.5f);
+    EXPECT_FLOAT_EQ(m.mean.at(0, 0).b, 1.f);
+    EXPECT_NEAR(m.mse, (1 + 0 + 1) / 3.0, 1e-12);
+    EXPECT_NEAR(m.relmse_1e2, (1 / 4.01 + 0 + 1 / 1.01) / 3, 1e-12);
+    EXPECT_NEAR(m.relmse_1e3, (1 / 4.001 + 0 + 1 / 1.001) / 3, 1e-12);
+
+    // Three renders 0, 1, 2: sample variance 1, MSE of the mean 1/3.
+    Image c(1, 1, Color3(0.f)), d(1, 1, Color3(1.f)), e(1, 1, Color3(2.f));
+    EXPECT_NEAR(mean_of_renders({c, d, e}).mse, 1.0 / 3, 1e-12);
+    EXPECT_THROW(mean_of_renders({c}), std::invalid_argument);
+    EXPECT_THROW(mean_of_renders({c, Image(2, 1)}), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace volguide

@@ -67,6 +67,26 @@ TEST(RenderLoop, BitIdenticalForAnyThreadCount) {
     }
 }
 
+TEST(RenderLoop, OnPassSeesEveryMergedPassInOrder) {
+    BoxFilter box;
+    FrameSetup setup{9, 7, &box, false, 4, 5, false};
+    RenderOptions opt;
+    opt.spp = 10;
+    std::vector<int> spps;
+    std::vector<double> times;
+    Image last;
+    opt.on_pass = [&](int spp, double seconds, const Image& mean) {
+        spps.push_back(spp);
+        times.push_back(seconds);
+        last = mean;
+    };
+    RenderResult r = render_frame(setup, noisy, opt);
+    EXPECT_EQ(spps, std::vector<int>({1, 2, 4, 8, 10}));  // cumulative pass_schedule(10)
+    for (size_t k = 1; k < times.size(); ++k) EXPECT_GE(times[k], times[k - 1]);
+    EXPECT_GE(times.front(), 0.0);
+    EXPECT_TRUE(bit_identical(last, r.mean));  // the last snapshot is the final image
+}
+
 TEST(RenderLoop, SeedsAndDefaults) {
     BoxFilter box;
     FrameSetup setup{9, 7, &box, false, 3, 42, false};

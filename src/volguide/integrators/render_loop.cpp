@@ -215,6 +215,7 @@ RenderResult render_frame_impl(const FrameSetup& setup, const RadianceFn& radian
         stats.passes += 1;
         stats.samples += pass_samples;
         reporter.report(spp_done, spp_done, true);
+        if (options.on_pass) options.on_pass(spp_done, seconds_since(job_start), film.mean());
     }
 
     result.spp = spp_done;

@@ -27,6 +27,10 @@ struct RenderOptions {
     int tile_size = 16;
     ProgressCallback progress;
     const std::atomic<bool>* cancel = nullptr;  // set it to stop at the end of the current pass
+    // Called after each pass is merged with the image so far (for convergence curves); `seconds`
+    // counts from the start of the job (preprocessing included), like the time budget. Its own
+    // cost is part of the render time, so keep it cheap.
+    std::function<void(int spp, double seconds, const Image& mean)> on_pass;
 };
 
 // Where a sample went wrong, to replay it: Sampler(seed, pixel index, sample) with the pixel index

@@ -1,0 +1,95 @@
+#!/usr/bin/env python3
+"""Renders the converged reference image of every benchmark scene (issue 5).
+
+Each reference is the mean of CHUNKS independent renders (seeds 1001, 1002, ...) of SPP samples per
+pixel with an unbiased method; the spread of the chunks gives the reference's own relMSE
+(tools/average_renders.cpp), which must be at most 1/10 of the best method's relMSE at the benchmark
+budget (checked by bench/run_bench.py, recorded in bench/references/README.md). The renders are
+deterministic: the same command reproduces the same EXR bit for bit on the same build.
+
+    python3 bench/make_references.py [--scenes shafts,cloud] [--build-dir build]
+
+Writes bench/references/<scene>.exr and <scene>.json (how it was made and its estimated error).
+"""
+import argparse
+import json
+import os
+import subprocess
+import sys
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+
+# scene: (method -D overrides, spp per chunk, chunks). spp per chunk ~ 4 min of volpath on 2 cores
+# (2026-11, Xeon VM), so each reference costs ~12 min: ~12x the 60 s benchmark budget.
+REFERENCES = {
+    "shafts": (["integrator=volpath"], 4224, 3),
+    "backlit": (["integrator=volpath"], 10752, 3),
+    "thin": (["integrator=volpath"], 33408, 3),
+    "sss": (["integrator=volpath"], 3072, 3),
+    "aniso": (["integrator=volpath"], 7296, 3),
+    "cloud": (["integrator=volpath"], 19968, 3),
+    "fogbox": (["integrator=volpath"], 8064, 3),
+}
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--scenes", default=",".join(REFERENCES), help="comma-separated scene names")
+    ap.add_argument("--build-dir", default=os.path.join(ROOT, "build"))
+    ap.add_argument("--work-dir", default=os.path.join(ROOT, "bench", "references", "chunks"),
+                    help="where the chunk renders go (kept, so an interrupted run resumes)")
+    args = ap.parse_args()
+    volguide = os.path.join(args.build_dir, "volguide")
+    average = os.path.join(args.build_dir, "average_renders")
+    for tool in (volguide, average):
+        if not os.access(tool, os.X_OK):
+            sys.exit(f"make_references: {tool} is missing; run `make build` first")
+    os.makedirs(args.work_dir, exist_ok=True)
+    for scene in args.scenes.split(","):
+        if scene not in REFERENCES:
+            sys.exit(f"make_references: unknown scene '{scene}' (known: {', '.join(REFERENCES)})")
+        defines, spp, chunks = REFERENCES[scene]
+        xml = os.path.join(ROOT, "bench", "scenes", scene + ".xml")
+        chunk_files, seconds = [], 0.0
+        for k in range(chunks):
+            seed = 1001 + k
+            out = os.path.join(args.work_dir, f"{scene}-{seed}.exr")
+            stats = out[:-4] + ".json"
+            if not (os.path.exists(out) and os.path.exists(stats)):
+                cmd = [volguide, "render", xml, "-o", out, "--spp", str(spp), "--seed", str(seed),
+                       "--stats", stats, "--quiet"]
+                for d in defines:
+                    cmd += ["-D", d]
+                print(f"[{time.strftime('%H:%M:%S')}] {scene}: chunk {k + 1}/{chunks} ({spp} spp, seed {seed})",
+                      file=sys.stderr, flush=True)
+                subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
+            with open(stats) as f:
+                seconds += json.load(f)["time"]["total_with_load"]
+            chunk_files.append(out)
+        ref = os.path.join(ROOT, "bench", "references", scene + ".exr")
+        res = subprocess.run([average, ref] + chunk_files, check=True, capture_output=True, text=True)
+        estimate = json.loads(res.stdout)
+        record = {
+            "scene": f"bench/scenes/{scene}.xml",
+            "defines": defines,
+            "spp": spp * chunks,
+            "chunks": chunks,
+            "spp_per_chunk": spp,
+            "seeds": [1001 + k for k in range(chunks)],
+            "render_seconds": round(seconds, 1),
+            "estimated_relmse_1e-2": estimate["relmse_1e-2"],
+            "estimated_relmse_1e-3": estimate["relmse_1e-3"],
+            "estimated_mse": estimate["mse"],
+            "command": f"python3 bench/make_references.py --scenes {scene}",
+        }
+        with open(ref[:-4] + ".json", "w") as f:
+            json.dump(record, f, indent=2)
+            f.write("\n")
+        print(f"{scene}: {spp * chunks} spp in {seconds:.0f} s, estimated relMSE(1e-2) "
+              f"{estimate['relmse_1e-2']:.3g}", flush=True)
+
+
+if __name__ == "__main__":
+    main()
