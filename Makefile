@@ -1,15 +1,20 @@
 # volguide — entry points (see docs/interface.md). Every target installs what is missing first.
 BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
-# Debian packages the build and tests need. Keep in sync with CMakeLists.txt.
+# Debian packages the build and tests need (python3-matplotlib and chromium: the benchmark report, its
+# plots and the headless check of its HTML page, exercised by the bench_harness test). Keep in sync with CMakeLists.txt.
 APT_PACKAGES := build-essential cmake pkg-config libembree-dev libtbb-dev libopenexr-dev \
   libpugixml-dev libtinyobjloader-dev libfmt-dev libcli11-dev nlohmann-json3-dev libstb-dev \
   libgtest-dev libgmock-dev libbenchmark-dev libopenvdb-dev \
-  libboost-iostreams-dev
+  libboost-iostreams-dev python3 python3-matplotlib chromium
+# make bench QUICK=1: the reduced budget; TIME=seconds per render; BENCH_ARGS: any run_bench.py option.
+QUICK ?=
+TIME ?=
+BENCH_ARGS ?=
 # CTest label expression for `make test`; CI runs everything.
 TEST_ARGS ?=
 
-.PHONY: deps build test demo bench clean format
+.PHONY: deps build test demo bench bench-micro clean format
 
 deps:
 	@scripts/install-deps.sh $(APT_PACKAGES)
@@ -27,7 +32,11 @@ demo: build
 	@scripts/demo.sh $(BUILD_DIR)
 
 bench: build
-	@scripts/bench.sh $(BUILD_DIR)
+	@scripts/bench.sh $(BUILD_DIR) $(if $(QUICK),--quick) $(if $(TIME),--time $(TIME)) $(BENCH_ARGS)
+
+# The Google Benchmark micro-benchmarks (kernels, whole-render throughput).
+bench-micro: build
+	@scripts/bench-micro.sh $(BUILD_DIR)
 
 format:
 	clang-format -i $$(git ls-files '*.cpp' '*.h')

@@ -40,6 +40,9 @@ def main():
     ap.add_argument("--build-dir", default=os.path.join(ROOT, "build"))
     ap.add_argument("--work-dir", default=os.path.join(ROOT, "bench", "references", "chunks"),
                     help="where the chunk renders go (kept, so an interrupted run resumes)")
+    ap.add_argument("--out-dir", default=os.path.join(ROOT, "bench", "references"),
+                    help="where <scene>.exr and <scene>.json go")
+    ap.add_argument("--spp", type=int, default=0, help="override the spp per chunk (tests, previews)")
     args = ap.parse_args()
     volguide = os.path.join(args.build_dir, "volguide")
     average = os.path.join(args.build_dir, "average_renders")
@@ -51,11 +54,13 @@ def main():
         if scene not in REFERENCES:
             sys.exit(f"make_references: unknown scene '{scene}' (known: {', '.join(REFERENCES)})")
         defines, spp, chunks = REFERENCES[scene]
+        if args.spp > 0:
+            spp = args.spp
         xml = os.path.join(ROOT, "bench", "scenes", scene + ".xml")
         chunk_files, seconds = [], 0.0
         for k in range(chunks):
             seed = 1001 + k
-            out = os.path.join(args.work_dir, f"{scene}-{seed}.exr")
+            out = os.path.join(args.work_dir, f"{scene}-{spp}spp-{seed}.exr")
             stats = out[:-4] + ".json"
             if not (os.path.exists(out) and os.path.exists(stats)):
                 cmd = [volguide, "render", xml, "-o", out, "--spp", str(spp), "--seed", str(seed),
@@ -68,7 +73,8 @@ def main():
             with open(stats) as f:
                 seconds += json.load(f)["time"]["total_with_load"]
             chunk_files.append(out)
-        ref = os.path.join(ROOT, "bench", "references", scene + ".exr")
+        os.makedirs(args.out_dir, exist_ok=True)
+        ref = os.path.join(args.out_dir, scene + ".exr")
         res = subprocess.run([average, ref] + chunk_files, check=True, capture_output=True, text=True)
         estimate = json.loads(res.stdout)
         record = {
@@ -82,7 +88,8 @@ def main():
             "estimated_relmse_1e-2": estimate["relmse_1e-2"],
             "estimated_relmse_1e-3": estimate["relmse_1e-3"],
             "estimated_mse": estimate["mse"],
-            "command": f"python3 bench/make_references.py --scenes {scene}",
+            "command": f"python3 bench/make_references.py --scenes {scene}" +
+                       (f" --spp {args.spp}" if args.spp > 0 else ""),
         }
         with open(ref[:-4] + ".json", "w") as f:
             json.dump(record, f, indent=2)

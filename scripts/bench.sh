@@ -1,22 +1,20 @@
 #!/usr/bin/env bash
-# `make bench`: runs every Google Benchmark binary (kernels, whole renders) and stores the results
-# under bench/results/<date>/ with the machine description, so each figure has the command that
-# reproduced it. The equal-time relMSE harness (issue 5) will be added here.
+# `make bench`: the equal-time benchmark (bench/run_bench.py) and the headless-Chromium check of its
+# HTML report. Arguments after the build directory go to run_bench.py (--quick, --time S, ...).
 set -euo pipefail
 build_dir=${1:-build}
-out="bench/results/$(date -u +%F)"
-mkdir -p "$out"
-{
-  echo "date: $(date -u +%FT%TZ)"
-  echo "commit: $(git rev-parse --short HEAD 2>/dev/null || echo unknown)"
-  echo "cpu: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ //')"
-  echo "cores: $(nproc)"
-} > "$out/machine.txt"
-shopt -s nullglob
-for bin in "$build_dir"/bench_*; do
-  [ -x "$bin" ] || continue
-  name=$(basename "$bin")
-  echo "== $name" >&2
-  "$bin" --benchmark_out="$out/$name.json" --benchmark_out_format=json | tee "$out/$name.txt"
-done
-echo "results in $out" >&2
+shift || true
+# Debian's interpreter, which has python3-matplotlib (a pyenv or venv python3 earlier in PATH may not).
+PYTHON=${PYTHON:-/usr/bin/python3}
+out_file=$(mktemp)
+trap 'rm -f "$out_file"' EXIT
+status=0
+"$PYTHON" bench/run_bench.py --build-dir "$build_dir" --print-out-dir "$out_file" "$@" || status=$?
+out=$(cat "$out_file")
+if [ -n "$out" ] && [ -f "$out/index.html" ]; then
+  "$PYTHON" bench/check_report.py "$out/index.html" || status=1
+else
+  echo "make bench: no report was written" >&2
+  status=1
+fi
+exit $status
