@@ -28,10 +28,13 @@ inline float safe_asin(float x) { return std::asin(std::clamp(x, -1.f, 1.f)); }
 inline float deg_to_rad(float d) { return d * (Pi / 180.f); }
 inline float rad_to_deg(float r) { return r * (180.f / Pi); }
 inline float mis_power_heuristic(float pdf_a, float pdf_b) {
-    // Power heuristic with beta = 2; robust when pdf_a is infinite (delta) or both are zero.
+    // Power heuristic with beta = 2; robust when pdf_a is infinite (delta) or both are zero. Squares
+    // in double: a finite pdf above ~1.8e19 (a grazing area-light sample) overflows a float square
+    // and inf / inf would be NaN.
     if (std::isinf(pdf_a)) return 1.f;
-    float a2 = pdf_a * pdf_a, b2 = pdf_b * pdf_b;
-    return a2 + b2 > 0.f ? a2 / (a2 + b2) : 0.f;
+    if (std::isinf(pdf_b)) return 0.f;
+    const double a2 = double(pdf_a) * pdf_a, b2 = double(pdf_b) * pdf_b;
+    return a2 + b2 > 0.0 ? float(a2 / (a2 + b2)) : 0.f;
 }
 
 }  // namespace volguide

@@ -109,8 +109,11 @@ float equiangular_density(const Scene& scene, const EquiSegment& seg, const Dire
 }
 
 float power3(float a, float b, float c) {
-    const float a2 = a * a, s = a2 + b * b + c * c;
-    return s > 0.f && std::isfinite(s) ? a2 / s : 0.f;
+    // In double: squares of large finite pdfs overflow a float (see mis_power_heuristic).
+    if (std::isinf(a)) return 1.f;
+    if (std::isinf(b) || std::isinf(c)) return 0.f;
+    const double a2 = double(a) * a, s = a2 + double(b) * b + double(c) * c;
+    return s > 0.0 && std::isfinite(s) ? float(a2 / s) : 0.f;
 }
 
 // Radiance arriving at x from the light point y (record from x) times |cos_y| / dist^2, in y's
