@@ -3,12 +3,15 @@
 //  - FieldBuild: kd-tree + per-leaf EM fit (8 lobes) of the samples those photons deposited,
 //    reported per leaf;
 //  - Incident / Inscattered{Exact,A3}: one query of L~ and L~_i at a random point and direction;
+//  - InscatteredA3Prepared: the same A3 query through an InscatterCache prepared for the phase
+//    (and InscatterCachePrepare: the preparation itself, with the cache's bytes per leaf);
 //  - memory per leaf (bytes of GuidingLeaf plus its tree nodes) as a counter.
 //   cmake --build build --target bench_guiding && build/bench_guiding
 #include <benchmark/benchmark.h>
 
 #include "volguide/core/sampler.h"
 #include "volguide/core/warp.h"
+#include "volguide/guiding/inscatter_cache.h"
 #include "volguide/integrators/guided_volpath.h"
 #include "volguide/integrators/photon_pass.h"
 #include "volguide/render/scene.h"
@@ -76,14 +79,29 @@ void BM_Query(benchmark::State& state) {
         queries.push_back({b.lo + Vec3f(e.x * s.next_1d(), e.y * s.next_1d(), e.z * s.next_1d()),
                            warp::square_to_uniform_sphere(s.next_2d())});
     }
+    const InscatterCache cache = Mode == 3 ? InscatterCache(field, phase) : InscatterCache();
     size_t i = 0;
     for (auto _ : state) {
         const auto& [x, w] = queries[i++ & 4095];
         Color3 v = Mode == 0   ? field.incident(x, w)
                    : Mode == 1 ? field.inscattered(x, w, phase, InscatterMode::Exact)
-                               : field.inscattered(x, w, phase, InscatterMode::A3);
+                   : Mode == 2 ? field.inscattered(x, w, phase, InscatterMode::A3)
+                               : cache.inscattered(x, w);
         benchmark::DoNotOptimize(v);
     }
+}
+
+void BM_InscatterCachePrepare(benchmark::State& state) {
+    const GuidingField& field = demo_field();
+    const PhaseVmm phase = hg_phase_vmm(0.6f);
+    size_t bytes = 0;
+    for (auto _ : state) {
+        InscatterCache cache(field, phase);
+        bytes = cache.memory_bytes();
+        benchmark::DoNotOptimize(cache);
+    }
+    state.counters["leaves"] = double(field.leaves().size());
+    state.counters["bytes_per_leaf"] = double(bytes) / double(field.leaves().size());
 }
 
 }  // namespace
@@ -93,4 +111,6 @@ BENCHMARK(BM_FieldBuild)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Query<0>)->Name("BM_Incident");
 BENCHMARK(BM_Query<1>)->Name("BM_InscatteredExact");
 BENCHMARK(BM_Query<2>)->Name("BM_InscatteredA3");
+BENCHMARK(BM_Query<3>)->Name("BM_InscatteredA3Prepared");
+BENCHMARK(BM_InscatterCachePrepare)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_MAIN();

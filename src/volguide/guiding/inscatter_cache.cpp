@@ -1,0 +1,59 @@
+#include "volguide/guiding/inscatter_cache.h"
+
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+
+#include "volguide/vmm/vmm.h"
+
+namespace volguide {
+
+InscatterCache::InscatterCache(const GuidingField& field, const PhaseVmm& phase) : field_(&field) {
+    const std::vector<GuidingLeaf>& leaves = field.leaves();
+    // Convolve in parallel into per-leaf lists, then concatenate in leaf order.
+    std::vector<std::vector<Lobe>> per_leaf(leaves.size());
+    tbb::parallel_for(size_t(0), leaves.size(), [&](size_t l) {
+        const GuidingLeaf& leaf = leaves[l];
+        if (!leaf.valid) return;
+        const auto mixture = convolve(leaf.vmm, phase);
+        std::vector<Lobe>& out = per_leaf[l];
+        out.reserve(size_t(mixture.count));
+        for (int k = 0; k < mixture.count; ++k) {
+            const VmfLobe lobe = mixture.lobe(k);
+            if (!(mixture.weight[k] > 0.f)) continue;
+            out.push_back({lobe.mu.x, lobe.mu.y, lobe.mu.z, lobe.kappa, mixture.weight[k] * lobe.norm});
+        }
+    });
+    first_.resize(leaves.size() + 1, 0);
+    size_t total = 0;
+    for (size_t l = 0; l < leaves.size(); ++l) {
+        first_[l] = uint32_t(total);
+        total += per_leaf[l].size();
+    }
+    first_[leaves.size()] = uint32_t(total);
+    lobes_.reserve(total);
+    for (auto& v : per_leaf) lobes_.insert(lobes_.end(), v.begin(), v.end());
+}
+
+Color3 InscatterCache::inscattered(int leaf, const Vec3f& w) const {
+    if (!field_ || leaf < 0) return Color3(0.f);
+    const GuidingLeaf& gl = field_->leaves()[size_t(leaf)];
+    if (!gl.valid) return Color3(0.f);
+    float value = 0.f;
+    for (uint32_t i = first_[size_t(leaf)]; i < first_[size_t(leaf) + 1]; ++i) {
+        const Lobe& b = lobes_[i];
+        value += b.scale * std::exp(-b.kappa * one_minus_cos(Vec3f(b.mu_x, b.mu_y, b.mu_z), w));
+    }
+    return gl.fluence * value;
+}
+
+Color3 InscatterCache::inscattered(const Point3f& x, const Vec3f& w) const {
+    if (!field_ || field_->empty()) return Color3(0.f);
+    return inscattered(field_->tree().leaf_at(x), w);
+}
+
+size_t InscatterCache::memory_bytes() const {
+    return sizeof(*this) + first_.capacity() * sizeof(uint32_t) + lobes_.capacity() * sizeof(Lobe);
+}
+
+}  // namespace volguide
