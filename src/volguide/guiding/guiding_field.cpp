@@ -2,6 +2,8 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
+
 #include <stdexcept>
 
 namespace volguide {
@@ -60,6 +62,16 @@ GuidingField::GuidingField(SpatialTree tree, std::vector<GuidingLeaf> leaves)
     : tree_(std::move(tree)), leaves_(std::move(leaves)) {
     if (int(leaves_.size()) != tree_.leaf_count())
         throw std::invalid_argument("guiding field: leaf count does not match the tree");
+}
+
+void GuidingField::apply_medium_fractions(std::span<const float> fractions) {
+    if (fractions.size() != leaves_.size())
+        throw std::invalid_argument("guiding field: one medium fraction per leaf expected");
+    for (size_t l = 0; l < leaves_.size(); ++l) {
+        // A fraction measured as 0 in a leaf that did receive collisions is a sliver the measurement
+        // missed: leave that leaf unscaled rather than divide by 0.
+        if (fractions[l] > 0.f) leaves_[l].fluence = leaves_[l].fluence * (1.f / std::min(fractions[l], 1.f));
+    }
 }
 
 Color3 GuidingField::incident(const GuidingLeaf& leaf, const Vec3f& w) {

@@ -65,6 +65,13 @@ public:
     const std::vector<GuidingLeaf>& leaves() const { return leaves_; }
     bool empty() const { return leaves_.empty(); }
 
+    // Per-volume (photon) fluence averages the collision estimator over the whole leaf, but
+    // collisions only happen where there is a medium: a leaf half outside a fog sphere would read
+    // half the fluence. Divides each leaf's fluence by the fraction of its volume that holds a
+    // medium (fractions[leaf] in [0, 1], measured by the renderer; 0 leaves the leaf unchanged).
+    // Call once, for PerVolume fields.
+    void apply_medium_fractions(std::span<const float> fractions);
+
     // The leaf at x, or nullptr outside the field's bounds.
     const GuidingLeaf* leaf_at(const Point3f& x) const {
         const int l = leaves_.empty() ? -1 : tree_.leaf_at(x);

@@ -2,13 +2,15 @@
 // `guided_volpath`: volguide's zero-variance-based volume path guiding integrator (interface.md).
 //
 // Implemented so far: the guiding field's training by the photon pre-pass (theory.md §5.2, §10.1)
-// in preprocess(), `save_field` / `load_field`, and rendering with volpath's walk. The guided
+// in preprocess(), `save_field` / `load_field`, the `estimate` inspection images, and rendering
+// with volpath's walk. The guided
 // decisions (distance, direction, rrs) are not implemented yet: their defaults fall back to the
 // unguided values with a warning, an explicit request for them is an error (interface.md). With
 // distance=standard direction=phase rrs=standard it renders exactly what volpath renders.
 #include <memory>
 #include <string>
 
+#include "volguide/integrators/cache_estimate.h"
 #include "volguide/core/properties.h"
 #include "volguide/guiding/guiding_field.h"
 #include "volguide/integrators/volpath.h"
@@ -23,6 +25,9 @@ struct GuidedVolPathSettings {
     GuidingFieldSettings field;  // leaf_samples -> field.tree.max_samples, lobes -> field.lobes
     std::string distance = "standard", direction = "phase", rrs = "standard";
     std::string save_field, load_field;  // resolved paths, empty = none
+    // `estimate`: none (render), or the field's own prediction of what the camera sees through the
+    // media (cache_estimate.h): inscattered (compare with volpath volume_only) or incident.
+    std::string estimate = "none";
     SourceLocation location;
     static GuidedVolPathSettings from(const Properties& props);
 };
@@ -30,7 +35,7 @@ struct GuidedVolPathSettings {
 class GuidedVolPathIntegrator final : public Integrator {
 public:
     explicit GuidedVolPathIntegrator(const Properties& props);
-    Color3 Li(const Scene& scene, Sampler& sampler, const Ray& ray) const override { return walk_.Li(scene, sampler, ray); }
+    Color3 Li(const Scene& scene, Sampler& sampler, const Ray& ray) const override;
     void preprocess(const Scene& scene, const PreprocessContext& context) override;
     std::string to_string() const override;
 
@@ -42,6 +47,7 @@ private:
     GuidedVolPathSettings settings_;
     VolPathIntegrator walk_;
     GuidingField field_;
+    std::unique_ptr<CacheEstimator> estimator_;  // estimate != none
 };
 
 // The bounds the guiding field covers: the scene's shapes (media are bounded by shapes or grids).

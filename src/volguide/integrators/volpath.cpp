@@ -41,12 +41,14 @@ VolPathSettings VolPathSettings::from(const Properties& props) {
     s.rr_depth = int(rr_depth);
     s.hide_emitters = props.get_bool("hide_emitters", false);
     s.equiangular = props.get_bool("equiangular", false);
+    s.volume_only = props.get_bool("volume_only", false);
     return s;
 }
 
 std::string VolPathIntegrator::to_string() const {
-    return fmt::format("volpath[max_depth={}, rr_depth={}, hide_emitters={}, equiangular={}]", settings_.max_depth,
-                       settings_.rr_depth, settings_.hide_emitters, settings_.equiangular);
+    return fmt::format("volpath[max_depth={}, rr_depth={}, hide_emitters={}, equiangular={}, volume_only={}]",
+                       settings_.max_depth, settings_.rr_depth, settings_.hide_emitters, settings_.equiangular,
+                       settings_.volume_only);
 }
 
 void VolPathIntegrator::preprocess(const Scene& scene, const PreprocessContext&) {
@@ -292,8 +294,10 @@ Color3 VolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const Ray& ca
         }
 
         // The ray reached the surface si (or left the scene).
+        // volume_only: a camera path whose first real event is not a medium scattering is excluded.
+        if (s.volume_only && depth == 0 && !(si.is_valid() && si.shape->bsdf()->is_null())) break;
         const Emitter* emitter = si.is_valid() ? si.shape->emitter() : scene.environment();
-        if (emitter && !(depth == 0 && s.hide_emitters)) {
+        if (emitter && !(depth == 0 && (s.hide_emitters || s.volume_only))) {
             if (depth == 0 || specular_chain) {
                 result += throughput * emitter->eval(si);
             } else {

@@ -14,6 +14,9 @@
 //  - `equiangular` (default false): in homogeneous media, equiangular sampling towards point, spot
 //    and area lights, combined with distance sampling + NEE and with phase sampling by a three-way
 //    power heuristic (see volpath.cpp). Heterogeneous media keep distance sampling (warning).
+//  - `volume_only` (default false, a volguide extension): only light whose camera path scatters
+//    first in a medium — the "V" image of theory.md §12.2, which is the integral of T sigma_s L_i
+//    along the camera ray (the reference of the guiding field's in-scattered estimate).
 #include "volguide/core/properties.h"
 #include "volguide/integrators/integrator.h"
 
@@ -24,6 +27,7 @@ struct VolPathSettings {
     int rr_depth = 5;
     bool hide_emitters = false;
     bool equiangular = false;
+    bool volume_only = false;
     static VolPathSettings from(const Properties& props);
 };
 

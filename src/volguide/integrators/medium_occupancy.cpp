@@ -1,0 +1,49 @@
+#include "volguide/integrators/medium_occupancy.h"
+
+#include <tbb/parallel_for.h>
+
+#include "volguide/core/sampler.h"
+#include "volguide/core/warp.h"
+#include "volguide/media/medium.h"
+#include "volguide/render/scene.h"
+
+namespace volguide {
+
+namespace {
+constexpr uint64_t kOccupancyStream = 0x0CC0BA7Cull;
+constexpr int kMaxSkippedSurfaces = 64;
+}  // namespace
+
+const Medium* medium_at(const Scene& scene, const Point3f& p, Point2f u) {
+    Ray ray(p, warp::square_to_uniform_sphere(u));
+    for (int k = 0; k < kMaxSkippedSurfaces; ++k) {
+        SurfaceInteraction si;
+        if (!scene.intersect(ray, si)) break;
+        const Shape& shape = *si.shape;
+        if (shape.interior_medium() || shape.exterior_medium())
+            return dot(ray.d, si.n) > 0.f ? shape.interior_medium() : shape.exterior_medium();
+        ray = si.spawn_ray(ray.d);
+    }
+    return scene.sensor().medium();
+}
+
+std::vector<float> medium_fractions(const Scene& scene, const SpatialTree& tree, int points_per_leaf, uint64_t seed) {
+    std::vector<float> fractions(size_t(tree.leaf_count()), 0.f);
+    const int n = std::max(points_per_leaf, 1);
+    tbb::parallel_for(0, tree.leaf_count(), [&](int leaf) {
+        const BBox3f& b = tree.leaf_bounds(leaf);
+        Sampler sampler(seed, kOccupancyStream, uint64_t(leaf));
+        int inside = 0;
+        for (int i = 0; i < n; ++i) {
+            const Vec3f e = b.extents();
+            const Point3f p(b.lo.x + e.x * sampler.next_1d(), b.lo.y + e.y * sampler.next_1d(),
+                            b.lo.z + e.z * sampler.next_1d());
+            const Medium* m = medium_at(scene, p, sampler.next_2d());
+            if (m && m->eval(p).sigma_t.max_value() > 0.f) ++inside;
+        }
+        fractions[size_t(leaf)] = float(inside) / float(n);
+    });
+    return fractions;
+}
+
+}  // namespace volguide

@@ -1,0 +1,27 @@
+#pragma once
+// The fraction of each guiding-field leaf's volume that holds a scattering medium, by jittered
+// point sampling (the photon field's fluence is a per-volume collision estimate, which must be
+// divided by the medium's share of the leaf: GuidingField::apply_medium_fractions).
+//
+// The medium at a point is found the way a ray would find it: cast from the point in a random
+// direction, skip surfaces without media, and at the first shape with media take its interior if
+// the ray leaves through it (d . n > 0) and its exterior otherwise; no such shape: the sensor's
+// medium (the scene's ambient medium). A heterogeneous medium counts only where sigma_t > 0.
+#include <cstdint>
+#include <vector>
+
+#include "volguide/guiding/spatial_tree.h"
+
+namespace volguide {
+
+class Scene;
+class Medium;
+
+// The medium at p (nullptr for none), as described above; u picks the probe direction.
+const Medium* medium_at(const Scene& scene, const Point3f& p, Point2f u);
+
+// Per leaf of `tree`: the fraction of `points_per_leaf` jittered points that lie in a medium with
+// sigma_t > 0. Parallel over leaves, deterministic for any thread count.
+std::vector<float> medium_fractions(const Scene& scene, const SpatialTree& tree, int points_per_leaf, uint64_t seed);
+
+}  // namespace volguide
