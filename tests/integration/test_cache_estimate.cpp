@@ -194,6 +194,35 @@ TEST(CacheEstimate, GuidedVolPathEstimateMatchesTheVolumeOnlyImage) {
     }
 }
 
+// White furnace (albedo 1 in a constant environment of radiance 1: L = 1 everywhere) seen by an
+// orthographic camera through 2 units of medium: the volume-only image is 1 - e^(-2 sigma_t) in every
+// pixel, with the phase function or with a forward delta at the first vertex alike.
+TEST(VolPathVolumeOnly, FurnaceMatchesTheClosedFormWithAndWithoutForwardFirstScatter) {
+    for (const char* forward : {"false", "true"}) {
+        const std::string xml = std::string(R"(<scene version="3.0.0">
+    <integrator type="volpath"><boolean name="volume_only" value="true"/>
+        <boolean name="forward_first_scatter" value=")") + forward + R"("/></integrator>
+    <sensor type="orthographic"><transform name="to_world"><scale x="0.5" y="0.5"/>
+        <lookat origin="0, 0, -5" target="0, 0, 0" up="0, 1, 0"/></transform>
+        <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/></film></sensor>
+    <emitter type="constant"/>
+    <medium type="homogeneous" id="m"><rgb name="sigma_t" value="0.6"/><rgb name="albedo" value="1"/>
+        <phase type="hg"><float name="g" value="0.5"/></phase></medium>
+    <shape type="cube"><bsdf type="null"/><ref name="interior" id="m"/></shape>
+</scene>
+)";
+        const test::Rendered r = test::render_scene_xml(xml, 1024, 9, false);
+        // Every pixel has the same expectation: test the pixel mean with the pixels' own spread.
+        double sum = 0, sum2 = 0;
+        for (const Color3& c : r.mean.pixels) sum += c.g, sum2 += double(c.g) * c.g;
+        const double n = double(r.mean.pixels.size()), mean = sum / n;
+        const double se = std::sqrt(std::max(sum2 / n - mean * mean, 0.0) / n);
+        const double want = 1.0 - std::exp(-2.0 * 0.6);
+        EXPECT_NEAR(mean, want, 4 * se + 1e-4) << "forward_first_scatter " << forward << ", se " << se;
+        EXPECT_GT(se, 0.0);
+    }
+}
+
 TEST(VolPathVolumeOnly, BlackWithoutMedia) {
     const std::string xml = R"(<scene version="3.0.0">
     <integrator type="volpath"><boolean name="volume_only" value="true"/></integrator>

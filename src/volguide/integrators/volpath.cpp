@@ -42,13 +42,18 @@ VolPathSettings VolPathSettings::from(const Properties& props) {
     s.hide_emitters = props.get_bool("hide_emitters", false);
     s.equiangular = props.get_bool("equiangular", false);
     s.volume_only = props.get_bool("volume_only", false);
+    s.forward_first_scatter = props.get_bool("forward_first_scatter", false);
+    if (s.forward_first_scatter && s.equiangular)
+        props.fail_at("forward_first_scatter", "volpath: forward_first_scatter cannot be combined with equiangular");
     return s;
 }
 
 std::string VolPathIntegrator::to_string() const {
-    return fmt::format("volpath[max_depth={}, rr_depth={}, hide_emitters={}, equiangular={}, volume_only={}]",
-                       settings_.max_depth, settings_.rr_depth, settings_.hide_emitters, settings_.equiangular,
-                       settings_.volume_only);
+    return fmt::format(
+        "volpath[max_depth={}, rr_depth={}, hide_emitters={}, equiangular={}, volume_only={}, "
+        "forward_first_scatter={}]",
+        settings_.max_depth, settings_.rr_depth, settings_.hide_emitters, settings_.equiangular, settings_.volume_only,
+        settings_.forward_first_scatter);
 }
 
 void VolPathIntegrator::preprocess(const Scene& scene, const PreprocessContext&) {
@@ -255,6 +260,15 @@ Color3 VolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const Ray& ca
                 const Medium& m = mi.medium ? *mi.medium : *medium;
                 const PhaseFunction& phase = m.phase();
 
+                if (s.forward_first_scatter && depth == 1) {
+                    // Inspection: a forward delta phase function at the first vertex (weight 1).
+                    specular_chain = true;
+                    last_vertex = mi;
+                    last_equi = false;
+                    ray = mi.spawn_ray(ray.d);
+                    need_intersection = true;
+                    continue;
+                }
                 if (m.sample_emitters()) {
                     specular_chain = false;
                     VolumeEmitterSample es =

@@ -17,6 +17,10 @@
 //  - `volume_only` (default false, a volguide extension): only light whose camera path scatters
 //    first in a medium — the "V" image of theory.md §12.2, which is the integral of T sigma_s L_i
 //    along the camera ray (the reference of the guiding field's in-scattered estimate).
+//  - `forward_first_scatter` (default false, an inspection extension): the camera path's first
+//    medium scattering keeps its direction (a forward delta phase function, weight 1, no NEE there).
+//    With volume_only the image is the integral of T sigma_s L(x, d), the radiance from straight
+//    ahead — the reference of the field's incident estimate.
 #include "volguide/core/properties.h"
 #include "volguide/integrators/integrator.h"
 
@@ -28,6 +32,7 @@ struct VolPathSettings {
     bool hide_emitters = false;
     bool equiangular = false;
     bool volume_only = false;
+    bool forward_first_scatter = false;
     static VolPathSettings from(const Properties& props);
 };
 
