@@ -22,7 +22,8 @@ int run_diff(const DiffArgs& args) {
         throw FileError(args.image,
                         fmt::format("size {}x{} differs from the reference '{}' ({}x{})", image.width,
                                     image.height, args.reference, reference.width, reference.height));
-    ImageDiff d = compare_images(image, reference);
+    ImageDiff d = args.min_reference ? compare_images(image, reference, *args.min_reference)
+                                     : compare_images(image, reference);
     // EXR: the raw per-channel relative squared errors; PNG: a false-colour map for viewing.
     if (!args.error_image.empty())
         write_image(args.error_image, extension_of(args.error_image) == ".png"
@@ -38,6 +39,7 @@ int run_diff(const DiffArgs& args) {
                          {"reference_mean", d.reference_mean}};
         j["ratio"] = std::isfinite(d.ratio) ? nlohmann::json(d.ratio) : nlohmann::json(nullptr);
         j["nonfinite"] = d.nonfinite;
+        j["pixels"] = d.pixels;
         fmt::print("{}\n", j.dump());
         return 0;
     }
@@ -50,6 +52,9 @@ int run_diff(const DiffArgs& args) {
     fmt::print("reference mean: {:.6g}\n", d.reference_mean);
     fmt::print("ratio: {:.6g}\n", d.ratio);
     if (d.nonfinite > 0) fmt::print("non-finite values (excluded): {}\n", d.nonfinite);
+    if (args.min_reference)
+        fmt::print("pixels compared: {} of {} (reference mean > {})\n", d.pixels, image.pixels.size(),
+                   *args.min_reference);
     return 0;
 }
 

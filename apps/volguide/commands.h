@@ -42,6 +42,7 @@ int run_render(const RenderArgs& args);
 struct DiffArgs {
     std::string image, reference, error_image;
     bool json = false;
+    std::optional<double> min_reference;  // compare only pixels whose reference mean exceeds it
 };
 int run_diff(const DiffArgs& args);
 

@@ -58,6 +58,9 @@ int main(int argc, char** argv) {
     diff_cmd->add_option("--error-image", diff.error_image,
                          "write the per-pixel relative squared error (EXR: raw values; PNG: false colour)");
 
+    diff_cmd->add_option("--min-reference", diff.min_reference,
+                         "compare only the pixels whose reference (mean of channels) exceeds this value");
+
     ConvertArgs convert;
     CLI::App* convert_cmd = app.add_subcommand("convert", "convert an image (EXR <-> PNG), optionally rescaled");
     convert_cmd->add_option("input", convert.input, "input image (.exr, .png)")->required();

@@ -67,6 +67,25 @@ TEST(ImageCompare, TrimmedRelMseDropsTheTopOneIn10000Pixels) {
     EXPECT_GT(s.relmse_1e3, 0);
 }
 
+TEST(ImageCompare, MinReferenceLeavesDarkReferencePixelsOut) {
+    Image ref(3, 1), img(3, 1);
+    ref.at(0, 0) = Color3(0.f);  // e.g. a pixel that sees no medium
+    img.at(0, 0) = Color3(5.f);
+    ref.at(1, 0) = Color3(1.f);
+    img.at(1, 0) = Color3(1.5f);
+    ref.at(2, 0) = Color3(2.f);
+    img.at(2, 0) = Color3(2.f);
+    ImageDiff all = compare_images(img, ref);
+    EXPECT_EQ(all.pixels, 3u);
+    ImageDiff lit = compare_images(img, ref, 0.0);
+    EXPECT_EQ(lit.pixels, 2u);
+    EXPECT_NEAR(lit.mse, 3 * 0.25 / 6, 1e-12);
+    EXPECT_NEAR(lit.relmse_1e2, 3 * 0.25 / 1.01 / 6, 1e-12);
+    EXPECT_NEAR(lit.reference_mean, 1.5, 1e-12);
+    EXPECT_NEAR(lit.mean, 1.75, 1e-12);
+    EXPECT_GT(all.mse, lit.mse);
+}
+
 TEST(ImageCompare, HeatmapIsMonotoneInTheErrorAndMarksNonFinite) {
     Image ref(4, 1, Color3(1.f)), img(4, 1, Color3(1.f));
     img.at(1, 0) = Color3(1.01f);  // relMSE ~ 1e-4: the bottom of the scale

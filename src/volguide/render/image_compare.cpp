@@ -18,7 +18,7 @@ void check_sizes(const Image& a, const Image& b) {
 }
 }  // namespace
 
-ImageDiff compare_images(const Image& image, const Image& reference) {
+ImageDiff compare_images(const Image& image, const Image& reference, double min_reference) {
     check_sizes(image, reference);
     ImageDiff d;
     double rel2 = 0, rel3 = 0, se = 0, sum_i = 0, sum_r = 0;
@@ -29,7 +29,11 @@ ImageDiff compare_images(const Image& image, const Image& reference) {
         int channels = 0;
     };
     std::vector<PixelError> pixel_errors(image.pixels.size());
-    for (size_t p = 0; p < image.pixels.size(); ++p)
+    for (size_t p = 0; p < image.pixels.size(); ++p) {
+        const Color3& ref = reference.pixels[p];
+        const double ref_mean = (double(ref.r) + ref.g + ref.b) / 3.0;
+        if (std::isfinite(ref_mean) && !(ref_mean > min_reference)) continue;  // non-finite: counted below
+        ++d.pixels;
         for (int c = 0; c < 3; ++c) {
             double i = image.pixels[p][c], r = reference.pixels[p][c];
             if (!std::isfinite(i) || !std::isfinite(r)) {
@@ -47,6 +51,7 @@ ImageDiff compare_images(const Image& image, const Image& reference) {
             sum_r += r;
             ++n;
         }
+    }
     if (n > 0) {
         d.relmse_1e2 = rel2 / double(n);
         d.relmse_1e3 = rel3 / double(n);

@@ -1,6 +1,7 @@
 #pragma once
 // Error metrics between an image and a reference (the `volguide diff` command and the equal-time
 // benchmarks): relMSE(eps) = mean over pixels and channels of (I - R)^2 / (R^2 + eps).
+#include <limits>
 #include <vector>
 
 #include "volguide/core/image.h"
@@ -19,13 +20,17 @@ struct ImageDiff {
     // of its channels), as Herholz's evaluation scripts do (theory.md 12.1); equal to the untrimmed
     // values below 10 000 pixels, where 0.01 % is less than one pixel.
     double relmse_1e2_trimmed = 0, relmse_1e3_trimmed = 0;
+    size_t pixels = 0;  // pixels compared (all, unless min_reference left some out)
 };
 
 // Fraction of pixels the trimmed relMSE discards.
 inline constexpr double kOutlierFraction = 1e-4;
 
-// Throws std::invalid_argument when the sizes differ.
-ImageDiff compare_images(const Image& image, const Image& reference);
+// Throws std::invalid_argument when the sizes differ. Pixels whose reference (mean of its channels)
+// is not above `min_reference` are left out of every figure (e.g. the pixels that see no medium
+// when judging a volume-only estimate); `pixels` counts those that were kept.
+ImageDiff compare_images(const Image& image, const Image& reference,
+                         double min_reference = -std::numeric_limits<double>::infinity());
 // Per pixel and channel (I - R)^2 / (R^2 + eps).
 Image relative_error_image(const Image& image, const Image& reference, double eps = 1e-2);
 // False-colour map of the per-pixel relMSE (mean of the channels, eps 1e-2) on a log scale: black-violet
