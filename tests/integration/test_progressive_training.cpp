@@ -312,3 +312,87 @@ TEST(ProgressiveTraining, PointLightFluenceMatchesThePhotonPass) {
     for (double r : ratios) EXPECT_NEAR(r, 1.0, kPhotonLeafTolerance);
     EXPECT_NEAR(mean, 1.0, kPhotonMeanTolerance);
 }
+
+namespace {
+
+std::string progressive_integrator(const std::string& extra) {
+    return R"(<integrator type="guided_volpath"><string name="training" value="progressive"/>)"
+           R"(<string name="distance" value="standard"/><string name="direction" value="phase"/>)"
+           R"(<string name="rrs" value="standard"/>)" +
+           extra + "</integrator>";
+}
+
+std::string read_bytes(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+}  // namespace
+
+TEST(GuidedVolPathProgressive, SavedFieldIsIdenticalForOneAndTwoThreadsAndTheImageIsVolpaths) {
+    TempDir dir("progressive-determinism");
+    const Point3f light(0.5f, 0.f, 0.f);
+    auto scene_with = [&](const std::string& field) {
+        return point_light_scene(
+            light, 0.8f, 0.9f, 24,
+            progressive_integrator(fmt::format(R"(<integer name="training_iterations" value="4"/>)"
+                                               R"(<integer name="leaf_samples" value="500"/>)"
+                                               R"(<string name="save_field" value="{}"/>)",
+                                               dir.file(field))));
+    };
+    auto render_cli = [&](const std::string& field, const std::string& threads, const std::string& seed) {
+        const std::string xml = dir.write(field + ".xml", scene_with(field));
+        CliResult r = run_cli({"render", xml, "-o", dir.file(field + ".exr"), "--spp", "1", "--threads", threads,
+                               "--seed", seed, "--quiet"});
+        EXPECT_EQ(r.exit_code, 0) << r.err;
+        return read_bytes(dir.file(field));
+    };
+    const std::string one = render_cli("f1.vgf", "1", "3"), two = render_cli("f2.vgf", "2", "3");
+    EXPECT_GT(one.size(), 1000u);
+    EXPECT_TRUE(one == two) << "the progressively trained field depends on the thread count";
+    EXPECT_GT(load_field(dir.file("f1.vgf")).tree().leaf_count(), 4);
+    EXPECT_FALSE(one == render_cli("f3.vgf", "2", "4")) << "another seed must give another field";
+    // Training draws from its own streams and the render uses volpath's walk: volpath's image.
+    Rendered g = render_scene_xml(scene_with("f4.vgf"), 4, 5, false);
+    Rendered v = render_scene_xml(point_light_scene(light, 0.8f, 0.9f, 24), 4, 5, false);
+    EXPECT_TRUE(g.mean.pixels == v.mean.pixels);
+}
+
+TEST(GuidedVolPathProgressive, TimeBudgetStopsTraining) {
+    TempDir dir("progressive-time");
+    // 20 iterations would trace ~10^6 spp: only the budget can end this training.
+    const std::string xml = dir.write(
+        "s.xml", point_light_scene(Point3f(0.5f, 0.f, 0.f), 0.8f, 0.9f, 32,
+                                   progressive_integrator(R"(<integer name="training_iterations" value="20"/>)"
+                                                          R"(<float name="training_fraction" value="0.25"/>)" +
+                                                          fmt::format(R"(<string name="save_field" value="{}"/>)",
+                                                                      dir.file("f.vgf")))));
+    auto scene = load_scene(xml);
+    RenderOptions ro;
+    ro.time_budget = 2.0;
+    ro.seed = 1;
+    const RenderResult r = render(*scene, ro);
+    const double limit = 0.25 * ro.time_budget;
+    std::printf("training limit %.2f s: preprocess took %.3f s, total %.3f s, %d spp rendered\n", limit,
+                r.stats.preprocess_seconds, r.stats.total_seconds, r.spp);
+    // Tracing stops at the limit; the refit of the samples so far comes on top (loosely bounded).
+    EXPECT_LT(r.stats.preprocess_seconds, 2.0 * limit);
+    EXPECT_GT(r.spp, 0);
+    EXPECT_GT(load_field(dir.file("f.vgf")).tree().leaf_count(), 1);
+}
+
+TEST(GuidedVolPathProgressive, BadTrainingIterationsIsAnErrorNamingFileAndLine) {
+    TempDir dir("progressive-errors");
+    for (const char* bad : {"0", "-3", "21"}) {
+        const std::string xml = point_light_scene(
+            Point3f(0.f), 0.5f, 0.5f, 8,
+            progressive_integrator(fmt::format(R"(<integer name="training_iterations" value="{}"/>)", bad)));
+        CliResult r = run_cli({"render", dir.write("s.xml", xml), "-o", dir.file("o.exr"), "--spp", "1", "--quiet"});
+        EXPECT_EQ(r.exit_code, 1) << bad;
+        EXPECT_NE(r.err.find("s.xml:2"), std::string::npos) << r.err;
+        EXPECT_NE(r.err.find("training_iterations"), std::string::npos) << r.err;
+        EXPECT_FALSE(std::filesystem::exists(dir.file("o.exr")));
+    }
+}
