@@ -21,9 +21,10 @@ GuidingLeaf fit_leaf(std::span<const RadianceSample> samples, std::span<const ui
     leaf.samples = uint32_t(indices.size());
     std::vector<DirectionalSample> directions;
     directions.reserve(indices.size());
-    double sum[3] = {0, 0, 0};
+    double sum[3] = {0, 0, 0}, count = 0;
     for (uint32_t i : indices) {
         const RadianceSample& s = samples[i];
+        count += double(s.count);
         if (!s.weight.is_finite()) continue;
         for (int c = 0; c < 3; ++c) sum[c] += double(s.weight[c]);
         // One directional shape for the three channels, weighted by the channel average.
@@ -32,7 +33,7 @@ GuidingLeaf fit_leaf(std::span<const RadianceSample> samples, std::span<const ui
     }
     const double norm = settings.fluence == FluenceEstimator::PerVolume
                             ? box_volume(box)
-                            : double(std::max<size_t>(indices.size(), 1));
+                            : std::max(count, 1.0);
     if (norm > 0.0) leaf.fluence = Color3(float(sum[0] / norm), float(sum[1] / norm), float(sum[2] / norm));
     if (int(directions.size()) < settings.min_samples) return leaf;
     VmmFitSettings fit = settings.fit;

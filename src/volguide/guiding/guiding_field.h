@@ -21,16 +21,19 @@ namespace volguide {
 // One training record: at `position`, radiance arrives from `direction` (towards the light).
 // `weight` is its fluence contribution: Phi_p / sigma_t for a photon collision (collision
 // estimator, theory.md §2.5, §5.2), or L^ / p(direction) for a camera-path vertex (§10.2).
+// `count` is the sample's share of the PerSampleMean divisor: 1 per camera-path vertex; 0 for a
+// vertex's NEE sample, a second MIS strategy's sample of the same vertex (training_recorder.h).
 struct RadianceSample {
     Point3f position;
     Vec3f direction;
     Color3 weight;
+    float count = 1.f;
 };
 
 // How a leaf turns its samples' weights into fluence.
 enum class FluenceEstimator {
     PerVolume,      // photons: Phi = sum(weight) / leaf volume
-    PerSampleMean,  // camera vertices: Phi = sum(weight) / sample count
+    PerSampleMean,  // camera vertices: Phi = sum(weight) / sum(count) (the number of vertices)
 };
 
 enum class InscatterMode {

@@ -8,11 +8,15 @@
 #include "volguide/guiding/field_io.h"
 #include "volguide/integrators/medium_occupancy.h"
 #include "volguide/integrators/photon_pass.h"
+#include "volguide/integrators/progressive_training.h"
 #include "volguide/render/scene.h"
 
 namespace volguide {
 
 namespace {
+
+// Iteration k traces 2^k spp: 20 iterations are already ~10^6 spp.
+constexpr int64_t kMaxTrainingIterations = 20;
 
 // Points per leaf measuring its medium fraction: ~4 % standard error for a half-filled leaf.
 constexpr int kOccupancyPoints = 128;
@@ -48,9 +52,15 @@ GuidedVolPathSettings GuidedVolPathSettings::from(const Properties& props) {
     GuidedVolPathSettings s;
     s.location = props.location();
     s.walk = VolPathSettings::from(props);
-    s.training = read_choice(props, "training", "photons", {"photons", "progressive"}, {"photons"}, "photons");
+    s.training = read_choice(props, "training", "photons", {"photons", "progressive"}, {"photons", "progressive"},
+                             "photons");
     s.photons = props.get_int("photons", s.photons);
     if (s.photons < 1) props.fail_at("photons", "guided_volpath: photons must be >= 1, got {}", s.photons);
+    const int64_t iterations = props.get_int("training_iterations", s.training_iterations);
+    if (iterations < 1 || iterations > kMaxTrainingIterations)
+        props.fail_at("training_iterations", "guided_volpath: training_iterations must be in [1, {}], got {}",
+                      kMaxTrainingIterations, iterations);
+    s.training_iterations = int(iterations);
     s.training_fraction = props.get_float("training_fraction", s.training_fraction);
     if (!(s.training_fraction > 0.f && s.training_fraction < 1.f))
         props.fail_at("training_fraction", "guided_volpath: training_fraction must be in (0, 1), got {}",
@@ -107,6 +117,13 @@ void GuidedVolPathIntegrator::preprocess(const Scene& scene, const PreprocessCon
         } catch (const FieldFormatError& e) {
             throw InputError(settings_.location, e.what());
         }
+    } else if (settings_.training == "progressive") {
+        ProgressiveTrainingSettings ts;
+        ts.walk = settings_.walk;
+        ts.iterations = settings_.training_iterations;
+        if (context.time_budget > 0) ts.time_limit = settings_.training_fraction * context.time_budget;
+        ts.field = settings_.field;
+        field_ = train_progressive(scene, guiding_bounds(scene), ts, context).field;
     } else {
         PhotonPassSettings ps;
         ps.photons = settings_.photons;
@@ -139,9 +156,9 @@ Color3 GuidedVolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const R
 std::string GuidedVolPathIntegrator::to_string() const {
     const GuidedVolPathSettings& s = settings_;
     return fmt::format(
-        "guided_volpath[max_depth={}, rr_depth={}, training={}, photons={}, leaf_samples={}, lobes={}, distance={}, "
-        "direction={}, rrs={}, equiangular={}, estimate={}]",
-        s.walk.max_depth, s.walk.rr_depth, s.training, s.photons, s.field.tree.max_samples, s.field.lobes, s.distance,
+        "guided_volpath[max_depth={}, rr_depth={}, training={}, photons={}, training_iterations={}, leaf_samples={}, "
+        "lobes={}, distance={}, direction={}, rrs={}, equiangular={}, estimate={}]",
+        s.walk.max_depth, s.walk.rr_depth, s.training, s.photons, s.training_iterations, s.field.tree.max_samples, s.field.lobes, s.distance,
         s.direction, s.rrs, s.walk.equiangular, s.estimate);
 }
 

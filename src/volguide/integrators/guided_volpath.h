@@ -1,8 +1,10 @@
 #pragma once
 // `guided_volpath`: volguide's zero-variance-based volume path guiding integrator (interface.md).
 //
-// Implemented so far: the guiding field's training by the photon pre-pass (theory.md §5.2, §10.1)
-// in preprocess(), `save_field` / `load_field`, the `estimate` inspection images, and rendering
+// Implemented so far: the guiding field's training in preprocess(), by the photon pre-pass
+// (training=photons, theory.md §5.2, §10.1) or PPG-style from camera paths (training=progressive,
+// §10.2, progressive_training.h: training_iterations iterations of 2^k spp with volpath's walk,
+// field rebuilt after each), `save_field` / `load_field`, the `estimate` inspection images, and rendering
 // with volpath's walk. The guided
 // decisions (distance, direction, rrs) are not implemented yet: their defaults fall back to the
 // unguided values with a warning, an explicit request for them is an error (interface.md). With
@@ -21,6 +23,7 @@ struct GuidedVolPathSettings {
     VolPathSettings walk;  // max_depth, rr_depth, hide_emitters, equiangular
     std::string training = "photons";
     int64_t photons = 1000000;  // the paper uses ~50 M; 1 M trains in seconds on two cores
+    int training_iterations = 5;  // progressive: iteration k traces 2^k spp (5: 31 spp in total)
     float training_fraction = 0.25f;
     GuidingFieldSettings field;  // leaf_samples -> field.tree.max_samples, lobes -> field.lobes
     std::string distance = "standard", direction = "phase", rrs = "standard";

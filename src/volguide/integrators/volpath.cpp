@@ -22,6 +22,7 @@
 
 #include "volguide/core/log.h"
 #include "volguide/integrators/equiangular.h"
+#include "volguide/integrators/training_recorder.h"
 #include "volguide/integrators/volume_nee.h"
 #include "volguide/media/medium.h"
 #include "volguide/media/spectral_mis.h"
@@ -142,11 +143,22 @@ Color3 light_point_value(const DirectionSample& ds, const Interaction& x) {
 }  // namespace
 
 Color3 VolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const Ray& camera_ray) const {
+    return Li(scene, sampler, camera_ray, nullptr);
+}
+
+Color3 VolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const Ray& camera_ray,
+                             TrainingRecorder* recorder) const {
     const VolPathSettings& s = settings_;
     auto depth_ok = [&](int d) { return s.max_depth < 0 || d < s.max_depth; };
     const BSDFContext ctx;
 
     Color3 result(0.f), throughput(1.f);
+    // Every contribution goes through add(): the training recorder attributes it to the suffix of
+    // the medium vertices recorded so far.
+    auto add = [&](const Color3& c) {
+        result += c;
+        if (recorder) recorder->contribution(c);
+    };
     float eta = 1.f;
     Ray ray = camera_ray;
     const Medium* medium = scene.sensor().medium();
@@ -218,8 +230,8 @@ Color3 VolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const Ray& ca
                                 const float w = power3(p3, p_d * p_nee, p_d * phase.pdf(wi, ds.d) * g);
                                 if (w > 0.f && fp > 0.f) {
                                     const Color3 tr = shadow_transmittance(scene, x, medium, ds, sampler);
-                                    result += throughput * transmittance_rgb(seg.sigma_t, t) * seg.sigma_s * fp * value *
-                                              tr * (w / p3);
+                                    add(throughput * transmittance_rgb(seg.sigma_t, t) * seg.sigma_s * fp * value *
+                                              tr * (w / p3));
                                 }
                             }
                         }
@@ -285,7 +297,8 @@ Color3 VolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const Ray& ca
                         } else {
                             w = es.ds.delta ? 1.f : mis_power_heuristic(es.ds.pdf, pp);
                         }
-                        result += throughput * fp * es.weight * w;
+                        add(throughput * fp * es.weight * w);
+                        if (recorder) recorder->medium_nee(mi.p, es.ds.d, es.weight * w);
                     }
                 } else {
                     specular_chain = true;
@@ -294,6 +307,8 @@ Color3 VolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const Ray& ca
                 PhaseSample ps = phase.sample(mi.wi, sampler.next_2d());
                 if (!(ps.pdf > 0.f)) break;
                 throughput *= ps.weight;
+                // Training sample at x_j: the radiance arriving from w_j is what guides w_j.
+                if (recorder) recorder->medium_vertex(mi.p, ps.wo, ps.pdf, throughput);
                 last_vertex = mi;
                 last_pdf = ps.pdf;
                 last_equi = equi;
@@ -313,7 +328,7 @@ Color3 VolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const Ray& ca
         const Emitter* emitter = si.is_valid() ? si.shape->emitter() : scene.environment();
         if (emitter && !(depth == 0 && (s.hide_emitters || s.volume_only))) {
             if (depth == 0 || specular_chain) {
-                result += throughput * emitter->eval(si);
+                add(throughput * emitter->eval(si));
             } else {
                 const DirectionSample ds = emitter_hit_record(si, last_vertex, ray.d, emitter);
                 const float emitter_pdf = scene.pdf_emitter_direction(last_vertex, ds);
@@ -325,7 +340,7 @@ Color3 VolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const Ray& ca
                 } else {
                     w = mis_power_heuristic(last_pdf, emitter_pdf);
                 }
-                result += throughput * emitter->eval(si) * w;
+                add(throughput * emitter->eval(si) * w);
             }
         }
         if (!si.is_valid()) break;
@@ -339,7 +354,7 @@ Color3 VolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const Ray& ca
                 const Color3 f = bsdf.eval(ctx, si, wo);
                 const float bsdf_pdf = es.ds.delta ? 0.f : bsdf.pdf(ctx, si, wo);
                 const float w = es.ds.delta ? 1.f : mis_power_heuristic(es.ds.pdf, bsdf_pdf);
-                result += throughput * f * es.weight * w;
+                add(throughput * f * es.weight * w);
             }
         }
 

@@ -26,6 +26,8 @@
 
 namespace volguide {
 
+class TrainingRecorder;
+
 struct VolPathSettings {
     int max_depth = -1;
     int rr_depth = 5;
@@ -41,6 +43,10 @@ public:
     explicit VolPathIntegrator(const Properties& props) : settings_(VolPathSettings::from(props)) {}
     explicit VolPathIntegrator(VolPathSettings s) : settings_(s) {}
     Color3 Li(const Scene& scene, Sampler& sampler, const Ray& ray) const override;
+    // The same walk, reporting its medium vertices and contributions to `recorder` (may be null)
+    // for progressive training (training_recorder.h). Training uses equiangular = false: the
+    // recorder's NEE samples assume NEE and phase sampling are the only direct-light strategies.
+    Color3 Li(const Scene& scene, Sampler& sampler, const Ray& ray, TrainingRecorder* recorder) const;
     void preprocess(const Scene& scene, const PreprocessContext& context) override;
     std::string to_string() const override;
     const VolPathSettings& settings() const { return settings_; }

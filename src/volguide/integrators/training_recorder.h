@@ -1,0 +1,60 @@
+#pragma once
+// Turns one camera path into guiding-field training samples (theory.md §10.2). The walk (volpath's
+// Li with a recorder) reports, in path order:
+//   - every contribution it adds to the pixel estimate (NEE, emitter hits with their MIS weights);
+//   - at each real medium scattering vertex x_j, after sampling the next direction w_j with pdf p:
+//     the position, w_j and the throughput up to and including f_p / p;
+//   - at each medium vertex's NEE: the light's direction and the MIS-weighted radiance over the
+//     light sample's pdf (the NEE strategy's own sample of the radiance arriving at x_j).
+// finish() then emits, per vertex, the suffix radiance L^(x_j, w_j) = (everything contributed after
+// the vertex was recorded) / throughput_j as the sample {x_j, w_j, L^ / p} -- zero-valued samples
+// included, they count in the leaf's fluence mean -- and one sample per non-zero NEE with count 0.
+//
+// Why NEE samples: the walk's emitter hits carry the phase-sampling MIS weight, so the suffix alone
+// estimates only that share of the direct light (none at all for point lights, which phase sampling
+// never hits). The two strategies' samples at a vertex together are the MIS estimator of the
+// incident radiance L(x_j, w) dw: the sum of their weights estimates the fluence, their weighted
+// directions the directional distribution -- the same quantity the photon pass trains.
+//
+// Directions are where the radiance comes from (towards the light, theory.md §1.1): the sampled
+// travel direction w_j, exactly the photon samples' -w_travel convention.
+#include <vector>
+
+#include "volguide/core/color.h"
+#include "volguide/guiding/guiding_field.h"
+
+namespace volguide {
+
+class TrainingRecorder {
+public:
+    void clear();
+    // A contribution the walk adds to the pixel (after its throughput and MIS weight).
+    void contribution(const Color3& value) {
+        if (!vertices_.empty()) suffix_[vertices_.size() - 1] += value;
+    }
+    // A medium vertex: `pdf` is the density the next direction w was sampled with (phase sampling
+    // today, a guided mixture later) and `throughput` the path weight including f_p / pdf.
+    void medium_vertex(const Point3f& x, const Vec3f& w, float pdf, const Color3& throughput) {
+        vertices_.push_back({x, w, pdf, throughput});
+        suffix_.push_back(Color3(0.f));
+    }
+    // The MIS-weighted NEE radiance estimate at x towards the light d (weight = L T w_mis / p_light).
+    void medium_nee(const Point3f& x, const Vec3f& d, const Color3& weight) {
+        if (!weight.is_black() && weight.is_finite()) nee_.push_back({x, d, weight, 0.f});
+    }
+    // Appends the path's samples to `out` (vertices in path order, then NEE samples) and clears.
+    void finish(std::vector<RadianceSample>& out);
+
+private:
+    struct Vertex {
+        Point3f x;
+        Vec3f w;
+        float pdf;
+        Color3 throughput;
+    };
+    std::vector<Vertex> vertices_;
+    std::vector<Color3> suffix_;  // suffix_[j]: contributions made while j was the last vertex
+    std::vector<RadianceSample> nee_;
+};
+
+}  // namespace volguide
