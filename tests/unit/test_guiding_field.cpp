@@ -120,6 +120,40 @@ TEST(GuidingField, SparseLeavesAreInvalidAndReadZero) {
     EXPECT_FALSE(GuidingField::build(kBox, s, settings).leaves()[0].valid);
 }
 
+// Progressive training in thin fog: camera vertices fill the volume uniformly and only those in a
+// light shaft carry radiance. The tree refines by the radiance-carrying samples, so the shaft's leaves
+// hold enough of them to be valid (when every sample counted, a shaft with 10 % of the vertices got
+// leaves of 300 samples with ~30 non-zero ones: all invalid, the field read 0 there). The per-sample
+// mean still counts the zeros: sum over leaves of fluence * samples = sum of the weights.
+TEST(GuidingField, ALightShaftAmongZeroSamplesGetsValidLeaves) {
+    std::vector<RadianceSample> s;
+    double total = 0;
+    for (int i = 0; i < 20000; ++i) {
+        Sampler r(11, 0, uint64_t(i));
+        const Point3f p(2.f * r.next_1d(), r.next_1d(), r.next_1d());
+        const bool lit = p.x > 0.9f && p.x < 1.1f;
+        const Vec3f d = VmfLobe(Vec3f(0.f, 0.f, 1.f), 50.f).sample(r.next_2d());
+        s.push_back({p, d, lit ? Color3(5.f) : Color3(0.f), 1.f});
+        total += lit ? 5.0 : 0.0;
+    }
+    GuidingFieldSettings settings;
+    settings.tree.max_samples = 300;
+    settings.lobes = 2;
+    settings.fluence = FluenceEstimator::PerSampleMean;
+    const GuidingField field = GuidingField::build(kBox, s, settings);
+    double sum = 0;
+    for (const GuidingLeaf& leaf : field.leaves()) sum += double(leaf.fluence.r) * leaf.samples;
+    EXPECT_NEAR(sum, total, 1e-4 * total);
+    for (int i = 0; i < 50; ++i) {
+        Sampler r(12, 0, uint64_t(i));
+        const Point3f x(0.9f + 0.2f * r.next_1d(), r.next_1d(), r.next_1d());
+        const GuidingLeaf* leaf = field.leaf_at(x);
+        ASSERT_NE(leaf, nullptr);
+        EXPECT_TRUE(leaf->valid) << "at " << x.x << " " << x.y << " " << x.z;
+        EXPECT_GT(field.incident(x, Vec3f(0.f, 0.f, 1.f)).r, 0.f);
+    }
+}
+
 TEST(GuidingField, IdenticalForOneAndTwoThreads) {
     const auto s = samples(30000, normalize(Vec3f(0.f, 1.f, 1.f)), 6);
     auto settings = small_leaves();

@@ -62,6 +62,47 @@ TEST(SpatialTree, LeavesRespectTheSampleLimitAndTileTheBounds) {
     EXPECT_EQ(tree.leaf_at(Point3f(5.f, 0.f, 0.5f)), -1);
 }
 
+// Only the counted samples drive splits: uncounted ones are sorted into the leaves (every sample
+// lands in exactly the leaf containing it) but neither reach max_samples nor move the split means.
+// Counting only the blob's samples refines the blob and leaves the uniform background coarse.
+TEST(SpatialTree, OnlyCountedSamplesDriveSplits) {
+    const auto pts = points(20000, 4);
+    std::vector<uint8_t> counted(pts.size());
+    const BBox3f blob(Point3f(0.39f, 0.89f, 0.19f), Point3f(0.61f, 1.11f, 0.41f));
+    size_t in_blob = 0;
+    for (size_t i = 0; i < pts.size(); ++i) in_blob += counted[i] = blob.contains(pts[i]);
+    SpatialTreeSettings settings;
+    settings.max_samples = 200;
+    const SpatialTree all = SpatialTree::build(kBounds, pts, settings);
+    const SpatialTree masked = SpatialTree::build(kBounds, pts, settings, counted);
+    size_t total = 0;
+    int counted_leaves = 0, coarse_leaves = 0;
+    for (int l = 0; l < masked.leaf_count(); ++l) {
+        size_t c = 0;
+        for (uint32_t i : masked.leaf_samples(l)) {
+            EXPECT_EQ(masked.leaf_at(pts[i]), l);
+            c += counted[i];
+        }
+        EXPECT_LE(c, 200u) << "leaf " << l;
+        total += masked.leaf_samples(l).size();
+        counted_leaves += c > 0;
+        coarse_leaves += masked.leaf_samples(l).size() > 200u;
+    }
+    EXPECT_EQ(total, pts.size());
+    EXPECT_GE(counted_leaves, int(in_blob / 200));  // the blob is refined to the limit
+    EXPECT_GT(coarse_leaves, 0);                     // the background is not
+    EXPECT_LT(masked.leaf_count(), all.leaf_count());
+    // All flags set is the unmasked build.
+    const std::vector<uint8_t> ones(pts.size(), 1);
+    const SpatialTree same = SpatialTree::build(kBounds, pts, settings, ones);
+    ASSERT_EQ(same.node_count(), all.node_count());
+    for (int n = 0; n < all.node_count(); ++n) {
+        EXPECT_EQ(same.nodes()[size_t(n)].split, all.nodes()[size_t(n)].split);
+        EXPECT_EQ(same.nodes()[size_t(n)].axis, all.nodes()[size_t(n)].axis);
+    }
+    EXPECT_THROW(SpatialTree::build(kBounds, pts, settings, std::vector<uint8_t>(3, 1)), std::invalid_argument);
+}
+
 TEST(SpatialTree, IdenticalPointsStopAtTheDepthCapOrTheFloatLimit) {
     std::vector<Point3f> same(100, Point3f(0.1f, 0.2f, 0.3f));
     SpatialTreeSettings settings;

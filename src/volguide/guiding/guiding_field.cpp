@@ -50,8 +50,14 @@ GuidingField GuidingField::build(const BBox3f& bounds, std::span<const RadianceS
     if (settings.lobes < 1 || settings.lobes > kVmmMaxLobes)
         throw std::invalid_argument("guiding field: lobes must be in [1, " + std::to_string(kVmmMaxLobes) + "]");
     std::vector<Point3f> positions(samples.size());
-    for (size_t i = 0; i < samples.size(); ++i) positions[i] = samples[i].position;
-    SpatialTree tree = SpatialTree::build(bounds, positions, settings.tree);
+    // Only samples that carry radiance drive the subdivision (spatial_tree.h): zero-valued training
+    // samples still count in their leaf's fluence mean. Photon samples are all positive.
+    std::vector<uint8_t> carries_radiance(samples.size());
+    for (size_t i = 0; i < samples.size(); ++i) {
+        positions[i] = samples[i].position;
+        carries_radiance[i] = samples[i].weight.is_finite() && samples[i].weight.average() > 0.f;
+    }
+    SpatialTree tree = SpatialTree::build(bounds, positions, settings.tree, carries_radiance);
     std::vector<GuidingLeaf> leaves(size_t(tree.leaf_count()));
     tbb::parallel_for(0, tree.leaf_count(), [&](int l) {
         leaves[size_t(l)] = fit_leaf(samples, tree.leaf_samples(l), tree.leaf_bounds(l), settings);

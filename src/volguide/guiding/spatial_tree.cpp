@@ -20,6 +20,7 @@ namespace {
 
 struct Builder {
     std::span<const Point3f> points;
+    std::span<const uint8_t> counted;  // empty: every point counts
     const SpatialTreeSettings& settings;
     std::vector<SpatialTree::Node>& nodes;
     std::vector<uint32_t>& order;       // sample indices, grouped by leaf as leaves are made
@@ -28,14 +29,16 @@ struct Builder {
 
     // Chooses the split of `idx` inside `box`: (axis, position), or axis 3 for "make a leaf".
     std::pair<int, float> choose_split(const std::vector<uint32_t>& idx, const BBox3f& box) const {
-        double mean[3] = {0, 0, 0}, sq[3] = {0, 0, 0};
-        for (uint32_t i : idx)
+        double mean[3] = {0, 0, 0}, sq[3] = {0, 0, 0}, n = 0;
+        for (uint32_t i : idx) {
+            if (!counts(i)) continue;
+            n += 1;
             for (int a = 0; a < 3; ++a) {
                 const double v = points[i][a];
                 mean[a] += v;
                 sq[a] += v * v;
             }
-        const double n = double(idx.size());
+        }
         int best = -1;
         double best_var = 0;
         for (int a = 0; a < 3; ++a) {
@@ -45,7 +48,8 @@ struct Builder {
         }
         auto separates = [&](int a, float s) {
             bool below = false, above = false;
-            for (uint32_t i : idx) (points[i][a] < s ? below : above) = true;
+            for (uint32_t i : idx)
+                if (counts(i)) (points[i][a] < s ? below : above) = true;
             return below && above && s > box.lo[a] && s < box.hi[a];
         };
         if (best >= 0 && separates(best, float(mean[best]))) return {best, float(mean[best])};
@@ -56,6 +60,8 @@ struct Builder {
         return {3, 0.f};
     }
 
+    bool counts(uint32_t i) const { return counted.empty() || counted[i] != 0; }
+
     void make_leaf(uint32_t node, const std::vector<uint32_t>& idx) {
         nodes[node] = SpatialTree::Node{0.f, uint32_t(leaf_offset.size() - 1), 3};
         order.insert(order.end(), idx.begin(), idx.end());
@@ -64,7 +70,9 @@ struct Builder {
 
     void build(uint32_t node, std::vector<uint32_t> idx, const BBox3f& box, int depth) {
         max_depth_reached = std::max(max_depth_reached, depth);
-        if (int(idx.size()) <= settings.max_samples || depth >= settings.max_depth) return make_leaf(node, idx);
+        int64_t n = 0;
+        for (uint32_t i : idx) n += counts(i);
+        if (n <= settings.max_samples || depth >= settings.max_depth) return make_leaf(node, idx);
         auto [axis, split] = choose_split(idx, box);
         if (axis == 3) return make_leaf(node, idx);
         std::vector<uint32_t> lower, upper;
@@ -84,7 +92,9 @@ struct Builder {
 }  // namespace
 
 SpatialTree SpatialTree::build(const BBox3f& bounds, std::span<const Point3f> points,
-                               const SpatialTreeSettings& settings) {
+                               const SpatialTreeSettings& settings, std::span<const uint8_t> counted) {
+    if (!counted.empty() && counted.size() != points.size())
+        throw std::invalid_argument("SpatialTree::build: one `counted` flag per point expected");
     if (!bounds.valid()) throw std::invalid_argument("SpatialTree::build: invalid bounds");
     if (settings.max_samples < 1 || settings.max_depth < 0 || settings.max_depth > 60)
         throw std::invalid_argument("SpatialTree::build: max_samples must be >= 1 and max_depth in [0, 60]");
@@ -98,7 +108,7 @@ SpatialTree SpatialTree::build(const BBox3f& bounds, std::span<const Point3f> po
     tree.leaf_offset_ = {0u};
     std::vector<uint32_t> all(points.size());
     for (size_t i = 0; i < all.size(); ++i) all[i] = uint32_t(i);
-    Builder b{clamped, settings, tree.nodes_, tree.sample_index_, tree.leaf_offset_};
+    Builder b{clamped, counted, settings, tree.nodes_, tree.sample_index_, tree.leaf_offset_};
     b.build(0, std::move(all), bounds, 0);
     tree.depth_ = b.max_depth_reached;
     tree.compute_leaf_bounds();

@@ -4,6 +4,13 @@
 // axis of largest positional variance; when that does not separate the samples (or the variance
 // is zero) it splits the longest axis at its midpoint; a node stops at `max_depth`.
 //
+// An optional mask restricts which samples count (towards max_samples and the split statistics):
+// the others are only sorted into the leaves. Progressive training counts only samples that carry
+// radiance, so the tree refines where light is, not where camera paths happen to scatter (an
+// unguided walk puts vertices uniformly through thin fog; a light shaft holding a few percent of
+// them would otherwise share its leaves with the dark room and leave them too few non-zero samples
+// to fit).
+//
 // Queries: the leaf containing a point, and the leaves a ray segment crosses in order with their
 // entry/exit distances (the guided distance sampler's bins, theory.md §7.3). Building is sequential
 // and order-preserving, so the tree is a pure function of the samples in their given order.
@@ -27,8 +34,9 @@ public:
 
     // Builds the tree over `bounds` from sample positions (points outside the bounds are clamped
     // into them). leaf_samples(i) then lists the indices of the samples in leaf i, in input order.
+    // `counted` (empty = all count, else one flag per point) selects the samples that drive splits.
     static SpatialTree build(const BBox3f& bounds, std::span<const Point3f> points,
-                             const SpatialTreeSettings& settings = {});
+                             const SpatialTreeSettings& settings = {}, std::span<const uint8_t> counted = {});
 
     const BBox3f& bounds() const { return bounds_; }
     int leaf_count() const { return int(leaf_bounds_.size()); }
