@@ -92,6 +92,10 @@ public:
         return ff;
     }
     Color3 transmittance(const Ray&, float tmax, Sampler&) const override { return tr_at(tmax); }
+    void proxy_segments(const Ray&, float t0, float t1, std::vector<ProxySegment>& out) const override {
+        const float st = coeffs_.sigma_t.average();
+        if (t0 < t1) out.push_back({t0, t1, coeffs_.sigma_t, st > 0.f ? coeffs_.sigma_s.average() / st : 0.f});
+    }
     bool is_homogeneous() const override { return true; }
     BBox3f bbox() const override { return BBox3f(Point3f(-Infinity), Point3f(Infinity)); }
     std::string to_string() const override { return "TestHomogeneousMedium"; }

@@ -1,5 +1,9 @@
 #include "volguide/media/heterogeneous.h"
 
+#include <algorithm>
+
+#include "volguide/media/dda.h"
+
 #include <fmt/format.h>
 
 #include "volguide/media/medium_params.h"
@@ -39,6 +43,38 @@ bool HeterogeneousMedium::local_segment(const Ray& ray, float tmax, Point3f& o, 
         t1 = std::min(t1, tb);
     }
     return t0 < t1;
+}
+
+void HeterogeneousMedium::proxy_segments(const Ray& ray, float t0, float t1, std::vector<ProxySegment>& out) const {
+    if (!(t0 < t1)) return;
+    Point3f o;
+    Vec3f d;
+    float g0, g1;  // the part of (0, t1) inside the grid
+    auto zero = [&](float a, float b) {
+        if (a < b) out.push_back({a, b, Color3(0.f), 0.f});
+    };
+    if (!local_segment(ray, t1, o, d, g0, g1) || g1 <= t0) return zero(t0, t1);
+    g0 = std::max(g0, t0);
+    zero(t0, g0);
+    const int* res = majorants_.res();
+    const Vec3f cells{float(res[0]), float(res[1]), float(res[2])};
+    float t = g0;
+    for (GridDda dda(o * cells, d * cells, res, g0, g1); !dda.done(); dda.advance()) {
+        const float end = std::min(dda.segment_end(), g1);
+        if (!(end > t)) continue;
+        const MajorantCell& cell = majorants_.cell(dda.cell(0), dda.cell(1), dda.cell(2));
+        // Cell mean extinction; the albedo is read at the stretch's middle.
+        const float st = cell.control.average();
+        const float albedo = st > 0.f ? std::clamp(albedo_->eval(ray(0.5f * (t + end))).average(), 0.f, 1.f) : 0.f;
+        out.push_back({t, end, cell.control, albedo});
+        t = end;
+    }
+    // Float round-off in the DDA must not leave a gap: the segments tile (t0, t1) exactly.
+    if (t < g1) {
+        if (!out.empty() && out.back().t1 == t && out.back().sigma_t.max_value() > 0.f) out.back().t1 = g1;
+        else zero(t, g1);
+    }
+    zero(g1, t1);
 }
 
 std::string HeterogeneousMedium::to_string() const {

@@ -46,6 +46,7 @@ public:
     FreeFlightSample sample_free_flight(const Ray& ray, float tmax, const Color3& throughput, Sampler& sampler,
                                         TrackingCounts* counts) const;
     Color3 transmittance(const Ray& ray, float tmax, Sampler& sampler) const override;
+    void proxy_segments(const Ray& ray, float t0, float t1, std::vector<ProxySegment>& out) const override;
     Color3 ratio_tracking(const Ray& ray, float tmax, Sampler& sampler) const;
     Color3 residual_ratio_tracking(const Ray& ray, float tmax, Sampler& sampler) const;
     bool is_homogeneous() const override { return false; }

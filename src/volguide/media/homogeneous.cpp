@@ -19,6 +19,14 @@ HomogeneousMedium::HomogeneousMedium(const Color3& sigma_t, std::shared_ptr<Volu
 
 MediumCoefficients HomogeneousMedium::eval(const Point3f& p) const { return {sigma_t_, sigma_t_ * albedo_at(p)}; }
 
+void HomogeneousMedium::proxy_segments(const Ray& ray, float t0, float t1, std::vector<ProxySegment>& out) const {
+    if (!(t0 < t1)) return;
+    // sigma_t is exact; a textured albedo is read at the segment's middle (probabilities only).
+    const float st = sigma_t_.average();
+    const float albedo = st > 0.f ? (sigma_t_ * albedo_at(ray(0.5f * (t0 + t1)))).average() / st : 0.f;
+    out.push_back({t0, t1, sigma_t_, albedo});
+}
+
 FreeFlightSample HomogeneousMedium::sample_free_flight(const Ray& ray, float tmax, const Color3& throughput,
                                                        Sampler& sampler) const {
     float u_channel = sampler.next_1d();

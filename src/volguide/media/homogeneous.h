@@ -21,6 +21,7 @@ public:
     FreeFlightSample sample_free_flight(const Ray& ray, float tmax, const Color3& throughput,
                                         Sampler& sampler) const override;
     Color3 transmittance(const Ray& ray, float tmax, Sampler& sampler) const override;
+    void proxy_segments(const Ray& ray, float t0, float t1, std::vector<ProxySegment>& out) const override;
     bool is_homogeneous() const override { return true; }
     BBox3f bbox() const override;
     const Color3& sigma_t() const { return sigma_t_; }

@@ -6,6 +6,7 @@
 // Every estimator is unbiased for any majorant that bounds sigma_t; a looser majorant only costs
 // time. Integrators never see null collisions.
 #include <memory>
+#include <vector>
 
 #include "volguide/core/bbox.h"
 #include "volguide/core/color.h"
@@ -45,6 +46,14 @@ struct FreeFlightSample {
     MediumInteraction mi;  // valid when scattered
 };
 
+// A stretch of ray over which a medium is summarised by constants: the guided distance sampler's
+// proxy coefficients (theory.md §7.7 H1). They only shape probabilities, never weights.
+struct ProxySegment {
+    float t0, t1;
+    Color3 sigma_t;  // per channel: exact (homogeneous) or the cell's mean (heterogeneous)
+    float albedo;    // scalar: mean sigma_s / mean sigma_t over the channels (theory.md §7.8)
+};
+
 class Medium : public Object {
 public:
     const PhaseFunction& phase() const { return *phase_; }
@@ -60,6 +69,11 @@ public:
                                                 Sampler& sampler) const = 0;
     // Unbiased estimate of the transmittance over t in (0, tmax).
     virtual Color3 transmittance(const Ray& ray, float tmax, Sampler& sampler) const = 0;
+
+    // Appends to `out` segments tiling (t0, t1) in order (t1 finite) with proxy coefficients: one for
+    // a homogeneous medium, one per majorant cell crossed (and zero-coefficient stretches outside
+    // the grid) for a heterogeneous one.
+    virtual void proxy_segments(const Ray& ray, float t0, float t1, std::vector<ProxySegment>& out) const = 0;
 
     virtual bool is_homogeneous() const = 0;
     // Where sigma_t can be non-zero (infinite for homogeneous media).
