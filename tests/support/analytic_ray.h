@@ -112,7 +112,7 @@ struct AnalyticRay {
 inline AnalyticRay six_bin_ray(bool chromatic = false) {
     AnalyticRay r;
     const double d[7] = {0.0, 0.4, 0.9, 1.7, 2.0, 3.1, 3.6};
-    const float st[6] = {0.8f, 2.5f, 0.3f, 4.0f, 1.2f, 0.6f};
+    const float st[6] = {0.5f, 1.2f, 0.3f, 1.5f, 0.4f, 0.6f};
     const float alb[6] = {0.9f, 0.5f, 0.99f, 0.7f, 0.8f, 0.95f};
     const float li[6] = {0.3f, 2.0f, 0.05f, 1.1f, 0.6f, 0.2f};
     for (int k = 0; k < 6; ++k) {
