@@ -13,17 +13,15 @@ constexpr float kThinTau = 1e-6f;
 constexpr float kFilterMinTransmittance = 1e-4f;
 
 bool is_grey(const Color3& c) { return c.r == c.g && c.g == c.b; }
+// The scalar proxy of §7.8; exact (not re-rounded) for grey coefficients.
+float scalar_sigma_t(const Color3& c) { return is_grey(c) ? c.r : c.average(); }
 
-// 1 - exp(-tau) per channel, computed once for grey coefficients.
+// 1 - exp(-tau) per channel.
 Color3 one_minus_transmittance(const Color3& sigma_t, float length) {
-    if (is_grey(sigma_t)) return Color3(-std::expm1(-sigma_t.r * length));
     return {-std::expm1(-sigma_t.r * length), -std::expm1(-sigma_t.g * length), -std::expm1(-sigma_t.b * length)};
 }
 
-Color3 transmittance(const Color3& sigma_t, float length) {
-    if (is_grey(sigma_t)) return Color3(std::exp(-sigma_t.r * length));
-    return exp(sigma_t * -length);
-}
+Color3 transmittance(const Color3& sigma_t, float length) { return exp(sigma_t * -length); }
 
 // Guided conditional probability (7.2) with the degenerate cases of §7.6.
 float guided_probability(float numerator, float denominator, float p_max, bool& nan) {
@@ -64,9 +62,16 @@ IncrementalDistanceWalk::Bin IncrementalDistanceWalk::evaluate(const DistanceBin
     assert(std::isfinite(bin.t1) && "clip the ray to the cache/medium bounds before sampling");
     Bin p;
     p.length = bin.t1 - bin.t0;
-    p.sigma_bar = bin.sigma_t.average();
-    p.P_T = one_minus_transmittance(bin.sigma_t, p.length);
+    p.sigma_bar = scalar_sigma_t(bin.sigma_t);
     p.P_T_bar = -std::expm1(-p.sigma_bar * p.length);
+    p.T_bar = std::exp(-p.sigma_bar * p.length);  // not 1 - P_T_bar: keeps its precision when thick
+    if (is_grey(bin.sigma_t)) {
+        p.P_T = Color3(p.P_T_bar);
+        p.T = Color3(p.T_bar);
+    } else {
+        p.P_T = one_minus_transmittance(bin.sigma_t, p.length);
+        p.T = transmittance(bin.sigma_t, p.length);
+    }
 
     // Incoming-radiance filter (7.4): extrapolate the previous bin's L^I through it by the VRE
     // bookkeeping L(d_{k-1}) = alpha (1 - T) L_i + T L(d_k), then blend with this bin's lookup.
@@ -116,12 +121,12 @@ float IncrementalDistanceWalk::pdf_in_bin(const DistanceBin& bin, const Bin& p, 
 
 void IncrementalDistanceWalk::advance(const DistanceBin& bin, const Bin& p) {
     if (!(p.length > 0.f)) return;
-    R_T_ *= transmittance(bin.sigma_t, p.length);
+    R_T_ *= p.T;
     R_G_ *= 1.f - p.P_G;
     has_prev_ = true;
     prev_valid_ = bin.valid;
     prev_L_I_ = p.L_I;
-    prev_T_bar_ = 1.f - p.P_T_bar;
+    prev_T_bar_ = p.T_bar;
     prev_albedo_ = bin.albedo;
     prev_Li_ = bin.Li;
 }
@@ -167,7 +172,7 @@ TabulatedDistance::TabulatedDistance(std::span<const DistanceBin> bins, std::opt
         const DistanceBin& b = bins[k];
         assert(std::isfinite(b.t1) && "clip the ray to the cache/medium bounds before sampling");
         const float length = std::max(0.f, b.t1 - b.t0);
-        sigma_bar_[k] = b.sigma_t.average();
+        sigma_bar_[k] = scalar_sigma_t(b.sigma_t);
         tau_[k + 1] = tau_[k] + b.sigma_t * length;
         if (length > 0.f) {
             const double Li = b.valid ? b.Li : max_valid_Li;
@@ -182,7 +187,7 @@ TabulatedDistance::TabulatedDistance(std::span<const DistanceBin> bins, std::opt
     if (surface_radiance) {
         L_o = *surface_radiance;
     } else if (last) {
-        const double T = std::exp(-double(last->sigma_t.average()) * (last->t1 - last->t0));
+        const double T = std::exp(-double(scalar_sigma_t(last->sigma_t)) * (last->t1 - last->t0));
         if (!last->valid) L_o = max_valid_Li;
         else if (T >= kFilterMinTransmittance) L_o = (last->L - (1.0 - T) * last->albedo * last->Li) / T;
     }

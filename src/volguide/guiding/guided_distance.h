@@ -84,7 +84,9 @@ public:
         float length = 0.f;
         float sigma_bar = 0.f;   // channel-average proxy extinction (drives G's in-bin density)
         Color3 P_T{0.f};         // per-channel transmittance probabilities 1 - exp(-sigma_t,c * length)
-        float P_T_bar = 0.f;     // the same for sigma_bar
+        Color3 T{1.f};           // per-channel bin transmittance exp(-sigma_t,c * length)
+        float P_T_bar = 0.f;     // the same two for sigma_bar
+        float T_bar = 1.f;
         float P_G = 0.f;         // guided conditional probability after filter, clamps and fallbacks
         float L_I = 0.f;         // filtered incident radiance used as P^G's denominator
         bool nan_fallback = false;
