@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <random>
 
 #include "support/analytic_ray.h"
@@ -64,6 +65,9 @@ TEST(GuidedDistanceZeroVariance, ExactEstimatesGiveZeroVariance) {
                 stats.add(ray.estimate_average(d));
             }
             const double rel_std = std::sqrt(stats.variance()) / L0;
+            std::printf("exact estimates, %s, A = %.2f: mean / L(0) - 1 = %.2e, relative std %.2e, %d%% medium\n",
+                        kind == Kind::Incremental ? "incremental" : "tabulated", A, stats.mean() / L0 - 1.0, rel_std,
+                        medium / 200);
             EXPECT_LT(rel_std, 1e-5) << "A " << A << " kind " << int(kind);
             EXPECT_NEAR(stats.mean() / L0, 1.0, 1e-5);
             EXPECT_GT(medium, 1000);  // both events occur
@@ -103,6 +107,10 @@ TEST(GuidedDistanceZeroVariance, NoisyEstimatesAreUnbiased) {
                     const DistanceSample d = draw(kind, bins, tab, s, rng);
                     for (int c = 0; c < 3; ++c) per_channel[c].add(ray.estimate(d, c));
                 }
+                std::printf("noisy, %s, %s, A = %.2f: z per channel %.2f %.2f %.2f, relative std %.2f\n",
+                            chromatic ? "chromatic" : "grey", kind == Kind::Incremental ? "incremental" : "tabulated", A,
+                            per_channel[0].z(L[0][0]), per_channel[1].z(L[0][1]), per_channel[2].z(L[0][2]),
+                            std::sqrt(per_channel[1].variance()) / L[0][1]);
                 for (int c = 0; c < 3; ++c)
                     EXPECT_LT(per_channel[c].z(L[0][size_t(c)]), 3.0)
                         << "chromatic " << chromatic << " A " << A << " kind " << int(kind) << " channel " << c
