@@ -5,12 +5,17 @@
 //  - Incident / Inscattered{Exact,A3}: one query of L~ and L~_i at a random point and direction;
 //  - InscatteredA3Prepared: the same A3 query through an InscatterCache prepared for the phase
 //    (and InscatterCachePrepare: the preparation itself, with the cache's bytes per leaf);
-//  - memory per leaf (bytes of GuidingLeaf plus its tree nodes) as a counter.
+//  - memory per leaf (bytes of GuidingLeaf plus its tree nodes) as a counter;
+//  - Distance{Incremental,Tabulated}/{early,late}: one guided distance sample (theory.md §7.3 vs
+//    §7.2, default settings) on a 20-bin ray whose in-scattered radiance sits in the first / last
+//    three bins, bins handed out from memory (the scene walk's cost is not included); `steps` is
+//    the mean number of bins the incremental sampler pulled (the tabulated one always reads 20).
 //   cmake --build build --target bench_guiding && build/bench_guiding
 #include <benchmark/benchmark.h>
 
 #include "volguide/core/sampler.h"
 #include "volguide/core/warp.h"
+#include "volguide/guiding/guided_distance.h"
 #include "volguide/guiding/inscatter_cache.h"
 #include "volguide/integrators/guided_volpath.h"
 #include "volguide/integrators/photon_pass.h"
@@ -104,8 +109,55 @@ void BM_InscatterCachePrepare(benchmark::State& state) {
     state.counters["bytes_per_leaf"] = double(bytes) / double(field.leaves().size());
 }
 
+// 20 bins of length 0.5, sigma_t = 0.3, albedo 0.8; L_i = 5 in three bins (early: 0-2, late: 17-19),
+// 0.01 elsewhere; L consistent with them (exact VRE over the bins), a dim surface at the end.
+std::vector<DistanceBin> distance_bins(bool late) {
+    std::vector<DistanceBin> bins(20);
+    for (int k = 0; k < 20; ++k) {
+        const bool lit = late ? k >= 17 : k < 3;
+        bins[size_t(k)] = {0.5f * float(k), 0.5f * float(k + 1), Color3(0.3f), 0.8f, lit ? 5.f : 0.01f, 0.f, true};
+    }
+    float L = 0.05f;
+    for (int k = 19; k >= 0; --k) {
+        DistanceBin& b = bins[size_t(k)];
+        const float T = std::exp(-0.3f * 0.5f);
+        L = b.albedo * (1.f - T) * b.Li + T * L;
+        b.L = L;
+    }
+    return bins;
+}
+
+template <bool Tabulated>
+void BM_Distance(benchmark::State& state) {
+    const std::vector<DistanceBin> bins = distance_bins(state.range(0) == 1);
+    const GuidedDistanceSettings settings;
+    uint64_t i = 0, steps = 0;
+    for (auto _ : state) {
+        Sampler rng(3, 0, i++);
+        DistanceSample d;
+        if constexpr (Tabulated) {
+            d = TabulatedDistance(bins, std::nullopt, settings).sample(rng);
+        } else {
+            size_t next = 0;
+            d = sample_incremental_distance(
+                [&](DistanceBin& b) {
+                    if (next == bins.size()) return false;
+                    b = bins[next++];
+                    return true;
+                },
+                rng, settings);
+        }
+        steps += uint64_t(d.steps);
+        benchmark::DoNotOptimize(d);
+    }
+    state.counters["steps"] = double(steps) / double(std::max<uint64_t>(i, 1));
+    state.SetLabel(state.range(0) == 1 ? "late" : "early");
+}
+
 }  // namespace
 
+BENCHMARK(BM_Distance<false>)->Name("BM_DistanceIncremental")->Arg(0)->Arg(1);
+BENCHMARK(BM_Distance<true>)->Name("BM_DistanceTabulated")->Arg(0)->Arg(1);
 BENCHMARK(BM_PhotonPass)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_FieldBuild)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Query<0>)->Name("BM_Incident");

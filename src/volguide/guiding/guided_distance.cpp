@@ -1,0 +1,275 @@
+#include "volguide/guiding/guided_distance.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace volguide {
+
+namespace {
+
+// Below this optical thickness the truncated exponential is numerically a uniform density (2.1).
+constexpr float kThinTau = 1e-6f;
+// The filter does not extrapolate through a bin that lets less than this through (7.4).
+constexpr float kFilterMinTransmittance = 1e-4f;
+
+bool is_grey(const Color3& c) { return c.r == c.g && c.g == c.b; }
+// The scalar proxy of §7.8; exact (not re-rounded) for grey coefficients.
+float scalar_sigma_t(const Color3& c) { return is_grey(c) ? c.r : c.average(); }
+
+// 1 - exp(-tau) per channel.
+Color3 one_minus_transmittance(const Color3& sigma_t, float length) {
+    return {-std::expm1(-sigma_t.r * length), -std::expm1(-sigma_t.g * length), -std::expm1(-sigma_t.b * length)};
+}
+
+Color3 transmittance(const Color3& sigma_t, float length) { return exp(sigma_t * -length); }
+
+// Guided conditional probability (7.2) with the degenerate cases of §7.6.
+float guided_probability(float numerator, float denominator, float p_max, bool& nan) {
+    nan = std::isnan(numerator) || std::isnan(denominator);
+    if (nan) return 0.f;  // the caller substitutes P^T
+    if (!(numerator > 0.f)) return 0.f;
+    if (!(denominator > 0.f) || std::isinf(denominator)) return p_max;
+    return std::min(numerator / denominator, p_max);  // inf / finite = inf -> p_max
+}
+
+int channel_of(DistanceStrategy s) { return int(s); }
+
+}  // namespace
+
+float sample_truncated_exponential(float sigma, float length, float u) {
+    const float tau = sigma * length;
+    if (tau <= kThinTau) return u * length;
+    return -std::log1p(u * std::expm1(-tau)) / sigma;
+}
+
+float truncated_exponential_pdf(float sigma, float length, float x) {
+    const float tau = sigma * length;
+    if (tau <= kThinTau) return 1.f / length;
+    return sigma * std::exp(-sigma * x) / -std::expm1(-tau);
+}
+
+DistanceStrategy choose_distance_strategy(const GuidedDistanceSettings& settings, float u) {
+    if (!(u < settings.c_T)) return DistanceStrategy::Guided;
+    return DistanceStrategy(std::min(2, int(u / settings.c_T * 3.f)));
+}
+
+// ---------------------------------------------------------------------------------------------
+
+IncrementalDistanceWalk::IncrementalDistanceWalk(const GuidedDistanceSettings& settings, DistanceStrategy strategy)
+    : settings_(settings), strategy_(strategy) {}
+
+IncrementalDistanceWalk::Bin IncrementalDistanceWalk::evaluate(const DistanceBin& bin) const {
+    assert(std::isfinite(bin.t1) && "clip the ray to the cache/medium bounds before sampling");
+    Bin p;
+    p.length = bin.t1 - bin.t0;
+    p.sigma_bar = scalar_sigma_t(bin.sigma_t);
+    p.P_T_bar = -std::expm1(-p.sigma_bar * p.length);
+    p.T_bar = std::exp(-p.sigma_bar * p.length);  // not 1 - P_T_bar: keeps its precision when thick
+    if (is_grey(bin.sigma_t)) {
+        p.P_T = Color3(p.P_T_bar);
+        p.T = Color3(p.T_bar);
+    } else {
+        p.P_T = one_minus_transmittance(bin.sigma_t, p.length);
+        p.T = transmittance(bin.sigma_t, p.length);
+    }
+
+    // Incoming-radiance filter (7.4): extrapolate the previous bin's L^I through it by the VRE
+    // bookkeeping L(d_{k-1}) = alpha (1 - T) L_i + T L(d_k), then blend with this bin's lookup.
+    p.L_I = bin.L;
+    const float A = settings_.filter_A;
+    if (A < 1.f && has_prev_ && prev_valid_ && std::isfinite(prev_L_I_) && prev_T_bar_ >= kFilterMinTransmittance) {
+        const float extrapolated =
+            std::max(0.f, (prev_L_I_ - (1.f - prev_T_bar_) * prev_albedo_ * prev_Li_) / prev_T_bar_);
+        p.L_I = (1.f - A) * extrapolated + A * bin.L;
+    }
+
+    if (!bin.valid) {
+        p.P_G = p.P_T_bar;
+    } else {
+        const float numerator = bin.albedo * p.P_T_bar * bin.Li;
+        p.P_G = guided_probability(numerator, p.L_I, settings_.p_max, p.nan_fallback);
+        if (p.nan_fallback) p.P_G = p.P_T_bar;
+    }
+    return p;
+}
+
+float IncrementalDistanceWalk::decision_probability(const Bin& p) const {
+    return strategy_ == DistanceStrategy::Guided ? p.P_G : p.P_T[channel_of(strategy_)];
+}
+
+float IncrementalDistanceWalk::sample_in_bin(const DistanceBin& bin, const Bin& p, float u) const {
+    const float sigma = strategy_ == DistanceStrategy::Guided ? p.sigma_bar : bin.sigma_t[channel_of(strategy_)];
+    const float t = bin.t0 + sample_truncated_exponential(sigma, p.length, u);
+    // Rounding may land on t1, which belongs to the next bin.
+    return std::min(t, std::nextafter(bin.t1, bin.t0));
+}
+
+float IncrementalDistanceWalk::pdf_in_bin(const DistanceBin& bin, const Bin& p, float t) const {
+    const float x = t - bin.t0;
+    float transmittance_part;
+    if (is_grey(bin.sigma_t)) {
+        transmittance_part = R_T_.average() * p.P_T.r * truncated_exponential_pdf(bin.sigma_t.r, p.length, x);
+    } else {
+        transmittance_part = 0.f;
+        for (int c = 0; c < 3; ++c)
+            transmittance_part += R_T_[c] * p.P_T[c] * truncated_exponential_pdf(bin.sigma_t[c], p.length, x);
+        transmittance_part *= 1.f / 3.f;
+    }
+    const float guided_part = R_G_ * p.P_G * truncated_exponential_pdf(p.sigma_bar, p.length, x);
+    return settings_.c_T * transmittance_part + (1.f - settings_.c_T) * guided_part;
+}
+
+void IncrementalDistanceWalk::advance(const DistanceBin& bin, const Bin& p) {
+    if (!(p.length > 0.f)) return;
+    R_T_ *= p.T;
+    R_G_ *= 1.f - p.P_G;
+    has_prev_ = true;
+    prev_valid_ = bin.valid;
+    prev_L_I_ = p.L_I;
+    prev_T_bar_ = p.T_bar;
+    prev_albedo_ = bin.albedo;
+    prev_Li_ = bin.Li;
+}
+
+float IncrementalDistanceWalk::surface_probability() const {
+    return settings_.c_T * R_T_.average() + (1.f - settings_.c_T) * R_G_;
+}
+
+float incremental_distance_pdf(std::span<const DistanceBin> bins, float t, const GuidedDistanceSettings& settings) {
+    IncrementalDistanceWalk walk(settings);
+    for (const DistanceBin& bin : bins) {
+        if (!(bin.t1 > bin.t0)) continue;
+        const IncrementalDistanceWalk::Bin p = walk.evaluate(bin);
+        if (t >= bin.t0 && t < bin.t1) return walk.pdf_in_bin(bin, p, t);
+        walk.advance(bin, p);
+    }
+    return 0.f;
+}
+
+float incremental_surface_probability(std::span<const DistanceBin> bins, const GuidedDistanceSettings& settings) {
+    IncrementalDistanceWalk walk(settings);
+    for (const DistanceBin& bin : bins)
+        if (bin.t1 > bin.t0) walk.advance(bin, walk.evaluate(bin));
+    return walk.surface_probability();
+}
+
+// ---------------------------------------------------------------------------------------------
+
+TabulatedDistance::TabulatedDistance(std::span<const DistanceBin> bins, std::optional<float> surface_radiance,
+                                     const GuidedDistanceSettings& settings)
+    : bins_(bins), settings_(settings) {
+    const size_t n = bins.size();
+    float max_valid_Li = 0.f;
+    for (const DistanceBin& b : bins)
+        if (b.valid && std::isfinite(b.Li)) max_valid_Li = std::max(max_valid_Li, b.Li);
+
+    tau_.assign(n + 1, Color3(0.f));
+    sigma_bar_.resize(n);
+    std::vector<double> mass(n + 1, 0.0);
+    double tau_bar = 0.0;  // channel-average optical depth at the bin start
+    const DistanceBin* last = nullptr;
+    for (size_t k = 0; k < n; ++k) {
+        const DistanceBin& b = bins[k];
+        assert(std::isfinite(b.t1) && "clip the ray to the cache/medium bounds before sampling");
+        const float length = std::max(0.f, b.t1 - b.t0);
+        sigma_bar_[k] = scalar_sigma_t(b.sigma_t);
+        tau_[k + 1] = tau_[k] + b.sigma_t * length;
+        if (length > 0.f) {
+            const double Li = b.valid ? b.Li : max_valid_Li;
+            const double W = std::exp(-tau_bar) * b.albedo * -std::expm1(-double(sigma_bar_[k]) * length) * Li;
+            if (std::isfinite(W)) mass[k] = std::max(0.0, W);
+            else ++nan_fallbacks_;
+            last = &b;
+        }
+        tau_bar += double(sigma_bar_[k]) * length;
+    }
+    double L_o = 0.0;
+    if (surface_radiance) {
+        L_o = *surface_radiance;
+    } else if (last) {
+        const double T = std::exp(-double(scalar_sigma_t(last->sigma_t)) * (last->t1 - last->t0));
+        if (!last->valid) L_o = max_valid_Li;
+        else if (T >= kFilterMinTransmittance) L_o = (last->L - (1.0 - T) * last->albedo * last->Li) / T;
+    }
+    const double W_s = std::exp(-tau_bar) * L_o;
+    if (std::isfinite(W_s)) mass[n] = std::max(0.0, W_s);
+    else ++nan_fallbacks_;
+
+    double Z = 0.0;
+    for (double m : mass) Z += m;
+    guided_cdf_.resize(n + 1);
+    if (Z > 0.0) {
+        double c = 0.0;
+        for (size_t k = 0; k <= n; ++k) guided_cdf_[k] = (c += mass[k] / Z);
+        guided_surface_ = mass[n] / Z;
+    } else {
+        std::fill(guided_cdf_.begin(), guided_cdf_.end() - 1, 0.0);
+        guided_surface_ = 1.0;
+    }
+    guided_cdf_[n] = 1.0;
+    const Color3 T_s = exp(tau_[n] * -1.f);
+    P_surf_ = settings_.c_T * T_s.average() + (1.f - settings_.c_T) * float(guided_surface_);
+}
+
+int TabulatedDistance::find_bin(float t) const {
+    // First bin with t1 > t (bins are contiguous and ordered).
+    auto it = std::upper_bound(bins_.begin(), bins_.end(), t, [](float v, const DistanceBin& b) { return v < b.t1; });
+    if (it == bins_.end() || t < it->t0) return -1;
+    return int(it - bins_.begin());
+}
+
+float TabulatedDistance::pdf(float t) const {
+    const int k = find_bin(t);
+    if (k < 0) return 0.f;
+    const DistanceBin& b = bins_[size_t(k)];
+    const float length = b.t1 - b.t0, x = t - b.t0;
+    float transmittance_part = 0.f;
+    for (int c = 0; c < 3; ++c) {
+        const float P_T = -std::expm1(-b.sigma_t[c] * length);
+        transmittance_part += std::exp(-tau_[size_t(k)][c]) * P_T * truncated_exponential_pdf(b.sigma_t[c], length, x);
+    }
+    const double mass = guided_cdf_[size_t(k)] - (k > 0 ? guided_cdf_[size_t(k) - 1] : 0.0);
+    const float guided_part = float(mass) * truncated_exponential_pdf(sigma_bar_[size_t(k)], length, x);
+    return settings_.c_T * transmittance_part / 3.f + (1.f - settings_.c_T) * guided_part;
+}
+
+DistanceSample TabulatedDistance::sample(float u, float u2, float u3) const {
+    DistanceSample out;
+    out.strategy = choose_distance_strategy(settings_, u);
+    out.steps = int(bins_.size());
+    out.nan_fallbacks = nan_fallbacks_;
+    out.t = bins_.empty() ? 0.f : bins_.back().t1;
+    int k = -1;
+    float x = 0.f;
+    if (out.strategy == DistanceStrategy::Guided) {
+        const size_t n = bins_.size();
+        const size_t i = size_t(std::upper_bound(guided_cdf_.begin(), guided_cdf_.end(), double(u2)) - guided_cdf_.begin());
+        if (i < n) {
+            k = int(i);
+            const DistanceBin& b = bins_[i];
+            x = sample_truncated_exponential(sigma_bar_[i], b.t1 - b.t0, u3);
+        }
+    } else {
+        // Free flight in channel c: invert the optical depth tau_c(t) = -ln(1 - u2).
+        const int c = channel_of(out.strategy);
+        const float tau = -std::log1p(-u2);
+        auto it = std::upper_bound(tau_.begin() + 1, tau_.end(), tau, [c](float v, const Color3& d) { return v < d[c]; });
+        if (it != tau_.end()) {
+            k = int(it - tau_.begin()) - 1;
+            const DistanceBin& b = bins_[size_t(k)];
+            x = (tau - tau_[size_t(k)][c]) / b.sigma_t[c];
+        }
+    }
+    if (k < 0) {
+        out.event = DistanceEvent::Surface;
+        out.pdf = P_surf_;
+        return out;
+    }
+    const DistanceBin& b = bins_[size_t(k)];
+    out.event = DistanceEvent::Medium;
+    out.t = std::clamp(b.t0 + x, b.t0, std::nextafter(b.t1, b.t0));
+    out.pdf = pdf(out.t);
+    return out;
+}
+
+}  // namespace volguide

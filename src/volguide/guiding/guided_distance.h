@@ -1,0 +1,203 @@
+#pragma once
+// Guided product distance sampling (theory.md §7): picks where a ray's next scattering event happens,
+// or that it reaches the end of the segment ("surface"), with probabilities shaped like the
+// zero-variance target T(0,t) sigma_s(t) L_i(t) / L(0) (7.1).
+//
+// This is a pure algorithm over a sequence of bins [t0, t1) along one ray. It knows nothing about
+// scenes, media or the guiding field: the caller's walk produces the bins (kd-tree leaves cut at
+// medium boundaries / majorant voxels) and fills them with proxy coefficients and cached estimates.
+//
+// Two samplers share one result type and one mixture pdf:
+//  - incremental (§7.3, the paper's Algorithm 1): pulls bins one by one and stops as soon as a
+//    scatter is accepted, so its cost grows with the distance to the collision, not the ray length;
+//  - tabulated (§7.2): builds the full CDF over all bins plus a surface mass; reference and baseline.
+//
+// Defensive mixing, Variant A of §7.5 with the chromatic strategies of §7.8: one strategy per query,
+// S in {T_R, T_G, T_B, G} with probabilities {c_T/3, c_T/3, c_T/3, 1 - c_T}. T_c is ordinary
+// free-flight sampling with the proxy extinction of channel c (for grey sigma_t the three coincide);
+// G steps with the guided conditional probabilities P^G_k (7.2), clamped and filtered (7.4, 7.6).
+// The returned pdf is always the 4-term mixture (7.5), whichever strategy was drawn.
+//
+// CALLER CONTRACT (weights are not computed here; theory.md §1.4, §7.5 (7.6)):
+//  - medium event at t:  beta *= T_hat(0, t) * sigma_s(x_t) / pdf         (per channel)
+//  - surface event:      beta *= T_hat(0, s) / pdf                        (pdf = P_surf)
+//  where T_hat is the caller's own unbiased transmittance (exact for piecewise-constant media,
+//  residual ratio tracking with independent random numbers otherwise, §7.7) and sigma_s is the true
+//  local coefficient — never the proxies stored in the bins.
+//  - The bins must be contiguous, ordered, finite: clip the ray to the cache / medium bounds and
+//    make the last bin end at the surface or exit distance s (an infinite t1 is a caller error,
+//    asserted). The exit point plays the role of the surface (environment radiance x T).
+//  - Split optically thick bins (proxy sigma_t * length <= ~20) so that P^T_k < 1 in float (§7.6).
+#include <cassert>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "volguide/core/color.h"
+
+namespace volguide {
+
+// One piece of the ray, with everything the decisions need. Distances are along the ray's unit
+// direction (world length); radiances are scalar channel averages of the RGB cache estimates (§7.8).
+struct DistanceBin {
+    float t0 = 0.f, t1 = 0.f;  // the bin is [t0, t1), distances from the ray origin; t1 >= t0, finite
+    Color3 sigma_t{0.f};       // proxy extinction per channel [1/length], constant in the bin (exact
+                               // for piecewise-constant media; the super-voxel mean otherwise, §7.7)
+    float albedo = 0.f;        // proxy scalar albedo = avg(sigma_s) / avg(sigma_t) of the bin, in [0, 1]
+    float Li = 0.f;            // L~_i(x(t0), omega): in-scattered radiance towards the ray's origin at
+                               // the bin start [W m^-2 sr^-1] (the phase-convolved cache estimate)
+    float L = 0.f;             // L~(x(t0), omega): incident radiance at the bin start looking forward
+                               // along the ray, i.e. everything ahead on this ray [W m^-2 sr^-1]
+    bool valid = true;         // false: the cache has no usable estimate here (e.g. too few samples);
+                               // the guided probability then falls back to transmittance, P^G = P^T
+};
+
+struct GuidedDistanceSettings {
+    float c_T = 0.5f;    // probability of the transmittance strategies (split evenly over R, G, B)
+    float p_max = 0.9f;  // clamp of the guided per-bin probability P^G_k (< 1: later bins stay reachable)
+    float filter_A = 0.5f;  // weight of the new lookup in the incoming-radiance filter (7.4); 1 = off
+};
+
+enum class DistanceEvent : uint8_t { Medium, Surface };
+
+// The strategy that drove the decisions of one query (only for statistics: the pdf is the mixture).
+enum class DistanceStrategy : uint8_t { TransmittanceR, TransmittanceG, TransmittanceB, Guided };
+
+struct DistanceSample {
+    DistanceEvent event = DistanceEvent::Surface;
+    float t = 0.f;    // medium: the scattering distance; surface: t1 of the last bin (0 without bins)
+    float pdf = 1.f;  // medium: mixture density p(t) [1/length] (7.5); surface: P_surf (probability)
+    int steps = 0;    // bins pulled from the source (zero-length bins included)
+    DistanceStrategy strategy = DistanceStrategy::Guided;
+    int nan_fallbacks = 0;  // bins whose guided probability was NaN and fell back to P^T (§7.6)
+};
+
+// ---------------------------------------------------------------------------------------------
+// Incremental sampler: the per-query state that walks the bins (Variant A). Exposed so that the
+// template below and the pdf evaluation share the exact same arithmetic; most callers use
+// sample_incremental_distance().
+class IncrementalDistanceWalk {
+public:
+    // The probabilities of one bin given the bins before it.
+    struct Bin {
+        float length = 0.f;
+        float sigma_bar = 0.f;   // channel-average proxy extinction (drives G's in-bin density)
+        Color3 P_T{0.f};         // per-channel transmittance probabilities 1 - exp(-sigma_t,c * length)
+        Color3 T{1.f};           // per-channel bin transmittance exp(-sigma_t,c * length)
+        float P_T_bar = 0.f;     // the same two for sigma_bar
+        float T_bar = 1.f;
+        float P_G = 0.f;         // guided conditional probability after filter, clamps and fallbacks
+        float L_I = 0.f;         // filtered incident radiance used as P^G's denominator
+        bool nan_fallback = false;
+    };
+
+    explicit IncrementalDistanceWalk(const GuidedDistanceSettings& settings,
+                                     DistanceStrategy strategy = DistanceStrategy::Guided);
+
+    // Probabilities of `bin`, which must follow the bins already passed to advance().
+    Bin evaluate(const DistanceBin& bin) const;
+    // The probability the chosen strategy uses to decide "scatter in this bin".
+    float decision_probability(const Bin& p) const;
+    // Distance in [bin.t0, bin.t1) drawn from the chosen strategy's in-bin density.
+    float sample_in_bin(const DistanceBin& bin, const Bin& p, float u) const;
+    // Mixture density (7.5) at t inside `bin` (the walk has passed the bins before it).
+    float pdf_in_bin(const DistanceBin& bin, const Bin& p, float t) const;
+    // Passes over `bin` without scattering: updates R^T, R^G and the filter state.
+    void advance(const DistanceBin& bin, const Bin& p);
+    // Mixture probability of passing every bin advanced so far.
+    float surface_probability() const;
+
+    DistanceStrategy strategy() const { return strategy_; }
+
+private:
+    GuidedDistanceSettings settings_;
+    DistanceStrategy strategy_;
+    Color3 R_T_{1.f};  // prod (1 - P^T_c) = T~_c(0, d_k)
+    float R_G_ = 1.f;  // prod (1 - P^G)
+    // Previous bin, for the filter (7.4).
+    bool has_prev_ = false;
+    bool prev_valid_ = false;
+    float prev_L_I_ = 0.f, prev_T_bar_ = 0.f, prev_albedo_ = 0.f, prev_Li_ = 0.f;
+};
+
+// Maps one uniform number to a strategy with probabilities {c_T/3, c_T/3, c_T/3, 1 - c_T}.
+DistanceStrategy choose_distance_strategy(const GuidedDistanceSettings& settings, float u);
+
+// Samples a distance, pulling bins from `next_bin` (a callable bool(DistanceBin&) that fills the next
+// bin and returns false after the last one) and random numbers from `rng.next_1d()` (e.g. Sampler).
+// Stops pulling as soon as a scatter is accepted. Random numbers: 1 for the strategy, 1 per
+// non-empty bin stepped, 1 for the position in the accepted bin.
+template <class NextBin, class Rng>
+DistanceSample sample_incremental_distance(NextBin&& next_bin, Rng& rng, const GuidedDistanceSettings& settings) {
+    DistanceSample out;
+    IncrementalDistanceWalk walk(settings, choose_distance_strategy(settings, rng.next_1d()));
+    out.strategy = walk.strategy();
+    DistanceBin bin;
+    while (next_bin(bin)) {
+        ++out.steps;
+        out.t = bin.t1;
+        if (!(bin.t1 > bin.t0)) continue;  // zero-length: nothing can happen there
+        const IncrementalDistanceWalk::Bin p = walk.evaluate(bin);
+        out.nan_fallbacks += p.nan_fallback ? 1 : 0;
+        if (rng.next_1d() < walk.decision_probability(p)) {
+            out.event = DistanceEvent::Medium;
+            out.t = walk.sample_in_bin(bin, p, rng.next_1d());
+            out.pdf = walk.pdf_in_bin(bin, p, out.t);
+            return out;
+        }
+        walk.advance(bin, p);
+    }
+    out.event = DistanceEvent::Surface;
+    out.pdf = walk.surface_probability();
+    return out;
+}
+
+// The incremental sampler's density at t (0 outside the bins) and its surface probability, for
+// given bins: deterministic (the filter only reads cache data), for tests and comparisons.
+float incremental_distance_pdf(std::span<const DistanceBin> bins, float t, const GuidedDistanceSettings& settings);
+float incremental_surface_probability(std::span<const DistanceBin> bins, const GuidedDistanceSettings& settings);
+
+// ---------------------------------------------------------------------------------------------
+// Tabulated sampler (§7.2): guided bin masses W_k = T~(0,d_k) alpha_k (1 - T~_k) L~_i,k and a surface
+// mass W_s = T~(0,s) L~_o, normalised over the whole ray, mixed with the same transmittance
+// strategies as above. L~_o is `surface_radiance` when given, else extrapolated from the last bin by
+// the VRE bookkeeping of (7.4): max(0, (L~ - alpha (1 - T~) L~_i) / T~). No filter and no clamp: with
+// consistent estimates and the filter off it has the incremental sampler's pdf (§14.8).
+// Degenerate cases: an invalid bin gets L~_i := the largest L~_i of the valid bins (the guided part
+// must not starve an unknown bin); a non-finite mass counts as a NaN fallback and becomes 0; if every
+// guided mass is 0 the guided part goes to the surface (as the incremental walk does).
+class TabulatedDistance {
+public:
+    // Keeps a view of `bins`: they must outlive the object.
+    TabulatedDistance(std::span<const DistanceBin> bins, std::optional<float> surface_radiance,
+                      const GuidedDistanceSettings& settings);
+
+    // u: strategy, u2: bin / optical depth, u3: position in the bin.
+    DistanceSample sample(float u, float u2, float u3) const;
+    template <class Rng>
+    DistanceSample sample(Rng& rng) const {
+        const float u = rng.next_1d(), u2 = rng.next_1d();
+        return sample(u, u2, rng.next_1d());
+    }
+    float pdf(float t) const;
+    float surface_probability() const { return P_surf_; }
+    int nan_fallbacks() const { return nan_fallbacks_; }
+
+private:
+    int find_bin(float t) const;
+    std::span<const DistanceBin> bins_;
+    GuidedDistanceSettings settings_;
+    std::vector<double> guided_cdf_;  // cdf of the guided masses, bins then the surface (size n + 1)
+    std::vector<Color3> tau_;         // per-channel proxy optical depth at each bin start (size n + 1)
+    std::vector<float> sigma_bar_;
+    double guided_surface_ = 1.0;     // guided surface probability W_s / Z
+    float P_surf_ = 1.f;
+    int nan_fallbacks_ = 0;
+};
+
+// Truncated exponential on [0, length) with rate sigma (2.1); uniform when sigma * length <= 1e-6.
+float sample_truncated_exponential(float sigma, float length, float u);
+float truncated_exponential_pdf(float sigma, float length, float x);
+
+}  // namespace volguide
