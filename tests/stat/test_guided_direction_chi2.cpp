@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <ostream>
 #include <vector>
 
 #include "support/chi2.h"
@@ -29,6 +30,8 @@ std::string name(const Case& c) {
                        c.multi_lobe ? 4 : 1, c.g, c.alpha);
 }
 
+void PrintTo(const Case& c, std::ostream* os) { *os << name(c); }
+
 // Incident with alpha_f = 0 does not depend on g: one g per leaf.
 std::vector<Case> cases() {
     std::vector<Case> out;
@@ -45,10 +48,10 @@ const int kTestCount = int(cases().size()) + 1;  // + the invalid-leaf fallback
 
 // check_weights: every sample's weight must equal the exact HG over `pdf`.
 ChiSquareResult run(const GuidedDirectionSampler& sampler, const ChiSquarePdfFn& pdf, uint64_t seed,
-                    bool check_weights = true, uint64_t samples = 400000) {
+                    bool check_weights = true, uint64_t samples = 1000000) {
     ChiSquareOptions opt;
     opt.sample_count = samples;
-    opt.weight_check_count = 50000;
+    opt.weight_check_count = 100000;
     opt.test_count = kTestCount;
     opt.seed = seed;
     return chi2_test_sphere(

@@ -114,8 +114,10 @@ TEST(GuidedDirection, ProductGuideApproximatesTheTrueTarget) {
     //   integral |q - p| <= 2 integral(V_L |V_f - f_p|) / Z',
     // a bound computed here from the fit's actual error, so the test neither hides a wrong
     // orientation (q would sit on another lobe: L1 near 2) nor demands more than the fit allows.
-    // The absolute caps (from theory.md §4.2's rmsLog, 0.0025 at g = 0.5 and 0.099 at g = 0.9)
-    // keep the bound itself honest.
+    // The absolute caps keep the bound itself honest; they follow the fit's quality (theory.md
+    // §4.2: rmsLog 0.0025 at g = 0.5, 0.099 at g = 0.9, whose tails are fitted worst) with a margin
+    // of ~1.5-4 over the measured L1 (0.0026 / 0.0023 at g = 0.5, 0.137 / 0.117 at g = 0.9,
+    // 0.0045 / 0.0069 at g = -0.6 for the one- / four-lobe leaf; the bound is twice these).
     struct Case {
         float g;
         double cap;
@@ -123,7 +125,7 @@ TEST(GuidedDirection, ProductGuideApproximatesTheTrueTarget) {
     const GuidingLeaf leaves[] = {one_lobe_leaf(), multi_lobe_leaf()};
     const Vec3f wi = test_wi();
     for (const GuidingLeaf& leaf : leaves)
-        for (Case c : {Case{0.5f, 0.03}, Case{0.9f, 0.15}, Case{-0.6f, 0.05}}) {
+        for (Case c : {Case{0.5f, 0.01}, Case{0.9f, 0.2}, Case{-0.6f, 0.02}}) {
             const HGPhase phase(c.g);
             const auto fp = hg_phase_vmm(c.g).oriented(-wi);
             const GuidedDirectionSampler sampler(DirectionGuiding::Product, &leaf, phase, wi, 0.5f);
@@ -139,7 +141,7 @@ TEST(GuidedDirection, ProductGuideApproximatesTheTrueTarget) {
             EXPECT_LE(l1, bound + 1e-3) << "g " << c.g << " leaf lobes " << leaf.vmm.size();
             EXPECT_LE(l1, c.cap) << "g " << c.g << " leaf lobes " << leaf.vmm.size();
             // Phi Z estimates L_i (theory.md §5.6): the exact in-scattered integral of this V_L.
-            EXPECT_NEAR(sampler.product_integral(), li, 0.5 * c.cap * li) << "g " << c.g;
+            EXPECT_NEAR(sampler.product_integral(), li, 0.1 * li) << "g " << c.g;  // measured <= 1 %
         }
 }
 
@@ -251,6 +253,8 @@ TEST(GuidedDirection, DirectionConventionForwardHgTowardsTheLight) {
         EXPECT_GT(m.sampled.x, 0.8) << "alpha " << alpha;
         EXPECT_GT(m.target.x, 0.8);
     }
+    // mean cos > 0.8 alone is weak here (the leaf's lobe dominates: a phase VMM on the wrong axis
+    // still gives 0.886); the mean direction of f_p V_L (0.981) is not.
     const Means m = means(light_ahead, phase, wi, 0.f);
     EXPECT_LT(norm(m.sampled - m.target), 0.02);
 }
