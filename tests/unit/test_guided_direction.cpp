@@ -96,7 +96,8 @@ TEST(GuidedDirection, ProductGuideIsNormalisedLeafTimesOrientedPhaseVmm) {
         const PhaseVmm fp_vmm = hg_phase_vmm(g);
         const auto fp = fp_vmm.oriented(-wi);
         const GuidedDirectionSampler sampler(DirectionGuiding::Product, &leaf, phase, wi, 0.5f);
-        ASSERT_EQ(sampler.product().size(), leaf.vmm.size() * fp_vmm.count);
+        ASSERT_NE(sampler.product(), nullptr);
+        ASSERT_EQ(sampler.product()->size(), leaf.vmm.size() * fp_vmm.count);
         const double z = integrate([&](const Vec3f& w) { return double(leaf.vmm.pdf(w)) * fp.pdf(w); }, wi, g);
         EXPECT_NEAR(sampler.product_integral(), z, 1e-4 * z) << "g " << g;
         Sampler rng(3, 0, 0);
@@ -153,6 +154,7 @@ TEST(GuidedDirection, IsotropicProductIsTheIncidentVmm) {
     for (const PhaseFunction* phase : {static_cast<const PhaseFunction*>(&iso), static_cast<const PhaseFunction*>(&hg0)}) {
         const GuidedDirectionSampler sampler(DirectionGuiding::Product, &leaf, *phase, wi, 0.5f);
         ASSERT_TRUE(sampler.guided());
+        EXPECT_EQ(sampler.product(), nullptr);  // V_L used directly
         EXPECT_NEAR(sampler.product_integral(), InvFourPi, 1e-7);
         Sampler rng(4, 0, 0);
         for (int i = 0; i < 200; ++i) {

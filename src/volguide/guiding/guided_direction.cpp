@@ -34,9 +34,9 @@ GuidedDirectionSampler::GuidedDirectionSampler(DirectionGuiding mode, const Guid
             product_integral_ = leaf->vmm.weight_sum() * double(InvFourPi);
         } else {
             // The phase VMM's lobes sit on +-(travel direction) = +-(-wi) (phase_vmm.h).
-            product_ = volguide::product(leaf->vmm, fp.oriented(-wi), &product_integral_);
-            if (!(product_integral_ > 0.0) || !std::isfinite(product_integral_) || product_.count == 0) {
-                product_.count = 0;
+            product_integral_ = product_into(leaf->vmm, fp.oriented(-wi), product_.emplace());
+            if (!(product_integral_ > 0.0) || !std::isfinite(product_integral_) || product_->count == 0) {
+                product_.reset();
                 product_integral_ = 0.0;
                 return;  // nothing to guide with: phase only
             }
@@ -49,7 +49,7 @@ GuidedDirectionSampler::GuidedDirectionSampler(DirectionGuiding mode, const Guid
 float GuidedDirectionSampler::guide_pdf(const Vec3f& wo) const {
     switch (guide_) {
         case Guide::Leaf: return leaf_vmm_->pdf(wo);
-        case Guide::Product: return product_.pdf(wo);
+        case Guide::Product: return product_->pdf(wo);
         case Guide::None: break;
     }
     return 0.f;
@@ -74,7 +74,7 @@ GuidedDirectionSampler::Sample GuidedDirectionSampler::sample(Point2f u, float u
     if (u_strategy < alpha_) {
         s.wo = phase_->sample(wi_, u).wo;
     } else {
-        s.wo = guide_ == Guide::Leaf ? leaf_vmm_->sample(u) : product_.sample(u);
+        s.wo = guide_ == Guide::Leaf ? leaf_vmm_->sample(u) : product_->sample(u);
         s.guided = true;
     }
     s.phase = eval_phase(s.wo);

@@ -17,6 +17,8 @@
 //
 // Cost: the product is built once at construction into fixed storage (no heap allocation);
 // sample() and pdf() evaluate the phase function and the guide's lobes once each.
+#include <optional>
+
 #include "volguide/guiding/guiding_field.h"
 #include "volguide/media/phase.h"
 #include "volguide/vmm/phase_vmm.h"
@@ -65,8 +67,8 @@ public:
     // Product mode: Z = integral of V_L V_f over the sphere, so Phi Z is the leaf's in-scattered
     // radiance estimate for this vertex (theory.md §5.6); 0 otherwise.
     double product_integral() const { return product_integral_; }
-    // The guide VMM in Product mode (empty otherwise, or when V_L is used directly for g = 0).
-    const ProductVmm& product() const { return product_; }
+    // The product guide VMM; null unless guiding by a product (g = 0 guides by V_L itself).
+    const ProductVmm* product() const { return guide_ == Guide::Product ? &*product_ : nullptr; }
 
 private:
     enum class Guide { None, Leaf, Product };
@@ -78,7 +80,7 @@ private:
     Guide guide_ = Guide::None;
     const Vmm* leaf_vmm_ = nullptr;  // Guide::Leaf
     double product_integral_ = 0.0;
-    ProductVmm product_;  // Guide::Product
+    std::optional<ProductVmm> product_;  // Guide::Product (3 KB, only built when used)
 };
 
 }  // namespace volguide
