@@ -30,7 +30,9 @@ std::string name(const Case& c) {
                        c.multi_lobe ? 4 : 1, c.g, c.alpha);
 }
 
-void PrintTo(const Case& c, std::ostream* os) { *os << name(c); }
+void PrintTo(const Case& c, std::ostream* os) {
+    *os << name(c);
+}
 
 // Incident with alpha_f = 0 does not depend on g: one g per leaf.
 std::vector<Case> cases() {
@@ -75,19 +77,19 @@ TEST_P(GuidedDirectionChi2, MixtureMatchesItsPdf) {
     const HGPhase phase(c.g);
     const GuidedDirectionSampler sampler(c.mode, &leaf, phase, test_wi(), c.alpha);
     ASSERT_TRUE(sampler.guided());
-    const auto r = run(sampler, [&](const Vec3f& d) { return double(sampler.pdf(d)); }, 100 + uint64_t(c.g * 10));
+    const auto r = run(
+        sampler, [&](const Vec3f& d) { return double(sampler.pdf(d)); }, 100 + uint64_t(c.g * 10));
     EXPECT_TRUE(r.passed) << r.report;
     EXPECT_NEAR(r.pdf_integral, 1.0, 1e-3);
     EXPECT_EQ(r.weight_mismatches, 0u);
 }
 
-INSTANTIATE_TEST_SUITE_P(Guides, GuidedDirectionChi2, ::testing::ValuesIn(cases()),
-                         [](const auto& info) {
-                             std::string n = name(info.param);
-                             for (char& ch : n)
-                                 if (ch == '.' || ch == '-') ch = ch == '.' ? 'p' : 'm';
-                             return n;
-                         });
+INSTANTIATE_TEST_SUITE_P(Guides, GuidedDirectionChi2, ::testing::ValuesIn(cases()), [](const auto& info) {
+    std::string n = name(info.param);
+    for (char& ch : n)
+        if (ch == '.' || ch == '-') ch = ch == '.' ? 'p' : 'm';
+    return n;
+});
 
 TEST(GuidedDirectionChi2Fallback, InvalidLeafSamplesThePhaseFunction) {
     GuidingLeaf leaf = multi_lobe_leaf();
@@ -96,7 +98,8 @@ TEST(GuidedDirectionChi2Fallback, InvalidLeafSamplesThePhaseFunction) {
     const Vec3f wi = test_wi();
     const GuidedDirectionSampler sampler(DirectionGuiding::Product, &leaf, phase, wi, 0.5f);
     ASSERT_FALSE(sampler.guided());
-    const auto r = run(sampler, [&](const Vec3f& d) { return double(phase.pdf(wi, d)); }, 7);
+    const auto r = run(
+        sampler, [&](const Vec3f& d) { return double(phase.pdf(wi, d)); }, 7);
     EXPECT_TRUE(r.passed) << r.report;
 }
 
@@ -108,6 +111,7 @@ TEST(GuidedDirectionChi2Control, WrongMixtureWeightIsRejected) {
     const Vec3f wi = test_wi();
     const GuidedDirectionSampler sampler(DirectionGuiding::Product, &leaf, phase, wi, 0.5f);
     const GuidedDirectionSampler claimed(DirectionGuiding::Product, &leaf, phase, wi, 0.35f);
-    const auto r = run(sampler, [&](const Vec3f& d) { return double(claimed.pdf(d)); }, 9, false, 200000);
+    const auto r = run(
+        sampler, [&](const Vec3f& d) { return double(claimed.pdf(d)); }, 9, false, 200000);
     EXPECT_FALSE(r.passed) << r.report;
 }

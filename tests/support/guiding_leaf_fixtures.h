@@ -18,7 +18,9 @@ inline GuidingLeaf make_leaf(std::initializer_list<std::pair<float, VmfLobe>> lo
     return leaf;
 }
 
-inline GuidingLeaf one_lobe_leaf() { return make_leaf({{1.f, VmfLobe(normalize(Vec3f(0.3f, 0.5f, 0.8f)), 8.f)}}); }
+inline GuidingLeaf one_lobe_leaf() {
+    return make_leaf({{1.f, VmfLobe(normalize(Vec3f(0.3f, 0.5f, 0.8f)), 8.f)}});
+}
 
 inline GuidingLeaf multi_lobe_leaf() {
     return make_leaf({{0.4f, VmfLobe(normalize(Vec3f(0.2f, -0.9f, 0.1f)), 15.f)},
@@ -28,6 +30,8 @@ inline GuidingLeaf multi_lobe_leaf() {
 }
 
 // wi of the tests' vertex (towards the previous vertex); the ray travels along -wi.
-inline Vec3f test_wi() { return normalize(Vec3f(-0.4f, 0.3f, -0.85f)); }
+inline Vec3f test_wi() {
+    return normalize(Vec3f(-0.4f, 0.3f, -0.85f));
+}
 
 }  // namespace volguide::test

@@ -26,7 +26,9 @@ double integrate(F&& f, const Vec3f& wi, float g) {
     return integrate_sphere(f, g >= 0.f ? -wi : wi, 0.05, 256, 32);
 }
 
-Vec3f random_direction(Sampler& s) { return warp::square_to_uniform_sphere(s.next_2d()); }
+Vec3f random_direction(Sampler& s) {
+    return warp::square_to_uniform_sphere(s.next_2d());
+}
 
 const float kGs[] = {0.f, 0.5f, 0.9f, -0.6f};
 
@@ -41,7 +43,8 @@ TEST(GuidedDirection, MixturePdfIntegratesToOne) {
                 const HGPhase phase(g);
                 const GuidedDirectionSampler sampler(mode, &leaf, phase, wi, alpha);
                 ASSERT_TRUE(sampler.guided());
-                const double integral = integrate([&](const Vec3f& w) { return double(sampler.pdf(w)); }, wi, g);
+                const double integral =
+                    integrate([&](const Vec3f& w) { return double(sampler.pdf(w)); }, wi, g);
                 EXPECT_NEAR(integral, 1.0, 1e-3) << "mode " << int(mode) << " g " << g << " alpha " << alpha;
             }
 }
@@ -60,7 +63,8 @@ TEST(GuidedDirection, QuadratureResolvesTheTestLobes) {
 TEST(GuidedDirection, SampleWeightIsExactPhaseOverMixturePdf) {
     const GuidingLeaf leaf = multi_lobe_leaf();
     const Vec3f wi = test_wi();
-    for (DirectionGuiding mode : {DirectionGuiding::Phase, DirectionGuiding::Incident, DirectionGuiding::Product})
+    for (DirectionGuiding mode :
+         {DirectionGuiding::Phase, DirectionGuiding::Incident, DirectionGuiding::Product})
         for (float g : kGs) {
             const HGPhase phase(g);
             const float alpha = 0.3f;
@@ -98,7 +102,8 @@ TEST(GuidedDirection, ProductGuideIsNormalisedLeafTimesOrientedPhaseVmm) {
         const GuidedDirectionSampler sampler(DirectionGuiding::Product, &leaf, phase, wi, 0.5f);
         ASSERT_NE(sampler.product(), nullptr);
         ASSERT_EQ(sampler.product()->size(), leaf.vmm.size() * fp_vmm.count);
-        const double z = integrate([&](const Vec3f& w) { return double(leaf.vmm.pdf(w)) * fp.pdf(w); }, wi, g);
+        const double z =
+            integrate([&](const Vec3f& w) { return double(leaf.vmm.pdf(w)) * fp.pdf(w); }, wi, g);
         EXPECT_NEAR(sampler.product_integral(), z, 1e-4 * z) << "g " << g;
         Sampler rng(3, 0, 0);
         for (int i = 0; i < 1000; ++i) {
@@ -133,11 +138,15 @@ TEST(GuidedDirection, ProductGuideApproximatesTheTrueTarget) {
             const auto target = [&](const Vec3f& w) { return double(phase.eval(wi, w)) * leaf.vmm.pdf(w); };
             const double li = integrate(target, wi, c.g);
             const double l1 = integrate(
-                [&](const Vec3f& w) { return std::abs(double(sampler.guide_pdf(w)) - target(w) / li); }, wi, c.g);
+                [&](const Vec3f& w) { return std::abs(double(sampler.guide_pdf(w)) - target(w) / li); }, wi,
+                c.g);
             const double bound =
                 2.0 *
-                integrate([&](const Vec3f& w) { return leaf.vmm.pdf(w) * std::abs(fp.pdf(w) - double(phase.eval(wi, w))); },
-                          wi, c.g) /
+                integrate(
+                    [&](const Vec3f& w) {
+                        return leaf.vmm.pdf(w) * std::abs(fp.pdf(w) - double(phase.eval(wi, w)));
+                    },
+                    wi, c.g) /
                 sampler.product_integral();
             EXPECT_LE(l1, bound + 1e-3) << "g " << c.g << " leaf lobes " << leaf.vmm.size();
             EXPECT_LE(l1, c.cap) << "g " << c.g << " leaf lobes " << leaf.vmm.size();
@@ -151,7 +160,8 @@ TEST(GuidedDirection, IsotropicProductIsTheIncidentVmm) {
     const Vec3f wi = test_wi();
     const IsotropicPhase iso;
     const HGPhase hg0(0.f);
-    for (const PhaseFunction* phase : {static_cast<const PhaseFunction*>(&iso), static_cast<const PhaseFunction*>(&hg0)}) {
+    for (const PhaseFunction* phase :
+         {static_cast<const PhaseFunction*>(&iso), static_cast<const PhaseFunction*>(&hg0)}) {
         const GuidedDirectionSampler sampler(DirectionGuiding::Product, &leaf, *phase, wi, 0.5f);
         ASSERT_TRUE(sampler.guided());
         EXPECT_EQ(sampler.product(), nullptr);  // V_L used directly
@@ -171,8 +181,10 @@ TEST(GuidedDirection, FallbacksArePhaseSamplingExactly) {
     invalid.valid = false;
     GuidingLeaf empty;
     empty.valid = true;
-    GuidingLeaf zero_weights = one_lobe_leaf();  // "valid" but Z = 0: the product is empty
+    GuidingLeaf zero_weights = one_lobe_leaf();  // "valid" but without mass
     zero_weights.vmm.weight[0] = 0.f;
+    GuidingLeaf nan_norm = one_lobe_leaf();  // corrupt cached c~: the product's integral Z is NaN
+    nan_norm.vmm.norm[0] = std::nanf("");
     const GuidingLeaf good = multi_lobe_leaf();
     struct Case {
         const char* name;
@@ -184,7 +196,9 @@ TEST(GuidedDirection, FallbacksArePhaseSamplingExactly) {
                           {"invalid leaf", DirectionGuiding::Product, &invalid, 0.5f},
                           {"invalid leaf (incident)", DirectionGuiding::Incident, &invalid, 0.f},
                           {"empty vmm", DirectionGuiding::Incident, &empty, 0.5f},
-                          {"zero product", DirectionGuiding::Product, &zero_weights, 0.f},
+                          {"zero weights", DirectionGuiding::Product, &zero_weights, 0.f},
+                          {"zero weights (incident)", DirectionGuiding::Incident, &zero_weights, 0.f},
+                          {"NaN product integral", DirectionGuiding::Product, &nan_norm, 0.f},
                           {"phase mode", DirectionGuiding::Phase, &good, 0.f},
                           {"alpha 1", DirectionGuiding::Product, &good, 1.f},
                           {"alpha above 1", DirectionGuiding::Incident, &good, 3.f},

@@ -7,10 +7,15 @@ namespace volguide {
 
 namespace {
 
-bool usable(const GuidingLeaf* leaf) { return leaf && leaf->valid && leaf->vmm.count > 0; }
+// A leaf whose VMM has mass (a normalised VMM's weights sum to 1).
+bool usable(const GuidingLeaf* leaf) {
+    return leaf && leaf->valid && leaf->vmm.weight_sum() > 0.0;
+}
 
 // One lobe of concentration ~0: the phase VMM of an isotropic phase function.
-bool is_uniform(const PhaseVmm& phase) { return phase.count == 1 && phase.kappa[0] < kVmfUniformKappa; }
+bool is_uniform(const PhaseVmm& phase) {
+    return phase.count == 1 && phase.kappa[0] < kVmfUniformKappa;
+}
 
 }  // namespace
 
@@ -48,9 +53,12 @@ GuidedDirectionSampler::GuidedDirectionSampler(DirectionGuiding mode, const Guid
 
 float GuidedDirectionSampler::guide_pdf(const Vec3f& wo) const {
     switch (guide_) {
-        case Guide::Leaf: return leaf_vmm_->pdf(wo);
-        case Guide::Product: return product_->pdf(wo);
-        case Guide::None: break;
+        case Guide::Leaf:
+            return leaf_vmm_->pdf(wo);
+        case Guide::Product:
+            return product_->pdf(wo);
+        case Guide::None:
+            break;
     }
     return 0.f;
 }

@@ -28,7 +28,7 @@ namespace volguide {
 enum class DirectionGuiding { Phase, Incident, Product };
 
 class GuidedDirectionSampler {
-public:
+  public:
     // Radiance VMM x phase VMM: room for the largest leaf mixture times the largest phase fit.
     using ProductVmm = VmfMixture<kVmmMaxLobes * kPhaseVmmMaxLobes>;
     static constexpr float kDefaultPhaseProbability = 0.5f;  // Open PGL's phaseFunctionProbability
@@ -44,10 +44,10 @@ public:
 
     struct Sample {
         Vec3f wo;
-        float pdf = 0.f;     // full mixture pdf p(wo); 0 marks a failed sample (weight 0)
-        float phase = 0.f;   // f_p(wi, wo), exact
-        float weight = 0.f;  // f_p / pdf
-        bool guided = false; // drawn from the guide VMM (false: from the phase function)
+        float pdf = 0.f;      // full mixture pdf p(wo); 0 marks a failed sample (weight 0)
+        float phase = 0.f;    // f_p(wi, wo), exact
+        float weight = 0.f;   // f_p / pdf
+        bool guided = false;  // drawn from the guide VMM (false: from the phase function)
     };
     // Random numbers: u_strategy < alpha_f picks the phase function, otherwise the guide; `u`
     // then drives the chosen sampler (the guide reuses u.x for its lobe choice). Three dimensions.
@@ -70,7 +70,7 @@ public:
     // The product guide VMM; null unless guiding by a product (g = 0 guides by V_L itself).
     const ProductVmm* product() const { return guide_ == Guide::Product ? &*product_ : nullptr; }
 
-private:
+  private:
     enum class Guide { None, Leaf, Product };
 
     DirectionGuiding mode_;
