@@ -10,15 +10,22 @@
 //    §7.2, default settings) on a 20-bin ray whose in-scattered radiance sits in the first / last
 //    three bins, bins handed out from memory (the scene walk's cost is not included); `steps` is
 //    the mean number of bins the incremental sampler pulled (the tabulated one always reads 20).
+//  - GuidedDirection{Construct,Sample,Pdf}: the directional sampler per vertex (8-lobe leaf x HG
+//    g = 0.6, 3 phase lobes, prepared phase VMM; "/unprepared" looks the phase VMM up per vertex).
 //   cmake --build build --target bench_guiding && build/bench_guiding
 #include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <vector>
 
 #include "volguide/core/sampler.h"
 #include "volguide/core/warp.h"
 #include "volguide/guiding/guided_distance.h"
+#include "volguide/guiding/guided_direction.h"
 #include "volguide/guiding/inscatter_cache.h"
 #include "volguide/integrators/guided_volpath.h"
 #include "volguide/integrators/photon_pass.h"
+#include "volguide/media/phase_hg.h"
 #include "volguide/render/scene.h"
 #include "volguide/scene/loader.h"
 
@@ -152,12 +159,61 @@ void BM_Distance(benchmark::State& state) {
     }
     state.counters["steps"] = double(steps) / double(std::max<uint64_t>(i, 1));
     state.SetLabel(state.range(0) == 1 ? "late" : "early");
+// An 8-lobe leaf with concentrations between 1 and 50 in random directions.
+GuidingLeaf bench_leaf() {
+    GuidingLeaf leaf;
+    Sampler s(9, 0, 0);
+    for (int k = 0; k < 8; ++k)
+        leaf.vmm.add_lobe(0.2f + s.next_1d(), VmfLobe(warp::square_to_uniform_sphere(s.next_2d()),
+                                                      std::pow(50.f, s.next_1d())));
+    leaf.vmm.normalize_weights();
+    leaf.valid = true;
+    return leaf;
+}
+
+// Per vertex: Construct = build only; Sample = build + one sample (pdf included); Pdf = one pdf
+// evaluation of a built sampler (MIS with NEE). The phase VMM is prepared once unless Unprepared.
+enum BenchPart { Construct, Sample, Pdf };
+template <DirectionGuiding Mode, BenchPart Part, bool Unprepared = false>
+void BM_GuidedDirection(benchmark::State& state) {
+    const GuidingLeaf leaf = bench_leaf();
+    const HGPhase phase(0.6f);
+    const PhaseVmm phase_vmm = hg_phase_vmm(phase.g());
+    std::vector<Vec3f> dirs;
+    for (int i = 0; i < 4096; ++i) {
+        Sampler s(5, 0, uint64_t(i));
+        dirs.push_back(warp::square_to_uniform_sphere(s.next_2d()));
+    }
+    const GuidedDirectionSampler fixed(Mode, &leaf, phase, dirs[0], 0.5f, &phase_vmm);
+    size_t i = 0;
+    for (auto _ : state) {
+        const Vec3f& d = dirs[i++ & 4095];
+        if constexpr (Part == Pdf) {
+            benchmark::DoNotOptimize(fixed.pdf(d));
+        } else {
+            const GuidedDirectionSampler g(Mode, &leaf, phase, d, 0.5f, Unprepared ? nullptr : &phase_vmm);
+            if constexpr (Part == Sample) {
+                benchmark::DoNotOptimize(g.sample({d.y * 0.5f + 0.5f, d.z * 0.5f + 0.5f}, d.x * 0.5f + 0.5f));
+            } else {
+                benchmark::DoNotOptimize(g);
+            }
+        }
+    }
 }
 
 }  // namespace
 
 BENCHMARK(BM_Distance<false>)->Name("BM_DistanceIncremental")->Arg(0)->Arg(1);
 BENCHMARK(BM_Distance<true>)->Name("BM_DistanceTabulated")->Arg(0)->Arg(1);
+BENCHMARK(BM_GuidedDirection<DirectionGuiding::Product, Construct>)->Name("BM_GuidedDirectionConstruct/product");
+BENCHMARK(BM_GuidedDirection<DirectionGuiding::Product, Construct, true>)
+    ->Name("BM_GuidedDirectionConstruct/product/unprepared");
+BENCHMARK(BM_GuidedDirection<DirectionGuiding::Incident, Construct>)->Name("BM_GuidedDirectionConstruct/incident");
+BENCHMARK(BM_GuidedDirection<DirectionGuiding::Product, Sample>)->Name("BM_GuidedDirectionSample/product");
+BENCHMARK(BM_GuidedDirection<DirectionGuiding::Incident, Sample>)->Name("BM_GuidedDirectionSample/incident");
+BENCHMARK(BM_GuidedDirection<DirectionGuiding::Phase, Sample>)->Name("BM_GuidedDirectionSample/phase");
+BENCHMARK(BM_GuidedDirection<DirectionGuiding::Product, Pdf>)->Name("BM_GuidedDirectionPdf/product");
+BENCHMARK(BM_GuidedDirection<DirectionGuiding::Incident, Pdf>)->Name("BM_GuidedDirectionPdf/incident");
 BENCHMARK(BM_PhotonPass)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_FieldBuild)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Query<0>)->Name("BM_Incident");

@@ -132,17 +132,21 @@ VmfProduct vmf_product(const VmfLobe& a, const VmfLobe& b) {
     VmfProduct p;
     Vec3d m = m1 * k1 + m2 * k2;
     double m_norm = norm(m);
+    double norm12;
     if (k12 < kVmfUniformKappa || !(m_norm > 0.0)) {
         // Uniform product (e.g. equal antipodal lobes): the axis is arbitrary, keep mu1.
         k12 = 0.0;
         p.lobe = VmfLobe(a.mu, 0.f);
+        norm12 = vmf_normalization(0.0);
     } else {
+        norm12 = vmf_normalization(k12);
         p.lobe.mu = Vec3f(m / m_norm);
         p.lobe.kappa = float(k12);
-        p.lobe.norm = float(vmf_normalization(k12));
+        p.lobe.norm = float(norm12);
     }
-    // The inputs' cached c~ (float, 1e-7 relative) saves two expm1 per product; c~(k12) is fresh.
-    p.scale = double(a.norm) * double(b.norm) / vmf_normalization(k12) * std::exp(exponent);
+    // The inputs' cached c~ (float, 1e-7 relative) saves two expm1 per product; c~(k12) is computed
+    // once, in double, for both the lobe and the scale.
+    p.scale = double(a.norm) * double(b.norm) / norm12 * std::exp(exponent);
     return p;
 }
 

@@ -147,12 +147,15 @@ struct ZonalMixture {
     }
 };
 
-// Product of two mixtures: K x J lobes with weights w_k w'_j s_kj, normalised. `integral`
-// receives Z = sum_kj w_k w'_j s_kj = the integral of the product over the sphere. If Z
-// underflows to 0 the result is empty (the caller must fall back to another strategy).
-template <int A, int B>
-VmfMixture<A * B> product(const VmfMixture<A>& a, const VmfMixture<B>& b, double* integral = nullptr) {
-    VmfMixture<A * B> out;
+// Product of two mixtures into `out` (capacity >= the inputs' lobe counts multiplied): K x J lobes
+// with weights w_k w'_j s_kj, normalised. Returns Z = sum_kj w_k w'_j s_kj = the integral of the
+// product over the sphere. If Z underflows to 0 (or is NaN) `out` is left empty (the caller must
+// fall back to another strategy). Writes in place, so a caller's fixed storage is filled without
+// temporaries.
+template <int A, int B, int C>
+double product_into(const VmfMixture<A>& a, const VmfMixture<B>& b, VmfMixture<C>& out) {
+    static_assert(C >= A * B, "product_into: output capacity below A x B");
+    out.count = 0;
     double z = 0.0;
     std::array<double, A * B> raw;  // unnormalised weights (may be far below float range)
     for (int k = 0; k < a.count; ++k) {
@@ -165,12 +168,20 @@ VmfMixture<A * B> product(const VmfMixture<A>& a, const VmfMixture<B>& b, double
             z += w;
         }
     }
-    if (integral) *integral = z;
     if (!(z > 0.0)) {
         out.count = 0;
-        return out;
+        return z;
     }
     for (int i = 0; i < out.count; ++i) out.weight[i] = float(raw[i] / z);
+    return z;
+}
+
+// The same as a value; `integral` receives Z.
+template <int A, int B>
+VmfMixture<A * B> product(const VmfMixture<A>& a, const VmfMixture<B>& b, double* integral = nullptr) {
+    VmfMixture<A * B> out;
+    const double z = product_into(a, b, out);
+    if (integral) *integral = z;
     return out;
 }
 
