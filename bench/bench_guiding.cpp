@@ -159,6 +159,8 @@ void BM_Distance(benchmark::State& state) {
     }
     state.counters["steps"] = double(steps) / double(std::max<uint64_t>(i, 1));
     state.SetLabel(state.range(0) == 1 ? "late" : "early");
+}
+
 // An 8-lobe leaf with concentrations between 1 and 50 in random directions.
 GuidingLeaf bench_leaf() {
     GuidingLeaf leaf;

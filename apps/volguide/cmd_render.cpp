@@ -69,7 +69,8 @@ void check_directory(const std::string& file) {
 
 void write_stats(const std::string& path, const RenderArgs& args, const std::vector<std::string>& outputs,
                  const std::string& variance_output, double load_seconds, const RenderResult& r,
-                 const std::optional<ImageDiff>& final_diff, const std::vector<ConvergencePoint>& convergence) {
+                 const std::optional<ImageDiff>& final_diff, const std::vector<ConvergencePoint>& convergence,
+                 const Integrator& integrator) {
     const RenderStats& s = r.stats;
     nlohmann::json j;
     j["scene"] = args.scene;
@@ -109,6 +110,9 @@ void write_stats(const std::string& path, const RenderArgs& args, const std::vec
         }
         j["convergence"] = curve;
     }
+    nlohmann::json counters = nlohmann::json::object();
+    for (const auto& [name, value] : integrator.statistics()) counters[name] = value;
+    j["integrator"] = counters;
     std::ofstream f(path);
     f << j.dump(2) << "\n";
     if (!f) throw FileError(path, "cannot write the statistics file");
@@ -172,7 +176,7 @@ int run_render(const RenderArgs& args) {
         write_exr(var_output, result.variance);
     }
     if (!args.stats.empty()) write_stats(args.stats, args, outputs, var_output, load_seconds, result, final_diff,
-                                          convergence);
+                                          convergence, scene->integrator());
 
     const RenderStats& s = result.stats;
     if (s.cancelled) fmt::print("interrupted: wrote the {} completed samples per pixel\n", result.spp);

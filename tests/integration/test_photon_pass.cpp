@@ -186,7 +186,7 @@ TEST(GuidedVolPath, TrainsSavesLoadsAndRendersWhatVolpathRenders) {
 TEST(GuidedVolPath, UnimplementedDecisionsAreErrorsWhenRequested) {
     TempDir dir("guided-volpath-errors");
     const std::string xml = point_light_scene(
-        Point3f(0.f), 0.5f, 0.5f, R"(<integrator type="guided_volpath"><string name="distance" value="incremental"/></integrator>)");
+        Point3f(0.f), 0.5f, 0.5f, R"(<integrator type="guided_volpath"><string name="rrs" value="grrs"/></integrator>)");
     CliResult r = run_cli({"render", dir.write("s.xml", xml), "-o", dir.file("o.exr"), "--spp", "1", "--quiet"});
     EXPECT_EQ(r.exit_code, 1);
     EXPECT_NE(r.err.find("not implemented"), std::string::npos) << r.err;

@@ -72,10 +72,33 @@ GuidedVolPathSettings GuidedVolPathSettings::from(const Properties& props) {
     if (lobes < 1 || lobes > kVmmMaxLobes)
         props.fail_at("lobes", "guided_volpath: lobes must be in [1, {}], got {}", kVmmMaxLobes, lobes);
     s.field.lobes = int(lobes);
-    // Not implemented yet: the guided decisions (issues 7 and 8). Their paper defaults fall back.
-    s.distance = read_choice(props, "distance", "incremental", {"standard", "incremental", "tabulated"}, {"standard"},
-                             "standard");
-    s.direction = read_choice(props, "direction", "product", {"phase", "incident", "product"}, {"phase"}, "phase");
+    // The guided decisions: distance and direction (issue 7); rrs and the pixel estimate (issue 8)
+    // are not implemented yet, their paper default falls back.
+    s.distance = read_choice(props, "distance", "incremental", {"standard", "incremental", "tabulated"},
+                             {"standard", "incremental", "tabulated"}, "standard");
+    auto unit_interval = [&](const char* name, float def, bool open_top) {
+        const float v = props.get_float(name, def);
+        if (!(v >= 0.f && (open_top ? v < 1.f : v <= 1.f)))
+            props.fail_at(name, "guided_volpath: {} must be in [0, 1{}, got {}", name, open_top ? ")" : "]", v);
+        return v;
+    };
+    s.guide.distance_settings.c_T = unit_interval("c_T", s.guide.distance_settings.c_T, false);
+    s.guide.distance_settings.p_max = props.get_float("p_max", s.guide.distance_settings.p_max);
+    if (!(s.guide.distance_settings.p_max > 0.f && s.guide.distance_settings.p_max <= 1.f))
+        props.fail_at("p_max", "guided_volpath: p_max must be in (0, 1], got {}", s.guide.distance_settings.p_max);
+    s.guide.distance_settings.filter_A = unit_interval("filter_A", s.guide.distance_settings.filter_A, false);
+    s.guide.phase_prob = unit_interval("phase_prob", s.guide.phase_prob, false);
+    if (s.distance != "standard" && s.walk.equiangular)
+        props.fail_at("equiangular", "guided_volpath: equiangular sampling cannot be combined with distance={}",
+                      s.distance);
+    s.guide.distance = s.distance == "incremental" ? DistanceGuiding::Incremental
+                       : s.distance == "tabulated" ? DistanceGuiding::Tabulated
+                                                   : DistanceGuiding::Standard;
+    s.direction = read_choice(props, "direction", "product", {"phase", "incident", "product"},
+                              {"phase", "incident", "product"}, "phase");
+    s.guide.direction = s.direction == "product"    ? DirectionGuiding::Product
+                        : s.direction == "incident" ? DirectionGuiding::Incident
+                                                    : DirectionGuiding::Phase;
     s.rrs = read_choice(props, "rrs", "grrs", {"standard", "grr", "grrs"}, {"standard"}, "standard");
     // The pixel estimate only serves guided RR and splitting (rrs=grrs), which does not exist yet.
     if (props.has("pixel_estimate"))
@@ -138,6 +161,9 @@ void GuidedVolPathIntegrator::preprocess(const Scene& scene, const PreprocessCon
     }
     estimator_.reset();
     if (settings_.estimate != "none") estimator_ = std::make_unique<CacheEstimator>(scene, field_);
+    guide_.reset();
+    if (settings_.guide.distance != DistanceGuiding::Standard || settings_.guide.direction != DirectionGuiding::Phase)
+        guide_ = std::make_unique<WalkGuide>(scene, field_, settings_.guide);
     if (!settings_.save_field.empty()) {
         try {
             save_field(settings_.save_field, field_);
@@ -148,9 +174,13 @@ void GuidedVolPathIntegrator::preprocess(const Scene& scene, const PreprocessCon
 }
 
 Color3 GuidedVolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const Ray& ray) const {
-    if (!estimator_) return walk_.Li(scene, sampler, ray);
+    if (!estimator_) return walk_.Li(scene, sampler, ray, nullptr, guide_.get());
     const CacheQuantity q = settings_.estimate == "incident" ? CacheQuantity::Incident : CacheQuantity::Inscattered;
     return estimator_->estimate(ray, scene.sensor().medium(), q, sampler);
+}
+
+std::vector<std::pair<std::string, double>> GuidedVolPathIntegrator::statistics() const {
+    return guide_ ? guide_->stats().named() : std::vector<std::pair<std::string, double>>{};
 }
 
 std::string GuidedVolPathIntegrator::to_string() const {

@@ -16,6 +16,7 @@
 #include "volguide/core/properties.h"
 #include "volguide/guiding/guiding_field.h"
 #include "volguide/integrators/volpath.h"
+#include "volguide/integrators/walk_guide.h"
 
 namespace volguide {
 
@@ -27,6 +28,7 @@ struct GuidedVolPathSettings {
     float training_fraction = 0.25f;
     GuidingFieldSettings field;  // leaf_samples -> field.tree.max_samples, lobes -> field.lobes
     std::string distance = "standard", direction = "phase", rrs = "standard";
+    WalkGuideSettings guide;  // the guided decisions' parameters (c_T, p_max, filter_A, phase_prob)
     std::string save_field, load_field;  // resolved paths, empty = none
     // `estimate`: none (render), or the field's own prediction of what the camera sees through the
     // media (cache_estimate.h): inscattered (compare with volpath volume_only) or incident.
@@ -40,6 +42,7 @@ public:
     explicit GuidedVolPathIntegrator(const Properties& props);
     Color3 Li(const Scene& scene, Sampler& sampler, const Ray& ray) const override;
     void preprocess(const Scene& scene, const PreprocessContext& context) override;
+    std::vector<std::pair<std::string, double>> statistics() const override;
     std::string to_string() const override;
 
     const GuidedVolPathSettings& settings() const { return settings_; }
@@ -51,6 +54,7 @@ private:
     VolPathIntegrator walk_;
     GuidingField field_;
     std::unique_ptr<CacheEstimator> estimator_;  // estimate != none
+    std::unique_ptr<WalkGuide> guide_;           // a guided distance or direction decision
 };
 
 // The bounds the guiding field covers: the scene's shapes (media are bounded by shapes or grids).

@@ -4,6 +4,8 @@
 #include <atomic>
 #include <cstdint>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "volguide/core/color.h"
 #include "volguide/core/object.h"
@@ -33,6 +35,8 @@ public:
     virtual bool writes_variance() const { return false; }
     // Work before rendering (training, pre-passes), counted in the time budget. Default: none.
     virtual void preprocess(const Scene& scene, const PreprocessContext& context) {}
+    // Named counters of the last render (e.g. guided decisions), for --stats. Default: none.
+    virtual std::vector<std::pair<std::string, double>> statistics() const { return {}; }
 };
 
 }  // namespace volguide

@@ -19,10 +19,12 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <optional>
 
 #include "volguide/core/log.h"
 #include "volguide/integrators/equiangular.h"
 #include "volguide/integrators/training_recorder.h"
+#include "volguide/integrators/walk_guide.h"
 #include "volguide/integrators/volume_nee.h"
 #include "volguide/media/medium.h"
 #include "volguide/media/spectral_mis.h"
@@ -148,7 +150,14 @@ Color3 VolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const Ray& ca
 
 Color3 VolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const Ray& camera_ray,
                              TrainingRecorder* recorder) const {
+    return Li(scene, sampler, camera_ray, recorder, nullptr);
+}
+
+Color3 VolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const Ray& camera_ray, TrainingRecorder* recorder,
+                             const WalkGuide* guide) const {
     const VolPathSettings& s = settings_;
+    const bool guide_distance = guide && guide->guides_distance();
+    const bool guide_direction = guide && guide->guides_direction();
     auto depth_ok = [&](int d) { return s.max_depth < 0 || d < s.max_depth; };
     const BSDFContext ctx;
 
@@ -193,7 +202,8 @@ Color3 VolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const Ray& ca
 
         if (medium) {
             const float tmax = si.is_valid() ? si.t : ray.tmax;
-            const bool equi = s.equiangular && medium->is_homogeneous() && medium->sample_emitters();
+            const bool equi =
+                s.equiangular && !guide_distance && medium->is_homogeneous() && medium->sample_emitters();
             bool scattered = false;
             MediumInteraction mi;
             EquiSegment seg;
@@ -259,7 +269,8 @@ Color3 VolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const Ray& ca
                     throughput *= p_escape > 0.f ? tr * (1.f / p_escape) : Color3(0.f);
                 }
             } else {
-                FreeFlightSample ff = medium->sample_free_flight(ray, tmax, throughput, sampler);
+                FreeFlightSample ff = guide_distance ? guide->sample_distance(*medium, ray, tmax, throughput, sampler)
+                                                     : medium->sample_free_flight(ray, tmax, throughput, sampler);
                 throughput *= ff.weight;
                 scattered = ff.scattered;
                 if (scattered) mi = ff.mi;
@@ -281,13 +292,17 @@ Color3 VolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const Ray& ca
                     need_intersection = true;
                     continue;
                 }
+                // Guided directions (§8): one mixture per vertex, used by NEE's MIS and the continuation.
+                std::optional<GuidedDirectionSampler> guided_dir;
+                if (guide_direction) guided_dir.emplace(guide->direction_sampler(mi, phase));
                 if (m.sample_emitters()) {
                     specular_chain = false;
                     VolumeEmitterSample es =
                         sample_emitter_through_media(scene, mi, nullptr, medium, sampler.next_2d(), sampler);
                     if (!es.weight.is_black()) {
                         const float fp = phase.eval(mi.wi, es.ds.d);
-                        const float pp = es.ds.delta ? 0.f : phase.pdf(mi.wi, es.ds.d);
+                        const float pp =
+                            es.ds.delta ? 0.f : (guided_dir ? guided_dir->pdf(es.ds.d) : phase.pdf(mi.wi, es.ds.d));
                         float w;
                         if (equi && equiangular_target(es.ds.emitter) && !std::isinf(es.ds.dist)) {
                             const float p_nee = light_point_density(scene, mi, es.ds);
@@ -304,7 +319,17 @@ Color3 VolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const Ray& ca
                     specular_chain = true;
                 }
 
-                PhaseSample ps = phase.sample(mi.wi, sampler.next_2d());
+                PhaseSample ps;
+                if (guided_dir) {
+                    const float u_strategy = sampler.next_1d();
+                    const GuidedDirectionSampler::Sample g = guided_dir->sample(sampler.next_2d(), u_strategy);
+                    guide->count_direction(*guided_dir, g.guided);
+                    ps.wo = g.wo;
+                    ps.pdf = g.pdf;
+                    ps.weight = g.weight;
+                } else {
+                    ps = phase.sample(mi.wi, sampler.next_2d());
+                }
                 if (!(ps.pdf > 0.f)) break;
                 throughput *= ps.weight;
                 // Training sample at x_j: the radiance arriving from w_j is what guides w_j.

@@ -27,6 +27,7 @@
 namespace volguide {
 
 class TrainingRecorder;
+class WalkGuide;
 
 struct VolPathSettings {
     int max_depth = -1;
@@ -47,6 +48,10 @@ public:
     // for progressive training (training_recorder.h). Training uses equiangular = false: the
     // recorder's NEE samples assume NEE and phase sampling are the only direct-light strategies.
     Color3 Li(const Scene& scene, Sampler& sampler, const Ray& ray, TrainingRecorder* recorder) const;
+    // The same walk with `guide` (may be null) making the distance and direction decisions in media
+    // (guided_volpath, walk_guide.h). Equiangular sampling is not combined with a distance guide.
+    Color3 Li(const Scene& scene, Sampler& sampler, const Ray& ray, TrainingRecorder* recorder,
+              const WalkGuide* guide) const;
     void preprocess(const Scene& scene, const PreprocessContext& context) override;
     std::string to_string() const override;
     const VolPathSettings& settings() const { return settings_; }

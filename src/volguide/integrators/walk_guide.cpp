@@ -1,0 +1,260 @@
+#include "volguide/integrators/walk_guide.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "volguide/render/scene.h"
+#include "volguide/render/sensor.h"
+#include "volguide/vmm/phase_vmm.h"
+
+namespace volguide {
+
+namespace {
+
+// A stretch of the ray inside one kd leaf (leaf -1: outside the field).
+struct LeafSpan {
+    int leaf;
+    float t0, t1;
+};
+
+// Per-thread scratch, reused across queries (no allocation per distance decision).
+struct Scratch {
+    std::vector<LeafSpan> spans;
+    std::vector<ProxySegment> proxies;
+    std::vector<DistanceBin> bins;  // tabulated only
+};
+thread_local Scratch scratch;
+
+// Pulls the bins of a ray segment lazily: leaf spans, cut at the medium's proxy segments, split to
+// at most `max_tau` optical depth. Field values (the expensive part) are read once per leaf span, on
+// entering it, so the incremental sampler pays only for the leaves before the collision.
+class BinSource {
+public:
+    BinSource(const Ray& ray, const Medium& medium, const GuidingField& field, const InscatterCache* inscatter,
+              const std::vector<LeafSpan>& spans, std::vector<ProxySegment>& proxies, float max_tau)
+        : ray_(ray), medium_(medium), field_(field), inscatter_(inscatter), spans_(spans), proxies_(proxies),
+          max_tau_(max_tau) {
+        proxies_.clear();  // scratch of the previous query: nothing may be read before the first span
+    }
+
+    bool operator()(DistanceBin& bin) {
+        while (true) {
+            if (piece_ < pieces_) {
+                const ProxySegment& p = proxies_[proxy_];
+                const float len = (p.t1 - p.t0) / float(pieces_);
+                bin.t0 = p.t0 + len * float(piece_);
+                bin.t1 = ++piece_ == pieces_ ? p.t1 : p.t0 + len * float(piece_);
+                bin.sigma_t = p.sigma_t;
+                bin.albedo = p.albedo;
+                bin.Li = Li_;
+                bin.L = L_;
+                bin.valid = valid_;
+                ++stepped_;
+                invalid_ += valid_ ? 0 : 1;
+                return true;
+            }
+            if (++proxy_ < proxies_.size()) {
+                const ProxySegment& p = proxies_[proxy_];
+                const float tau = p.sigma_t.max_value() * (p.t1 - p.t0);
+                pieces_ = tau > max_tau_ && std::isfinite(tau) ? int(std::min(std::ceil(tau / max_tau_), 1e6f)) : 1;
+                piece_ = 0;
+                continue;
+            }
+            if (span_ >= spans_.size()) return false;
+            enter(spans_[span_++]);
+        }
+    }
+    uint64_t invalid() const { return invalid_; }
+
+private:
+    void enter(const LeafSpan& s) {
+        proxies_.clear();
+        medium_.proxy_segments(ray_, s.t0, s.t1, proxies_);
+        proxy_ = size_t(-1);
+        pieces_ = piece_ = 0;
+        valid_ = false;
+        Li_ = L_ = 0.f;
+        if (s.leaf >= 0) {
+            const GuidingLeaf& leaf = field_.leaves()[size_t(s.leaf)];
+            if (leaf.valid && inscatter_) {
+                valid_ = true;
+                Li_ = inscatter_->inscattered(s.leaf, ray_.d).average();
+                L_ = GuidingField::incident(leaf, ray_.d).average();
+            }
+        }
+    }
+
+    const Ray& ray_;
+    const Medium& medium_;
+    const GuidingField& field_;
+    const InscatterCache* inscatter_;
+    const std::vector<LeafSpan>& spans_;
+    std::vector<ProxySegment>& proxies_;
+    float max_tau_;
+    size_t span_ = 0, proxy_ = size_t(-1);
+    int pieces_ = 0, piece_ = 0;
+    bool valid_ = false;
+    float Li_ = 0.f, L_ = 0.f;
+    uint64_t stepped_ = 0, invalid_ = 0;
+};
+
+Color3 exact_or_estimated_transmittance(const Medium& medium, const Ray& ray, float t, Sampler& sampler) {
+    if (medium.is_homogeneous()) {
+        const Color3 st = medium.eval(ray.o).sigma_t;
+        return Color3(std::exp(-st.r * t), std::exp(-st.g * t), std::exp(-st.b * t));
+    }
+    return medium.transmittance(ray, t, sampler);
+}
+
+}  // namespace
+
+WalkGuideStats& WalkGuideStats::operator+=(const WalkGuideStats& o) {
+    distance_queries += o.distance_queries;
+    distance_steps += o.distance_steps;
+    guided_strategy += o.guided_strategy;
+    invalid_bins += o.invalid_bins;
+    nan_fallbacks += o.nan_fallbacks;
+    distance_outside_field += o.distance_outside_field;
+    direction_samples += o.direction_samples;
+    direction_guided += o.direction_guided;
+    direction_unguided_vertices += o.direction_unguided_vertices;
+    return *this;
+}
+
+std::vector<std::pair<std::string, double>> WalkGuideStats::named() const {
+    auto ratio = [](uint64_t a, uint64_t b) { return b ? double(a) / double(b) : 0.0; };
+    return {{"distance_queries", double(distance_queries)},
+            {"distance_average_steps", ratio(distance_steps, distance_queries)},
+            {"distance_guided_fraction", ratio(guided_strategy, distance_queries)},
+            {"distance_invalid_bin_fraction", ratio(invalid_bins, distance_steps)},
+            {"distance_nan_fallbacks", double(nan_fallbacks)},
+            {"distance_outside_field", double(distance_outside_field)},
+            {"direction_samples", double(direction_samples)},
+            {"direction_guided_fraction", ratio(direction_guided, direction_samples)},
+            {"direction_unguided_vertex_fraction", ratio(direction_unguided_vertices, direction_samples)}};
+}
+
+WalkGuide::WalkGuide(const Scene& scene, const GuidingField& field, const WalkGuideSettings& settings)
+    : field_(field), settings_(settings) {
+    auto add = [&](const Medium* m) {
+        if (!m) return;
+        const float g = m->phase().mean_cosine();
+        if (!inscatter_.count(g)) inscatter_.emplace(g, InscatterCache(field, hg_phase_vmm(g)));
+        if (!phase_vmms_.count(g)) phase_vmms_.emplace(g, hg_phase_vmm(g));
+    };
+    add(scene.sensor().medium());
+    for (const auto& shape : scene.shapes()) {
+        add(shape->interior_medium());
+        add(shape->exterior_medium());
+    }
+}
+
+const InscatterCache* WalkGuide::inscatter_for(const PhaseFunction& phase) const {
+    const auto it = inscatter_.find(phase.mean_cosine());
+    return it == inscatter_.end() ? nullptr : &it->second;
+}
+
+FreeFlightSample WalkGuide::sample_distance(const Medium& medium, const Ray& ray, float tmax, const Color3& throughput,
+                                            Sampler& sampler) const {
+    float b0, b1;
+    const bool crosses = !field_.empty() && field_.tree().bounds().ray_intersect(ray, b0, b1) && b1 > 0.f;
+    // The guided part: (0, t_end); beyond the field's bounds the medium's own free flight.
+    const float t_end = crosses ? std::min(tmax, b1) : 0.f;
+    if (!(t_end > 0.f) || !std::isfinite(t_end)) {
+        ++stats_.local().distance_outside_field;
+        return medium.sample_free_flight(ray, tmax, throughput, sampler);
+    }
+
+    Scratch& s = scratch;
+    s.spans.clear();
+    if (b0 > 0.f) s.spans.push_back({-1, 0.f, std::min(b0, t_end)});
+    field_.tree().traverse(ray, 0.f, t_end, [&](int leaf, float t0, float t1) {
+        if (t1 > t0) s.spans.push_back({leaf, t0, t1});
+        return true;
+    });
+    // traverse() covers (max(0, b0), t_end) contiguously; close any float gap at the end.
+    if (s.spans.empty() || s.spans.back().t1 < t_end) s.spans.push_back({-1, s.spans.empty() ? 0.f : s.spans.back().t1, t_end});
+
+    const InscatterCache* inscatter = inscatter_for(medium.phase());
+    BinSource source(ray, medium, field_, inscatter, s.spans, s.proxies, settings_.max_bin_optical_depth);
+    DistanceSample ds;
+    if (settings_.distance == DistanceGuiding::Incremental) {
+        ds = sample_incremental_distance(source, sampler, settings_.distance_settings);
+    } else {
+        s.bins.clear();
+        DistanceBin bin;
+        while (source(bin)) s.bins.push_back(bin);
+        const TabulatedDistance table(s.bins, std::nullopt, settings_.distance_settings);
+        ds = table.sample(sampler);
+        ds.steps = int(s.bins.size());
+    }
+
+    WalkGuideStats& st = stats_.local();
+    ++st.distance_queries;
+    st.distance_steps += uint64_t(ds.steps);
+    st.guided_strategy += ds.strategy == DistanceStrategy::Guided;
+    st.invalid_bins += source.invalid();
+    st.nan_fallbacks += uint64_t(ds.nan_fallbacks);
+
+    FreeFlightSample fs;
+    if (ds.event == DistanceEvent::Medium && ds.pdf > 0.f) {
+        const float t = ds.t;
+        const Color3 tr = exact_or_estimated_transmittance(medium, ray, t, sampler);
+        MediumInteraction& mi = fs.mi;
+        mi.p = ray(t);
+        mi.t = t;
+        mi.wi = -ray.d;
+        mi.medium = &medium;
+        mi.coeffs = medium.eval(mi.p);
+        fs.scattered = true;
+        fs.t = t;
+        fs.flight_weight = tr * (1.f / ds.pdf);
+        fs.weight = fs.flight_weight * mi.coeffs.sigma_s;
+        return fs;
+    }
+    if (ds.event == DistanceEvent::Medium || !(ds.pdf > 0.f)) {  // a zero pdf cannot be weighted: no path
+        fs.weight = fs.flight_weight = Color3(0.f);
+        fs.t = t_end;
+        return fs;
+    }
+    const Color3 tr = exact_or_estimated_transmittance(medium, ray, t_end, sampler);
+    fs.weight = fs.flight_weight = tr * (1.f / ds.pdf);
+    fs.t = t_end;
+    if (t_end < tmax) {
+        // Beyond the field: continue with ordinary free flight from the exit point.
+        const Ray rest(ray(t_end), ray.d);
+        FreeFlightSample tail = medium.sample_free_flight(rest, tmax - t_end, throughput * fs.weight, sampler);
+        tail.weight *= fs.weight;
+        tail.flight_weight *= fs.weight;
+        tail.t += t_end;
+        if (tail.scattered) {
+            tail.mi.t = tail.t;
+            tail.mi.wi = -ray.d;
+        }
+        return tail;
+    }
+    return fs;
+}
+
+GuidedDirectionSampler WalkGuide::direction_sampler(const MediumInteraction& mi, const PhaseFunction& phase) const {
+    const GuidingLeaf* leaf = field_.empty() ? nullptr : field_.leaf_at(mi.p);
+    const auto it = phase_vmms_.find(phase.mean_cosine());
+    GuidedDirectionSampler s(settings_.direction, leaf, phase, mi.wi, settings_.phase_prob,
+                             it == phase_vmms_.end() ? nullptr : &it->second);
+    if (!s.guided()) ++stats_.local().direction_unguided_vertices;
+    return s;
+}
+
+void WalkGuide::count_direction(const GuidedDirectionSampler&, bool guided) const {
+    WalkGuideStats& st = stats_.local();
+    ++st.direction_samples;
+    st.direction_guided += guided;
+}
+
+WalkGuideStats WalkGuide::stats() const {
+    WalkGuideStats total;
+    for (const WalkGuideStats& s : stats_) total += s;
+    return total;
+}
+
+}  // namespace volguide

@@ -1,0 +1,89 @@
+#pragma once
+// The guided decisions of `guided_volpath`'s walk (theory.md §7–8), between the guiding field and
+// volpath's walk, which calls it in place of free-flight and phase sampling.
+//
+// Distance (§7.9): along a ray segment (0, tmax) in one medium, bins are the kd-tree leaves the ray
+// crosses, cut at the medium's proxy segments (majorant cells of a heterogeneous medium) and split so
+// that no bin is optically thicker than `max_bin_optical_depth` (§7.6). Each bin reads L~_i and L~
+// of its leaf looking along the ray (channel averages, §7.8) and the proxy coefficients; the
+// incremental or tabulated sampler (guiding/guided_distance.h) picks a scattering distance or the
+// segment's end. The weight uses the true coefficients: exact transmittance in homogeneous media,
+// the medium's unbiased estimate (residual ratio tracking) otherwise, and sigma_s at the vertex.
+// Where the segment leaves the field's bounds (e.g. an infinite medium), the part beyond is
+// sampled by the medium's own free flight from the exit point: two unbiased decisions in a row.
+//
+// Statistics are counted per thread and summed on request.
+#include <cstdint>
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <tbb/enumerable_thread_specific.h>
+
+#include "volguide/guiding/guided_direction.h"
+#include "volguide/guiding/guided_distance.h"
+#include "volguide/guiding/guiding_field.h"
+#include "volguide/guiding/inscatter_cache.h"
+#include "volguide/media/medium.h"
+
+namespace volguide {
+
+class Scene;
+
+enum class DistanceGuiding { Standard, Incremental, Tabulated };
+
+struct WalkGuideSettings {
+    DistanceGuiding distance = DistanceGuiding::Standard;
+    GuidedDistanceSettings distance_settings;
+    float max_bin_optical_depth = 20.f;
+    DirectionGuiding direction = DirectionGuiding::Phase;
+    float phase_prob = 0.5f;  // alpha_f: probability of sampling the phase function (§8.2)
+};
+
+struct WalkGuideStats {
+    uint64_t distance_queries = 0;  // guided distance decisions
+    uint64_t distance_steps = 0;    // bins stepped through by them
+    uint64_t guided_strategy = 0;   // queries whose decisions followed the guided probabilities
+    uint64_t invalid_bins = 0;      // bins stepped through without a valid leaf
+    uint64_t nan_fallbacks = 0;     // bins whose guided probability was not finite (§7.6)
+    uint64_t distance_outside_field = 0;  // segments that miss the field: ordinary free flight
+    uint64_t direction_samples = 0;   // directions sampled at medium vertices
+    uint64_t direction_guided = 0;    // ... from the guiding VMM (the rest from the phase function)
+    uint64_t direction_unguided_vertices = 0;  // vertices without a valid leaf (phase only)
+    WalkGuideStats& operator+=(const WalkGuideStats& o);
+    // Named values for --stats.
+    std::vector<std::pair<std::string, double>> named() const;
+};
+
+class WalkGuide {
+public:
+    // The field and the scene must outlive the guide.
+    WalkGuide(const Scene& scene, const GuidingField& field, const WalkGuideSettings& settings);
+
+    const WalkGuideSettings& settings() const { return settings_; }
+    bool guides_distance() const { return settings_.distance != DistanceGuiding::Standard; }
+    bool guides_direction() const { return settings_.direction != DirectionGuiding::Phase; }
+
+    // Medium::sample_free_flight's contract (weight, mi when scattered) with guided probabilities.
+    FreeFlightSample sample_distance(const Medium& medium, const Ray& ray, float tmax, const Color3& throughput,
+                                     Sampler& sampler) const;
+
+    // The direction sampler at a medium vertex (phase only where the field has no valid leaf).
+    GuidedDirectionSampler direction_sampler(const MediumInteraction& mi, const PhaseFunction& phase) const;
+    // Counts one sampled direction (guided: drawn from the guiding part of the mixture).
+    void count_direction(const GuidedDirectionSampler& s, bool guided) const;
+
+    WalkGuideStats stats() const;
+
+private:
+    const InscatterCache* inscatter_for(const PhaseFunction& phase) const;
+
+    const GuidingField& field_;
+    WalkGuideSettings settings_;
+    std::map<float, InscatterCache> inscatter_;  // by phase mean cosine
+    std::map<float, PhaseVmm> phase_vmms_;
+    mutable tbb::enumerable_thread_specific<WalkGuideStats> stats_;
+};
+
+}  // namespace volguide
