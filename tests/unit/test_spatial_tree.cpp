@@ -204,3 +204,40 @@ TEST(SpatialTree, RebuiltFromNodesIsIdenticalAndBadNodesAreRejected) {
     bad.pop_back();  // a dangling child
     EXPECT_THROW(SpatialTree::from_nodes(kBounds, bad), std::invalid_argument);
 }
+
+// The pull cursor yields exactly traverse()'s sequence (leaf and interval, bit for bit).
+TEST(SpatialTree, RayCursorYieldsTheTraversalSequence) {
+    const auto pts = points(20000, 6);
+    SpatialTreeSettings settings;
+    settings.max_samples = 150;
+    SpatialTree tree = SpatialTree::build(kBounds, pts, settings);
+    int total = 0;
+    for (int r = 0; r < 2000; ++r) {
+        Sampler s(7, 0, uint64_t(r));
+        const Point3f o(-3.f + 6.f * s.next_1d(), -2.f + 6.f * s.next_1d(), -0.5f + 2.f * s.next_1d());
+        Vec3f d = warp::square_to_uniform_sphere(s.next_2d());
+        if (r % 10 == 0) d = Vec3f(0.f, 0.f, 1.f);
+        const Ray ray(o, d);
+        const float t0 = (r % 3 == 0) ? 0.5f : 0.f, t1 = (r % 5 == 0) ? 2.f : Infinity;
+        struct Step {
+            int leaf;
+            float a, b;
+        };
+        std::vector<Step> expected, got;
+        tree.traverse(ray, t0, t1, [&](int leaf, float a, float b) {
+            expected.push_back({leaf, a, b});
+            return true;
+        });
+        SpatialTree::RayCursor cursor(tree, ray, t0, t1);
+        Step st;
+        while (cursor.next(st.leaf, st.a, st.b)) got.push_back(st);
+        ASSERT_EQ(got.size(), expected.size()) << "ray " << r;
+        for (size_t i = 0; i < got.size(); ++i) {
+            EXPECT_EQ(got[i].leaf, expected[i].leaf) << "ray " << r << " step " << i;
+            EXPECT_EQ(got[i].a, expected[i].a);
+            EXPECT_EQ(got[i].b, expected[i].b);
+        }
+        total += int(got.size());
+    }
+    EXPECT_GT(total, 2000);  // the rays cross many leaves (2373 measured)
+}

@@ -115,6 +115,43 @@ SpatialTree SpatialTree::build(const BBox3f& bounds, std::span<const Point3f> po
     return tree;
 }
 
+SpatialTree::RayCursor::RayCursor(const SpatialTree& tree, const Ray& ray, float t0, float t1)
+    : tree_(&tree), o_(ray.o), d_(ray.d), inv_d_(1.f / ray.d.x, 1.f / ray.d.y, 1.f / ray.d.z) {
+    float b0, b1;
+    if (!tree.bounds_.ray_intersect(ray, b0, b1)) return;
+    t0 = std::max(t0, b0);
+    t1 = std::min(t1, b1);
+    if (t0 < t1) stack_[top_++] = {0u, t0, t1};
+}
+
+bool SpatialTree::RayCursor::next(int& leaf, float& t_enter, float& t_exit) {
+    // Depth-first, near child first: the stack holds the far sides still to visit (at most one
+    // per level, and the tree's depth is capped at 60).
+    while (top_ > 0) {
+        Todo todo = stack_[--top_];
+        while (true) {
+            const Node& n = tree_->nodes_[todo.node];
+            if (n.is_leaf()) {
+                leaf = int(n.child);
+                t_enter = todo.t0;
+                t_exit = todo.t1;
+                return true;
+            }
+            const int a = n.axis;
+            const float t_split = (n.split - o_[a]) * inv_d_[a];
+            auto upper_at = [&](float t) { return o_[a] + d_[a] * t >= n.split; };
+            if (!(t_split > todo.t0) || !(t_split < todo.t1)) {
+                todo.node = n.child + (upper_at(0.5f * (todo.t0 + todo.t1)) ? 1u : 0u);
+                continue;
+            }
+            const bool near_upper = upper_at(0.5f * (todo.t0 + t_split));
+            stack_[top_++] = {n.child + (near_upper ? 0u : 1u), t_split, todo.t1};
+            todo = {n.child + (near_upper ? 1u : 0u), todo.t0, t_split};
+        }
+    }
+    return false;
+}
+
 int SpatialTree::leaf_at(const Point3f& p) const {
     if (!bounds_.contains(p)) return -1;
     uint32_t node = 0;

@@ -55,6 +55,26 @@ public:
     template <class Visit>
     bool traverse(const Ray& ray, float t0, float t1, Visit&& visit) const;
 
+    // The same traversal as a pull iterator: next() yields the leaves one at a time, so a caller that
+    // stops early (the incremental distance sampler) pays only for the leaves it looked at.
+    class RayCursor {
+    public:
+        RayCursor(const SpatialTree& tree, const Ray& ray, float t0, float t1);
+        // The next leaf and its interval; false after the last one.
+        bool next(int& leaf, float& t_enter, float& t_exit);
+
+    private:
+        struct Todo {
+            uint32_t node;
+            float t0, t1;
+        };
+        const SpatialTree* tree_;
+        Point3f o_;
+        Vec3f d_, inv_d_;
+        Todo stack_[64];
+        int top_ = 0;
+    };
+
     // Flat storage, for serialization.
     struct Node {
         // Inner node: children at child and child + 1 (lower, upper), split plane on `axis`.

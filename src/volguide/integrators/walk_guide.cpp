@@ -11,29 +11,23 @@ namespace volguide {
 
 namespace {
 
-// A stretch of the ray inside one kd leaf (leaf -1: outside the field).
-struct LeafSpan {
-    int leaf;
-    float t0, t1;
-};
-
 // Per-thread scratch, reused across queries (no allocation per distance decision).
 struct Scratch {
-    std::vector<LeafSpan> spans;
     std::vector<ProxySegment> proxies;
     std::vector<DistanceBin> bins;  // tabulated only
 };
 thread_local Scratch scratch;
 
-// Pulls the bins of a ray segment lazily: leaf spans, cut at the medium's proxy segments, split to
-// at most `max_tau` optical depth. Field values (the expensive part) are read once per leaf span, on
-// entering it, so the incremental sampler pays only for the leaves before the collision.
+// Pulls the bins of the ray segment (0, t_end) lazily: the kd leaves from a tree cursor (a stretch
+// before the field's bounds is a leafless span), cut at the medium's proxy segments and split to at
+// most `max_tau` optical depth. Field values (the expensive part) are read once per leaf, on entering
+// it, so the incremental sampler pays only for the leaves before the collision.
 class BinSource {
 public:
-    BinSource(const Ray& ray, const Medium& medium, const GuidingField& field, const InscatterCache* inscatter,
-              const std::vector<LeafSpan>& spans, std::vector<ProxySegment>& proxies, float max_tau)
-        : ray_(ray), medium_(medium), field_(field), inscatter_(inscatter), spans_(spans), proxies_(proxies),
-          max_tau_(max_tau) {
+    BinSource(const Ray& ray, float t_end, const Medium& medium, const GuidingField& field,
+              const InscatterCache* inscatter, std::vector<ProxySegment>& proxies, float max_tau)
+        : ray_(ray), t_end_(t_end), medium_(medium), field_(field), inscatter_(inscatter), proxies_(proxies),
+          max_tau_(max_tau), cursor_(field.tree(), ray, 0.f, t_end) {
         proxies_.clear();  // scratch of the previous query: nothing may be read before the first span
     }
 
@@ -49,7 +43,6 @@ public:
                 bin.Li = Li_;
                 bin.L = L_;
                 bin.valid = valid_;
-                ++stepped_;
                 invalid_ += valid_ ? 0 : 1;
                 return true;
             }
@@ -60,42 +53,80 @@ public:
                 piece_ = 0;
                 continue;
             }
-            if (span_ >= spans_.size()) return false;
-            enter(spans_[span_++]);
+            if (!next_span()) return false;
         }
     }
     uint64_t invalid() const { return invalid_; }
 
 private:
-    void enter(const LeafSpan& s) {
+    // Enters the next stretch of (0, t_end): leafless before the field, the cursor's leaves, and a
+    // leafless remainder should float round-off leave the cursor short of t_end.
+    bool next_span() {
+        if (has_pending_) {
+            has_pending_ = false;
+            enter(pending_.leaf, pending_.t0, pending_.t1);
+            return true;
+        }
+        if (!cursor_done_) {
+            int leaf;
+            float t0, t1;
+            if (cursor_.next(leaf, t0, t1)) {
+                if (t0 > reached_) {  // the ray enters the field's bounds at t0
+                    pending_ = {leaf, t0, t1};
+                    has_pending_ = true;
+                    enter(-1, reached_, t0);
+                } else {
+                    enter(leaf, t0, t1);
+                }
+                return true;
+            }
+            cursor_done_ = true;
+        }
+        if (reached_ < t_end_) {
+            enter(-1, reached_, t_end_);
+            return true;
+        }
+        return false;
+    }
+
+    void enter(int leaf_index, float t0, float t1) {
+        reached_ = std::max(reached_, t1);
         proxies_.clear();
-        medium_.proxy_segments(ray_, s.t0, s.t1, proxies_);
+        medium_.proxy_segments(ray_, t0, t1, proxies_);
         proxy_ = size_t(-1);
         pieces_ = piece_ = 0;
         valid_ = false;
         Li_ = L_ = 0.f;
-        if (s.leaf >= 0) {
-            const GuidingLeaf& leaf = field_.leaves()[size_t(s.leaf)];
+        if (leaf_index >= 0) {
+            const GuidingLeaf& leaf = field_.leaves()[size_t(leaf_index)];
             if (leaf.valid && inscatter_) {
                 valid_ = true;
-                Li_ = inscatter_->inscattered(s.leaf, ray_.d).average();
+                Li_ = inscatter_->inscattered(leaf_index, ray_.d).average();
                 L_ = GuidingField::incident(leaf, ray_.d).average();
             }
         }
     }
 
+    struct Span {
+        int leaf;
+        float t0, t1;
+    };
     const Ray& ray_;
+    float t_end_;
     const Medium& medium_;
     const GuidingField& field_;
     const InscatterCache* inscatter_;
-    const std::vector<LeafSpan>& spans_;
     std::vector<ProxySegment>& proxies_;
     float max_tau_;
-    size_t span_ = 0, proxy_ = size_t(-1);
+    SpatialTree::RayCursor cursor_;
+    bool cursor_done_ = false, has_pending_ = false;
+    Span pending_{-1, 0.f, 0.f};
+    float reached_ = 0.f;  // the spans entered so far cover (0, reached_)
+    size_t proxy_ = size_t(-1);
     int pieces_ = 0, piece_ = 0;
     bool valid_ = false;
     float Li_ = 0.f, L_ = 0.f;
-    uint64_t stepped_ = 0, invalid_ = 0;
+    uint64_t invalid_ = 0;
 };
 
 Color3 exact_or_estimated_transmittance(const Medium& medium, const Ray& ray, float t, Sampler& sampler) {
@@ -166,17 +197,8 @@ FreeFlightSample WalkGuide::sample_distance(const Medium& medium, const Ray& ray
     }
 
     Scratch& s = scratch;
-    s.spans.clear();
-    if (b0 > 0.f) s.spans.push_back({-1, 0.f, std::min(b0, t_end)});
-    field_.tree().traverse(ray, 0.f, t_end, [&](int leaf, float t0, float t1) {
-        if (t1 > t0) s.spans.push_back({leaf, t0, t1});
-        return true;
-    });
-    // traverse() covers (max(0, b0), t_end) contiguously; close any float gap at the end.
-    if (s.spans.empty() || s.spans.back().t1 < t_end) s.spans.push_back({-1, s.spans.empty() ? 0.f : s.spans.back().t1, t_end});
-
     const InscatterCache* inscatter = inscatter_for(medium.phase());
-    BinSource source(ray, medium, field_, inscatter, s.spans, s.proxies, settings_.max_bin_optical_depth);
+    BinSource source(ray, t_end, medium, field_, inscatter, s.proxies, settings_.max_bin_optical_depth);
     DistanceSample ds;
     if (settings_.distance == DistanceGuiding::Incremental) {
         ds = sample_incremental_distance(source, sampler, settings_.distance_settings);
