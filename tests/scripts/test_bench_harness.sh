@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # The equal-time benchmark harness end to end at a tiny budget (issue 5): references made by
 # bench/make_references.py, bench/run_bench.py writes the CSV, table, plots and HTML page, the relMSE it
-# reports is the one `volguide diff` computes from the written images, an unimplemented method is
-# skipped with volguide's message (not faked), and the page opens in headless Chromium with every image.
+# reports is the one `volguide diff` computes from the written images, a guided method runs, an
+# unimplemented method is skipped with volguide's message (not faked), and the page opens in headless Chromium with every image.
 # Usage: test_bench_harness.sh SOURCE_DIR BUILD_DIR
 set -euo pipefail
 src=$1 build=$2
@@ -14,7 +14,8 @@ fail() { echo "FAIL: $*" >&2; exit 1; }
 "$PY" "$src/bench/make_references.py" --scenes thin --spp 4 --build-dir "$build" --out-dir "$tmp/refs" \
   --work-dir "$tmp/chunks" >/dev/null
 "$PY" "$src/bench/run_bench.py" --build-dir "$build" --time 0.3 --scenes thin \
-  --methods "volpath,guided_volpath distance=tabulated direction=product" --references "$tmp/refs" --out "$tmp/out"
+  --methods "volpath,guided_volpath direction=product,guided_volpath distance=incremental direction=product rrs=grr" \
+  --references "$tmp/refs" --out "$tmp/out"
 for f in results.csv results.json table.md index.html plots/thin.png images/thin__reference.png \
          images/thin__volpath.png images/thin__volpath__error.png; do
   [ -s "$tmp/out/$f" ] || fail "the report has no $f"
@@ -31,8 +32,10 @@ d = json.loads(subprocess.run([volguide, "diff", f"{tmp}/out/images/thin__volpat
 for k in ("relmse_1e-2", "relmse_1e-3", "mse"):
     assert abs(float(v[k]) - d[k]) <= 1e-9 * max(1.0, d[k]), (k, v[k], d[k])
 assert float(v["speedup_1e-2"]) == 1.0
-g = rows["guided_volpath distance=tabulated direction=product"]
+p = rows["guided_volpath direction=product"]
+assert p["status"] == "ok" and int(p["spp"]) > 0, p
+g = rows["guided_volpath distance=incremental direction=product rrs=grr"]
 assert g["status"] == "skipped" and "not implemented" in g["note"], g
-print("results.csv agrees with volguide diff; the unimplemented method is skipped:", g["note"])
+print("results.csv agrees with volguide diff; a guided method ran; the unimplemented one is skipped:", g["note"])
 PY
 "$PY" "$src/bench/check_report.py" "$tmp/out/index.html"
