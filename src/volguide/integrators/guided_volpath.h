@@ -4,11 +4,12 @@
 // Implemented so far: the guiding field's training in preprocess(), by the photon pre-pass
 // (training=photons, theory.md §5.2, §10.1) or PPG-style from camera paths (training=progressive,
 // §10.2, progressive_training.h: training_iterations iterations of 2^k spp with volpath's walk,
-// field rebuilt after each), `save_field` / `load_field`, the `estimate` inspection images, and rendering
-// with volpath's walk. The guided
-// decisions (distance, direction, rrs) are not implemented yet: their defaults fall back to the
-// unguided values with a warning, an explicit request for them is an error (interface.md). With
-// distance=standard direction=phase rrs=standard it renders exactly what volpath renders.
+// field rebuilt after each), `save_field` / `load_field`, the `estimate` inspection images, and the
+// guided distance (incremental / tabulated) and direction (incident / product) decisions, made by a
+// WalkGuide (walk_guide.h) inside volpath's walk. Guided RR and splitting (rrs, issue 8) are not
+// implemented yet: the default falls back to throughput RR with a warning, an explicit request is an
+// error (interface.md). With distance=standard direction=phase rrs=standard it renders exactly what
+// volpath renders.
 #include <memory>
 #include <string>
 
