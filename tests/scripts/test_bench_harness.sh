@@ -38,4 +38,18 @@ g = rows["guided_volpath distance=incremental direction=product rrs=grr"]
 assert g["status"] == "skipped" and "not implemented" in g["note"], g
 print("results.csv agrees with volguide diff; a guided method ran; the unimplemented one is skipped:", g["note"])
 PY
+# Re-scoring against another reference (the same scene at other spp) reproduces volguide diff.
+"$PY" "$src/bench/make_references.py" --scenes thin --spp 8 --build-dir "$build" --out-dir "$tmp/refs2" \
+  --work-dir "$tmp/chunks2" >/dev/null
+"$PY" "$src/bench/rescore.py" "$tmp/out" --references "$tmp/refs2" --build-dir "$build" >/dev/null || true
+grep -q 're-scored by' "$tmp/out/table.md" || fail "table.md does not say it was re-scored"
+"$PY" - "$tmp" "$build/volguide" <<'PY'
+import csv, json, subprocess, sys
+tmp, volguide = sys.argv[1], sys.argv[2]
+v = {r["method"]: r for r in csv.DictReader(open(f"{tmp}/out/results.csv"))}["volpath"]
+d = json.loads(subprocess.run([volguide, "diff", f"{tmp}/out/images/thin__volpath.exr", f"{tmp}/refs2/thin.exr",
+                               "--json"], check=True, capture_output=True, text=True).stdout)
+assert abs(float(v["relmse_1e-2"]) - d["relmse_1e-2"]) <= 1e-9 * max(1.0, d["relmse_1e-2"]), (v, d)
+print("rescore agrees with volguide diff against the new reference")
+PY
 "$PY" "$src/bench/check_report.py" "$tmp/out/index.html"
