@@ -150,6 +150,7 @@ int run_render(const RenderArgs& args) {
     if (args.time) options.time_budget = *args.time;
     options.seed = args.seed;
     if (args.threads) options.threads = *args.threads;
+    options.variance = args.variance;
     options.cancel = interrupt.flag();
     options.progress = [&](const Progress& p) { display.update(p); };
     // Convergence against the reference at 1, 2, 4, ... spp (and the final image below).
@@ -171,7 +172,7 @@ int run_render(const RenderArgs& args) {
         throw FileError(outputs.front(), "interrupted before the first pass completed; nothing was written");
     for (const std::string& output : outputs) write_image(output, result.mean);
     std::string var_output;
-    if (scene->integrator().writes_variance()) {
+    if (scene->integrator().writes_variance() || args.variance) {
         var_output = variance_path(outputs.front());
         write_exr(var_output, result.variance);
     }

@@ -36,6 +36,7 @@ struct RenderArgs {
     // after it (printed); empty for none.
     std::string reference;
     bool quiet = false;
+    bool variance = false;  // also write the per-sample variance image (as the moment integrator does)
 };
 int run_render(const RenderArgs& args);
 

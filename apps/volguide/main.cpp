@@ -49,6 +49,8 @@ int main(int argc, char** argv) {
     render_cmd->add_option("--reference", render.reference,
                            "compare with this EXR: relMSE printed, convergence curve in --stats");
     render_cmd->add_flag("-q,--quiet", render.quiet, "no progress output");
+    render_cmd->add_flag("--variance", render.variance,
+                         "also write the per-sample variance of every pixel to <output>_var.exr (any integrator)");
 
     DiffArgs diff;
     CLI::App* diff_cmd = app.add_subcommand("diff", "compare an image with a reference");

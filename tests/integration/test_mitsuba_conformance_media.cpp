@@ -36,12 +36,21 @@ void run_conformance(const std::string& scene, const std::string& integrator) {
     const int spp = int(2e6 / (double(ref_img.width) * ref_img.height) + 0.5);
 
     TempDir dir("conformance-media-" + scene + "-" + integrator);
-    CliResult r = run_cli({"render", xml, "-o", dir.file("out.exr"), "-D", "integrator=" + integrator, "--spp",
-                           std::to_string(spp), "--seed", "1", "--quiet"});
+    // Mitsuba's reference variance is volpath's: an estimator with another variance (guided_volpath)
+    // is tested with its own per-sample variance, in RGB (a variance image cannot be mapped to XYZ
+    // without the channels' covariance).
+    const bool own_variance = integrator == "guided_volpath";
+    std::vector<std::string> cmd = {"render", xml, "-o", dir.file("out.exr"), "-D", "integrator=" + integrator,
+                                    "--spp", std::to_string(spp), "--seed", "1", "--quiet"};
+    if (own_variance) cmd.push_back("--variance");
+    CliResult r = run_cli(cmd);
     ASSERT_EQ(r.exit_code, 0) << r.err;
     Image mean = read_image(dir.file("out.exr"));
     Image mask;
-    ZTestResult z = pixel_ztest(mean, spp, ref_img, ref_var_img, ZTestOptions{}, &mask);
+    ZTestOptions options;
+    if (own_variance) options.in_xyz = false;
+    ZTestResult z = pixel_ztest(mean, spp, ref_img, own_variance ? read_image(dir.file("out_var.exr")) : ref_var_img,
+                                options, &mask);
     if (!z.passed) {
         const std::string stem = std::filesystem::current_path().string() + "/conformance-" + scene + "-" + integrator;
         write_exr(stem + "-render.exr", mean);
@@ -69,3 +78,23 @@ VOLPATH_SCENE(HomoObjInsideMedium, "test_homo_obj_inside_medium_volpath")
 VOLPATH_SCENE(HomoRoughDielectricSpot, "test_homo_roughdielectric_spot_volpath")
 VOLPATHMIS_SCENE(HomoSpectralSigmatMis, "test_homo_spectral_sigmat_volpathmis")
 VOLPATH_SCENE(SurfAreaLight, "test_surf_area_light_volpath")
+
+// The same scenes with guided_volpath's defaults (issue 7: distance=incremental direction=product,
+// photon training; rrs falls back to throughput RR): guiding changes the variance, never the mean.
+// Tested against the estimator's own per-sample variance, which is only trustworthy where the
+// weights are not heavy-tailed. Not listed, open in issue 7: HeteroSigmat and HeteroSigmatAlbedo
+// (54 and 67 of 6912 pixel-channels fail at 868 spp, 41 and 54 at 4x the spp — fewer, not more, as
+// heavy tails of the proxy-based weights would do and a bias would not) and HomoRoughDielectricSpot
+// (volpath itself fails it with its own variance: 115 of 6912).
+#define GUIDED_SCENE(test_name, scene) \
+    TEST(MitsubaConformanceMediaGuided, test_name) { run_conformance(scene, "guided_volpath"); }
+
+GUIDED_SCENE(HeteroSpectralSigmatNoScattering, "test_hetero_spectral_sigmat_no_scattering_volpath")
+GUIDED_SCENE(HeteroSpectralSigmatMis, "test_hetero_spectral_sigmat_volpathmis")
+GUIDED_SCENE(HomoAreaLight, "test_homo_area_light_volpath")
+GUIDED_SCENE(HomoDielectricEnvmap, "test_homo_dielectric_envmap_volpath")
+GUIDED_SCENE(HomoEmitterInsideMedium, "test_homo_emitter_inside_medium_volpath")
+GUIDED_SCENE(HomoNullEnvmap, "test_homo_null_envmap_volpath")
+GUIDED_SCENE(HomoObjInsideMedium, "test_homo_obj_inside_medium_volpath")
+GUIDED_SCENE(HomoSpectralSigmatMis, "test_homo_spectral_sigmat_volpathmis")
+GUIDED_SCENE(SurfAreaLight, "test_surf_area_light_volpath")

@@ -263,7 +263,7 @@ RenderResult render(Scene& scene, const RenderOptions& options) {
     setup.sample_border = film.sample_border();
     setup.default_spp = sensor.sample_count();
     setup.seed = sensor.seed();
-    setup.variance = integrator.writes_variance();
+    setup.variance = integrator.writes_variance() || options.variance;
     const Scene& cscene = scene;
     RadianceFn radiance = [&](Point2f uv, Sampler& sampler) {
         auto [ray, weight] = sensor.sample_ray(uv, Point2f(0.5f, 0.5f));

@@ -25,6 +25,7 @@ struct RenderOptions {
     std::optional<uint64_t> seed;  // default: the sampler's seed
     int threads = 0;               // 0 = all hardware threads
     int tile_size = 16;
+    bool variance = false;         // also the per-sample variance image (always for writes_variance())
     ProgressCallback progress;
     const std::atomic<bool>* cancel = nullptr;  // set it to stop at the end of the current pass
     // Called after each pass is merged with the image so far (for convergence curves); `seconds`
