@@ -208,6 +208,32 @@ TEST_F(Cli, RenderWritesImageVarianceAndStats) {
     EXPECT_EQ(read_image(path("both.exr").string()).width, 16);
 }
 
+// --variance writes the per-sample variance for an integrator that is not `moment`: the same image
+// moment's would be (same seed, same samples).
+TEST_F(Cli, VarianceFlagWritesTheVarianceOfAnyIntegrator) {
+    std::string plain = kScene;
+    const std::string moment = R"(<integrator type="moment">
+        <integrator type="path"/>
+    </integrator>)";
+    const size_t at = plain.find(moment);
+    ASSERT_NE(at, std::string::npos);
+    plain.replace(at, moment.size(), R"(<integrator type="path"/>)");
+    write("m.xml", kScene);
+    write("p.xml", plain);
+    ASSERT_EQ(run("render m.xml --spp 8 --seed 3 --quiet").code, 0);
+    ASSERT_EQ(run("render p.xml --spp 8 --seed 3 --quiet").code, 0);
+    EXPECT_FALSE(fs::exists(path("p_var.exr")));
+    CliResult r = run("render p.xml --spp 8 --seed 3 --variance --quiet");
+    ASSERT_EQ(r.code, 0) << r.err;
+    ASSERT_TRUE(fs::exists(path("p_var.exr")));
+    const Image a = read_image(path("m_var.exr").string()), b = read_image(path("p_var.exr").string());
+    ASSERT_EQ(a.pixels.size(), b.pixels.size());
+    EXPECT_EQ(std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(Color3)), 0);
+    double total = 0;
+    for (const Color3& c : b.pixels) total += c.r + c.g + c.b;
+    EXPECT_GT(total, 0.0);  // the sphere's pixels are noisy
+}
+
 // Ctrl-C: the render stops, the completed passes are written, the exit code is 0.
 TEST_F(Cli, ConvertScalesByExposure) {
     Image image(3, 2, Color3(0.25f, 0.5f, 1.f));
