@@ -19,28 +19,6 @@ namespace {
 constexpr double kZ = 4.0;
 constexpr double kFloor = 1e-6;  // standard-error floor: rounding noise of exact estimates
 
-std::shared_ptr<HeterogeneousMedium> cloud_medium(int channels, const Color3& albedo, float scale) {
-    // Rotated, scaled and moved: tracking runs in the volume's local coordinates.
-    Transform to_world = Transform::translate(Vec3f(-1.f, -0.6f, -0.4f)) * Transform::rotate(Vec3f(0, 0, 1), 30.f) *
-                         Transform::scale(Vec3f(2.f, 1.5f, 1.f));
-    auto sigma = std::make_shared<Volume>(
-        VoxelGrid(procedural_cloud(24, 20, 16, channels), VolumeFilter::Trilinear, VolumeWrap::Clamp), to_world);
-    auto alb = std::make_shared<Volume>(VoxelGrid(albedo), Transform());
-    return std::make_shared<HeterogeneousMedium>(sigma, scale, alb, std::make_shared<IsotropicPhase>());
-}
-
-struct TestRay {
-    Ray ray;
-    float tmax;
-};
-
-std::vector<TestRay> test_rays() {
-    // The cloud's centre is near (-0.5, 0.55, 0.15): through it, starting and ending inside, oblique.
-    return {{Ray(Point3f(-3.f, 0.55f, 0.15f), normalize(Vec3f(1.f, 0.f, 0.01f))), Infinity},
-            {Ray(Point3f(-0.5f, 0.3f, 0.1f), normalize(Vec3f(-0.3f, 1.f, 0.2f))), 0.6f},
-            {Ray(Point3f(-1.5f, -0.8f, -1.f), normalize(Vec3f(1.f, 1.35f, 1.15f))), Infinity}};
-}
-
 // Kolmogorov-Smirnov distance of a sample from Uniform(0, 1).
 double ks_uniform(std::vector<double> u) {
     std::sort(u.begin(), u.end());
@@ -49,9 +27,6 @@ double ks_uniform(std::vector<double> u) {
     for (size_t i = 0; i < u.size(); ++i) d = std::max({d, std::abs(u[i] - i / n), std::abs(u[i] - (i + 1) / n)});
     return d;
 }
-
-// Quadrature length: up to tmax or well past the medium's box.
-double profile_length(const Medium& m, const TestRay& r) { return std::isinf(r.tmax) ? 10.0 : double(r.tmax); }
 
 }  // namespace
 

@@ -7,6 +7,7 @@
 
 #include "volguide/media/heterogeneous.h"
 #include "volguide/media/phase_isotropic.h"
+#include "volguide/core/transform.h"
 #include "volguide/media/volume.h"
 
 namespace volguide::test {
@@ -78,5 +79,32 @@ struct RayProfile {
         return sum;
     }
 };
+
+// The cloud of the tracking tests: rotated, scaled and moved (tracking runs in the volume's local
+// coordinates), constant albedo, isotropic phase.
+inline std::shared_ptr<HeterogeneousMedium> cloud_medium(int channels, const Color3& albedo, float scale) {
+    Transform to_world = Transform::translate(Vec3f(-1.f, -0.6f, -0.4f)) * Transform::rotate(Vec3f(0, 0, 1), 30.f) *
+                         Transform::scale(Vec3f(2.f, 1.5f, 1.f));
+    auto sigma = std::make_shared<Volume>(
+        VoxelGrid(procedural_cloud(24, 20, 16, channels), VolumeFilter::Trilinear, VolumeWrap::Clamp), to_world);
+    auto alb = std::make_shared<Volume>(VoxelGrid(albedo), Transform());
+    return std::make_shared<HeterogeneousMedium>(sigma, scale, alb, std::make_shared<IsotropicPhase>());
+}
+
+// Rays of the tracking tests through that cloud.
+struct TestRay {
+    Ray ray;
+    float tmax;
+};
+
+inline std::vector<TestRay> test_rays() {
+    // The cloud's centre is near (-0.5, 0.55, 0.15): through it, starting and ending inside, oblique.
+    return {{Ray(Point3f(-3.f, 0.55f, 0.15f), normalize(Vec3f(1.f, 0.f, 0.01f))), Infinity},
+            {Ray(Point3f(-0.5f, 0.3f, 0.1f), normalize(Vec3f(-0.3f, 1.f, 0.2f))), 0.6f},
+            {Ray(Point3f(-1.5f, -0.8f, -1.f), normalize(Vec3f(1.f, 1.35f, 1.15f))), Infinity}};
+}
+
+// Quadrature length of a test ray: up to tmax or well past the medium's box.
+inline double profile_length(const Medium& m, const TestRay& r) { return std::isinf(r.tmax) ? 10.0 : double(r.tmax); }
 
 }  // namespace volguide::test

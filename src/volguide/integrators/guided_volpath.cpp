@@ -94,6 +94,10 @@ GuidedVolPathSettings GuidedVolPathSettings::from(const Properties& props) {
     s.guide.distance = s.distance == "incremental" ? DistanceGuiding::Incremental
                        : s.distance == "tabulated" ? DistanceGuiding::Tabulated
                                                    : DistanceGuiding::Standard;
+    // Heterogeneous media under distance=incremental: guided null-collision tracking (H2) or the bins (H1).
+    s.guide.guided_tracking =
+        read_choice(props, "hetero_distance", "tracking", {"tracking", "bins"}, {"tracking", "bins"}, "tracking") ==
+        "tracking";
     s.direction = read_choice(props, "direction", "product", {"phase", "incident", "product"},
                               {"phase", "incident", "product"}, "phase");
     s.guide.direction = s.direction == "product"    ? DirectionGuiding::Product
@@ -187,9 +191,9 @@ std::string GuidedVolPathIntegrator::to_string() const {
     const GuidedVolPathSettings& s = settings_;
     return fmt::format(
         "guided_volpath[max_depth={}, rr_depth={}, training={}, photons={}, training_iterations={}, leaf_samples={}, "
-        "lobes={}, distance={}, direction={}, rrs={}, equiangular={}, estimate={}]",
+        "lobes={}, distance={}, hetero_distance={}, direction={}, rrs={}, equiangular={}, estimate={}]",
         s.walk.max_depth, s.walk.rr_depth, s.training, s.photons, s.training_iterations, s.field.tree.max_samples, s.field.lobes, s.distance,
-        s.direction, s.rrs, s.walk.equiangular, s.estimate);
+        s.guide.guided_tracking ? "tracking" : "bins", s.direction, s.rrs, s.walk.equiangular, s.estimate);
 }
 
 }  // namespace volguide

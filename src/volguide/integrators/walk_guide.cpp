@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "volguide/guiding/guided_collision.h"
+#include "volguide/media/heterogeneous.h"
 #include "volguide/render/scene.h"
 #include "volguide/render/sensor.h"
 #include "volguide/vmm/phase_vmm.h"
@@ -143,6 +145,7 @@ WalkGuideStats& WalkGuideStats::operator+=(const WalkGuideStats& o) {
     distance_queries += o.distance_queries;
     distance_steps += o.distance_steps;
     guided_strategy += o.guided_strategy;
+    guided_tracking += o.guided_tracking;
     invalid_bins += o.invalid_bins;
     nan_fallbacks += o.nan_fallbacks;
     distance_outside_field += o.distance_outside_field;
@@ -157,6 +160,7 @@ std::vector<std::pair<std::string, double>> WalkGuideStats::named() const {
     return {{"distance_queries", double(distance_queries)},
             {"distance_average_steps", ratio(distance_steps, distance_queries)},
             {"distance_guided_fraction", ratio(guided_strategy, distance_queries)},
+            {"distance_tracking_fraction", ratio(guided_tracking, distance_queries)},
             {"distance_invalid_bin_fraction", ratio(invalid_bins, distance_steps)},
             {"distance_nan_fallbacks", double(nan_fallbacks)},
             {"distance_outside_field", double(distance_outside_field)},
@@ -196,8 +200,22 @@ FreeFlightSample WalkGuide::sample_distance(const Medium& medium, const Ray& ray
         return medium.sample_free_flight(ray, tmax, throughput, sampler);
     }
 
-    Scratch& s = scratch;
     const InscatterCache* inscatter = inscatter_for(medium.phase());
+    if (settings_.distance == DistanceGuiding::Incremental && settings_.guided_tracking && !medium.is_homogeneous())
+        if (const auto* het = dynamic_cast<const HeterogeneousMedium*>(&medium)) {
+            // The whole segment: beyond the field the tracking falls back to the analog probability.
+            GuidedCollisionProbability guide(field_, inscatter, ray, t_end, settings_.distance_settings.c_T);
+            FreeFlightSample fs = het->guided_free_flight(ray, tmax, throughput, sampler, guide);
+            WalkGuideStats& st = stats_.local();
+            ++st.distance_queries;
+            ++st.guided_tracking;
+            st.distance_steps += guide.collisions();
+            st.invalid_bins += guide.unguided_collisions();
+            st.nan_fallbacks += guide.nan_fallbacks();
+            return fs;
+        }
+
+    Scratch& s = scratch;
     BinSource source(ray, t_end, medium, field_, inscatter, s.proxies, settings_.max_bin_optical_depth);
     DistanceSample ds;
     if (settings_.distance == DistanceGuiding::Incremental) {

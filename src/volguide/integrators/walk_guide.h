@@ -12,6 +12,11 @@
 // Where the segment leaves the field's bounds (e.g. an infinite medium), the part beyond is
 // sampled by the medium's own free flight from the exit point: two unbiased decisions in a row.
 //
+// Heterogeneous media with distance=incremental use guided null-collision tracking instead
+// (theory.md §7.7 H2; guiding/guided_collision.h): the medium's majorant walk with the guided
+// scatter probability at every tentative collision, weights from the true coefficients only
+// (no proxy, no separate transmittance estimate). `guided_tracking = false` keeps the bins (H1).
+//
 // Statistics are counted per thread and summed on request.
 #include <cstdint>
 #include <map>
@@ -37,16 +42,18 @@ struct WalkGuideSettings {
     DistanceGuiding distance = DistanceGuiding::Standard;
     GuidedDistanceSettings distance_settings;
     float max_bin_optical_depth = 20.f;
+    bool guided_tracking = true;  // heterogeneous media, incremental: H2 tracking (false: H1 bins)
     DirectionGuiding direction = DirectionGuiding::Phase;
     float phase_prob = 0.5f;  // alpha_f: probability of sampling the phase function (§8.2)
 };
 
 struct WalkGuideStats {
     uint64_t distance_queries = 0;  // guided distance decisions
-    uint64_t distance_steps = 0;    // bins stepped through by them
-    uint64_t guided_strategy = 0;   // queries whose decisions followed the guided probabilities
-    uint64_t invalid_bins = 0;      // bins stepped through without a valid leaf
-    uint64_t nan_fallbacks = 0;     // bins whose guided probability was not finite (§7.6)
+    uint64_t distance_steps = 0;    // bins stepped through by them (tracking: tentative collisions)
+    uint64_t guided_strategy = 0;   // bin queries whose decisions followed the guided probabilities
+    uint64_t guided_tracking = 0;   // queries by guided null-collision tracking (H2)
+    uint64_t invalid_bins = 0;      // bins (tracking: collisions) stepped through without a valid leaf
+    uint64_t nan_fallbacks = 0;     // bins (collisions) whose guided probability was not finite (§7.6)
     uint64_t distance_outside_field = 0;  // segments that miss the field: ordinary free flight
     uint64_t direction_samples = 0;   // directions sampled at medium vertices
     uint64_t direction_guided = 0;    // ... from the guiding VMM (the rest from the phase function)

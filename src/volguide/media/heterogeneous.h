@@ -13,6 +13,8 @@
 // Transmittance: ratio tracking, or residual ratio tracking with the per-cell per-channel mean
 // as control (default); both unbiased for any majorant. Both stop small estimates by unbiased
 // Russian roulette (survival max|T| / 0.05 once max|T| < 0.05).
+// Guided tracking (media/guided_tracking.h): the same walk with the caller's scatter probability.
+#include "volguide/media/guided_tracking.h"
 #include "volguide/media/majorant_grid.h"
 #include "volguide/media/medium.h"
 #include "volguide/media/volume.h"
@@ -45,6 +47,11 @@ public:
     }
     FreeFlightSample sample_free_flight(const Ray& ray, float tmax, const Color3& throughput, Sampler& sampler,
                                         TrackingCounts* counts) const;
+    // Free flight with the caller's scatter probability at every tentative collision (guided
+    // null-collision tracking); same contract as sample_free_flight (weight, flight_weight, mi when
+    // scattered). counts (optional) gets the tentative collisions: real = the scatter, null = the rest.
+    FreeFlightSample guided_free_flight(const Ray& ray, float tmax, const Color3& throughput, Sampler& sampler,
+                                        CollisionGuide& guide, TrackingCounts* counts = nullptr) const;
     Color3 transmittance(const Ray& ray, float tmax, Sampler& sampler) const override;
     void proxy_segments(const Ray& ray, float t0, float t1, std::vector<ProxySegment>& out) const override;
     Color3 ratio_tracking(const Ray& ray, float tmax, Sampler& sampler) const;

@@ -1,0 +1,61 @@
+#include "volguide/guiding/guided_collision.h"
+
+#include <cmath>
+
+namespace volguide {
+
+GuidedCollisionProbability::GuidedCollisionProbability(const GuidingField& field, const InscatterCache* inscatter,
+                                                       const Ray& ray, float t_end, float c_T,
+                                                       CollisionMixture mixture)
+    : field_(field), inscatter_(inscatter), direction_(ray.d), c_T_(c_T), mixture_(mixture), analog_share_(c_T),
+      cursor_(field.tree(), ray, 0.f, t_end) {}
+
+bool GuidedCollisionProbability::enter_leaf_at(float t) {
+    while (!(t < leaf_t1_)) {
+        int leaf;
+        if (cursor_done_ || !cursor_.next(leaf, leaf_t0_, leaf_t1_)) {
+            cursor_done_ = true;
+            return false;
+        }
+        leaf_valid_ = false;
+        const GuidingLeaf& l = field_.leaves()[size_t(leaf)];
+        if (l.valid && inscatter_) {
+            leaf_valid_ = true;
+            Li_ = inscatter_->inscattered(leaf, direction_);
+            L_ = GuidingField::incident(l, direction_);
+        }
+    }
+    return t >= leaf_t0_;  // before the field's entry point there is no leaf
+}
+
+float GuidedCollisionProbability::scatter_probability(const TentativeCollision& c) {
+    ++collisions_;
+    if (has_previous_ && mixture_ == CollisionMixture::PerFlight) {
+        // Bayes: the previous collision was a null under both strategies' probabilities.
+        const float analog = analog_share_ * (1.f - previous_analog_);
+        const float total = analog + (1.f - analog_share_) * (1.f - previous_guided_);
+        if (total > 0.f) analog_share_ = analog / total;
+    }
+    const float p_analog = analog_scatter_probability(c);
+    float p_guided = p_analog;
+    if (!enter_leaf_at(c.t) || !leaf_valid_) {
+        ++unguided_;
+    } else {
+        float scatter = 0.f, null = 0.f;
+        for (int ch = 0; ch < 3; ++ch) {
+            const float q = c.channel_weights[ch];
+            scatter += q * std::abs(c.sigma_s[ch]) * Li_[ch];
+            null += q * std::abs(c.mu - c.sigma_t[ch]) * L_[ch];
+        }
+        // No scattering (or no light from it): 0; nothing carried by a null (null = 0): 1.
+        const float p = scatter > 0.f ? scatter / (scatter + null) : 0.f;
+        if (std::isfinite(p) && std::isfinite(scatter + null)) p_guided = p;
+        else ++nan_fallbacks_;
+    }
+    has_previous_ = true;
+    previous_analog_ = p_analog;
+    previous_guided_ = p_guided;
+    return analog_share_ * p_analog + (1.f - analog_share_) * p_guided;
+}
+
+}  // namespace volguide
