@@ -32,6 +32,9 @@ METHODS = {
     "volpath": {"defines": ["integrator=volpath"]},
     "volpath+equiangular": {"defines": ["integrator=volpath", "equiangular=true"]},
     "guided_volpath distance=incremental": {"guided": {"distance": "incremental"}},
+    # Heterogeneous media: the bins (theory.md §7.7 H1) instead of guided tracking (H2, the default).
+    "guided_volpath distance=incremental hetero_distance=bins": {
+        "guided": {"distance": "incremental", "hetero_distance": "bins"}},
     "guided_volpath direction=incident": {"guided": {"direction": "incident"}},
     "guided_volpath direction=product": {"guided": {"direction": "product"}},
     "guided_volpath distance=incremental direction=product": {

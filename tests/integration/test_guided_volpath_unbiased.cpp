@@ -1,7 +1,8 @@
 // guided_volpath's guided decisions (issue 7) do not change the expectation:
 //  - white furnace (oracles.md §1): a constant environment of radiance 1 around a sphere of an
 //    albedo-1 forward-scattering (g = 0.9) medium, chromatic homogeneous and heterogeneous, behind a
-//    null boundary: every distance x direction combination gives 1 in every pixel (image mean
+//    null boundary: every distance x direction combination (heterogeneous: incremental = guided
+//    tracking, and the bins) gives 1 in every pixel (image mean
 //    within 4 standard errors, 6x6 blocks within 5: expect_constant_image) at 1024 spp — at 256 spp
 //    incident-only guiding (g = 0.9, dense heterogeneous) under-reads blocks by ~10 % (5 SE): its
 //    weights f_p / p are heavy-tailed over long paths; 4096 spp converge to 1 (measured);
@@ -10,7 +11,8 @@
 //  - a point light in chromatic fog with a diffuse floor (light arriving from one side, so the
 //    guided probabilities are far from the unguided ones): the image means of guided renders agree
 //    with volpath's (two-sample z-test per channel), homogeneous and heterogeneous;
-//  - the guide's statistics show that it was really used (guided strategies, stepped bins).
+//  - the guide's statistics show that it was really used (guided strategies, stepped bins; guided
+//    null-collision tracking in heterogeneous media, the bins with hetero_distance=bins).
 #include <gtest/gtest.h>
 
 #include <fmt/format.h>
@@ -49,11 +51,15 @@ std::string sigma_t_xml(bool heterogeneous, const std::string& grid, float scale
                : fmt::format(R"(<rgb name="sigma_t" value="{}, {}, {}"/>)", 2.f * scale, 1.f * scale, 3.f * scale);
 }
 
+// `distance` may carry a heterogeneous-media variant: "incremental-bins" = incremental with the bins
+// (H1) instead of guided tracking (H2, the default).
 std::string guided(const std::string& distance, const std::string& direction, int photons) {
+    const bool bins = distance == "incremental-bins";
     return fmt::format(R"(<integrator type="guided_volpath"><string name="distance" value="{}"/>
+        <string name="hetero_distance" value="{}"/>
         <string name="direction" value="{}"/><string name="rrs" value="standard"/>
         <integer name="photons" value="{}"/><integer name="leaf_samples" value="400"/></integrator>)",
-                       distance, direction, photons);
+                       bins ? "incremental" : distance, bins ? "bins" : "tracking", direction, photons);
 }
 
 std::string furnace_xml(bool heterogeneous, const std::string& grid, const std::string& integrator) {
@@ -109,7 +115,7 @@ struct Combo {
 };
 const Combo kCombos[] = {{"standard", "incident"},   {"standard", "product"},   {"incremental", "phase"},
                          {"incremental", "incident"}, {"incremental", "product"}, {"tabulated", "phase"},
-                         {"tabulated", "product"}};
+                         {"tabulated", "product"},    {"incremental-bins", "product"}};
 
 // The guided integrator inside `moment`, for its statistics.
 std::map<std::string, double> guide_stats(const std::string& xml) {
@@ -132,6 +138,7 @@ TEST(GuidedVolPathUnbiased, WhiteFurnaceEveryCombination) {
     const std::string grid = write_grid(dir);
     for (bool het : {false, true})
         for (const Combo& c : kCombos) {
+            if (!het && std::string(c.distance) == "incremental-bins") continue;  // the same as incremental
             SCOPED_TRACE(fmt::format("{} distance={} direction={}", het ? "heterogeneous" : "homogeneous", c.distance,
                                      c.direction));
             Rendered r = render_scene_xml(furnace_xml(het, grid, guided(c.distance, c.direction, 100000)), 1024, 17,
@@ -145,7 +152,7 @@ TEST(GuidedVolPathUnbiased, PointLitFogMatchesVolpath) {
     const std::string grid = write_grid(dir);
     for (bool het : {false, true}) {
         Rendered ref = render_scene_xml(lit_fog_xml(het, grid, R"(<integrator type="volpath"/>)"), 1024, 5, false);
-        for (const Combo& c : {kCombos[1], kCombos[4], kCombos[6]}) {
+        for (const Combo& c : {kCombos[1], kCombos[4], kCombos[6], kCombos[7]}) {
             SCOPED_TRACE(fmt::format("{} distance={} direction={}", het ? "heterogeneous" : "homogeneous", c.distance,
                                      c.direction));
             Rendered g = render_scene_xml(lit_fog_xml(het, grid, guided(c.distance, c.direction, 200000)), 1024, 6,
@@ -166,6 +173,20 @@ TEST(GuidedVolPathUnbiased, TheGuideIsUsed) {
     EXPECT_LT(s.at("distance_invalid_bin_fraction"), 0.5);
     EXPECT_GT(s.at("direction_guided_fraction"), 0.3);  // phase_prob 0.5, most leaves valid
     EXPECT_EQ(s.at("distance_nan_fallbacks"), 0.0);
+}
+
+TEST(GuidedVolPathUnbiased, HeterogeneousMediaUseGuidedTracking) {
+    TempDir dir("guided-tracking-used");
+    const std::string grid = write_grid(dir);
+    const auto s = guide_stats(lit_fog_xml(true, grid, guided("incremental", "product", 200000)));
+    EXPECT_EQ(s.at("distance_tracking_fraction"), 1.0);  // every query inside the fog
+    EXPECT_EQ(s.at("distance_guided_fraction"), 0.0);    // no bin sampler
+    EXPECT_GT(s.at("distance_average_steps"), 1.0);      // tentative collisions per query
+    EXPECT_LT(s.at("distance_invalid_bin_fraction"), 0.5);
+    EXPECT_EQ(s.at("distance_nan_fallbacks"), 0.0);
+    const auto bins = guide_stats(lit_fog_xml(true, grid, guided("incremental-bins", "product", 200000)));
+    EXPECT_EQ(bins.at("distance_tracking_fraction"), 0.0);
+    EXPECT_NEAR(bins.at("distance_guided_fraction"), 0.5, 0.1);
 }
 
 TEST(GuidedVolPathUnbiased, TransmittanceStrategiesAloneGiveUnitWeights) {
