@@ -141,8 +141,12 @@ TEST(GuidedVolPathUnbiased, WhiteFurnaceEveryCombination) {
             if (!het && std::string(c.distance) == "incremental-bins") continue;  // the same as incremental
             SCOPED_TRACE(fmt::format("{} distance={} direction={}", het ? "heterogeneous" : "homogeneous", c.distance,
                                      c.direction));
-            Rendered r = render_scene_xml(furnace_xml(het, grid, guided(c.distance, c.direction, 100000)), 1024, 17,
-                                          /*test_media=*/false);
+            // Incident-only directions with guided tracking (heterogeneous): the 1024-spp image has one
+            // block 5.8 SE low at seed 17 (0.934 +- 0.011), seeds 18, 19 and 4096 spp at seed 17 pass:
+            // the heavy tail noted above, so this combination gets 4096 spp.
+            const bool heavy = het && std::string(c.distance) == "incremental" && std::string(c.direction) == "incident";
+            Rendered r = render_scene_xml(furnace_xml(het, grid, guided(c.distance, c.direction, 100000)),
+                                          heavy ? 4096 : 1024, 17, /*test_media=*/false);
             expect_constant_image(r, 1.0);
         }
 }
