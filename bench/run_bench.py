@@ -32,9 +32,6 @@ METHODS = {
     "volpath": {"defines": ["integrator=volpath"]},
     "volpath+equiangular": {"defines": ["integrator=volpath", "equiangular=true"]},
     "guided_volpath distance=incremental": {"guided": {"distance": "incremental"}},
-    # Heterogeneous media: the bins (theory.md §7.7 H1) instead of guided tracking (H2, the default).
-    "guided_volpath distance=incremental hetero_distance=bins": {
-        "guided": {"distance": "incremental", "hetero_distance": "bins"}},
     "guided_volpath direction=incident": {"guided": {"direction": "incident"}},
     "guided_volpath direction=product": {"guided": {"direction": "product"}},
     "guided_volpath distance=incremental direction=product": {
@@ -45,6 +42,13 @@ METHODS = {
         "guided": {"distance": "incremental", "direction": "product", "rrs": "grr"}},
     "guided_volpath distance=incremental direction=product rrs=grrs": {
         "guided": {"distance": "incremental", "direction": "product", "rrs": "grrs"}},
+}
+
+# Methods run only when named in --methods (comparisons of variants, not part of the default table).
+EXTRA_METHODS = {
+    # Heterogeneous media: the bins (theory.md §7.7 H1) instead of guided tracking (H2, the default).
+    "guided_volpath distance=incremental hetero_distance=bins": {
+        "guided": {"distance": "incremental", "hetero_distance": "bins"}},
 }
 
 # Zoomed crops shown in the HTML report: (x, y, width, height) in pixels of the 160x120 image.
@@ -347,8 +351,8 @@ def main():
                 sys.exit(f"run_bench: {os.path.join(args.references, s + ext)} is missing; "
                          "make it with bench/make_references.py")
     for m in methods:
-        if m not in METHODS:
-            sys.exit(f"run_bench: unknown method '{m}' (known: {', '.join(METHODS)})")
+        if m not in METHODS and m not in EXTRA_METHODS:
+            sys.exit(f"run_bench: unknown method '{m}' (known: {', '.join(list(METHODS) + list(EXTRA_METHODS))})")
     volguide = os.path.join(args.build_dir, "volguide")
     if not os.access(volguide, os.X_OK):
         sys.exit(f"run_bench: {volguide} is missing; run `make build` first")
@@ -367,7 +371,7 @@ def main():
                         os.path.join(out, "images", scene + "__reference.png")], check=True, capture_output=True)
         for method in methods:
             log(f"{scene}: {method} ({args.time:g} s)")
-            row = run_method(volguide, scene, method, METHODS[method], args, out)
+            row = run_method(volguide, scene, method, METHODS.get(method) or EXTRA_METHODS[method], args, out)
             if row["status"] == "ok":
                 log(f"  {row['spp']} spp, relMSE(1e-2) {row['relmse_1e-2']:.4g}")
             else:
