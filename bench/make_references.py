@@ -21,15 +21,17 @@ import time
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 
-# scene: (method -D overrides, spp per chunk, chunks). spp per chunk ~ 4 min of volpath on 2 cores
-# (2026-11, Xeon VM), so each reference costs ~12 min: ~12x the 60 s benchmark budget.
+# scene: (method -D overrides, spp per chunk, chunks). thin, aniso and cloud are sized so that the
+# reference's own relMSE is about 1/16 of the best method's at the 60 s benchmark budget (2026-11-23
+# run, Xeon VM, 2 cores; the method is the better of volpath and volpath+equiangular there, both
+# unbiased), sss about 1/14; shafts, backlit and fogbox, from the first sizing, about 1/11.
 REFERENCES = {
     "shafts": (["integrator=volpath"], 4224, 3),
     "backlit": (["integrator=volpath"], 10752, 3),
-    "thin": (["integrator=volpath"], 33408, 3),
-    "sss": (["integrator=volpath"], 3072, 3),
-    "aniso": (["integrator=volpath"], 7296, 3),
-    "cloud": (["integrator=volpath"], 19968, 3),
+    "thin": (["integrator=volpath", "equiangular=true"], 26560, 4),
+    "sss": (["integrator=volpath"], 4400, 3),
+    "aniso": (["integrator=volpath", "equiangular=true"], 7000, 4),
+    "cloud": (["integrator=volpath"], 26500, 4),
     "fogbox": (["integrator=volpath"], 8064, 3),
 }
 
