@@ -19,59 +19,46 @@ FreeFlightSample HeterogeneousMedium::guided_free_flight(const Ray& ray, float t
     float t0, t1;
     if (!local_segment(ray, tmax, o, d, t0, t1)) return fs;
 
-    const int* res = majorants_.res();
-    const Vec3f cells{float(res[0]), float(res[1]), float(res[2])};
-    GridDda dda(o * cells, d * cells, res, t0, t1);
     const Color3 entry = channel_probabilities(throughput);
     Color3 w(1.f);
-    float tau = -std::log1p(-sampler.next_1d());  // optical depth (majorant units) to the next collision
-    for (; !dda.done(); dda.advance()) {
-        if (counts) ++counts->cells;
-        const float mu = majorant_scale_ * majorants_.cell(dda.cell(0), dda.cell(1), dda.cell(2)).majorant;
-        const float seg_end = dda.segment_end();
-        float t = dda.t();
-        if (!(mu > 0.f)) continue;
-        while (true) {
-            const float dt = tau / mu;
-            if (t + dt >= seg_end) {
-                tau -= (seg_end - t) * mu;
-                break;
-            }
-            t += dt;
-            const Point3f p = ray(t);
-            TentativeCollision c;
-            c.t = t;
-            c.mu = mu;
-            c.sigma_t = sigma_t_local(o + d * t);
-            c.sigma_s = c.sigma_t * albedo_->eval(p);
-            c.channel_weights = channel_probabilities(w * entry);
-            float ps = guide.scatter_probability(c);
-            ps = std::isnan(ps) ? analog_scatter_probability(c) : std::clamp(ps, 0.f, 1.f);
-            // u in [0, 1): P_s = 0 never scatters and P_s = 1 always does, so each branch's
-            // division below is by a probability of at least ~1e-7 (weights stay finite).
-            if (sampler.next_1d() < ps) {
-                if (counts) ++counts->real_collisions;
-                fs.scattered = true;
-                fs.t = t;
-                MediumInteraction& mi = fs.mi;
-                mi.p = p;
-                mi.t = t;
-                mi.wi = -ray.d;
-                mi.medium = this;
-                mi.coeffs = {c.sigma_t, c.sigma_s};
-                fs.flight_weight = w * (1.f / (mu * ps));
-                fs.weight = fs.flight_weight * c.sigma_s;
-                return fs;
-            }
-            if (counts) ++counts->null_collisions;
-            w = w * (Color3(mu) - c.sigma_t) * (1.f / (mu * (1.f - ps)));
-            if (w.is_black()) {  // a null weight of zero (sigma_t = mu): nothing is carried further
-                fs.weight = fs.flight_weight = Color3(0.f);
-                return fs;
-            }
-            tau = -std::log1p(-sampler.next_1d());
+    bool ended = false;  // scattered, or the weight vanished
+    for_each_tentative_collision(o, d, t0, t1, sampler, counts, [&](float t, float mu) {
+        const Point3f p = ray(t);
+        TentativeCollision c;
+        c.t = t;
+        c.mu = mu;
+        c.sigma_t = sigma_t_local(o + d * t);
+        c.sigma_s = c.sigma_t * albedo_->eval(p);
+        c.channel_weights = channel_probabilities(w * entry);
+        float ps = guide.scatter_probability(c);
+        ps = std::isnan(ps) ? analog_scatter_probability(c) : std::clamp(ps, 0.f, 1.f);
+        // u in [0, 1): P_s = 0 never scatters and P_s = 1 always does, so each branch's
+        // division below is by a probability of at least ~1e-7 (weights stay finite).
+        if (sampler.next_1d() < ps) {
+            if (counts) ++counts->real_collisions;
+            fs.scattered = true;
+            fs.t = t;
+            MediumInteraction& mi = fs.mi;
+            mi.p = p;
+            mi.t = t;
+            mi.wi = -ray.d;
+            mi.medium = this;
+            mi.coeffs = {c.sigma_t, c.sigma_s};
+            fs.flight_weight = w * (1.f / (mu * ps));
+            fs.weight = fs.flight_weight * c.sigma_s;
+            ended = true;
+            return false;
         }
-    }
+        if (counts) ++counts->null_collisions;
+        w = w * (Color3(mu) - c.sigma_t) * (1.f / (mu * (1.f - ps)));
+        if (w.is_black()) {  // a null weight of zero (sigma_t = mu): nothing is carried further
+            fs.weight = fs.flight_weight = Color3(0.f);
+            ended = true;
+            return false;
+        }
+        return true;
+    });
+    if (ended) return fs;
     fs.weight = fs.flight_weight = w;
     return fs;
 }

@@ -14,6 +14,9 @@
 // as control (default); both unbiased for any majorant. Both stop small estimates by unbiased
 // Russian roulette (survival max|T| / 0.05 once max|T| < 0.05).
 // Guided tracking (media/guided_tracking.h): the same walk with the caller's scatter probability.
+#include <cmath>
+
+#include "volguide/media/dda.h"
 #include "volguide/media/guided_tracking.h"
 #include "volguide/media/majorant_grid.h"
 #include "volguide/media/medium.h"
@@ -62,6 +65,35 @@ public:
     std::string to_string() const override;
 
 private:
+    // The tentative collisions of delta/ratio/guided tracking along the local segment o + t d,
+    // t in (t0, t1): a Poisson process at each majorant cell's rate mu, walked cell by cell with a
+    // DDA. Calls collide(t, mu) at each; it returns false to stop. The optical depth to the next
+    // collision is redrawn (one random number) after each collision that continues.
+    template <class Collide>
+    void for_each_tentative_collision(const Point3f& o, const Vec3f& d, float t0, float t1, Sampler& sampler,
+                                      TrackingCounts* counts, Collide&& collide) const {
+        const int* res = majorants_.res();
+        const Vec3f cells{float(res[0]), float(res[1]), float(res[2])};
+        float tau = -std::log1p(-sampler.next_1d());  // optical depth (majorant units) to the next collision
+        for (GridDda dda(o * cells, d * cells, res, t0, t1); !dda.done(); dda.advance()) {
+            if (counts) ++counts->cells;
+            const float mu = majorant_scale_ * majorants_.cell(dda.cell(0), dda.cell(1), dda.cell(2)).majorant;
+            const float seg_end = dda.segment_end();
+            float t = dda.t();
+            if (!(mu > 0.f)) continue;
+            while (true) {
+                const float dt = tau / mu;
+                if (t + dt >= seg_end) {
+                    tau -= (seg_end - t) * mu;
+                    break;
+                }
+                t += dt;
+                if (!collide(t, mu)) return;
+                tau = -std::log1p(-sampler.next_1d());
+            }
+        }
+    }
+
     // The ray in the sigma_t volume's local coordinates (t unchanged) clipped to the unit cube
     // and (0, tmax); false when it misses.
     bool local_segment(const Ray& ray, float tmax, Point3f& o, Vec3f& d, float& t0, float& t1) const;

@@ -40,53 +40,40 @@ FreeFlightSample HeterogeneousMedium::sample_free_flight(const Ray& ray, float t
     float t0, t1;
     if (!local_segment(ray, tmax, o, d, t0, t1)) return fs;
 
-    const int* res = majorants_.res();
-    const Vec3f cells{float(res[0]), float(res[1]), float(res[2])};
-    GridDda dda(o * cells, d * cells, res, t0, t1);
     const Color3 entry = channel_probabilities(throughput);
     Color3 w(1.f);
-    float tau = exponential(sampler);  // remaining optical depth (majorant units) to the next collision
-    for (; !dda.done(); dda.advance()) {
-        if (counts) ++counts->cells;
-        const float mu = majorant_scale_ * majorants_.cell(dda.cell(0), dda.cell(1), dda.cell(2)).majorant;
-        const float seg_end = dda.segment_end();
-        float t = dda.t();
-        if (!(mu > 0.f)) continue;
-        while (true) {
-            const float dt = tau / mu;
-            if (t + dt >= seg_end) {
-                tau -= (seg_end - t) * mu;
-                break;
-            }
-            t += dt;
-            const Color3 sigma_t = sigma_t_local(o + d * t);
-            const Color3 sigma_n = Color3(mu) - sigma_t;
-            const Color3 path_w = w * entry;
-            const float pc = abs(sigma_t * path_w).average(), pn = abs(sigma_n * path_w).average();
-            const float z = pc + pn;
-            if (!(z > 0.f)) {  // the tracking weight vanished: nothing can be carried further
-                fs.weight = fs.flight_weight = Color3(0.f);
-                return fs;
-            }
-            if (sampler.next_1d() * z < pc) {
-                if (counts) ++counts->real_collisions;
-                fs.scattered = true;
-                fs.t = t;
-                MediumInteraction& mi = fs.mi;
-                mi.p = ray(t);
-                mi.t = t;
-                mi.wi = -ray.d;
-                mi.medium = this;
-                mi.coeffs = {sigma_t, sigma_t * albedo_->eval(mi.p)};
-                fs.flight_weight = w * (z / (mu * pc));
-                fs.weight = fs.flight_weight * mi.coeffs.sigma_s;
-                return fs;
-            }
-            if (counts) ++counts->null_collisions;
-            w = w * sigma_n * (z / (mu * pn));
-            tau = exponential(sampler);
+    bool ended = false;  // scattered, or the tracking weight vanished
+    for_each_tentative_collision(o, d, t0, t1, sampler, counts, [&](float t, float mu) {
+        const Color3 sigma_t = sigma_t_local(o + d * t);
+        const Color3 sigma_n = Color3(mu) - sigma_t;
+        const Color3 path_w = w * entry;
+        const float pc = abs(sigma_t * path_w).average(), pn = abs(sigma_n * path_w).average();
+        const float z = pc + pn;
+        if (!(z > 0.f)) {  // the tracking weight vanished: nothing can be carried further
+            fs.weight = fs.flight_weight = Color3(0.f);
+            ended = true;
+            return false;
         }
-    }
+        if (sampler.next_1d() * z < pc) {
+            if (counts) ++counts->real_collisions;
+            fs.scattered = true;
+            fs.t = t;
+            MediumInteraction& mi = fs.mi;
+            mi.p = ray(t);
+            mi.t = t;
+            mi.wi = -ray.d;
+            mi.medium = this;
+            mi.coeffs = {sigma_t, sigma_t * albedo_->eval(mi.p)};
+            fs.flight_weight = w * (z / (mu * pc));
+            fs.weight = fs.flight_weight * mi.coeffs.sigma_s;
+            ended = true;
+            return false;
+        }
+        if (counts) ++counts->null_collisions;
+        w = w * sigma_n * (z / (mu * pn));
+        return true;
+    });
+    if (ended) return fs;
     fs.weight = fs.flight_weight = w;
     return fs;
 }
@@ -101,27 +88,13 @@ Color3 HeterogeneousMedium::ratio_tracking(const Ray& ray, float tmax, Sampler& 
     Vec3f d;
     float t0, t1;
     if (!local_segment(ray, tmax, o, d, t0, t1)) return Color3(1.f);
-    const int* res = majorants_.res();
-    const Vec3f cells{float(res[0]), float(res[1]), float(res[2])};
     Color3 tr(1.f);
-    float tau = exponential(sampler);
-    for (GridDda dda(o * cells, d * cells, res, t0, t1); !dda.done(); dda.advance()) {
-        const float mu = majorant_scale_ * majorants_.cell(dda.cell(0), dda.cell(1), dda.cell(2)).majorant;
-        const float seg_end = dda.segment_end();
-        float t = dda.t();
-        if (!(mu > 0.f)) continue;
-        while (true) {
-            const float dt = tau / mu;
-            if (t + dt >= seg_end) {
-                tau -= (seg_end - t) * mu;
-                break;
-            }
-            t += dt;
-            tr *= Color3(1.f) - sigma_t_local(o + d * t) * (1.f / mu);
-            if (!roulette(tr, sampler)) return Color3(0.f);
-            tau = exponential(sampler);
-        }
-    }
+    for_each_tentative_collision(o, d, t0, t1, sampler, nullptr, [&](float t, float mu) {
+        tr *= Color3(1.f) - sigma_t_local(o + d * t) * (1.f / mu);
+        if (roulette(tr, sampler)) return true;
+        tr = Color3(0.f);  // killed by the roulette
+        return false;
+    });
     return tr;
 }
 
