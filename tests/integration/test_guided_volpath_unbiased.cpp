@@ -19,7 +19,7 @@
 
 #include <cmath>
 
-#include "support/vol_writer.h"
+#include "support/furnace_grid.h"
 #include "support/volpath_test_util.h"
 #include "volguide/integrators/guided_volpath.h"
 #include "volguide/core/warp.h"
@@ -30,17 +30,6 @@ using namespace volguide;
 using namespace volguide::test;
 
 namespace {
-
-// Extinction between about 0.2 and 9 per unit, different per channel, over [-1, 1]^3.
-std::string write_grid(const TempDir& dir) {
-    VolGrid g = make_vol_grid(8, 8, 8, 3, [](float x, float y, float z, int c) {
-        const float wave = std::sin(7.f * x + 2.f * c) * std::cos(5.f * y - c) * std::sin(6.f * z + 1.f);
-        return 0.1f + 4.5f * (1.f + wave) * (c == 1 ? 0.5f : 1.f);
-    });
-    const std::string path = dir.file("sigma_t.vol");
-    write_vol_file(path, g);
-    return path;
-}
 
 std::string sigma_t_xml(bool heterogeneous, const std::string& grid, float scale) {
     return heterogeneous
@@ -135,7 +124,7 @@ std::map<std::string, double> guide_stats(const std::string& xml) {
 
 TEST(GuidedVolPathUnbiased, WhiteFurnaceEveryCombination) {
     TempDir dir("guided-furnace");
-    const std::string grid = write_grid(dir);
+    const std::string grid = write_furnace_grid(dir);
     for (bool het : {false, true})
         for (const Combo& c : kCombos) {
             if (!het && std::string(c.distance) == "incremental-bins") continue;  // the same as incremental
@@ -153,7 +142,7 @@ TEST(GuidedVolPathUnbiased, WhiteFurnaceEveryCombination) {
 
 TEST(GuidedVolPathUnbiased, PointLitFogMatchesVolpath) {
     TempDir dir("guided-lit-fog");
-    const std::string grid = write_grid(dir);
+    const std::string grid = write_furnace_grid(dir);
     for (bool het : {false, true}) {
         Rendered ref = render_scene_xml(lit_fog_xml(het, grid, R"(<integrator type="volpath"/>)"), 1024, 5, false);
         for (const Combo& c : {kCombos[1], kCombos[4], kCombos[6], kCombos[7]}) {
@@ -168,7 +157,7 @@ TEST(GuidedVolPathUnbiased, PointLitFogMatchesVolpath) {
 
 TEST(GuidedVolPathUnbiased, TheGuideIsUsed) {
     TempDir dir("guided-used");
-    const std::string grid = write_grid(dir);
+    const std::string grid = write_furnace_grid(dir);
     const auto s = guide_stats(lit_fog_xml(false, grid, guided("incremental", "product", 200000)));
     ASSERT_TRUE(s.count("distance_queries"));
     EXPECT_GT(s.at("distance_queries"), 100.0);
@@ -181,7 +170,7 @@ TEST(GuidedVolPathUnbiased, TheGuideIsUsed) {
 
 TEST(GuidedVolPathUnbiased, HeterogeneousMediaUseGuidedTracking) {
     TempDir dir("guided-tracking-used");
-    const std::string grid = write_grid(dir);
+    const std::string grid = write_furnace_grid(dir);
     const auto s = guide_stats(lit_fog_xml(true, grid, guided("incremental", "product", 200000)));
     EXPECT_EQ(s.at("distance_tracking_fraction"), 1.0);  // every query inside the fog
     EXPECT_EQ(s.at("distance_guided_fraction"), 0.0);    // no bin sampler

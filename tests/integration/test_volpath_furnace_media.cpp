@@ -10,7 +10,7 @@
 
 #include <cmath>
 
-#include "support/vol_writer.h"
+#include "support/furnace_grid.h"
 #include "support/volpath_test_util.h"
 
 using namespace volguide;
@@ -25,17 +25,6 @@ struct FurnaceCase {
     const char* boundary;  // the sphere's BSDF
     int spp;
 };
-
-// Extinction between about 0.2 and 9 per unit, different per channel, over [-1, 1]^3.
-std::string write_grid(const TempDir& dir) {
-    VolGrid g = make_vol_grid(8, 8, 8, 3, [](float x, float y, float z, int c) {
-        const float wave = std::sin(7.f * x + 2.f * c) * std::cos(5.f * y - c) * std::sin(6.f * z + 1.f);
-        return 0.1f + 4.5f * (1.f + wave) * (c == 1 ? 0.5f : 1.f);
-    });
-    const std::string path = dir.file("sigma_t.vol");
-    write_vol_file(path, g);
-    return path;
-}
 
 std::string furnace_xml(const FurnaceCase& c, const std::string& grid_path) {
     const std::string sigma_t =
@@ -72,7 +61,7 @@ class MediaFurnace : public ::testing::TestWithParam<FurnaceCase> {};
 TEST_P(MediaFurnace, EveryPixelIsOne) {
     const FurnaceCase& c = GetParam();
     TempDir dir("media-furnace");
-    const std::string grid = write_grid(dir);
+    const std::string grid = write_furnace_grid(dir);
     Rendered r = render_scene_xml(furnace_xml(c, grid), c.spp, 17, /*test_media=*/false);
     expect_constant_image(r, 1.0);
 }
