@@ -142,6 +142,35 @@ TEST(PhotonPass, FieldIsIdenticalForOneAndTwoThreads) {
     EXPECT_FALSE(a == c) << "another seed must give another field";
 }
 
+// The deposit cap stops tracing after the wave that reaches it, the same photons for any thread
+// count; without the cap every photon is traced.
+TEST(PhotonPass, DepositCapStopsAtTheSameWaveForAnyThreadCount) {
+    TempDir dir("photons-cap");
+    auto scene = load(dir, point_light_scene(Point3f(0.5f, 0.f, 0.f), 2.f, 0.95f, R"(<integrator type="volpath"/>)"));
+    PhotonPassSettings ps;
+    ps.photons = 400000;
+    PreprocessContext ctx;
+    ctx.seed = 5;
+    PhotonPassResult full;
+    tbb::task_arena(2).execute([&] { full = trace_photons(*scene, ps, ctx); });
+    EXPECT_EQ(full.photons_traced, ps.photons);
+    EXPECT_FALSE(full.deposit_limited);
+    ps.max_deposits = int64_t(full.samples.size()) / 4;
+    PhotonPassResult one, two;
+    tbb::task_arena(1).execute([&] { one = trace_photons(*scene, ps, ctx); });
+    tbb::task_arena(2).execute([&] { two = trace_photons(*scene, ps, ctx); });
+    EXPECT_TRUE(one.deposit_limited);
+    EXPECT_LT(one.photons_traced, ps.photons / 2);
+    EXPECT_GE(int64_t(one.samples.size()), ps.max_deposits);  // whole waves: at or just past the cap
+    EXPECT_LT(int64_t(one.samples.size()), 2 * ps.max_deposits);
+    EXPECT_EQ(one.photons_traced, two.photons_traced);
+    ASSERT_EQ(one.samples.size(), two.samples.size());
+    for (size_t i = 0; i < one.samples.size(); ++i) {
+        ASSERT_EQ(one.samples[i].position, two.samples[i].position) << i;
+        ASSERT_EQ(one.samples[i].weight, two.samples[i].weight) << i;
+    }
+}
+
 TEST(GuidedVolPath, TrainsSavesLoadsAndRendersWhatVolpathRenders) {
     TempDir dir("guided-volpath");
     const std::string field_path = dir.file("field.vgf");

@@ -56,6 +56,9 @@ GuidedVolPathSettings GuidedVolPathSettings::from(const Properties& props) {
                              "photons");
     s.photons = props.get_int("photons", s.photons);
     if (s.photons < 1) props.fail_at("photons", "guided_volpath: photons must be >= 1, got {}", s.photons);
+    s.max_deposits = props.get_int("max_deposits", s.max_deposits);
+    if (s.max_deposits < 0)
+        props.fail_at("max_deposits", "guided_volpath: max_deposits must be >= 0 (0: no cap), got {}", s.max_deposits);
     const int64_t iterations = props.get_int("training_iterations", s.training_iterations);
     if (iterations < 1 || iterations > kMaxTrainingIterations)
         props.fail_at("training_iterations", "guided_volpath: training_iterations must be in [1, {}], got {}",
@@ -154,6 +157,7 @@ void GuidedVolPathIntegrator::preprocess(const Scene& scene, const PreprocessCon
     } else {
         PhotonPassSettings ps;
         ps.photons = settings_.photons;
+        ps.max_deposits = settings_.max_deposits;
         ps.max_depth = settings_.walk.max_depth;
         ps.rr_depth = settings_.walk.rr_depth;
         // Under a --time budget, training gets training_fraction of it (interface.md).

@@ -25,6 +25,10 @@ struct GuidedVolPathSettings {
     VolPathSettings walk;  // max_depth, rr_depth, hide_emitters, equiangular
     std::string training = "photons";
     int64_t photons = 1000000;  // the paper uses ~50 M; 1 M trains in seconds on two cores
+    // Photon collisions kept at most (0: no cap): dense media deposit tens per photon, and the
+    // field's build and fit time grows with them (4 M: 160 MB, ~3.5 s to build and fit on two
+    // cores; on `aniso` 2 M photons deposit more than 8 M collisions, whose fit took 26 s uncapped).
+    int64_t max_deposits = 4000000;
     int training_iterations = 5;  // progressive: iteration k traces 2^k spp (5: 31 spp in total)
     float training_fraction = 0.25f;
     GuidingFieldSettings field;  // leaf_samples -> field.tree.max_samples, lobes -> field.lobes

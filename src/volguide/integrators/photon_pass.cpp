@@ -18,6 +18,8 @@ namespace {
 // A random-number stream no camera pixel uses (pixel indices are y * width + x).
 constexpr uint64_t kPhotonStream = 0xF07F07F0ull;
 constexpr int64_t kBatch = 4096;
+// Batches per wave (the deposit cap is checked between waves): a constant, not the thread count.
+constexpr int64_t kWaveBatches = 16;
 
 struct BatchResult {
     std::vector<RadianceSample> samples;
@@ -106,28 +108,40 @@ PhotonPassResult trace_photons(const Scene& scene, const PhotonPassSettings& set
     std::mutex progress_mutex;
     std::atomic<int64_t> finished{0};
     const auto start = std::chrono::steady_clock::now();
-    tbb::parallel_for(int64_t(0), batches, [&](int64_t b) {
-        if (context.cancelled()) return;
-        if (settings.time_limit > 0 &&
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > settings.time_limit)
-            return;
-        const int64_t first = b * kBatch, last = std::min(settings.photons, first + kBatch);
-        BatchResult& out = per_batch[size_t(b)];
-        for (int64_t i = first; i < last; ++i) {
-            Sampler sampler(context.seed, kPhotonStream, uint64_t(i));
-            trace_one(scene, settings, sampler, out);
+    // Waves of batches: every batch of a wave completes (unless cancelled or out of time) before the
+    // deposit cap is checked, so the batches kept do not depend on the thread count.
+    int64_t deposits = 0;
+    for (int64_t wave = 0; wave < batches; wave += kWaveBatches) {
+        if (settings.max_deposits > 0 && deposits >= settings.max_deposits) {
+            result.deposit_limited = true;
+            break;
         }
-        done[size_t(b)] = 1;
-        const int64_t n = ++finished;
-        if (context.progress) {
-            std::lock_guard lock(progress_mutex);
-            Progress p;
-            p.phase = "photons";
-            p.fraction = double(n) / double(batches);
-            p.elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-            context.progress(p);
-        }
-    });
+        const int64_t wave_end = std::min(batches, wave + kWaveBatches);
+        tbb::parallel_for(wave, wave_end, [&](int64_t b) {
+            if (context.cancelled()) return;
+            if (settings.time_limit > 0 &&
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > settings.time_limit)
+                return;
+            const int64_t first = b * kBatch, last = std::min(settings.photons, first + kBatch);
+            BatchResult& out = per_batch[size_t(b)];
+            for (int64_t i = first; i < last; ++i) {
+                Sampler sampler(context.seed, kPhotonStream, uint64_t(i));
+                trace_one(scene, settings, sampler, out);
+            }
+            done[size_t(b)] = 1;
+            const int64_t n = ++finished;
+            if (context.progress) {
+                std::lock_guard lock(progress_mutex);
+                Progress p;
+                p.phase = "photons";
+                p.fraction = double(n) / double(batches);
+                p.elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+                context.progress(p);
+            }
+        });
+        for (int64_t b = wave; b < wave_end; ++b) deposits += int64_t(per_batch[size_t(b)].samples.size());
+        if (context.cancelled()) break;
+    }
     // Join completed batches in photon order; a cancelled pass keeps what it traced.
     for (size_t b = 0; b < per_batch.size(); ++b) {
         if (!done[b]) continue;

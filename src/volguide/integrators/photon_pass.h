@@ -22,12 +22,18 @@ struct PhotonPassSettings {
     int max_depth = -1;  // scattering events per photon (-1: until Russian roulette ends it)
     int rr_depth = 5;
     double time_limit = 0;  // seconds (> 0): stop starting new photon batches after this long
+    // Stop once this many collisions were deposited (0: no cap). In dense media every photon deposits
+    // tens of collisions, and the field's build and fit cost grows with the deposits, not the
+    // photons: the cap keeps training inside its budget. Checked after each wave of kWaveBatches
+    // batches, so the result does not depend on the thread count.
+    int64_t max_deposits = 0;
 };
 
 struct PhotonPassResult {
     std::vector<RadianceSample> samples;
     int64_t photons_traced = 0;  // fewer than requested when cancelled
     int64_t collisions = 0;
+    bool deposit_limited = false;  // stopped by max_deposits
 };
 
 PhotonPassResult trace_photons(const Scene& scene, const PhotonPassSettings& settings, const PreprocessContext& context);
