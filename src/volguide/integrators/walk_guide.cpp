@@ -240,16 +240,10 @@ FreeFlightSample WalkGuide::sample_distance(const Medium& medium, const Ray& ray
     if (ds.event == DistanceEvent::Medium && ds.pdf > 0.f) {
         const float t = ds.t;
         const Color3 tr = exact_or_estimated_transmittance(medium, ray, t, sampler);
-        MediumInteraction& mi = fs.mi;
-        mi.p = ray(t);
-        mi.t = t;
-        mi.wi = -ray.d;
-        mi.medium = &medium;
-        mi.coeffs = medium.eval(mi.p);
-        fs.scattered = true;
-        fs.t = t;
+        const Point3f p = ray(t);
+        fs.scatter_at(ray, t, p, &medium, medium.eval(p));
         fs.flight_weight = tr * (1.f / ds.pdf);
-        fs.weight = fs.flight_weight * mi.coeffs.sigma_s;
+        fs.weight = fs.flight_weight * fs.mi.coeffs.sigma_s;
         return fs;
     }
     if (ds.event == DistanceEvent::Medium || !(ds.pdf > 0.f)) {  // a zero pdf cannot be weighted: no path

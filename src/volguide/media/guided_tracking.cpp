@@ -36,14 +36,7 @@ FreeFlightSample HeterogeneousMedium::guided_free_flight(const Ray& ray, float t
         // division below is by a probability of at least ~1e-7 (weights stay finite).
         if (sampler.next_1d() < ps) {
             if (counts) ++counts->real_collisions;
-            fs.scattered = true;
-            fs.t = t;
-            MediumInteraction& mi = fs.mi;
-            mi.p = p;
-            mi.t = t;
-            mi.wi = -ray.d;
-            mi.medium = this;
-            mi.coeffs = {c.sigma_t, c.sigma_s};
+            fs.scatter_at(ray, t, p, this, {c.sigma_t, c.sigma_s});
             fs.flight_weight = w * (1.f / (mu * ps));
             fs.weight = fs.flight_weight * c.sigma_s;
             ended = true;

@@ -38,21 +38,15 @@ FreeFlightSample HomogeneousMedium::sample_free_flight(const Ray& ray, float tma
 
     FreeFlightSample fs;
     if (t < tmax) {
-        fs.scattered = true;
-        fs.t = t;
-        MediumInteraction& mi = fs.mi;
-        mi.p = ray(t);
-        mi.t = t;
-        mi.wi = -ray.d;
-        mi.medium = this;
-        mi.coeffs = {sigma_t_, sigma_t_ * albedo_at(mi.p)};
+        const Point3f p = ray(t);
+        fs.scatter_at(ray, t, p, this, {sigma_t_, sigma_t_ * albedo_at(p)});
         if (grey_) {
             fs.flight_weight = Color3(1.f / sigma_t_.r);
         } else {
             const float pdf = spectral_distance_pdf(sigma_t_, probs, t);
             fs.flight_weight = pdf > 0.f ? transmittance_rgb(sigma_t_, t) / pdf : Color3(0.f);
         }
-        fs.weight = fs.flight_weight * mi.coeffs.sigma_s;
+        fs.weight = fs.flight_weight * fs.mi.coeffs.sigma_s;
     } else {
         fs.scattered = false;
         fs.t = tmax;

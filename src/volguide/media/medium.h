@@ -44,6 +44,19 @@ struct FreeFlightSample {
     // arriving at the collision, before the albedo (theory.md §5.2). On escape: equal to weight.
     Color3 flight_weight{1.f};
     MediumInteraction mi;  // valid when scattered
+
+    // Records a real scattering event at p = ray(t) with the coefficients there (weights are the
+    // caller's).
+    void scatter_at(const Ray& ray, float t_event, const Point3f& p, const Medium* medium,
+                    const MediumCoefficients& coeffs) {
+        scattered = true;
+        t = t_event;
+        mi.p = p;
+        mi.t = t_event;
+        mi.wi = -ray.d;
+        mi.medium = medium;
+        mi.coeffs = coeffs;
+    }
 };
 
 // A stretch of ray over which a medium is summarised by constants: the guided distance sampler's

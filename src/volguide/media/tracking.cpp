@@ -56,16 +56,10 @@ FreeFlightSample HeterogeneousMedium::sample_free_flight(const Ray& ray, float t
         }
         if (sampler.next_1d() * z < pc) {
             if (counts) ++counts->real_collisions;
-            fs.scattered = true;
-            fs.t = t;
-            MediumInteraction& mi = fs.mi;
-            mi.p = ray(t);
-            mi.t = t;
-            mi.wi = -ray.d;
-            mi.medium = this;
-            mi.coeffs = {sigma_t, sigma_t * albedo_->eval(mi.p)};
+            const Point3f p = ray(t);
+            fs.scatter_at(ray, t, p, this, {sigma_t, sigma_t * albedo_->eval(p)});
             fs.flight_weight = w * (z / (mu * pc));
-            fs.weight = fs.flight_weight * mi.coeffs.sigma_s;
+            fs.weight = fs.flight_weight * fs.mi.coeffs.sigma_s;
             ended = true;
             return false;
         }
