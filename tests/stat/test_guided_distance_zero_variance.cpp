@@ -18,14 +18,6 @@ using namespace volguide::test;
 
 namespace {
 
-GuidedDistanceSettings settings(float c_T, float p_max, float A) {
-    GuidedDistanceSettings s;
-    s.c_T = c_T;
-    s.p_max = p_max;
-    s.filter_A = A;
-    return s;
-}
-
 // Log-normal factors exp(sigma * N(0,1)), fixed per bin and quantity: a "cache" that is wrong by a
 // factor of ~2 but deterministic along the ray.
 std::function<float(size_t, int)> lognormal_noise(uint32_t seed, float sigma) {

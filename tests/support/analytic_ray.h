@@ -124,4 +124,13 @@ inline AnalyticRay six_bin_ray(bool chromatic = false) {
     return r;
 }
 
+// Distance-sampler settings in one call: c_T, p_max and the filter weight A.
+inline GuidedDistanceSettings settings(float c_T, float p_max, float A) {
+    GuidedDistanceSettings s;
+    s.c_T = c_T;
+    s.p_max = p_max;
+    s.filter_A = A;
+    return s;
+}
+
 }  // namespace volguide::test

@@ -67,14 +67,6 @@ void make_consistent(std::vector<DistanceBin>& bins, float L_surface) {
     }
 }
 
-GuidedDistanceSettings settings(float c_T, float p_max, float A) {
-    GuidedDistanceSettings s;
-    s.c_T = c_T;
-    s.p_max = p_max;
-    s.filter_A = A;
-    return s;
-}
-
 }  // namespace
 
 TEST(GuidedDistance, StrategyChoice) {
