@@ -294,7 +294,7 @@ Color3 VolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const Ray& ca
                 }
                 // Guided directions (§8): one mixture per vertex, used by NEE's MIS and the continuation.
                 std::optional<GuidedDirectionSampler> guided_dir;
-                if (guide_direction) guided_dir.emplace(guide->direction_sampler(mi, phase));
+                if (guide_direction) guide->direction_sampler(mi, phase, guided_dir);
                 if (m.sample_emitters()) {
                     specular_chain = false;
                     VolumeEmitterSample es =
@@ -323,7 +323,7 @@ Color3 VolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const Ray& ca
                 if (guided_dir) {
                     const float u_strategy = sampler.next_1d();
                     const GuidedDirectionSampler::Sample g = guided_dir->sample(sampler.next_2d(), u_strategy);
-                    guide->count_direction(*guided_dir, g.guided);
+                    guide->count_direction(g.guided);
                     ps.wo = g.wo;
                     ps.pdf = g.pdf;
                     ps.weight = g.weight;

@@ -270,16 +270,16 @@ FreeFlightSample WalkGuide::sample_distance(const Medium& medium, const Ray& ray
     return fs;
 }
 
-GuidedDirectionSampler WalkGuide::direction_sampler(const MediumInteraction& mi, const PhaseFunction& phase) const {
+void WalkGuide::direction_sampler(const MediumInteraction& mi, const PhaseFunction& phase,
+                                  std::optional<GuidedDirectionSampler>& out) const {
     const GuidingLeaf* leaf = field_.empty() ? nullptr : field_.leaf_at(mi.p);
     const auto it = phase_vmms_.find(phase.mean_cosine());
-    GuidedDirectionSampler s(settings_.direction, leaf, phase, mi.wi, settings_.phase_prob,
-                             it == phase_vmms_.end() ? nullptr : &it->second);
+    const GuidedDirectionSampler& s = out.emplace(settings_.direction, leaf, phase, mi.wi, settings_.phase_prob,
+                                                  it == phase_vmms_.end() ? nullptr : &it->second);
     if (!s.guided()) ++stats_.local().direction_unguided_vertices;
-    return s;
 }
 
-void WalkGuide::count_direction(const GuidedDirectionSampler&, bool guided) const {
+void WalkGuide::count_direction(bool guided) const {
     WalkGuideStats& st = stats_.local();
     ++st.direction_samples;
     st.direction_guided += guided;

@@ -20,6 +20,7 @@
 // Statistics are counted per thread and summed on request.
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -76,10 +77,12 @@ public:
     FreeFlightSample sample_distance(const Medium& medium, const Ray& ray, float tmax, const Color3& throughput,
                                      Sampler& sampler) const;
 
-    // The direction sampler at a medium vertex (phase only where the field has no valid leaf).
-    GuidedDirectionSampler direction_sampler(const MediumInteraction& mi, const PhaseFunction& phase) const;
+    // Builds the direction sampler of a medium vertex in `out` (in place: it holds a ~3 KB product
+    // mixture); phase only where the field has no valid leaf.
+    void direction_sampler(const MediumInteraction& mi, const PhaseFunction& phase,
+                           std::optional<GuidedDirectionSampler>& out) const;
     // Counts one sampled direction (guided: drawn from the guiding part of the mixture).
-    void count_direction(const GuidedDirectionSampler& s, bool guided) const;
+    void count_direction(bool guided) const;
 
     WalkGuideStats stats() const;
 
