@@ -171,6 +171,72 @@ TEST(PhotonPass, DepositCapStopsAtTheSameWaveForAnyThreadCount) {
     }
 }
 
+// A sun over a small absorbing fog box on a large ground: the bounding sphere's disk is ~600 times
+// the box's cross-section, so unfocused emission wastes > 99 % of the photons. Focused emission
+// (emission_focus.h) must deposit far more of them, and its compensated flux must still give the
+// analytic fluence E exp(-sigma depth) in every leaf inside the box.
+TEST(PhotonPass, FocusedEmissionFindsASmallMediumAndStaysUnbiased) {
+    TempDir dir("photons-focus");
+    const float sigma = 1.f, irradiance = 2.f;
+    auto scene = load(dir, fmt::format(R"(<scene version="3.0.0">
+    <integrator type="volpath"/>
+    <medium type="homogeneous" id="fog">
+        <float name="sigma_t" value="{0}"/><float name="albedo" value="0"/><phase type="isotropic"/>
+    </medium>
+    <shape type="cube"><transform name="to_world"><scale value="0.5"/></transform>
+        <bsdf type="null"/><ref name="interior" id="fog"/></shape>
+    <shape type="rectangle"><transform name="to_world"><scale value="10"/><rotate x="1" angle="-90"/>
+        <translate y="-1"/></transform><bsdf type="diffuse"/></shape>
+    <emitter type="directional"><vector name="direction" value="0, -1, 0"/>
+        <rgb name="irradiance" value="{1}"/></emitter>
+    <sensor type="perspective">
+        <transform name="to_world"><lookat origin="0, 0, 4" target="0, 0, 0" up="0, 1, 0"/></transform>
+        <film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film>
+    </sensor>
+</scene>)", sigma, irradiance));
+    PhotonPassSettings ps;
+    ps.photons = 400000;
+    ps.max_depth = 1;
+    PreprocessContext ctx;
+    ctx.seed = 8;
+    ps.focus = false;
+    const PhotonPassResult plain = trace_photons(*scene, ps, ctx);
+    ps.focus = true;
+    const PhotonPassResult focused = trace_photons(*scene, ps, ctx);
+    EXPECT_EQ(plain.pilot_photons, 0);
+    EXPECT_EQ(focused.pilot_photons, ps.photons / 8 + 1);
+    const double plain_rate = double(plain.photons_depositing) / double(plain.photons_traced);
+    const double focused_rate = double(focused.photons_depositing) / double(focused.photons_traced);
+    EXPECT_LT(plain_rate, 0.003);
+    EXPECT_GT(focused_rate, 30.0 * plain_rate) << "plain " << plain_rate << " focused " << focused_rate;
+
+    GuidingFieldSettings fs;
+    fs.tree.max_samples = 4000;
+    fs.lobes = 4;
+    const GuidingField field = GuidingField::build(guiding_bounds(*scene), focused.samples, fs);
+    int checked = 0;
+    double ratio_sum = 0;
+    for (int l = 0; l < field.tree().leaf_count(); ++l) {
+        const GuidingLeaf& leaf = field.leaves()[size_t(l)];
+        const BBox3f box = field.tree().leaf_bounds(l);
+        if (leaf.samples < 1000) continue;
+        // The fluence estimate is per leaf volume: the integral of E exp(-sigma (0.5 - y)) over
+        // the leaf's part of the fog box, divided by the leaf's volume.
+        auto overlap = [](float lo, float hi) { return std::max(0.f, std::min(hi, 0.5f) - std::max(lo, -0.5f)); };
+        const double y0 = std::max(box.lo.y, -0.5f), y1 = std::min(box.hi.y, 0.5f);
+        if (!(y1 > y0)) continue;
+        const double integral = irradiance * overlap(box.lo.x, box.hi.x) * overlap(box.lo.z, box.hi.z) *
+                                (std::exp(-sigma * (0.5 - y1)) - std::exp(-sigma * (0.5 - y0))) / sigma;
+        const Vec3f e = box.extents();
+        const double expected = integral / (double(e.x) * e.y * e.z);
+        ++checked;
+        EXPECT_NEAR(leaf.fluence.r, expected, 0.1 * expected) << "leaf " << l << " with " << leaf.samples << " samples";
+        ratio_sum += leaf.fluence.r / expected;
+    }
+    EXPECT_GE(checked, 8);
+    EXPECT_NEAR(ratio_sum / std::max(checked, 1), 1.0, 0.02);
+}
+
 TEST(GuidedVolPath, TrainsSavesLoadsAndRendersWhatVolpathRenders) {
     TempDir dir("guided-volpath");
     const std::string field_path = dir.file("field.vgf");

@@ -143,6 +143,7 @@ static void check_field_guided(CollisionMixture mixture) {
     const GuidingField field = synthetic_field();
     ASSERT_GT(field.leaves().size(), 8u);
     const InscatterCache inscatter(field, hg_phase_vmm(0.f));
+    const LeafEstimates estimates(field, inscatter, 0);  // exact
     for (int channels : {1, 3}) {
         SCOPED_TRACE(channels == 1 ? "grey" : "chromatic");
         auto m = cloud_medium(channels, channels == 1 ? Color3(0.8f) : Color3(0.9f, 0.5f, 0.99f), 4.f);
@@ -162,7 +163,7 @@ static void check_field_guided(CollisionMixture mixture) {
                     return ps;
                 }
             };
-            return std::make_unique<Counting>(GuidedCollisionProbability(field, &inscatter, r.ray, t_end, 0.3f, mixture), &guided,
+            return std::make_unique<Counting>(GuidedCollisionProbability(field, &estimates, r.ray, t_end, 0.3f, mixture), &guided,
                                               &collisions);
         };
         // Per flight, grey: at most the analog weight (albedo or 1) / c_T. Per collision the factors

@@ -4,10 +4,10 @@
 
 namespace volguide {
 
-GuidedCollisionProbability::GuidedCollisionProbability(const GuidingField& field, const InscatterCache* inscatter,
+GuidedCollisionProbability::GuidedCollisionProbability(const GuidingField& field, const LeafEstimates* estimates,
                                                        const Ray& ray, float t_end, float c_T,
                                                        CollisionMixture mixture)
-    : field_(field), inscatter_(inscatter), direction_(ray.d), c_T_(c_T), mixture_(mixture), analog_share_(c_T),
+    : field_(field), estimates_(estimates), direction_(ray.d), c_T_(c_T), mixture_(mixture), analog_share_(c_T),
       cursor_(field.tree(), ray, 0.f, t_end) {}
 
 bool GuidedCollisionProbability::enter_leaf_at(float t) {
@@ -17,13 +17,7 @@ bool GuidedCollisionProbability::enter_leaf_at(float t) {
             cursor_done_ = true;
             return false;
         }
-        leaf_valid_ = false;
-        const GuidingLeaf& l = field_.leaves()[size_t(leaf)];
-        if (l.valid && inscatter_) {
-            leaf_valid_ = true;
-            Li_ = inscatter_->inscattered(leaf, direction_);
-            L_ = GuidingField::incident(l, direction_);
-        }
+        leaf_valid_ = estimates_ && estimates_->lookup(leaf, direction_, Li_, L_);
     }
     return t >= leaf_t0_;  // before the field's entry point there is no leaf
 }

@@ -8,7 +8,7 @@
 // tracking weight, normalised): the zero-variance target of the throughput-weighted channel sum,
 // equal to channel averages for grey light and media (theory.md §7.8 uses plain averages; with
 // them a chromatic medium's null weights would exceed 1 for thin channels at every collision).
-// No valid leaf (outside the field, an invalid leaf, no in-scatter cache) or a non-finite P_G:
+// No valid leaf (outside the field, an invalid leaf, no estimates) or a non-finite P_G:
 // P_G = P_a, the analog (spectral tracking) probability.
 //
 // Defensive mixing with P_a (theory.md §7.5), c_T = the analog strategy's share:
@@ -27,7 +27,7 @@
 #include <cstdint>
 
 #include "volguide/guiding/guiding_field.h"
-#include "volguide/guiding/inscatter_cache.h"
+#include "volguide/guiding/leaf_estimates.h"
 #include "volguide/media/guided_tracking.h"
 
 namespace volguide {
@@ -36,9 +36,9 @@ enum class CollisionMixture { PerFlight, PerCollision };
 
 class GuidedCollisionProbability final : public CollisionGuide {
 public:
-    // Guides collisions at t in (0, t_end) of `ray` (beyond: analog). `inscatter` may be null.
+    // Guides collisions at t in (0, t_end) of `ray` (beyond: analog). `estimates` may be null.
     // One object per flight: it infers the previous collision's outcome (a null) from the next call.
-    GuidedCollisionProbability(const GuidingField& field, const InscatterCache* inscatter, const Ray& ray,
+    GuidedCollisionProbability(const GuidingField& field, const LeafEstimates* estimates, const Ray& ray,
                                float t_end, float c_T, CollisionMixture mixture = CollisionMixture::PerFlight);
 
     float scatter_probability(const TentativeCollision& c) override;
@@ -53,7 +53,7 @@ private:
     bool enter_leaf_at(float t);
 
     const GuidingField& field_;
-    const InscatterCache* inscatter_;
+    const LeafEstimates* estimates_;
     Vec3f direction_;
     float c_T_;
     CollisionMixture mixture_;

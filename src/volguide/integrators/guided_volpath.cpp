@@ -59,6 +59,7 @@ GuidedVolPathSettings GuidedVolPathSettings::from(const Properties& props) {
     s.max_deposits = props.get_int("max_deposits", s.max_deposits);
     if (s.max_deposits < 0)
         props.fail_at("max_deposits", "guided_volpath: max_deposits must be >= 0 (0: no cap), got {}", s.max_deposits);
+    s.photon_focus = props.get_bool("photon_focus", s.photon_focus);
     const int64_t iterations = props.get_int("training_iterations", s.training_iterations);
     if (iterations < 1 || iterations > kMaxTrainingIterations)
         props.fail_at("training_iterations", "guided_volpath: training_iterations must be in [1, {}], got {}",
@@ -91,6 +92,10 @@ GuidedVolPathSettings GuidedVolPathSettings::from(const Properties& props) {
         props.fail_at("p_max", "guided_volpath: p_max must be in (0, 1], got {}", s.guide.distance_settings.p_max);
     s.guide.distance_settings.filter_A = unit_interval("filter_A", s.guide.distance_settings.filter_A, false);
     s.guide.phase_prob = unit_interval("phase_prob", s.guide.phase_prob, false);
+    const int64_t table = props.get_int("estimate_table", s.guide.estimate_table);
+    if (table < 0 || table > 256)
+        props.fail_at("estimate_table", "guided_volpath: estimate_table must be in [0, 256] (0: exact), got {}", table);
+    s.guide.estimate_table = int(table);
     if (s.distance != "standard" && s.walk.equiangular)
         props.fail_at("equiangular", "guided_volpath: equiangular sampling cannot be combined with distance={}",
                       s.distance);
@@ -140,6 +145,7 @@ BBox3f guiding_bounds(const Scene& scene) {
 }
 
 void GuidedVolPathIntegrator::preprocess(const Scene& scene, const PreprocessContext& context) {
+    training_stats_.clear();
     walk_.preprocess(scene, context);
     if (!settings_.load_field.empty()) {
         try {
@@ -158,11 +164,18 @@ void GuidedVolPathIntegrator::preprocess(const Scene& scene, const PreprocessCon
         PhotonPassSettings ps;
         ps.photons = settings_.photons;
         ps.max_deposits = settings_.max_deposits;
+        ps.focus = settings_.photon_focus;
         ps.max_depth = settings_.walk.max_depth;
         ps.rr_depth = settings_.walk.rr_depth;
         // Under a --time budget, training gets training_fraction of it (interface.md).
         if (context.time_budget > 0) ps.time_limit = settings_.training_fraction * context.time_budget;
         const PhotonPassResult photons = trace_photons(scene, ps, context);
+        training_stats_ = {{"photons_traced", double(photons.photons_traced)},
+                           {"photons_pilot", double(photons.pilot_photons)},
+                           {"photons_depositing_fraction",
+                            photons.photons_traced > 0 ? double(photons.photons_depositing) / double(photons.photons_traced) : 0.0},
+                           {"photon_deposits", double(photons.samples.size())},
+                           {"photon_deposit_limited", photons.deposit_limited ? 1.0 : 0.0}};
         field_ = GuidingField::build(guiding_bounds(scene), photons.samples, settings_.field);
         // Per-volume fluence counts collisions, which only happen inside media.
         field_.apply_medium_fractions(medium_fractions(scene, field_.tree(), kOccupancyPoints, context.seed));
@@ -188,7 +201,12 @@ Color3 GuidedVolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const R
 }
 
 std::vector<std::pair<std::string, double>> GuidedVolPathIntegrator::statistics() const {
-    return guide_ ? guide_->stats().named() : std::vector<std::pair<std::string, double>>{};
+    std::vector<std::pair<std::string, double>> stats = training_stats_;
+    if (guide_) {
+        const auto walk = guide_->stats().named();
+        stats.insert(stats.end(), walk.begin(), walk.end());
+    }
+    return stats;
 }
 
 std::string GuidedVolPathIntegrator::to_string() const {

@@ -29,6 +29,8 @@ struct GuidedVolPathSettings {
     // field's build and fit time grows with them (4 M: 160 MB, ~3.5 s to build and fit on two
     // cores; on `aniso` 2 M photons deposit more than 8 M collisions, whose fit took 26 s uncapped).
     int64_t max_deposits = 4000000;
+    // Focused photon emission (emission_focus.h): a pilot finds where each emitter lights a medium.
+    bool photon_focus = true;
     int training_iterations = 5;  // progressive: iteration k traces 2^k spp (5: 31 spp in total)
     float training_fraction = 0.25f;
     GuidingFieldSettings field;  // leaf_samples -> field.tree.max_samples, lobes -> field.lobes
@@ -60,6 +62,7 @@ private:
     GuidingField field_;
     std::unique_ptr<CacheEstimator> estimator_;  // estimate != none
     std::unique_ptr<WalkGuide> guide_;           // a guided distance or direction decision
+    std::vector<std::pair<std::string, double>> training_stats_;  // of the last preprocess()
 };
 
 // The bounds the guiding field covers: the scene's shapes (media are bounded by shapes or grids).

@@ -1,10 +1,12 @@
 #include "volguide/integrators/photon_pass.h"
 
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include <chrono>
 #include <mutex>
 
+#include "volguide/integrators/emission_focus.h"
 #include "volguide/integrators/volume_nee.h"
 #include "volguide/media/medium.h"
 #include "volguide/render/bsdf.h"
@@ -17,6 +19,7 @@ namespace {
 
 // A random-number stream no camera pixel uses (pixel indices are y * width + x).
 constexpr uint64_t kPhotonStream = 0xF07F07F0ull;
+constexpr uint64_t kPilotStream = 0xF07F07F1ull;
 constexpr int64_t kBatch = 4096;
 // Batches per wave (the deposit cap is checked between waves): a constant, not the thread count.
 constexpr int64_t kWaveBatches = 16;
@@ -24,6 +27,7 @@ constexpr int64_t kWaveBatches = 16;
 struct BatchResult {
     std::vector<RadianceSample> samples;
     int64_t collisions = 0;
+    int64_t depositing = 0;  // photons that deposited at least once
 };
 
 // The medium a photon leaving `emitter` along `ray` starts in.
@@ -36,15 +40,11 @@ const Medium* start_medium(const Emitter& emitter, const RaySample& rs) {
     return emitter.medium();
 }
 
-void trace_one(const Scene& scene, const PhotonPassSettings& s, Sampler& sampler, BatchResult& out) {
-    auto [emitter, p_emitter] = scene.sample_emitter_for_emission(sampler.next_1d());
-    if (!emitter || !(p_emitter > 0.f)) return;
-    const Point2f u_pos = sampler.next_2d(), u_dir = sampler.next_2d();
-    const RaySample rs = emitter->sample_ray(u_pos, u_dir);
-    if (rs.weight.is_black() || !rs.weight.is_finite()) return;
-    const Color3 flux = rs.weight * (1.f / p_emitter);  // one photon's flux (divided by N later)
+// Carries one emitted photon through the scene, depositing its medium collisions in `out`.
+void transport(const Scene& scene, const PhotonPassSettings& s, const Emitter& emitter, const RaySample& rs,
+               const Color3& flux, Sampler& sampler, BatchResult& out) {
     Ray ray = rs.ray;
-    const Medium* medium = start_medium(*emitter, rs);
+    const Medium* medium = start_medium(emitter, rs);
     Color3 throughput(1.f);
     const BSDFContext ctx{TransportMode::Importance};
     int depth = 0, null_crossings = 0;
@@ -98,16 +98,65 @@ void trace_one(const Scene& scene, const PhotonPassSettings& s, Sampler& sampler
     }
 }
 
+// One photon: an emitter by power, its emission sample (focused when `focus` is active), then
+// transport. With `pilot`, the emission sample is recorded with whether the photon deposited.
+void trace_one(const Scene& scene, const PhotonPassSettings& s, const EmissionFocus& focus, Sampler& sampler,
+               BatchResult& out, EmissionPilot* pilot) {
+    auto [index, p_emitter] = scene.sample_emitter_index_for_emission(sampler.next_1d());
+    if (!(p_emitter > 0.f)) return;
+    const Emitter& emitter = *scene.emitters()[index];
+    Point2f u_pos = sampler.next_2d(), u_dir = sampler.next_2d();
+    Point2f& u_focused = focused_sample(emitter) == FocusedSample::Position ? u_pos : u_dir;
+    float focus_weight = 1.f;
+    if (focus.active()) focus_weight = focus.warp(index, sampler.next_1d(), u_focused);
+    const size_t deposits_before = out.samples.size();
+    const RaySample rs = emitter.sample_ray(u_pos, u_dir);
+    if (!rs.weight.is_black() && rs.weight.is_finite())
+        transport(scene, s, emitter, rs, rs.weight * (focus_weight / p_emitter), sampler, out);
+    const bool deposited = out.samples.size() > deposits_before;
+    out.depositing += deposited;
+    if (pilot) pilot->record(index, u_focused, deposited);
+}
+
+// The pilot of the focused emission: photons from their own stream, uniform emission, deposits
+// discarded. Integer counts summed over threads: the same focus for any thread count.
+EmissionFocus focus_emission(const Scene& scene, const PhotonPassSettings& s, int64_t pilot_photons,
+                             const PreprocessContext& context) {
+    tbb::enumerable_thread_specific<EmissionPilot> pilots([&] { return EmissionPilot(scene.emitters().size()); });
+    const EmissionFocus uniform;
+    const int64_t batches = (pilot_photons + kBatch - 1) / kBatch;
+    tbb::parallel_for(int64_t(0), batches, [&](int64_t b) {
+        if (context.cancelled()) return;
+        EmissionPilot& pilot = pilots.local();
+        BatchResult scratch;
+        for (int64_t i = b * kBatch; i < std::min(pilot_photons, (b + 1) * kBatch); ++i) {
+            Sampler sampler(context.seed, kPilotStream, uint64_t(i));
+            trace_one(scene, s, uniform, sampler, scratch, &pilot);
+            scratch.samples.clear();
+        }
+    });
+    EmissionPilot total(scene.emitters().size());
+    for (const EmissionPilot& p : pilots) total += p;
+    return EmissionFocus(total, s.focus_defensive);
+}
+
 }  // namespace
 
 PhotonPassResult trace_photons(const Scene& scene, const PhotonPassSettings& settings, const PreprocessContext& context) {
     PhotonPassResult result;
+    const auto start = std::chrono::steady_clock::now();  // the pilot counts against time_limit
+    EmissionFocus focus;
+    if (settings.focus && settings.photons > 0 && !scene.emitters().empty()) {
+        result.pilot_photons = settings.pilot_photons > 0
+                                   ? settings.pilot_photons
+                                   : std::min<int64_t>(settings.photons / 8 + 1, int64_t(1) << 20);
+        focus = focus_emission(scene, settings, result.pilot_photons, context);
+    }
     const int64_t batches = (settings.photons + kBatch - 1) / kBatch;
     std::vector<BatchResult> per_batch(size_t(std::max<int64_t>(batches, 0)));
     std::vector<uint8_t> done(per_batch.size(), 0);
     std::mutex progress_mutex;
     std::atomic<int64_t> finished{0};
-    const auto start = std::chrono::steady_clock::now();
     // Waves of batches: every batch of a wave completes (unless cancelled or out of time) before the
     // deposit cap is checked, so the batches kept do not depend on the thread count.
     int64_t deposits = 0;
@@ -126,7 +175,7 @@ PhotonPassResult trace_photons(const Scene& scene, const PhotonPassSettings& set
             BatchResult& out = per_batch[size_t(b)];
             for (int64_t i = first; i < last; ++i) {
                 Sampler sampler(context.seed, kPhotonStream, uint64_t(i));
-                trace_one(scene, settings, sampler, out);
+                trace_one(scene, settings, focus, sampler, out, nullptr);
             }
             done[size_t(b)] = 1;
             const int64_t n = ++finished;
@@ -147,6 +196,7 @@ PhotonPassResult trace_photons(const Scene& scene, const PhotonPassSettings& set
         if (!done[b]) continue;
         result.photons_traced += std::min(settings.photons, int64_t(b + 1) * kBatch) - int64_t(b) * kBatch;
         result.collisions += per_batch[b].collisions;
+        result.photons_depositing += per_batch[b].depositing;
         result.samples.insert(result.samples.end(), per_batch[b].samples.begin(), per_batch[b].samples.end());
     }
     const float inv_n = result.photons_traced > 0 ? 1.f / float(result.photons_traced) : 0.f;

@@ -6,7 +6,8 @@
 //   position, the arriving direction -omega_travel (towards the light), and the flux arriving at
 //   the collision divided by sigma_t (collision estimator, before the albedo).
 // Photon i draws its random numbers from Sampler(seed, kPhotonStream, i), and batches are joined in
-// photon order, so the samples are a pure function of (scene, settings, seed) for any thread count.
+// photon order, so the samples are a pure function of (scene, settings, seed) for any thread count;
+// so is the focus, from the pilot's own stream.
 #include <cstdint>
 #include <vector>
 
@@ -27,6 +28,12 @@ struct PhotonPassSettings {
     // photons: the cap keeps training inside its budget. Checked after each wave of kWaveBatches
     // batches, so the result does not depend on the thread count.
     int64_t max_deposits = 0;
+    // Focused emission (integrators/emission_focus.h): a pilot of pilot_photons (0: photons / 8,
+    // at most 2^20) finds the parts of each emitter that light a medium; emission then picks them
+    // with probability 1 - focus_defensive (the photons' flux compensates: unbiased).
+    bool focus = true;
+    int64_t pilot_photons = 0;
+    float focus_defensive = 0.02f;
 };
 
 struct PhotonPassResult {
@@ -34,6 +41,8 @@ struct PhotonPassResult {
     int64_t photons_traced = 0;  // fewer than requested when cancelled
     int64_t collisions = 0;
     bool deposit_limited = false;  // stopped by max_deposits
+    int64_t pilot_photons = 0;         // traced to focus the emission (not deposited)
+    int64_t photons_depositing = 0;    // photons (of photons_traced) that deposited at least once
 };
 
 PhotonPassResult trace_photons(const Scene& scene, const PhotonPassSettings& settings, const PreprocessContext& context);

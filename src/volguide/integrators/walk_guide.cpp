@@ -27,8 +27,8 @@ thread_local Scratch scratch;
 class BinSource {
 public:
     BinSource(const Ray& ray, float t_end, const Medium& medium, const GuidingField& field,
-              const InscatterCache* inscatter, std::vector<ProxySegment>& proxies, float max_tau)
-        : ray_(ray), t_end_(t_end), medium_(medium), field_(field), inscatter_(inscatter), proxies_(proxies),
+              const LeafEstimates* estimates, std::vector<ProxySegment>& proxies, float max_tau)
+        : ray_(ray), t_end_(t_end), medium_(medium), field_(field), estimates_(estimates), proxies_(proxies),
           max_tau_(max_tau), cursor_(field.tree(), ray, 0.f, t_end) {
         proxies_.clear();  // scratch of the previous query: nothing may be read before the first span
     }
@@ -97,15 +97,12 @@ private:
         medium_.proxy_segments(ray_, t0, t1, proxies_);
         proxy_ = size_t(-1);
         pieces_ = piece_ = 0;
-        valid_ = false;
         Li_ = L_ = 0.f;
-        if (leaf_index >= 0) {
-            const GuidingLeaf& leaf = field_.leaves()[size_t(leaf_index)];
-            if (leaf.valid && inscatter_) {
-                valid_ = true;
-                Li_ = inscatter_->inscattered(leaf_index, ray_.d).average();
-                L_ = GuidingField::incident(leaf, ray_.d).average();
-            }
+        Color3 Li, L;
+        valid_ = estimates_ && estimates_->lookup(leaf_index, ray_.d, Li, L);
+        if (valid_) {
+            Li_ = Li.average();
+            L_ = L.average();
         }
     }
 
@@ -117,7 +114,7 @@ private:
     float t_end_;
     const Medium& medium_;
     const GuidingField& field_;
-    const InscatterCache* inscatter_;
+    const LeafEstimates* estimates_;
     std::vector<ProxySegment>& proxies_;
     float max_tau_;
     SpatialTree::RayCursor cursor_;
@@ -176,6 +173,9 @@ WalkGuide::WalkGuide(const Scene& scene, const GuidingField& field, const WalkGu
         const float g = m->phase().mean_cosine();
         if (!inscatter_.count(g)) inscatter_.emplace(g, InscatterCache(field, hg_phase_vmm(g)));
         if (!phase_vmms_.count(g)) phase_vmms_.emplace(g, hg_phase_vmm(g));
+        if (!estimates_.count(g) && settings_.distance != DistanceGuiding::Standard)
+            estimates_.emplace(std::piecewise_construct, std::forward_as_tuple(g),
+                               std::forward_as_tuple(field, inscatter_.at(g), settings_.estimate_table));
     };
     add(scene.sensor().medium());
     for (const auto& shape : scene.shapes()) {
@@ -184,9 +184,9 @@ WalkGuide::WalkGuide(const Scene& scene, const GuidingField& field, const WalkGu
     }
 }
 
-const InscatterCache* WalkGuide::inscatter_for(const PhaseFunction& phase) const {
-    const auto it = inscatter_.find(phase.mean_cosine());
-    return it == inscatter_.end() ? nullptr : &it->second;
+const LeafEstimates* WalkGuide::estimates_for(const PhaseFunction& phase) const {
+    const auto it = estimates_.find(phase.mean_cosine());
+    return it == estimates_.end() ? nullptr : &it->second;
 }
 
 FreeFlightSample WalkGuide::sample_distance(const Medium& medium, const Ray& ray, float tmax, const Color3& throughput,
@@ -200,11 +200,11 @@ FreeFlightSample WalkGuide::sample_distance(const Medium& medium, const Ray& ray
         return medium.sample_free_flight(ray, tmax, throughput, sampler);
     }
 
-    const InscatterCache* inscatter = inscatter_for(medium.phase());
+    const LeafEstimates* estimates = estimates_for(medium.phase());
     if (settings_.distance == DistanceGuiding::Incremental && settings_.guided_tracking && !medium.is_homogeneous())
         if (const auto* het = dynamic_cast<const HeterogeneousMedium*>(&medium)) {
             // The whole segment: beyond the field the tracking falls back to the analog probability.
-            GuidedCollisionProbability guide(field_, inscatter, ray, t_end, settings_.distance_settings.c_T);
+            GuidedCollisionProbability guide(field_, estimates, ray, t_end, settings_.distance_settings.c_T);
             FreeFlightSample fs = het->guided_free_flight(ray, tmax, throughput, sampler, guide);
             WalkGuideStats& st = stats_.local();
             ++st.distance_queries;
@@ -216,7 +216,7 @@ FreeFlightSample WalkGuide::sample_distance(const Medium& medium, const Ray& ray
         }
 
     Scratch& s = scratch;
-    BinSource source(ray, t_end, medium, field_, inscatter, s.proxies, settings_.max_bin_optical_depth);
+    BinSource source(ray, t_end, medium, field_, estimates, s.proxies, settings_.max_bin_optical_depth);
     DistanceSample ds;
     if (settings_.distance == DistanceGuiding::Incremental) {
         ds = sample_incremental_distance(source, sampler, settings_.distance_settings);

@@ -31,6 +31,7 @@
 #include "volguide/guiding/guided_distance.h"
 #include "volguide/guiding/guiding_field.h"
 #include "volguide/guiding/inscatter_cache.h"
+#include "volguide/guiding/leaf_estimates.h"
 #include "volguide/media/medium.h"
 
 namespace volguide {
@@ -46,6 +47,9 @@ struct WalkGuideSettings {
     bool guided_tracking = true;  // heterogeneous media, incremental: H2 tracking (false: H1 bins)
     DirectionGuiding direction = DirectionGuiding::Phase;
     float phase_prob = 0.5f;  // alpha_f: probability of sampling the phase function (§8.2)
+    // Per-leaf octahedral tables of L~_i and L~ for the distance decisions (leaf_estimates.h):
+    // resolution per side, 0 = exact VMM evaluation per leaf crossed.
+    int estimate_table = 16;
 };
 
 struct WalkGuideStats {
@@ -87,11 +91,12 @@ public:
     WalkGuideStats stats() const;
 
 private:
-    const InscatterCache* inscatter_for(const PhaseFunction& phase) const;
+    const LeafEstimates* estimates_for(const PhaseFunction& phase) const;
 
     const GuidingField& field_;
     WalkGuideSettings settings_;
     std::map<float, InscatterCache> inscatter_;  // by phase mean cosine
+    std::map<float, LeafEstimates> estimates_;   // by phase mean cosine (reads inscatter_)
     std::map<float, PhaseVmm> phase_vmms_;
     mutable tbb::enumerable_thread_specific<WalkGuideStats> stats_;
 };

@@ -108,6 +108,12 @@ std::pair<const Emitter*, float> Scene::sample_emitter_for_emission(float u) con
     return {emitters_[index].get(), emission_distr_.pmf(index)};
 }
 
+std::pair<size_t, float> Scene::sample_emitter_index_for_emission(float u) const {
+    if (emission_distr_.empty()) return {0, 0.f};
+    const size_t index = emission_distr_.sample(u);
+    return {index, emission_distr_.pmf(index)};
+}
+
 float Scene::emission_probability(const Emitter* emitter) const {
     if (emission_distr_.empty()) return 0.f;
     for (size_t i = 0; i < emitters_.size(); ++i)

@@ -36,6 +36,8 @@ public:
     // Emitter choice for photon emission, proportional to power() (channel average), with its
     // probability; {nullptr, 0} when no emitter has power. Built once when the scene is assembled.
     std::pair<const Emitter*, float> sample_emitter_for_emission(float u) const;
+    // The same choice as an index into emitters() (for per-emitter tables); probability 0 when none.
+    std::pair<size_t, float> sample_emitter_index_for_emission(float u) const;
     // Probability that sample_emitter_for_emission picks `emitter`.
     float emission_probability(const Emitter* emitter) const;
 

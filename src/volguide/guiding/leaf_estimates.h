@@ -1,0 +1,56 @@
+#pragma once
+// What the guided distance decisions read in each kd leaf a ray crosses, for its direction w:
+// L~_i(w) (in-scattered, InscatterCache) and L~(w) (incident, looking ahead along the ray).
+//
+// Exact, both are sums of exponentials (K x J and K lobes): with fine leaves they were ~40 % of a
+// guided render (a ray crosses ~10 leaves per distance decision on `shafts`). Tabulated, each leaf
+// keeps an octahedral map of resolution R x R of the two (unit-fluence) shapes, sampled at texel
+// centres once after training (16-bit, relative to the leaf's maximum), and a query is one bilinear
+// lookup times the leaf's fluence.
+// The tables are an approximation of the estimates, so they only shape the distance sampler's
+// probabilities: the sampler's pdf is computed from the same values it sampled with, and the
+// weights use the true coefficients (theory.md §7.5) — unbiased at any resolution.
+#include <cstdint>
+#include <vector>
+
+#include "volguide/core/color.h"
+#include "volguide/core/vec.h"
+#include "volguide/guiding/guiding_field.h"
+#include "volguide/guiding/inscatter_cache.h"
+
+namespace volguide {
+
+class LeafEstimates {
+public:
+    // resolution 0: exact evaluation. Both must outlive this object.
+    LeafEstimates(const GuidingField& field, const InscatterCache& inscatter, int resolution);
+
+    // L~_i(w) and L~(w) of a leaf; false (and nothing written) for an invalid leaf.
+    bool lookup(int leaf, const Vec3f& w, Color3& Li, Color3& L) const;
+
+    int resolution() const { return resolution_; }
+    size_t memory_bytes() const { return headers_.capacity() * sizeof(Header) + texels_.capacity() * sizeof(Texel); }
+
+private:
+    // Compact, because the lookups miss the cache (a ray visits ~10 random leaves): what a lookup
+    // reads of a leaf is its header and 4 texels, and 2000 leaves at R = 16 fit in 2 MB.
+    struct Header {
+        Color3 fluence;
+        float scale_inscattered = 0.f, scale_incident = 0.f;  // value = scale * texel / 65535
+        bool valid = false;
+    };
+    struct Texel {
+        uint16_t inscattered, incident;  // relative to the leaf's maxima, for unit fluence
+    };
+    const GuidingField& field_;
+    const InscatterCache& inscatter_;
+    int resolution_;
+    std::vector<Header> headers_;
+    std::vector<Texel> texels_;  // leaf l: [l * R * R, (l + 1) * R * R), row-major over (u, v)
+};
+
+// The octahedral map of the unit sphere onto [0, 1]^2 (continuous, area-distorting) and its inverse.
+Point2f octahedral_encode(const Vec3f& w);
+Vec3f octahedral_decode(Point2f uv);
+
+}  // namespace volguide
