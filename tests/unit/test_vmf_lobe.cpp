@@ -29,6 +29,28 @@ Vec3f rotate_away(const Vec3f& axis, double theta, double phi = 0.7) {
 }
 }  // namespace
 
+// vmf_normalization skips expm1 once it saturates (kappa >= 20): the value must be the formula's,
+// bit for bit, so that guided images do not change (expm1(-2 kappa) is exactly -1 there).
+TEST(VmfLobe, NormalisationShortcutIsExact) {
+    for (double kappa = 19.0; kappa < 1e6; kappa *= 1.0 + 1e-4) {
+        const double formula = kappa / (-2.0 * M_PI * std::expm1(-2.0 * kappa));
+        ASSERT_EQ(vmf_normalization(kappa), formula) << "kappa " << kappa;
+    }
+}
+
+// The product with a precomputed angle is the product (product_into shares it over phase lobes).
+TEST(VmfLobe, ProductWithSharedAngleIsIdentical) {
+    const VmfLobe a(kAxis, 37.f);
+    for (float kappa : {0.5f, 3.f, 14.f, 101.f}) {
+        const VmfLobe b(rotate_away(kAxis, 0.9), kappa);
+        const VmfProduct p = vmf_product(a, b), q = vmf_product(a, b, vmf_cos_pair(a.mu, b.mu));
+        EXPECT_EQ(p.scale, q.scale);
+        EXPECT_EQ(p.lobe.kappa, q.lobe.kappa);
+        EXPECT_EQ(p.lobe.norm, q.lobe.norm);
+        EXPECT_EQ(p.lobe.mu, q.lobe.mu);
+    }
+}
+
 TEST(VmfLobe, NormalisedByQuadrature) {
     for (float kappa : {0.f, 1e-4f, 0.1f, 1.f, 10.f, 100.f, 1000.f, 32000.f}) {
         VmfLobe lobe(kAxis, kappa);
