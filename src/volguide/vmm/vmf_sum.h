@@ -4,9 +4,9 @@
 // and L~_i per distance bin, the guided direction pdf), where glibc's scalar expf, one call per lobe,
 // was the largest single cost (bench_vmm BM_VmmEval8, bench_guiding).
 //
-// The exponential is a Cephes-style polynomial within 2 ulp of expf over the whole range (denormal
-// results included; test_vmf_sum), so sums differ from one-lobe-at-a-time sums by float rounding
-// only. Mixture values only shape probabilities, and a sampler's decisions and its pdf read the same
+// The exponential is a Cephes-style polynomial within 2 ulp of expf down to FLT_MIN, and 0 below
+// (denormal terms cost a microcode assist per operation; test_vmf_sum), so sums differ from
+// one-lobe-at-a-time sums by float rounding only. Mixture values only shape probabilities, and a sampler's decisions and its pdf read the same
 // values, so weights stay exact (theory.md §1.4).
 //
 // Plain C++ with GCC/Clang vector extensions (SSE2 on x86-64, NEON on arm64: no -march needed), out of
@@ -16,8 +16,8 @@
 
 namespace volguide {
 
-// exp(x) with the lanes' arithmetic, for one value (tests): within 2 ulp of std::exp; NaN stays NaN,
-// x < -104 gives 0.
+// exp(x) with the lanes' arithmetic, for one value (tests): within 2 ulp of std::exp where that is at
+// least FLT_MIN, 0 below (x < -87.34); NaN stays NaN.
 float vmf_exp(float x);
 
 // sum_i weight_i norm_i exp(-kappa_i min(|w - mu_i|^2 / 2, 2)); `weight` may be null (all ones).
