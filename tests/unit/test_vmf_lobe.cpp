@@ -51,6 +51,18 @@ TEST(VmfLobe, ProductWithSharedAngleIsIdentical) {
     }
 }
 
+// Product lobes normalise with exp instead of expm1 where that has no cancellation (kappa in
+// [0.25, 20)): the invariant norm == c~(kappa) must hold to float rounding across that range.
+TEST(VmfLobe, ProductLobeNormIsTheNormaliser) {
+    for (float k1 : {0.1f, 0.3f, 1.f, 4.f, 9.f, 30.f})
+        for (double theta = 0.0; theta < 3.1; theta += 0.05) {
+            const VmfLobe a(kAxis, k1), b(rotate_away(kAxis, theta), 0.6f);
+            const VmfProduct p = vmf_product(a, b);
+            const double want = vmf_normalization(p.lobe.kappa);
+            ASSERT_NEAR(p.lobe.norm, want, 3e-7 * want) << "k1 " << k1 << " theta " << theta;
+        }
+}
+
 TEST(VmfLobe, NormalisedByQuadrature) {
     for (float kappa : {0.f, 1e-4f, 0.1f, 1.f, 10.f, 100.f, 1000.f, 32000.f}) {
         VmfLobe lobe(kAxis, kappa);

@@ -110,6 +110,14 @@ Vec3f VmfLobe::sample(Point2f u) const {
 }
 
 namespace {
+// c~(kappa) for product lobes. Where 1 - exp(-2 kappa) >= 0.39 (kappa >= 0.25) it has no
+// cancellation, and glibc's exp costs half its expm1 (5 vs 10 ns): the value differs from
+// vmf_normalization's by double rounding only (the float lobe.norm by none in a 1000-point sweep).
+double product_normalization(double kappa) {
+    if (kappa >= 0.25 && kappa < kNormalizationSaturates) return kappa / (2.0 * kPi * (1.0 - std::exp(-2.0 * kappa)));
+    return vmf_normalization(kappa);
+}
+
 // kappa12 = |k1 mu1 + k2 mu2| and (kappa12 - k1 - k2) <= 0 without cancellation.
 void product_kappa(double k1, double k2, double one_minus, double one_plus, double& k12, double& exponent) {
     k12 = std::sqrt((k1 - k2) * (k1 - k2) + 2.0 * k1 * k2 * one_plus);
@@ -144,7 +152,7 @@ VmfProduct vmf_product(const VmfLobe& a, const VmfLobe& b, const VmfCosPair& c) 
         p.lobe = VmfLobe(a.mu, 0.f);
         norm12 = vmf_normalization(0.0);
     } else {
-        norm12 = vmf_normalization(k12);
+        norm12 = product_normalization(k12);
         p.lobe.mu = Vec3f(m / m_norm);
         p.lobe.kappa = float(k12);
         p.lobe.norm = float(norm12);
