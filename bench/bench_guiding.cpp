@@ -6,10 +6,11 @@
 //  - InscatteredA3Prepared: the same A3 query through an InscatterCache prepared for the phase
 //    (and InscatterCachePrepare: the preparation itself, with the cache's bytes per leaf);
 //  - memory per leaf (bytes of GuidingLeaf plus its tree nodes) as a counter;
-//  - Distance{Incremental,Tabulated}/{early,late}: one guided distance sample (theory.md §7.3 vs
-//    §7.2, default settings) on a 20-bin ray whose in-scattered radiance sits in the first / last
-//    three bins, bins handed out from memory (the scene walk's cost is not included); `steps` is
-//    the mean number of bins the incremental sampler pulled (the tabulated one always reads 20).
+//  - Distance{Incremental,Tabulated}/{early,late,late chromatic}: one guided distance sample
+//    (theory.md §7.3 vs §7.2, default settings) on a 20-bin ray whose in-scattered radiance sits in
+//    the first / last three bins, grey sigma_t (/0, /1) or chromatic (/2), bins handed out from
+//    memory (the scene walk's cost is not included); `steps` is the mean number of bins the
+//    incremental sampler pulled (the tabulated one always reads 20).
 //  - GuidedDirection{Construct,Sample,Pdf}: the directional sampler per vertex (8-lobe leaf x HG
 //    g = 0.6, 3 phase lobes, prepared phase VMM; "/unprepared" looks the phase VMM up per vertex).
 //   cmake --build build --target bench_guiding && build/bench_guiding
@@ -118,11 +119,13 @@ void BM_InscatterCachePrepare(benchmark::State& state) {
 
 // 20 bins of length 0.5, sigma_t = 0.3, albedo 0.8; L_i = 5 in three bins (early: 0-2, late: 17-19),
 // 0.01 elsewhere; L consistent with them (exact VRE over the bins), a dim surface at the end.
-std::vector<DistanceBin> distance_bins(bool late) {
+// `chromatic`: sigma_t = (0.28, 0.3, 0.32) instead (the benchmark scenes' fogs are all chromatic).
+std::vector<DistanceBin> distance_bins(bool late, bool chromatic = false) {
     std::vector<DistanceBin> bins(20);
+    const Color3 sigma_t = chromatic ? Color3(0.28f, 0.3f, 0.32f) : Color3(0.3f);
     for (int k = 0; k < 20; ++k) {
         const bool lit = late ? k >= 17 : k < 3;
-        bins[size_t(k)] = {0.5f * float(k), 0.5f * float(k + 1), Color3(0.3f), 0.8f, lit ? 5.f : 0.01f, 0.f, true};
+        bins[size_t(k)] = {0.5f * float(k), 0.5f * float(k + 1), sigma_t, 0.8f, lit ? 5.f : 0.01f, 0.f, true};
     }
     float L = 0.05f;
     for (int k = 19; k >= 0; --k) {
@@ -136,7 +139,7 @@ std::vector<DistanceBin> distance_bins(bool late) {
 
 template <bool Tabulated>
 void BM_Distance(benchmark::State& state) {
-    const std::vector<DistanceBin> bins = distance_bins(state.range(0) == 1);
+    const std::vector<DistanceBin> bins = distance_bins(state.range(0) >= 1, state.range(0) == 2);
     const GuidedDistanceSettings settings;
     uint64_t i = 0, steps = 0;
     for (auto _ : state) {
@@ -158,7 +161,7 @@ void BM_Distance(benchmark::State& state) {
         benchmark::DoNotOptimize(d);
     }
     state.counters["steps"] = double(steps) / double(std::max<uint64_t>(i, 1));
-    state.SetLabel(state.range(0) == 1 ? "late" : "early");
+    state.SetLabel(state.range(0) == 2 ? "late chromatic" : state.range(0) == 1 ? "late" : "early");
 }
 
 // An 8-lobe leaf with concentrations between 1 and 50 in random directions.
@@ -205,8 +208,8 @@ void BM_GuidedDirection(benchmark::State& state) {
 
 }  // namespace
 
-BENCHMARK(BM_Distance<false>)->Name("BM_DistanceIncremental")->Arg(0)->Arg(1);
-BENCHMARK(BM_Distance<true>)->Name("BM_DistanceTabulated")->Arg(0)->Arg(1);
+BENCHMARK(BM_Distance<false>)->Name("BM_DistanceIncremental")->Arg(0)->Arg(1)->Arg(2);
+BENCHMARK(BM_Distance<true>)->Name("BM_DistanceTabulated")->Arg(0)->Arg(1)->Arg(2);
 BENCHMARK(BM_GuidedDirection<DirectionGuiding::Product, Construct>)->Name("BM_GuidedDirectionConstruct/product");
 BENCHMARK(BM_GuidedDirection<DirectionGuiding::Product, Construct, true>)
     ->Name("BM_GuidedDirectionConstruct/product/unprepared");

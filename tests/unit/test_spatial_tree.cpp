@@ -62,6 +62,36 @@ TEST(SpatialTree, LeavesRespectTheSampleLimitAndTileTheBounds) {
     EXPECT_EQ(tree.leaf_at(Point3f(5.f, 0.f, 0.5f)), -1);
 }
 
+// holds_point(l, p) certifies leaf_at(p) == l (the walk guide reuses the distance decision's leaf for
+// the direction decision at the same vertex and must get leaf_at's answer): checked for points
+// snapped onto split planes and the bounds' faces, where the two could disagree.
+TEST(SpatialTree, HoldsPointImpliesLeafAt) {
+    const auto pts = points(20000, 4);
+    SpatialTreeSettings settings;
+    settings.max_samples = 300;
+    const SpatialTree tree = SpatialTree::build(kBounds, pts, settings);
+    int held = 0;
+    for (int i = 0; i < 20000; ++i) {
+        Sampler s(9, 0, uint64_t(i));
+        const int guess = int(s.next_1d() * float(tree.leaf_count()));
+        const BBox3f& b = tree.leaf_bounds(std::min(guess, tree.leaf_count() - 1));
+        // A point of the guessed leaf's box, some coordinates snapped to its faces.
+        Point3f p;
+        for (int a = 0; a < 3; ++a) {
+            const float u = s.next_1d(), lo = a == 0 ? b.lo.x : a == 1 ? b.lo.y : b.lo.z,
+                        hi = a == 0 ? b.hi.x : a == 1 ? b.hi.y : b.hi.z;
+            const float v = u < 0.2f ? lo : u < 0.4f ? hi : u < 0.5f ? std::nextafter(hi, lo) : lo + (hi - lo) * s.next_1d();
+            (a == 0 ? p.x : a == 1 ? p.y : p.z) = v;
+        }
+        for (int l : {guess, guess - 1, guess + 1, -1, tree.leaf_count()})
+            if (tree.holds_point(l, p)) {
+                ++held;
+                ASSERT_EQ(tree.leaf_at(p), l) << "point " << i;
+            }
+    }
+    EXPECT_GT(held, 1000);
+}
+
 // Only the counted samples drive splits: uncounted ones are sorted into the leaves (every sample
 // lands in exactly the leaf containing it) but neither reach max_samples nor move the split means.
 // Counting only the blob's samples refines the blob and leaves the uniform background coarse.

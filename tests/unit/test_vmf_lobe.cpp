@@ -29,6 +29,40 @@ Vec3f rotate_away(const Vec3f& axis, double theta, double phi = 0.7) {
 }
 }  // namespace
 
+// vmf_normalization skips expm1 once it saturates (kappa >= 20): the value must be the formula's,
+// bit for bit, so that guided images do not change (expm1(-2 kappa) is exactly -1 there).
+TEST(VmfLobe, NormalisationShortcutIsExact) {
+    for (double kappa = 19.0; kappa < 1e6; kappa *= 1.0 + 1e-4) {
+        const double formula = kappa / (-2.0 * M_PI * std::expm1(-2.0 * kappa));
+        ASSERT_EQ(vmf_normalization(kappa), formula) << "kappa " << kappa;
+    }
+}
+
+// The product with a precomputed angle is the product (product_into shares it over phase lobes).
+TEST(VmfLobe, ProductWithSharedAngleIsIdentical) {
+    const VmfLobe a(kAxis, 37.f);
+    for (float kappa : {0.5f, 3.f, 14.f, 101.f}) {
+        const VmfLobe b(rotate_away(kAxis, 0.9), kappa);
+        const VmfProduct p = vmf_product(a, b), q = vmf_product(a, b, vmf_cos_pair(a.mu, b.mu));
+        EXPECT_EQ(p.scale, q.scale);
+        EXPECT_EQ(p.lobe.kappa, q.lobe.kappa);
+        EXPECT_EQ(p.lobe.norm, q.lobe.norm);
+        EXPECT_EQ(p.lobe.mu, q.lobe.mu);
+    }
+}
+
+// Product lobes normalise with exp instead of expm1 where that has no cancellation (kappa in
+// [0.25, 20)): the invariant norm == c~(kappa) must hold to float rounding across that range.
+TEST(VmfLobe, ProductLobeNormIsTheNormaliser) {
+    for (float k1 : {0.1f, 0.3f, 1.f, 4.f, 9.f, 30.f})
+        for (double theta = 0.0; theta < 3.1; theta += 0.05) {
+            const VmfLobe a(kAxis, k1), b(rotate_away(kAxis, theta), 0.6f);
+            const VmfProduct p = vmf_product(a, b);
+            const double want = vmf_normalization(p.lobe.kappa);
+            ASSERT_NEAR(p.lobe.norm, want, 3e-7 * want) << "k1 " << k1 << " theta " << theta;
+        }
+}
+
 TEST(VmfLobe, NormalisedByQuadrature) {
     for (float kappa : {0.f, 1e-4f, 0.1f, 1.f, 10.f, 100.f, 1000.f, 32000.f}) {
         VmfLobe lobe(kAxis, kappa);

@@ -65,12 +65,9 @@ IncrementalDistanceWalk::Bin IncrementalDistanceWalk::evaluate(const DistanceBin
     p.sigma_bar = scalar_sigma_t(bin.sigma_t);
     p.P_T_bar = -std::expm1(-p.sigma_bar * p.length);
     p.T_bar = std::exp(-p.sigma_bar * p.length);  // not 1 - P_T_bar: keeps its precision when thick
-    if (is_grey(bin.sigma_t)) {
-        p.P_T = Color3(p.P_T_bar);
-        p.T = Color3(p.T_bar);
-    } else {
-        p.P_T = one_minus_transmittance(bin.sigma_t, p.length);
-        p.T = transmittance(bin.sigma_t, p.length);
+    if (strategy_ != DistanceStrategy::Guided) {
+        const int c = channel_of(strategy_);
+        p.P_T_c = is_grey(bin.sigma_t) ? p.P_T_bar : -std::expm1(-bin.sigma_t[c] * p.length);
     }
 
     // Incoming-radiance filter (7.4): extrapolate the previous bin's L^I through it by the VRE
@@ -94,7 +91,7 @@ IncrementalDistanceWalk::Bin IncrementalDistanceWalk::evaluate(const DistanceBin
 }
 
 float IncrementalDistanceWalk::decision_probability(const Bin& p) const {
-    return strategy_ == DistanceStrategy::Guided ? p.P_G : p.P_T[channel_of(strategy_)];
+    return strategy_ == DistanceStrategy::Guided ? p.P_G : p.P_T_c;
 }
 
 float IncrementalDistanceWalk::sample_in_bin(const DistanceBin& bin, const Bin& p, float u) const {
@@ -106,13 +103,15 @@ float IncrementalDistanceWalk::sample_in_bin(const DistanceBin& bin, const Bin& 
 
 float IncrementalDistanceWalk::pdf_in_bin(const DistanceBin& bin, const Bin& p, float t) const {
     const float x = t - bin.t0;
+    const Color3 R_T = transmittance(tau_, 1.f);
     float transmittance_part;
     if (is_grey(bin.sigma_t)) {
-        transmittance_part = R_T_.average() * p.P_T.r * truncated_exponential_pdf(bin.sigma_t.r, p.length, x);
+        transmittance_part = R_T.average() * p.P_T_bar * truncated_exponential_pdf(bin.sigma_t.r, p.length, x);
     } else {
+        const Color3 P_T = one_minus_transmittance(bin.sigma_t, p.length);
         transmittance_part = 0.f;
         for (int c = 0; c < 3; ++c)
-            transmittance_part += R_T_[c] * p.P_T[c] * truncated_exponential_pdf(bin.sigma_t[c], p.length, x);
+            transmittance_part += R_T[c] * P_T[c] * truncated_exponential_pdf(bin.sigma_t[c], p.length, x);
         transmittance_part *= 1.f / 3.f;
     }
     const float guided_part = R_G_ * p.P_G * truncated_exponential_pdf(p.sigma_bar, p.length, x);
@@ -121,7 +120,7 @@ float IncrementalDistanceWalk::pdf_in_bin(const DistanceBin& bin, const Bin& p, 
 
 void IncrementalDistanceWalk::advance(const DistanceBin& bin, const Bin& p) {
     if (!(p.length > 0.f)) return;
-    R_T_ *= p.T;
+    tau_ += bin.sigma_t * p.length;
     R_G_ *= 1.f - p.P_G;
     has_prev_ = true;
     prev_valid_ = bin.valid;
@@ -132,7 +131,7 @@ void IncrementalDistanceWalk::advance(const DistanceBin& bin, const Bin& p) {
 }
 
 float IncrementalDistanceWalk::surface_probability() const {
-    return settings_.c_T * R_T_.average() + (1.f - settings_.c_T) * R_G_;
+    return settings_.c_T * transmittance(tau_, 1.f).average() + (1.f - settings_.c_T) * R_G_;
 }
 
 float incremental_distance_pdf(std::span<const DistanceBin> bins, float t, const GuidedDistanceSettings& settings) {

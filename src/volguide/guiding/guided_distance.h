@@ -83,10 +83,12 @@ public:
     struct Bin {
         float length = 0.f;
         float sigma_bar = 0.f;   // channel-average proxy extinction (drives G's in-bin density)
-        Color3 P_T{0.f};         // per-channel transmittance probabilities 1 - exp(-sigma_t,c * length)
-        Color3 T{1.f};           // per-channel bin transmittance exp(-sigma_t,c * length)
-        float P_T_bar = 0.f;     // the same two for sigma_bar
-        float T_bar = 1.f;
+        float P_T_bar = 0.f;     // 1 - exp(-sigma_bar * length)
+        float T_bar = 1.f;       // exp(-sigma_bar * length)
+        // 1 - exp(-sigma_t,c * length) of the strategy's channel c (T_c strategies only). The other
+        // channels are needed only by the pdf of the accepted bin, which computes them there: per
+        // bin the walk pays 2-3 transcendentals instead of 8 (bench_guiding BM_DistanceIncremental).
+        float P_T_c = 0.f;
         float P_G = 0.f;         // guided conditional probability after filter, clamps and fallbacks
         float L_I = 0.f;         // filtered incident radiance used as P^G's denominator
         bool nan_fallback = false;
@@ -113,7 +115,7 @@ public:
 private:
     GuidedDistanceSettings settings_;
     DistanceStrategy strategy_;
-    Color3 R_T_{1.f};  // prod (1 - P^T_c) = T~_c(0, d_k)
+    Color3 tau_{0.f};  // proxy optical depth of the bins passed: R^T_c = prod (1 - P^T_c) = exp(-tau_c)
     float R_G_ = 1.f;  // prod (1 - P^G)
     // Previous bin, for the filter (7.4).
     bool has_prev_ = false;

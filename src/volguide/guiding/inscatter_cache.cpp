@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "volguide/vmm/vmf_sum.h"
 #include "volguide/vmm/vmm.h"
 
 namespace volguide {
@@ -11,6 +12,9 @@ namespace volguide {
 InscatterCache::InscatterCache(const GuidingField& field, const PhaseVmm& phase) : field_(&field) {
     const std::vector<GuidingLeaf>& leaves = field.leaves();
     // Convolve in parallel into per-leaf lists, then concatenate in leaf order.
+    struct Lobe {
+        float mu_x, mu_y, mu_z, kappa, scale;
+    };
     std::vector<std::vector<Lobe>> per_leaf(leaves.size());
     tbb::parallel_for(size_t(0), leaves.size(), [&](size_t l) {
         const GuidingLeaf& leaf = leaves[l];
@@ -31,20 +35,25 @@ InscatterCache::InscatterCache(const GuidingField& field, const PhaseVmm& phase)
         total += per_leaf[l].size();
     }
     first_[leaves.size()] = uint32_t(total);
-    lobes_.reserve(total);
-    for (auto& v : per_leaf) lobes_.insert(lobes_.end(), v.begin(), v.end());
+    for (auto* v : {&mu_x_, &mu_y_, &mu_z_, &kappa_, &scale_}) v->reserve(total);
+    for (const auto& v : per_leaf)
+        for (const Lobe& b : v) {
+            mu_x_.push_back(b.mu_x);
+            mu_y_.push_back(b.mu_y);
+            mu_z_.push_back(b.mu_z);
+            kappa_.push_back(b.kappa);
+            scale_.push_back(b.scale);
+        }
 }
 
 Color3 InscatterCache::inscattered(int leaf, const Vec3f& w) const {
     if (!field_ || leaf < 0) return Color3(0.f);
     const GuidingLeaf& gl = field_->leaves()[size_t(leaf)];
     if (!gl.valid) return Color3(0.f);
-    float value = 0.f;
-    for (uint32_t i = first_[size_t(leaf)]; i < first_[size_t(leaf) + 1]; ++i) {
-        const Lobe& b = lobes_[i];
-        value += b.scale * std::exp(-b.kappa * one_minus_cos(Vec3f(b.mu_x, b.mu_y, b.mu_z), w));
-    }
-    return gl.fluence * value;
+    const uint32_t i = first_[size_t(leaf)];
+    const int n = int(first_[size_t(leaf) + 1] - i);
+    return gl.fluence * vmf_sum(mu_x_.data() + i, mu_y_.data() + i, mu_z_.data() + i, kappa_.data() + i, nullptr,
+                                scale_.data() + i, n, w);
 }
 
 Color3 InscatterCache::inscattered(const Point3f& x, const Vec3f& w) const {
@@ -53,7 +62,8 @@ Color3 InscatterCache::inscattered(const Point3f& x, const Vec3f& w) const {
 }
 
 size_t InscatterCache::memory_bytes() const {
-    return sizeof(*this) + first_.capacity() * sizeof(uint32_t) + lobes_.capacity() * sizeof(Lobe);
+    return sizeof(*this) + first_.capacity() * sizeof(uint32_t) +
+           (mu_x_.capacity() + mu_y_.capacity() + mu_z_.capacity() + kappa_.capacity() + scale_.capacity()) * sizeof(float);
 }
 
 }  // namespace volguide

@@ -6,7 +6,8 @@
 // enough for the distance sampler's per-bin calls (issue 6, item 3).
 //
 // Lobes are stored flat (only the lobes that exist), so memory is proportional to the fitted lobes
-// rather than to the mixtures' fixed capacity.
+// rather than to the mixtures' fixed capacity, as a structure of arrays summed four lobes at a time
+// (vmf_sum.h).
 #include <cstdint>
 #include <vector>
 
@@ -32,12 +33,10 @@ public:
     size_t memory_bytes() const;
 
 private:
-    struct Lobe {  // weight * c~(kappa) folded into `scale`
-        float mu_x, mu_y, mu_z, kappa, scale;
-    };
     const GuidingField* field_ = nullptr;
-    std::vector<uint32_t> first_;  // leaf l's lobes are lobes_[first_[l], first_[l + 1])
-    std::vector<Lobe> lobes_;
+    std::vector<uint32_t> first_;  // leaf l's lobes are [first_[l], first_[l + 1]) of the arrays below
+    // Structure of arrays, for vmf_sum's four lobes at a time; weight * c~(kappa) folded into `scale_`.
+    std::vector<float> mu_x_, mu_y_, mu_z_, kappa_, scale_;
 };
 
 }  // namespace volguide

@@ -48,6 +48,14 @@ public:
 
     // The leaf containing p, or -1 outside the bounds. Points on a split plane go to the upper side.
     int leaf_at(const Point3f& p) const;
+    // A cheap check of a guess: true only if leaf_at(p) == leaf (p in [lo, hi) of the leaf's box on
+    // every axis: those are its ancestors' splits, and the descent goes up iff p >= split). False
+    // for an invalid index and for points on the bounds' upper faces, which leaf_at still finds.
+    bool holds_point(int leaf, const Point3f& p) const {
+        if (leaf < 0 || leaf >= leaf_count()) return false;
+        const BBox3f& b = leaf_bounds_[size_t(leaf)];
+        return p.x >= b.lo.x && p.x < b.hi.x && p.y >= b.lo.y && p.y < b.hi.y && p.z >= b.lo.z && p.z < b.hi.z;
+    }
 
     // Calls visit(leaf, t_enter, t_exit) for the leaves crossed by ray(t), t in (t0, t1), in order
     // of increasing t; the intervals are contiguous and cover the segment's overlap with the

@@ -60,6 +60,15 @@ struct VmfProduct {
     double scale = 0.0;
 };
 VmfProduct vmf_product(const VmfLobe& a, const VmfLobe& b);
+// (1 - cos, 1 + cos) of the angle between two unit axes, in double: the part of a product that
+// depends only on the axes, so products of one lobe with several lobes on a common axis (a phase
+// VMM's lobes all sit on +-the travel direction) compute it once.
+struct VmfCosPair {
+    double one_minus = 0.0, one_plus = 2.0;
+};
+VmfCosPair vmf_cos_pair(const Vec3f& a, const Vec3f& b);
+// vmf_product(a, b) with c = vmf_cos_pair(a.mu, b.mu) (bit for bit the same result).
+VmfProduct vmf_product(const VmfLobe& a, const VmfLobe& b, const VmfCosPair& c);
 
 // Exact spherical convolution of two vMF lobes evaluated at angle theta between their axes:
 // integral of v(w|mu1,k1) v(w|mu2,k2) dw with 1 - cos(theta) = one_minus_cos (eq. 3.4).
