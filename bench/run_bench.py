@@ -357,7 +357,8 @@ def main():
     if not os.access(volguide, os.X_OK):
         sys.exit(f"run_bench: {volguide} is missing; run `make build` first")
     date = datetime.date.today().isoformat()
-    out = args.out or os.path.join(ROOT, "bench", "results", date + ("-quick" if args.quick else ""))
+    # Absolute: generated integrator files are included from the scenes (paths relative to them).
+    out = os.path.abspath(args.out) if args.out else os.path.join(ROOT, "bench", "results", date + ("-quick" if args.quick else ""))
     for sub in ("images", "stats", "plots", "integrators"):
         os.makedirs(os.path.join(out, sub), exist_ok=True)
     machine = machine_description()
