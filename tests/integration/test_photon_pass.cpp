@@ -171,6 +171,38 @@ TEST(PhotonPass, DepositCapStopsAtTheSameWaveForAnyThreadCount) {
     }
 }
 
+// Photons from an area light leave its surface: they used to start exactly on it and hit the light
+// itself at t ~ 0, so no photon from an area light ever reached a medium (`thin`, `sss`, `backlit`
+// and `fogbox` trained empty or nearly empty fields). A 0.3 m square facing a fog sphere of radius
+// 1 at distance 2.5: a cosine-weighted ray hits the sphere with probability (R/d)^2 = 0.16 and then
+// collides with probability ~0.70 (sigma R = 1, impact parameter ~uniform): ~11 % deposit.
+TEST(PhotonPass, AreaLightPhotonsReachTheMedium) {
+    TempDir dir("photons-area");
+    auto scene = load(dir, R"(<scene version="3.0.0">
+    <integrator type="volpath"/>
+    <medium type="homogeneous" id="fog">
+        <float name="sigma_t" value="1"/><float name="albedo" value="0"/><phase type="isotropic"/>
+    </medium>
+    <shape type="sphere"><bsdf type="null"/><ref name="interior" id="fog"/></shape>
+    <shape type="rectangle">
+        <transform name="to_world"><scale value="0.15"/><rotate y="1" angle="-90"/><translate x="2.5"/></transform>
+        <emitter type="area"><rgb name="radiance" value="10"/></emitter>
+    </shape>
+    <sensor type="perspective">
+        <transform name="to_world"><lookat origin="0, 0, 4" target="0, 0, 0" up="0, 1, 0"/></transform>
+        <film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film>
+    </sensor>
+</scene>)");
+    PhotonPassSettings ps;
+    ps.photons = 200000;
+    ps.focus = false;
+    PreprocessContext ctx;
+    ctx.seed = 9;
+    const PhotonPassResult r = trace_photons(*scene, ps, ctx);
+    const double rate = double(r.photons_depositing) / double(r.photons_traced);
+    EXPECT_NEAR(rate, 0.1125, 0.02);
+}
+
 // A sun over a small absorbing fog box on a large ground: the bounding sphere's disk is ~600 times
 // the box's cross-section, so unfocused emission wastes > 99 % of the photons. Focused emission
 // (emission_focus.h) must deposit far more of them, and its compensated flux must still give the

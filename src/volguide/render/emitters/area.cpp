@@ -58,7 +58,8 @@ class AreaEmitter final : public Emitter {
         // flip_normals applied: cosine-weighted hemisphere about it, pdf_dir = cos / pi.
         const Vec3f local = warp::square_to_cosine_hemisphere(u_dir);
         const SurfaceInteraction si = emitter_point(ps.p, ps.n, ps.uv, local);
-        rs.ray = Ray(ps.p, si.to_world(local));
+        // Offset like any surface ray: from the exact point, the light hits itself at t ~ 0.
+        rs.ray = si.spawn_ray(si.to_world(local));
         rs.n = ps.n;
         // L cos / (pdf_pos cos / pi) = pi L / pdf_pos; eval() gives 0 for a grazing sample.
         rs.weight = eval(si) * (Pi / ps.pdf);
