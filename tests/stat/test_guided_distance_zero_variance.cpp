@@ -57,14 +57,42 @@ TEST(GuidedDistanceZeroVariance, ExactEstimatesGiveZeroVariance) {
                 stats.add(ray.estimate_average(d));
             }
             const double rel_std = std::sqrt(stats.variance()) / L0;
-            std::printf("exact estimates, %s, A = %.2f: mean / L(0) - 1 = %.2e, relative std %.2e, %d%% medium\n",
-                        kind == Kind::Incremental ? "incremental" : "tabulated", A, stats.mean() / L0 - 1.0, rel_std,
-                        medium / 200);
+            std::printf(
+                "exact estimates, %s, A = %.2f: mean / L(0) - 1 = %.2e, relative std %.2e, %d%% medium\n",
+                kind == Kind::Incremental ? "incremental" : "tabulated", A, stats.mean() / L0 - 1.0, rel_std,
+                medium / 200);
             EXPECT_LT(rel_std, 1e-5) << "A " << A << " kind " << int(kind);
             EXPECT_NEAR(stats.mean() / L0, 1.0, 1e-5);
             EXPECT_GT(medium, 1000);  // both events occur
             EXPECT_LT(medium, 19000);
         }
+}
+
+TEST(GuidedDistanceZeroVariance, VreDenominatorIsNearZeroVarianceWithExactEstimates) {
+    // The Vre denominator N + T L~ reads the radiance beyond a bin as the lookup at its start: exact
+    // to first order in the bin's optical depth, so with exact estimates it is close to, but not,
+    // zero-variance (six_bin_ray's bins have optical depths 0.1-1.2). Unbiased all the same.
+    const AnalyticRay ray = six_bin_ray();
+    const auto bins = ray.bins();
+    const double L0 = ray.L0_average();
+    const GuidedDistanceSettings s = settings(0.f, 1.f, 1.f, DistanceDenominator::Vre);
+    RunningStats stats, transmittance;
+    for (uint64_t i = 0; i < 100000; ++i) {
+        Sampler rng(12, 0, i);
+        AnalyticRay::Source src{&bins};
+        stats.add(ray.estimate_average(sample_incremental_distance(src, rng, s)));
+        Sampler rng_t(13, 0, i);
+        AnalyticRay::Source src_t{&bins};
+        transmittance.add(
+            ray.estimate_average(sample_incremental_distance(src_t, rng_t, settings(1.f, 1.f, 1.f))));
+    }
+    const double rel_std = std::sqrt(stats.variance()) / L0,
+                 rel_std_t = std::sqrt(transmittance.variance()) / L0;
+    std::printf("exact estimates, vre denominator: relative std %.3f (transmittance sampling %.3f), z %.2f\n",
+                rel_std, rel_std_t, stats.z(L0));
+    EXPECT_LT(stats.z(L0), 3.0);
+    EXPECT_GT(rel_std, 1e-5);              // not zero-variance...
+    EXPECT_LT(rel_std, 0.25 * rel_std_t);  // ...but far closer to it than free flight
 }
 
 TEST(GuidedDistanceZeroVariance, TransmittanceSamplingAloneIsNotZeroVariance) {
@@ -89,26 +117,41 @@ TEST(GuidedDistanceZeroVariance, NoisyEstimatesAreUnbiased) {
         const auto L = ray.incident_at_starts();
         const auto noise = lognormal_noise(chromatic ? 5 : 4, 0.7f);
         const auto bins = ray.bins(noise);
-        for (float A : {0.5f, 1.f})
-            for (Kind kind : {Kind::Incremental, Kind::Tabulated}) {
-                const GuidedDistanceSettings s = settings(0.5f, 0.9f, A);
-                const TabulatedDistance tab(bins, std::nullopt, s);  // surface mass extrapolated
-                RunningStats per_channel[3];
-                for (uint64_t i = 0; i < uint64_t(N); ++i) {
-                    Sampler rng(21, chromatic, i);
-                    const DistanceSample d = draw(kind, bins, tab, s, rng);
-                    for (int c = 0; c < 3; ++c) per_channel[c].add(ray.estimate(d, c));
-                }
-                std::printf("noisy, %s, %s, A = %.2f: z per channel %.2f %.2f %.2f, relative std %.2f\n",
-                            chromatic ? "chromatic" : "grey", kind == Kind::Incremental ? "incremental" : "tabulated", A,
-                            per_channel[0].z(L[0][0]), per_channel[1].z(L[0][1]), per_channel[2].z(L[0][2]),
-                            std::sqrt(per_channel[1].variance()) / L[0][1]);
-                for (int c = 0; c < 3; ++c)
-                    EXPECT_LT(per_channel[c].z(L[0][size_t(c)]), 3.0)
-                        << "chromatic " << chromatic << " A " << A << " kind " << int(kind) << " channel " << c
-                        << ": mean " << per_channel[c].mean() << " expected " << L[0][size_t(c)] << " +- "
-                        << per_channel[c].std_error();
+        struct Case {
+            float A;
+            Kind kind;
+            DistanceDenominator den;
+        };
+        for (const Case cs : {Case{0.5f, Kind::Incremental, DistanceDenominator::Incident},
+                              Case{1.f, Kind::Incremental, DistanceDenominator::Incident},
+                              Case{0.5f, Kind::Incremental, DistanceDenominator::Vre},
+                              Case{0.5f, Kind::Tabulated, DistanceDenominator::Incident},
+                              Case{1.f, Kind::Tabulated, DistanceDenominator::Incident}}) {
+            const float A = cs.A;
+            const Kind kind = cs.kind;
+            // A throughput-like channel split for the chromatic ray (the renderer's choice).
+            const GuidedDistanceSettings s =
+                settings(0.5f, 0.9f, A, cs.den, chromatic ? Color3(0.5f, 0.3f, 0.2f) : Color3(1.f / 3.f));
+            const TabulatedDistance tab(bins, std::nullopt, s);  // surface mass extrapolated
+            RunningStats per_channel[3];
+            for (uint64_t i = 0; i < uint64_t(N); ++i) {
+                Sampler rng(21, chromatic, i);
+                const DistanceSample d = draw(kind, bins, tab, s, rng);
+                for (int c = 0; c < 3; ++c) per_channel[c].add(ray.estimate(d, c));
             }
+            std::printf("noisy, %s, %s%s, A = %.2f: z per channel %.2f %.2f %.2f, relative std %.2f\n",
+                        chromatic ? "chromatic" : "grey",
+                        kind == Kind::Incremental ? "incremental" : "tabulated",
+                        cs.den == DistanceDenominator::Vre ? " (vre)" : "", A, per_channel[0].z(L[0][0]),
+                        per_channel[1].z(L[0][1]), per_channel[2].z(L[0][2]),
+                        std::sqrt(per_channel[1].variance()) / L[0][1]);
+            for (int c = 0; c < 3; ++c)
+                EXPECT_LT(per_channel[c].z(L[0][size_t(c)]), 3.0)
+                    << "chromatic " << chromatic << " A " << A << " kind " << int(kind) << " vre "
+                    << (cs.den == DistanceDenominator::Vre) << " channel " << c << ": mean "
+                    << per_channel[c].mean() << " expected " << L[0][size_t(c)] << " +- "
+                    << per_channel[c].std_error();
+        }
     }
 }
 
@@ -134,14 +177,21 @@ TEST(GuidedDistanceZeroVariance, SampledDistancesFollowThePdf) {
         bool chromatic;
         float c_T, A;
         Kind kind;
+        DistanceDenominator den = DistanceDenominator::Incident;
     };
-    const Case cases[] = {{false, 0.5f, 0.5f, Kind::Incremental}, {true, 0.5f, 0.5f, Kind::Incremental},
-                          {true, 0.5f, 1.f, Kind::Incremental},   {false, 0.f, 0.5f, Kind::Incremental},
-                          {false, 0.5f, 0.5f, Kind::Tabulated},   {true, 0.5f, 1.f, Kind::Tabulated}};
+    const Case cases[] = {{false, 0.5f, 0.5f, Kind::Incremental},
+                          {true, 0.5f, 0.5f, Kind::Incremental},
+                          {true, 0.5f, 1.f, Kind::Incremental},
+                          {false, 0.f, 0.5f, Kind::Incremental},
+                          {false, 0.5f, 0.5f, Kind::Tabulated},
+                          {true, 0.5f, 1.f, Kind::Tabulated},
+                          {true, 0.5f, 0.5f, Kind::Incremental, DistanceDenominator::Vre},
+                          {false, 0.f, 1.f, Kind::Incremental, DistanceDenominator::Vre}};
     for (const Case& cs : cases) {
         const AnalyticRay ray = six_bin_ray(cs.chromatic);
         const auto bins = ray.bins(lognormal_noise(9, 0.7f));
-        const GuidedDistanceSettings s = settings(cs.c_T, 0.9f, cs.A);
+        const GuidedDistanceSettings s =
+            settings(cs.c_T, 0.9f, cs.A, cs.den, cs.chromatic ? Color3(0.6f, 0.3f, 0.1f) : Color3(1.f / 3.f));
         const TabulatedDistance tab(bins, std::nullopt, s);
         ChiSquareOptions opt;
         opt.sample_count = 200000;
@@ -160,11 +210,13 @@ TEST(GuidedDistanceZeroVariance, SampledDistancesFollowThePdf) {
                 return out;
             },
             [&](const Vec3f& p) {
-                return double(cs.kind == Kind::Tabulated ? tab.pdf(p.x) : incremental_distance_pdf(bins, p.x, s));
+                return double(cs.kind == Kind::Tabulated ? tab.pdf(p.x)
+                                                         : incremental_distance_pdf(bins, p.x, s));
             },
             Rect2{0.0, 0.0, ray.end(), 1.0}, opt);
         EXPECT_TRUE(r.passed) << r.report;
-        const double P_surf = cs.kind == Kind::Tabulated ? tab.surface_probability() : incremental_surface_probability(bins, s);
+        const double P_surf =
+            cs.kind == Kind::Tabulated ? tab.surface_probability() : incremental_surface_probability(bins, s);
         EXPECT_NEAR(r.pdf_integral + P_surf, 1.0, 1e-3);
     }
 }

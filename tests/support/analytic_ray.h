@@ -33,7 +33,8 @@ struct AnalyticRay {
             const AnalyticSegment& s = segments[k];
             for (int c = 0; c < 3; ++c) {
                 const double st = s.sigma_t[c], T = std::exp(-st * (s.t1 - s.t0));
-                const double in = st > 0 ? double(s.sigma_s[c]) / st * (1.0 - T) : double(s.sigma_s[c]) * (s.t1 - s.t0);
+                const double in =
+                    st > 0 ? double(s.sigma_s[c]) / st * (1.0 - T) : double(s.sigma_s[c]) * (s.t1 - s.t0);
                 L[k][size_t(c)] = in * s.Li[c] + T * L[k + 1][size_t(c)];
             }
         }
@@ -118,18 +119,24 @@ inline AnalyticRay six_bin_ray(bool chromatic = false) {
     for (int k = 0; k < 6; ++k) {
         Color3 sigma_t(st[k]);
         if (chromatic) sigma_t = Color3(st[k] * 2.5f, st[k], st[k] * 0.2f);
-        r.segments.push_back({d[k], d[k + 1], sigma_t, sigma_t * alb[k], Color3(li[k], li[k] * 0.8f, li[k] * 1.3f)});
+        r.segments.push_back(
+            {d[k], d[k + 1], sigma_t, sigma_t * alb[k], Color3(li[k], li[k] * 0.8f, li[k] * 1.3f)});
     }
     r.L_surface = Color3(1.5f, 1.2f, 0.9f);
     return r;
 }
 
-// Distance-sampler settings in one call: c_T, p_max and the filter weight A.
-inline GuidedDistanceSettings settings(float c_T, float p_max, float A) {
+// Distance-sampler settings in one call: c_T, p_max, the filter weight A and the denominator of the
+// guided probability (default: the paper's, which the oracles of §14.7-14.8 are written for).
+inline GuidedDistanceSettings settings(float c_T, float p_max, float A,
+                                       DistanceDenominator denominator = DistanceDenominator::Incident,
+                                       Color3 channel_split = Color3(1.f / 3.f)) {
     GuidedDistanceSettings s;
     s.c_T = c_T;
     s.p_max = p_max;
     s.filter_A = A;
+    s.denominator = denominator;
+    s.channel_split = channel_split;
     return s;
 }
 

@@ -18,9 +18,10 @@ namespace {
 // Integral of pdf over every bin by 5-point Gauss-Legendre on 16 sub-intervals (interior nodes only,
 // so each bin's half-open end is never evaluated).
 double integrate(const std::vector<DistanceBin>& bins, const std::function<float(float)>& pdf) {
-    static const double x[5] = {-0.9061798459386640, -0.5384693101056831, 0.0, 0.5384693101056831, 0.9061798459386640};
-    static const double w[5] = {0.2369268850561891, 0.4786286704993665, 0.5688888888888889, 0.4786286704993665,
-                                0.2369268850561891};
+    static const double x[5] = {-0.9061798459386640, -0.5384693101056831, 0.0, 0.5384693101056831,
+                                0.9061798459386640};
+    static const double w[5] = {0.2369268850561891, 0.4786286704993665, 0.5688888888888889,
+                                0.4786286704993665, 0.2369268850561891};
     double sum = 0.0;
     for (const DistanceBin& b : bins) {
         const int n = 16;
@@ -77,6 +78,16 @@ TEST(GuidedDistance, StrategyChoice) {
     EXPECT_EQ(choose_distance_strategy(s, 0.5f), DistanceStrategy::Guided);
     EXPECT_EQ(choose_distance_strategy(settings(0.f, 0.9f, 1.f), 0.f), DistanceStrategy::Guided);
     EXPECT_EQ(choose_distance_strategy(settings(1.f, 0.9f, 1.f), 0.9999f), DistanceStrategy::TransmittanceB);
+    // A channel split from the throughput: c_T q_c per channel; a channel with q = 0 is never drawn.
+    const Color3 q(0.5f, 0.f, 0.5f);
+    const GuidedDistanceSettings t = settings(0.4f, 0.9f, 1.f, DistanceDenominator::Vre, q);
+    EXPECT_EQ(choose_distance_strategy(t, 0.19f), DistanceStrategy::TransmittanceR);
+    EXPECT_EQ(choose_distance_strategy(t, 0.2f), DistanceStrategy::TransmittanceB);
+    EXPECT_EQ(choose_distance_strategy(t, 0.39f), DistanceStrategy::TransmittanceB);
+    EXPECT_EQ(choose_distance_strategy(t, 0.4f), DistanceStrategy::Guided);
+    EXPECT_EQ(choose_distance_strategy(
+                  settings(1.f, 0.9f, 1.f, DistanceDenominator::Vre, Color3(0.f, 1.f, 0.f)), 0.9999f),
+              DistanceStrategy::TransmittanceG);
 }
 
 TEST(GuidedDistance, TruncatedExponentialIsNormalisedAndInverts) {
@@ -84,12 +95,15 @@ TEST(GuidedDistance, TruncatedExponentialIsNormalisedAndInverts) {
         const float length = 0.7f;
         double sum = 0.0;
         const int n = 20000;
-        for (int i = 0; i < n; ++i) sum += truncated_exponential_pdf(sigma, length, (i + 0.5f) * length / n) * length / n;
+        for (int i = 0; i < n; ++i)
+            sum += truncated_exponential_pdf(sigma, length, (i + 0.5f) * length / n) * length / n;
         EXPECT_NEAR(sum, 1.0, 1e-3) << sigma;
         // Inversion: the cdf at the sampled x equals u.
         for (float u : {0.1f, 0.5f, 0.9f}) {
             const float x = sample_truncated_exponential(sigma, length, u);
-            const double cdf = sigma * length <= 1e-6f ? x / length : -std::expm1(-double(sigma) * x) / -std::expm1(-double(sigma) * length);
+            const double cdf = sigma * length <= 1e-6f
+                                   ? x / length
+                                   : -std::expm1(-double(sigma) * x) / -std::expm1(-double(sigma) * length);
             EXPECT_NEAR(cdf, u, 1e-5) << sigma;
         }
     }
@@ -99,12 +113,17 @@ TEST(GuidedDistance, PdfIntegratesToOneWithSurfaceProbability) {
     for (uint32_t seed = 1; seed <= 20; ++seed)
         for (bool chromatic : {false, true})
             for (const GuidedDistanceSettings& s :
-                 {settings(0.5f, 0.9f, 0.5f), settings(0.5f, 0.9f, 1.f), settings(0.f, 1.f, 0.5f), settings(1.f, 0.9f, 1.f),
-                  settings(0.2f, 0.7f, 0.75f)}) {
+                 {settings(0.5f, 0.9f, 0.5f), settings(0.5f, 0.9f, 1.f), settings(0.f, 1.f, 0.5f),
+                  settings(1.f, 0.9f, 1.f), settings(0.2f, 0.7f, 0.75f),
+                  settings(0.5f, 0.9f, 0.5f, DistanceDenominator::Vre),
+                  settings(0.5f, 0.9f, 0.5f, DistanceDenominator::Vre, Color3(0.7f, 0.05f, 0.25f)),
+                  settings(1.f, 0.9f, 1.f, DistanceDenominator::Incident, Color3(0.f, 0.2f, 0.8f))}) {
                 const auto bins = random_bins(seed, chromatic);
-                const double inc = integrate(bins, [&](float t) { return incremental_distance_pdf(bins, t, s); }) +
-                                   incremental_surface_probability(bins, s);
-                EXPECT_NEAR(inc, 1.0, 2e-4) << "incremental seed " << seed << " chromatic " << chromatic << " c_T " << s.c_T;
+                const double inc =
+                    integrate(bins, [&](float t) { return incremental_distance_pdf(bins, t, s); }) +
+                    incremental_surface_probability(bins, s);
+                EXPECT_NEAR(inc, 1.0, 2e-4)
+                    << "incremental seed " << seed << " chromatic " << chromatic << " c_T " << s.c_T;
                 for (std::optional<float> L_o : {std::optional<float>(), std::optional<float>(0.7f)}) {
                     const TabulatedDistance tab(bins, L_o, s);
                     const double sum =
@@ -118,7 +137,8 @@ TEST(GuidedDistance, IncrementalEqualsTabulatedForConsistentEstimates) {
     // Filter off, and also on: for consistent estimates the filter's extrapolation is exact.
     for (uint32_t seed = 1; seed <= 10; ++seed)
         for (bool chromatic : {false, true})
-            for (const GuidedDistanceSettings& s : {settings(0.f, 1.f, 1.f), settings(0.5f, 1.f, 1.f), settings(0.5f, 1.f, 0.5f)}) {
+            for (const GuidedDistanceSettings& s :
+                 {settings(0.f, 1.f, 1.f), settings(0.5f, 1.f, 1.f), settings(0.5f, 1.f, 0.5f)}) {
                 auto bins = random_bins(seed, chromatic);
                 for (DistanceBin& b : bins) b.valid = true;
                 const float L_o = 0.8f;
@@ -129,7 +149,8 @@ TEST(GuidedDistance, IncrementalEqualsTabulatedForConsistentEstimates) {
                     for (int i = 0; i < 300; ++i) {
                         const float t = bins.back().t1 * (i + 0.37f) / 300.f;
                         const float a = incremental_distance_pdf(bins, t, s), b = tab.pdf(t);
-                        EXPECT_NEAR(a, b, 1e-4f * std::max(1.f, b)) << "seed " << seed << " t " << t << " A " << s.filter_A;
+                        EXPECT_NEAR(a, b, 1e-4f * std::max(1.f, b))
+                            << "seed " << seed << " t " << t << " A " << s.filter_A;
                     }
                 }
             }
@@ -147,37 +168,74 @@ TEST(GuidedDistance, ClampMakesIncrementalDifferFromTabulated) {
 TEST(GuidedDistance, SampledPdfMatchesEvaluationAndStepsCountBins) {
     for (bool chromatic : {false, true}) {
         const auto ray = six_bin_ray(chromatic);
-        auto bins = ray.bins([](size_t k, int which) { return which == 0 ? 1.f + 0.3f * float(k) : 1.7f - 0.2f * float(k); });
+        auto bins = ray.bins(
+            [](size_t k, int which) { return which == 0 ? 1.f + 0.3f * float(k) : 1.7f - 0.2f * float(k); });
         // A zero-length bin in the middle is pulled (counted) but never scatters.
         DistanceBin empty = bins[2];
         empty.t1 = empty.t0;
         bins.insert(bins.begin() + 2, empty);
-        const GuidedDistanceSettings s = settings(0.5f, 0.9f, 0.5f);
-        const TabulatedDistance tab(bins, std::nullopt, s);
-        int medium = 0, surface = 0;
-        for (uint64_t i = 0; i < 4000; ++i) {
-            Sampler rng(7, 0, i);
-            AnalyticRay::Source src{&bins};
-            const DistanceSample d = sample_incremental_distance(src, rng, s);
-            EXPECT_EQ(size_t(d.steps), src.next);
-            if (d.event == DistanceEvent::Medium) {
-                ++medium;
-                const DistanceBin& last = bins[size_t(d.steps) - 1];
-                EXPECT_TRUE(d.t >= last.t0 && d.t < last.t1) << d.t;
-                EXPECT_NEAR(d.pdf, incremental_distance_pdf(bins, d.t, s), 1e-6f * d.pdf);
-            } else {
-                ++surface;
-                EXPECT_EQ(d.steps, int(bins.size()));
-                EXPECT_EQ(d.t, bins.back().t1);
-                EXPECT_NEAR(d.pdf, incremental_surface_probability(bins, s), 1e-7f);
+        for (DistanceDenominator den : {DistanceDenominator::Incident, DistanceDenominator::Vre}) {
+            const GuidedDistanceSettings s = settings(0.5f, 0.9f, 0.5f, den, Color3(0.2f, 0.5f, 0.3f));
+            const TabulatedDistance tab(bins, std::nullopt, s);
+            int medium = 0, surface = 0;
+            for (uint64_t i = 0; i < 4000; ++i) {
+                Sampler rng(7, 0, i);
+                AnalyticRay::Source src{&bins};
+                const DistanceSample d = sample_incremental_distance(src, rng, s);
+                EXPECT_EQ(size_t(d.steps), src.next);
+                if (d.event == DistanceEvent::Medium) {
+                    ++medium;
+                    const DistanceBin& last = bins[size_t(d.steps) - 1];
+                    EXPECT_TRUE(d.t >= last.t0 && d.t < last.t1) << d.t;
+                    EXPECT_NEAR(d.pdf, incremental_distance_pdf(bins, d.t, s), 1e-6f * d.pdf);
+                } else {
+                    ++surface;
+                    EXPECT_EQ(d.steps, int(bins.size()));
+                    EXPECT_EQ(d.t, bins.back().t1);
+                    EXPECT_NEAR(d.pdf, incremental_surface_probability(bins, s), 1e-7f);
+                }
+                const DistanceSample e = tab.sample(rng);
+                if (e.event == DistanceEvent::Medium)
+                    EXPECT_NEAR(e.pdf, tab.pdf(e.t), 1e-6f * e.pdf);
+                else
+                    EXPECT_EQ(e.pdf, tab.surface_probability());
             }
-            const DistanceSample e = tab.sample(rng);
-            if (e.event == DistanceEvent::Medium) EXPECT_NEAR(e.pdf, tab.pdf(e.t), 1e-6f * e.pdf);
-            else EXPECT_EQ(e.pdf, tab.surface_probability());
+            EXPECT_GT(medium, 100);
+            EXPECT_GT(surface, 10);  // T(0, s) ~ 0.1 grey, less than 0.01 in red
         }
-        EXPECT_GT(medium, 100);
-        EXPECT_GT(surface, 10);  // T(0, s) ~ 0.1 grey, less than 0.01 in red
     }
+}
+
+TEST(GuidedDistance, VreDenominatorMatchesHandComputation) {
+    // P^G = N / (N + T L^I) with N = alpha (1 - T) L_i, clamped to max(p_max, 1 - T).
+    std::vector<DistanceBin> bins(2);
+    bins[0] = {0.f, 1.f, Color3(1.f), 0.5f, 2.f, 3.f, true};
+    bins[1] = {1.f, 2.f, Color3(1.f), 1.f, 0.5f, 1.f, true};
+    const double T = std::exp(-1.0);
+    const double N0 = 0.5 * (1 - T) * 2.0, N1 = 1.0 * (1 - T) * 0.5;
+    const double P0 = N0 / (N0 + T * 3.0), P1 = N1 / (N1 + T * 1.0);
+    const auto vre = [](float A, float p_max) { return settings(0.f, p_max, A, DistanceDenominator::Vre); };
+    EXPECT_NEAR(incremental_surface_probability(bins, vre(1.f, 1.f)), (1 - P0) * (1 - P1), 1e-6);
+    // With the filter, L^I of the second bin is the paper's blend (7.4).
+    const double L_I1 = 0.75 * (3.0 - N0) / T + 0.25 * 1.0;
+    EXPECT_NEAR(incremental_surface_probability(bins, vre(0.25f, 1.f)), (1 - P0) * (1 - N1 / (N1 + T * L_I1)),
+                1e-6);
+
+    // An optically thick bin whose lookups disagree (L_i / L = 0.2): the paper's form passes the
+    // bin with probability ~ 0.8 although it lets e^-12 through; Vre scatters there like free flight.
+    DistanceBin thick{0.f, 1.f, Color3(12.f), 0.9f, 0.2f, 1.f, true};
+    const std::vector<DistanceBin> one{thick};
+    EXPECT_NEAR(incremental_surface_probability(one, settings(0.f, 0.9f, 1.f)), 1.0 - 0.9 * 0.2, 1e-5);
+    const float P_T = -std::expm1(-12.f);
+    EXPECT_NEAR(incremental_surface_probability(one, vre(1.f, 0.9f)),
+                1.0 - 0.18 / (0.18 * P_T + std::exp(-12.0)) * P_T, 1e-5);
+    EXPECT_LT(incremental_surface_probability(one, vre(1.f, 0.9f)), 1e-4);
+    // The clamp is max(p_max, 1 - T): a bright thick bin may go up to P^T, a bright thin one to p_max.
+    thick.Li = 100.f;
+    EXPECT_NEAR(incremental_surface_probability(std::vector<DistanceBin>{thick}, vre(1.f, 0.9f)),
+                std::exp(-12.f) / 1.f, 1e-6);
+    DistanceBin thin{0.f, 1.f, Color3(0.05f), 1.f, 1e6f, 1.f, true};
+    EXPECT_NEAR(incremental_surface_probability(std::vector<DistanceBin>{thin}, vre(1.f, 0.9f)), 0.1, 1e-6);
 }
 
 TEST(GuidedDistance, StopsPullingBinsAtTheFirstAcceptedScatter) {
@@ -206,11 +264,13 @@ TEST(GuidedDistance, FilterMatchesHandComputation) {
     const double P1 = 1.0 * (1 - T) * 0.5 / L_I;
     EXPECT_NEAR(incremental_surface_probability(bins, settings(0.f, 1.f, 0.25f)), (1 - P0) * (1 - P1), 1e-6);
     // Filter off: the raw lookup L = 1.
-    EXPECT_NEAR(incremental_surface_probability(bins, settings(0.f, 1.f, 1.f)), (1 - P0) * (1 - (1 - T) * 0.5), 1e-6);
+    EXPECT_NEAR(incremental_surface_probability(bins, settings(0.f, 1.f, 1.f)),
+                (1 - P0) * (1 - (1 - T) * 0.5), 1e-6);
     // Guard: through an almost opaque previous bin the filter does not extrapolate.
     bins[0].sigma_t = Color3(20.f);
     const double P0_thick = std::min(1.0, 0.5 * 2.0 / 3.0);
-    EXPECT_NEAR(incremental_surface_probability(bins, settings(0.f, 1.f, 0.5f)), (1 - P0_thick) * (1 - (1 - T) * 0.5), 1e-6);
+    EXPECT_NEAR(incremental_surface_probability(bins, settings(0.f, 1.f, 0.5f)),
+                (1 - P0_thick) * (1 - (1 - T) * 0.5), 1e-6);
 }
 
 TEST(GuidedDistance, DegenerateCases) {
@@ -227,7 +287,7 @@ TEST(GuidedDistance, DegenerateCases) {
 
     DistanceBin b = base;
     EXPECT_NEAR(one(b), 1.f - 0.8f * (1.f - T) * 1.f / 2.f, 1e-6f);  // regular
-    b.Li = NAN;  // NaN -> P^T, counted
+    b.Li = NAN;                                                      // NaN -> P^T, counted
     EXPECT_NEAR(one(b), T, 1e-6f);
     EXPECT_EQ(count_nans(b), 1);
     EXPECT_EQ(count_nans(base), 0);
@@ -258,7 +318,8 @@ TEST(GuidedDistance, DegenerateCases) {
     thin.sigma_t = Color3(1e-8f);
     const GuidedDistanceSettings mixed = settings(0.5f, 0.9f, 1.f);
     const std::vector<DistanceBin> thin_bins{thin};
-    EXPECT_EQ(incremental_distance_pdf(thin_bins, 0.1f, mixed), incremental_distance_pdf(thin_bins, 0.9f, mixed));
+    EXPECT_EQ(incremental_distance_pdf(thin_bins, 0.1f, mixed),
+              incremental_distance_pdf(thin_bins, 0.9f, mixed));
     EXPECT_GT(incremental_distance_pdf(thin_bins, 0.5f, mixed), 0.f);
     EXPECT_NEAR(incremental_surface_probability(thin_bins, mixed), 1.f, 1e-6f);
 
@@ -278,7 +339,8 @@ TEST(GuidedDistance, DegenerateCases) {
     for (int i = 0; i < 100; ++i) {
         const float t = bins.back().t1 * (i + 0.5f) / 100.f;
         EXPECT_EQ(incremental_distance_pdf(bins, t, f), incremental_distance_pdf(without, t, f));
-        EXPECT_NEAR(TabulatedDistance(bins, std::nullopt, f).pdf(t), TabulatedDistance(without, std::nullopt, f).pdf(t), 1e-6f);
+        EXPECT_NEAR(TabulatedDistance(bins, std::nullopt, f).pdf(t),
+                    TabulatedDistance(without, std::nullopt, f).pdf(t), 1e-6f);
     }
     EXPECT_EQ(incremental_distance_pdf(bins, -0.1f, f), 0.f);
     EXPECT_EQ(incremental_distance_pdf(bins, bins.back().t1, f), 0.f);
@@ -296,7 +358,8 @@ TEST(GuidedDistance, DegenerateCases) {
 
 TEST(GuidedDistance, TabulatedAllDarkGoesToSurfaceAndInvalidBinsAreReachable) {
     std::vector<DistanceBin> bins(3);
-    for (int k = 0; k < 3; ++k) bins[size_t(k)] = {float(k), float(k + 1), Color3(0.5f), 0.9f, 0.f, 0.f, true};
+    for (int k = 0; k < 3; ++k)
+        bins[size_t(k)] = {float(k), float(k + 1), Color3(0.5f), 0.9f, 0.f, 0.f, true};
     const GuidedDistanceSettings s = settings(0.f, 0.9f, 1.f);
     EXPECT_EQ(TabulatedDistance(bins, 0.f, s).surface_probability(), 1.f);
     bins[1].valid = false;  // unknown: treated like the brightest valid bin (here 0) ...

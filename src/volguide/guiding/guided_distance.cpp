@@ -12,18 +12,26 @@ constexpr float kThinTau = 1e-6f;
 // The filter does not extrapolate through a bin that lets less than this through (7.4).
 constexpr float kFilterMinTransmittance = 1e-4f;
 
-bool is_grey(const Color3& c) { return c.r == c.g && c.g == c.b; }
+bool is_grey(const Color3& c) {
+    return c.r == c.g && c.g == c.b;
+}
 // The scalar proxy of §7.8; exact (not re-rounded) for grey coefficients.
-float scalar_sigma_t(const Color3& c) { return is_grey(c) ? c.r : c.average(); }
+float scalar_sigma_t(const Color3& c) {
+    return is_grey(c) ? c.r : c.average();
+}
 
 // 1 - exp(-tau) per channel.
 Color3 one_minus_transmittance(const Color3& sigma_t, float length) {
-    return {-std::expm1(-sigma_t.r * length), -std::expm1(-sigma_t.g * length), -std::expm1(-sigma_t.b * length)};
+    return {-std::expm1(-sigma_t.r * length), -std::expm1(-sigma_t.g * length),
+            -std::expm1(-sigma_t.b * length)};
 }
 
-Color3 transmittance(const Color3& sigma_t, float length) { return exp(sigma_t * -length); }
+Color3 transmittance(const Color3& sigma_t, float length) {
+    return exp(sigma_t * -length);
+}
 
 // Guided conditional probability (7.2) with the degenerate cases of §7.6.
+// p_max is the bin's effective clamp, max(settings.p_max, P^T_k).
 float guided_probability(float numerator, float denominator, float p_max, bool& nan) {
     nan = std::isnan(numerator) || std::isnan(denominator);
     if (nan) return 0.f;  // the caller substitutes P^T
@@ -32,7 +40,9 @@ float guided_probability(float numerator, float denominator, float p_max, bool& 
     return std::min(numerator / denominator, p_max);  // inf / finite = inf -> p_max
 }
 
-int channel_of(DistanceStrategy s) { return int(s); }
+int channel_of(DistanceStrategy s) {
+    return int(s);
+}
 
 }  // namespace
 
@@ -50,12 +60,18 @@ float truncated_exponential_pdf(float sigma, float length, float x) {
 
 DistanceStrategy choose_distance_strategy(const GuidedDistanceSettings& settings, float u) {
     if (!(u < settings.c_T)) return DistanceStrategy::Guided;
-    return DistanceStrategy(std::min(2, int(u / settings.c_T * 3.f)));
+    const Color3& q = settings.channel_split;
+    const float v = u / settings.c_T;
+    if (v < q.r && q.r > 0.f) return DistanceStrategy::TransmittanceR;
+    if (v < q.r + q.g && q.g > 0.f) return DistanceStrategy::TransmittanceG;
+    if (q.b > 0.f) return DistanceStrategy::TransmittanceB;
+    return q.g > 0.f ? DistanceStrategy::TransmittanceG : DistanceStrategy::TransmittanceR;
 }
 
 // ---------------------------------------------------------------------------------------------
 
-IncrementalDistanceWalk::IncrementalDistanceWalk(const GuidedDistanceSettings& settings, DistanceStrategy strategy)
+IncrementalDistanceWalk::IncrementalDistanceWalk(const GuidedDistanceSettings& settings,
+                                                 DistanceStrategy strategy)
     : settings_(settings), strategy_(strategy) {}
 
 IncrementalDistanceWalk::Bin IncrementalDistanceWalk::evaluate(const DistanceBin& bin) const {
@@ -73,8 +89,10 @@ IncrementalDistanceWalk::Bin IncrementalDistanceWalk::evaluate(const DistanceBin
     // Incoming-radiance filter (7.4): extrapolate the previous bin's L^I through it by the VRE
     // bookkeeping L(d_{k-1}) = alpha (1 - T) L_i + T L(d_k), then blend with this bin's lookup.
     p.L_I = bin.L;
+    const bool vre = settings_.denominator == DistanceDenominator::Vre;
     const float A = settings_.filter_A;
-    if (A < 1.f && has_prev_ && prev_valid_ && std::isfinite(prev_L_I_) && prev_T_bar_ >= kFilterMinTransmittance) {
+    if (A < 1.f && has_prev_ && prev_valid_ && std::isfinite(prev_L_I_) &&
+        prev_T_bar_ >= kFilterMinTransmittance) {
         const float extrapolated =
             std::max(0.f, (prev_L_I_ - (1.f - prev_T_bar_) * prev_albedo_ * prev_Li_) / prev_T_bar_);
         p.L_I = (1.f - A) * extrapolated + A * bin.L;
@@ -84,7 +102,10 @@ IncrementalDistanceWalk::Bin IncrementalDistanceWalk::evaluate(const DistanceBin
         p.P_G = p.P_T_bar;
     } else {
         const float numerator = bin.albedo * p.P_T_bar * bin.Li;
-        p.P_G = guided_probability(numerator, p.L_I, settings_.p_max, p.nan_fallback);
+        float denominator = p.L_I;
+        if (vre) denominator = numerator + p.T_bar * p.L_I;
+        p.P_G =
+            guided_probability(numerator, denominator, std::max(settings_.p_max, p.P_T_bar), p.nan_fallback);
         if (p.nan_fallback) p.P_G = p.P_T_bar;
     }
     return p;
@@ -95,7 +116,8 @@ float IncrementalDistanceWalk::decision_probability(const Bin& p) const {
 }
 
 float IncrementalDistanceWalk::sample_in_bin(const DistanceBin& bin, const Bin& p, float u) const {
-    const float sigma = strategy_ == DistanceStrategy::Guided ? p.sigma_bar : bin.sigma_t[channel_of(strategy_)];
+    const float sigma =
+        strategy_ == DistanceStrategy::Guided ? p.sigma_bar : bin.sigma_t[channel_of(strategy_)];
     const float t = bin.t0 + sample_truncated_exponential(sigma, p.length, u);
     // Rounding may land on t1, which belongs to the next bin.
     return std::min(t, std::nextafter(bin.t1, bin.t0));
@@ -103,16 +125,17 @@ float IncrementalDistanceWalk::sample_in_bin(const DistanceBin& bin, const Bin& 
 
 float IncrementalDistanceWalk::pdf_in_bin(const DistanceBin& bin, const Bin& p, float t) const {
     const float x = t - bin.t0;
-    const Color3 R_T = transmittance(tau_, 1.f);
+    const Color3 R_T = transmittance(tau_, 1.f), &q = settings_.channel_split;
     float transmittance_part;
     if (is_grey(bin.sigma_t)) {
-        transmittance_part = R_T.average() * p.P_T_bar * truncated_exponential_pdf(bin.sigma_t.r, p.length, x);
+        transmittance_part = (q.r * R_T.r + q.g * R_T.g + q.b * R_T.b) * p.P_T_bar *
+                             truncated_exponential_pdf(bin.sigma_t.r, p.length, x);
     } else {
         const Color3 P_T = one_minus_transmittance(bin.sigma_t, p.length);
         transmittance_part = 0.f;
         for (int c = 0; c < 3; ++c)
-            transmittance_part += R_T[c] * P_T[c] * truncated_exponential_pdf(bin.sigma_t[c], p.length, x);
-        transmittance_part *= 1.f / 3.f;
+            transmittance_part +=
+                q[c] * R_T[c] * P_T[c] * truncated_exponential_pdf(bin.sigma_t[c], p.length, x);
     }
     const float guided_part = R_G_ * p.P_G * truncated_exponential_pdf(p.sigma_bar, p.length, x);
     return settings_.c_T * transmittance_part + (1.f - settings_.c_T) * guided_part;
@@ -131,10 +154,12 @@ void IncrementalDistanceWalk::advance(const DistanceBin& bin, const Bin& p) {
 }
 
 float IncrementalDistanceWalk::surface_probability() const {
-    return settings_.c_T * transmittance(tau_, 1.f).average() + (1.f - settings_.c_T) * R_G_;
+    const Color3 R_T = transmittance(tau_, 1.f), &q = settings_.channel_split;
+    return settings_.c_T * (q.r * R_T.r + q.g * R_T.g + q.b * R_T.b) + (1.f - settings_.c_T) * R_G_;
 }
 
-float incremental_distance_pdf(std::span<const DistanceBin> bins, float t, const GuidedDistanceSettings& settings) {
+float incremental_distance_pdf(std::span<const DistanceBin> bins, float t,
+                               const GuidedDistanceSettings& settings) {
     IncrementalDistanceWalk walk(settings);
     for (const DistanceBin& bin : bins) {
         if (!(bin.t1 > bin.t0)) continue;
@@ -145,7 +170,8 @@ float incremental_distance_pdf(std::span<const DistanceBin> bins, float t, const
     return 0.f;
 }
 
-float incremental_surface_probability(std::span<const DistanceBin> bins, const GuidedDistanceSettings& settings) {
+float incremental_surface_probability(std::span<const DistanceBin> bins,
+                                      const GuidedDistanceSettings& settings) {
     IncrementalDistanceWalk walk(settings);
     for (const DistanceBin& bin : bins)
         if (bin.t1 > bin.t0) walk.advance(bin, walk.evaluate(bin));
@@ -175,9 +201,12 @@ TabulatedDistance::TabulatedDistance(std::span<const DistanceBin> bins, std::opt
         tau_[k + 1] = tau_[k] + b.sigma_t * length;
         if (length > 0.f) {
             const double Li = b.valid ? b.Li : max_valid_Li;
-            const double W = std::exp(-tau_bar) * b.albedo * -std::expm1(-double(sigma_bar_[k]) * length) * Li;
-            if (std::isfinite(W)) mass[k] = std::max(0.0, W);
-            else ++nan_fallbacks_;
+            const double W =
+                std::exp(-tau_bar) * b.albedo * -std::expm1(-double(sigma_bar_[k]) * length) * Li;
+            if (std::isfinite(W))
+                mass[k] = std::max(0.0, W);
+            else
+                ++nan_fallbacks_;
             last = &b;
         }
         tau_bar += double(sigma_bar_[k]) * length;
@@ -187,12 +216,16 @@ TabulatedDistance::TabulatedDistance(std::span<const DistanceBin> bins, std::opt
         L_o = *surface_radiance;
     } else if (last) {
         const double T = std::exp(-double(scalar_sigma_t(last->sigma_t)) * (last->t1 - last->t0));
-        if (!last->valid) L_o = max_valid_Li;
-        else if (T >= kFilterMinTransmittance) L_o = (last->L - (1.0 - T) * last->albedo * last->Li) / T;
+        if (!last->valid)
+            L_o = max_valid_Li;
+        else if (T >= kFilterMinTransmittance)
+            L_o = (last->L - (1.0 - T) * last->albedo * last->Li) / T;
     }
     const double W_s = std::exp(-tau_bar) * L_o;
-    if (std::isfinite(W_s)) mass[n] = std::max(0.0, W_s);
-    else ++nan_fallbacks_;
+    if (std::isfinite(W_s))
+        mass[n] = std::max(0.0, W_s);
+    else
+        ++nan_fallbacks_;
 
     double Z = 0.0;
     for (double m : mass) Z += m;
@@ -206,13 +239,15 @@ TabulatedDistance::TabulatedDistance(std::span<const DistanceBin> bins, std::opt
         guided_surface_ = 1.0;
     }
     guided_cdf_[n] = 1.0;
-    const Color3 T_s = exp(tau_[n] * -1.f);
-    P_surf_ = settings_.c_T * T_s.average() + (1.f - settings_.c_T) * float(guided_surface_);
+    const Color3 T_s = exp(tau_[n] * -1.f), &q = settings_.channel_split;
+    P_surf_ = settings_.c_T * (q.r * T_s.r + q.g * T_s.g + q.b * T_s.b) +
+              (1.f - settings_.c_T) * float(guided_surface_);
 }
 
 int TabulatedDistance::find_bin(float t) const {
     // First bin with t1 > t (bins are contiguous and ordered).
-    auto it = std::upper_bound(bins_.begin(), bins_.end(), t, [](float v, const DistanceBin& b) { return v < b.t1; });
+    auto it = std::upper_bound(bins_.begin(), bins_.end(), t,
+                               [](float v, const DistanceBin& b) { return v < b.t1; });
     if (it == bins_.end() || t < it->t0) return -1;
     return int(it - bins_.begin());
 }
@@ -225,11 +260,12 @@ float TabulatedDistance::pdf(float t) const {
     float transmittance_part = 0.f;
     for (int c = 0; c < 3; ++c) {
         const float P_T = -std::expm1(-b.sigma_t[c] * length);
-        transmittance_part += std::exp(-tau_[size_t(k)][c]) * P_T * truncated_exponential_pdf(b.sigma_t[c], length, x);
+        transmittance_part += settings_.channel_split[c] * std::exp(-tau_[size_t(k)][c]) * P_T *
+                              truncated_exponential_pdf(b.sigma_t[c], length, x);
     }
     const double mass = guided_cdf_[size_t(k)] - (k > 0 ? guided_cdf_[size_t(k) - 1] : 0.0);
     const float guided_part = float(mass) * truncated_exponential_pdf(sigma_bar_[size_t(k)], length, x);
-    return settings_.c_T * transmittance_part / 3.f + (1.f - settings_.c_T) * guided_part;
+    return settings_.c_T * transmittance_part + (1.f - settings_.c_T) * guided_part;
 }
 
 DistanceSample TabulatedDistance::sample(float u, float u2, float u3) const {
@@ -242,7 +278,8 @@ DistanceSample TabulatedDistance::sample(float u, float u2, float u3) const {
     float x = 0.f;
     if (out.strategy == DistanceStrategy::Guided) {
         const size_t n = bins_.size();
-        const size_t i = size_t(std::upper_bound(guided_cdf_.begin(), guided_cdf_.end(), double(u2)) - guided_cdf_.begin());
+        const size_t i = size_t(std::upper_bound(guided_cdf_.begin(), guided_cdf_.end(), double(u2)) -
+                                guided_cdf_.begin());
         if (i < n) {
             k = int(i);
             const DistanceBin& b = bins_[i];
@@ -252,7 +289,8 @@ DistanceSample TabulatedDistance::sample(float u, float u2, float u3) const {
         // Free flight in channel c: invert the optical depth tau_c(t) = -ln(1 - u2).
         const int c = channel_of(out.strategy);
         const float tau = -std::log1p(-u2);
-        auto it = std::upper_bound(tau_.begin() + 1, tau_.end(), tau, [c](float v, const Color3& d) { return v < d[c]; });
+        auto it = std::upper_bound(tau_.begin() + 1, tau_.end(), tau,
+                                   [c](float v, const Color3& d) { return v < d[c]; });
         if (it != tau_.end()) {
             k = int(it - tau_.begin()) - 1;
             const DistanceBin& b = bins_[size_t(k)];

@@ -13,7 +13,10 @@
 //  - tabulated (§7.2): builds the full CDF over all bins plus a surface mass; reference and baseline.
 //
 // Defensive mixing, Variant A of §7.5 with the chromatic strategies of §7.8: one strategy per query,
-// S in {T_R, T_G, T_B, G} with probabilities {c_T/3, c_T/3, c_T/3, 1 - c_T}. T_c is ordinary
+// S in {T_R, T_G, T_B, G} with probabilities {c_T q_R, c_T q_G, c_T q_B, 1 - c_T}, where q is the
+// caller's channel split (§7.8 uses q = 1/3; callers pass the path throughput, normalised, as the
+// spectral MIS of volpath does, §2.6: with a uniform split a chromatic dense medium's weights
+// compound over hundreds of events). T_c is ordinary
 // free-flight sampling with the proxy extinction of channel c (for grey sigma_t the three coincide);
 // G steps with the guided conditional probabilities P^G_k (7.2), clamped and filtered (7.4, 7.6).
 // The returned pdf is always the 4-term mixture (7.5), whichever strategy was drawn.
@@ -53,10 +56,32 @@ struct DistanceBin {
                                // the guided probability then falls back to transmittance, P^G = P^T
 };
 
+// The denominator of the guided conditional probability P^G_k = N_k / D_k, N_k = alpha~ (1 - T~_k) L~_i,k.
+//  - Incident: D_k = L~^I_k, the (filtered, 7.4) incident radiance at the bin start — the paper's (7.2).
+//  - Vre (volguide's default): D_k = N_k + T~_k L~^I_k, the volume rendering equation over the bin
+//    with the leaf's own forward lookup as the radiance arriving from beyond the bin (the field is
+//    constant per leaf: by its own model that is what lies beyond). Thin bins: the paper's N_k / L~_k
+//    to first order in the bin's optical depth. Optically thick bins: -> 1, as free flight, where the
+//    paper's form gives alpha L~_i / L~ — whatever the two lookups' disagreement makes it — and so
+//    sends guided flights past a bin that lets nothing through (zero-weight paths; in a dense medium
+//    at nearly every event). Not exact for consistent estimates beyond first order: the
+//    zero-variance oracle (theory.md §14.7) runs on Incident.
+enum class DistanceDenominator : uint8_t { Incident, Vre };
+
 struct GuidedDistanceSettings {
-    float c_T = 0.5f;    // probability of the transmittance strategies (split evenly over R, G, B)
-    float p_max = 0.9f;  // clamp of the guided per-bin probability P^G_k (< 1: later bins stay reachable)
+    float c_T = 0.5f;  // probability of the transmittance strategies (split over R, G, B by channel_split)
+    // Clamp of the guided per-bin probability: P^G_k <= max(p_max, P^T_k) with P^T_k = 1 - T~_k.
+    // p_max < 1 keeps later bins reachable by the guided strategy where the bin is thin; in an
+    // optically thick bin the guided strategy may scatter as surely as free flight would (a fixed
+    // 0.9 there would send 10 % of the guided flights past a bin that lets ~nothing through — a
+    // per-event loss that compounds in dense media).
+    float p_max = 0.9f;
     float filter_A = 0.5f;  // weight of the new lookup in the incoming-radiance filter (7.4); 1 = off
+                            // (Incident denominator only)
+    DistanceDenominator denominator = DistanceDenominator::Vre;
+    // Per query: how the transmittance share c_T is split over the channels (sums to 1). Callers
+    // set it from the path throughput (channel_probabilities, spectral_mis.h).
+    Color3 channel_split{1.f / 3.f};
 };
 
 enum class DistanceEvent : uint8_t { Medium, Surface };
@@ -78,19 +103,19 @@ struct DistanceSample {
 // template below and the pdf evaluation share the exact same arithmetic; most callers use
 // sample_incremental_distance().
 class IncrementalDistanceWalk {
-public:
+  public:
     // The probabilities of one bin given the bins before it.
     struct Bin {
         float length = 0.f;
-        float sigma_bar = 0.f;   // channel-average proxy extinction (drives G's in-bin density)
-        float P_T_bar = 0.f;     // 1 - exp(-sigma_bar * length)
-        float T_bar = 1.f;       // exp(-sigma_bar * length)
+        float sigma_bar = 0.f;  // channel-average proxy extinction (drives G's in-bin density)
+        float P_T_bar = 0.f;    // 1 - exp(-sigma_bar * length)
+        float T_bar = 1.f;      // exp(-sigma_bar * length)
         // 1 - exp(-sigma_t,c * length) of the strategy's channel c (T_c strategies only). The other
         // channels are needed only by the pdf of the accepted bin, which computes them there: per
         // bin the walk pays 2-3 transcendentals instead of 8 (bench_guiding BM_DistanceIncremental).
         float P_T_c = 0.f;
-        float P_G = 0.f;         // guided conditional probability after filter, clamps and fallbacks
-        float L_I = 0.f;         // filtered incident radiance used as P^G's denominator
+        float P_G = 0.f;  // guided conditional probability after filter, clamps and fallbacks
+        float L_I = 0.f;  // filtered incident radiance used as P^G's denominator
         bool nan_fallback = false;
     };
 
@@ -112,7 +137,7 @@ public:
 
     DistanceStrategy strategy() const { return strategy_; }
 
-private:
+  private:
     GuidedDistanceSettings settings_;
     DistanceStrategy strategy_;
     Color3 tau_{0.f};  // proxy optical depth of the bins passed: R^T_c = prod (1 - P^T_c) = exp(-tau_c)
@@ -123,7 +148,7 @@ private:
     float prev_L_I_ = 0.f, prev_T_bar_ = 0.f, prev_albedo_ = 0.f, prev_Li_ = 0.f;
 };
 
-// Maps one uniform number to a strategy with probabilities {c_T/3, c_T/3, c_T/3, 1 - c_T}.
+// Maps one uniform number to a strategy with probabilities {c_T q_R, c_T q_G, c_T q_B, 1 - c_T}.
 DistanceStrategy choose_distance_strategy(const GuidedDistanceSettings& settings, float u);
 
 // Samples a distance, pulling bins from `next_bin` (a callable bool(DistanceBin&) that fills the next
@@ -131,7 +156,8 @@ DistanceStrategy choose_distance_strategy(const GuidedDistanceSettings& settings
 // Stops pulling as soon as a scatter is accepted. Random numbers: 1 for the strategy, 1 per
 // non-empty bin stepped, 1 for the position in the accepted bin.
 template <class NextBin, class Rng>
-DistanceSample sample_incremental_distance(NextBin&& next_bin, Rng& rng, const GuidedDistanceSettings& settings) {
+DistanceSample sample_incremental_distance(NextBin&& next_bin, Rng& rng,
+                                           const GuidedDistanceSettings& settings) {
     DistanceSample out;
     IncrementalDistanceWalk walk(settings, choose_distance_strategy(settings, rng.next_1d()));
     out.strategy = walk.strategy();
@@ -157,8 +183,10 @@ DistanceSample sample_incremental_distance(NextBin&& next_bin, Rng& rng, const G
 
 // The incremental sampler's density at t (0 outside the bins) and its surface probability, for
 // given bins: deterministic (the filter only reads cache data), for tests and comparisons.
-float incremental_distance_pdf(std::span<const DistanceBin> bins, float t, const GuidedDistanceSettings& settings);
-float incremental_surface_probability(std::span<const DistanceBin> bins, const GuidedDistanceSettings& settings);
+float incremental_distance_pdf(std::span<const DistanceBin> bins, float t,
+                               const GuidedDistanceSettings& settings);
+float incremental_surface_probability(std::span<const DistanceBin> bins,
+                                      const GuidedDistanceSettings& settings);
 
 // ---------------------------------------------------------------------------------------------
 // Tabulated sampler (§7.2): guided bin masses W_k = T~(0,d_k) alpha_k (1 - T~_k) L~_i,k and a surface
@@ -170,7 +198,7 @@ float incremental_surface_probability(std::span<const DistanceBin> bins, const G
 // must not starve an unknown bin); a non-finite mass counts as a NaN fallback and becomes 0; if every
 // guided mass is 0 the guided part goes to the surface (as the incremental walk does).
 class TabulatedDistance {
-public:
+  public:
     // Keeps a view of `bins`: they must outlive the object.
     TabulatedDistance(std::span<const DistanceBin> bins, std::optional<float> surface_radiance,
                       const GuidedDistanceSettings& settings);
@@ -186,14 +214,14 @@ public:
     float surface_probability() const { return P_surf_; }
     int nan_fallbacks() const { return nan_fallbacks_; }
 
-private:
+  private:
     int find_bin(float t) const;
     std::span<const DistanceBin> bins_;
     GuidedDistanceSettings settings_;
     std::vector<double> guided_cdf_;  // cdf of the guided masses, bins then the surface (size n + 1)
     std::vector<Color3> tau_;         // per-channel proxy optical depth at each bin start (size n + 1)
     std::vector<float> sigma_bar_;
-    double guided_surface_ = 1.0;     // guided surface probability W_s / Z
+    double guided_surface_ = 1.0;  // guided surface probability W_s / Z
     float P_surf_ = 1.f;
     int nan_fallbacks_ = 0;
 };

@@ -25,8 +25,8 @@ constexpr int kOccupancyPoints = 128;
 // absent) falls back to `fallback` with a warning when it is not implemented; an explicit request
 // for an unimplemented value is an error (interface.md).
 std::string read_choice(const Properties& props, const std::string& name, const std::string& def,
-                        std::initializer_list<const char*> allowed, std::initializer_list<const char*> implemented,
-                        const std::string& fallback) {
+                        std::initializer_list<const char*> allowed,
+                        std::initializer_list<const char*> implemented, const std::string& fallback) {
     const bool given = props.has(name);
     const std::string value = props.get_string(name, def);
     auto in = [&](std::initializer_list<const char*> list) {
@@ -41,8 +41,8 @@ std::string read_choice(const Properties& props, const std::string& name, const 
     }
     if (in(implemented)) return value;
     if (given) props.fail_at(name, "guided_volpath: {}={} is not implemented yet", name, value);
-    warn(props.location(), "guided_volpath: {}={} (the default) is not implemented yet; using {}={}", name, value, name,
-         fallback);
+    warn(props.location(), "guided_volpath: {}={} (the default) is not implemented yet; using {}={}", name,
+         value, name, fallback);
     return fallback;
 }
 
@@ -52,13 +52,14 @@ GuidedVolPathSettings GuidedVolPathSettings::from(const Properties& props) {
     GuidedVolPathSettings s;
     s.location = props.location();
     s.walk = VolPathSettings::from(props);
-    s.training = read_choice(props, "training", "photons", {"photons", "progressive"}, {"photons", "progressive"},
-                             "photons");
+    s.training = read_choice(props, "training", "photons", {"photons", "progressive"},
+                             {"photons", "progressive"}, "photons");
     s.photons = props.get_int("photons", s.photons);
     if (s.photons < 1) props.fail_at("photons", "guided_volpath: photons must be >= 1, got {}", s.photons);
     s.max_deposits = props.get_int("max_deposits", s.max_deposits);
     if (s.max_deposits < 0)
-        props.fail_at("max_deposits", "guided_volpath: max_deposits must be >= 0 (0: no cap), got {}", s.max_deposits);
+        props.fail_at("max_deposits", "guided_volpath: max_deposits must be >= 0 (0: no cap), got {}",
+                      s.max_deposits);
     s.photon_focus = props.get_bool("photon_focus", s.photon_focus);
     const int64_t iterations = props.get_int("training_iterations", s.training_iterations);
     if (iterations < 1 || iterations > kMaxTrainingIterations)
@@ -70,7 +71,8 @@ GuidedVolPathSettings GuidedVolPathSettings::from(const Properties& props) {
         props.fail_at("training_fraction", "guided_volpath: training_fraction must be in (0, 1), got {}",
                       s.training_fraction);
     const int64_t leaf_samples = props.get_int("leaf_samples", 2000);
-    if (leaf_samples < 1) props.fail_at("leaf_samples", "guided_volpath: leaf_samples must be >= 1, got {}", leaf_samples);
+    if (leaf_samples < 1)
+        props.fail_at("leaf_samples", "guided_volpath: leaf_samples must be >= 1, got {}", leaf_samples);
     s.field.tree.max_samples = int(std::min<int64_t>(leaf_samples, 1 << 30));
     const int64_t lobes = props.get_int("lobes", s.field.lobes);
     if (lobes < 1 || lobes > kVmmMaxLobes)
@@ -83,29 +85,36 @@ GuidedVolPathSettings GuidedVolPathSettings::from(const Properties& props) {
     auto unit_interval = [&](const char* name, float def, bool open_top) {
         const float v = props.get_float(name, def);
         if (!(v >= 0.f && (open_top ? v < 1.f : v <= 1.f)))
-            props.fail_at(name, "guided_volpath: {} must be in [0, 1{}, got {}", name, open_top ? ")" : "]", v);
+            props.fail_at(name, "guided_volpath: {} must be in [0, 1{}, got {}", name, open_top ? ")" : "]",
+                          v);
         return v;
     };
     s.guide.distance_settings.c_T = unit_interval("c_T", s.guide.distance_settings.c_T, false);
     s.guide.distance_settings.p_max = props.get_float("p_max", s.guide.distance_settings.p_max);
     if (!(s.guide.distance_settings.p_max > 0.f && s.guide.distance_settings.p_max <= 1.f))
-        props.fail_at("p_max", "guided_volpath: p_max must be in (0, 1], got {}", s.guide.distance_settings.p_max);
+        props.fail_at("p_max", "guided_volpath: p_max must be in (0, 1], got {}",
+                      s.guide.distance_settings.p_max);
     s.guide.distance_settings.filter_A = unit_interval("filter_A", s.guide.distance_settings.filter_A, false);
+    s.guide.distance_settings.denominator =
+        read_choice(props, "distance_denominator", "vre", {"vre", "incident"}, {"vre", "incident"}, "vre") ==
+                "vre"
+            ? DistanceDenominator::Vre
+            : DistanceDenominator::Incident;
     s.guide.phase_prob = unit_interval("phase_prob", s.guide.phase_prob, false);
     const int64_t table = props.get_int("estimate_table", s.guide.estimate_table);
     if (table < 0 || table > 256)
-        props.fail_at("estimate_table", "guided_volpath: estimate_table must be in [0, 256] (0: exact), got {}", table);
+        props.fail_at("estimate_table",
+                      "guided_volpath: estimate_table must be in [0, 256] (0: exact), got {}", table);
     s.guide.estimate_table = int(table);
     if (s.distance != "standard" && s.walk.equiangular)
-        props.fail_at("equiangular", "guided_volpath: equiangular sampling cannot be combined with distance={}",
-                      s.distance);
+        props.fail_at("equiangular",
+                      "guided_volpath: equiangular sampling cannot be combined with distance={}", s.distance);
     s.guide.distance = s.distance == "incremental" ? DistanceGuiding::Incremental
                        : s.distance == "tabulated" ? DistanceGuiding::Tabulated
                                                    : DistanceGuiding::Standard;
     // Heterogeneous media under distance=incremental: guided null-collision tracking (H2) or the bins (H1).
-    s.guide.guided_tracking =
-        read_choice(props, "hetero_distance", "tracking", {"tracking", "bins"}, {"tracking", "bins"}, "tracking") ==
-        "tracking";
+    s.guide.guided_tracking = read_choice(props, "hetero_distance", "tracking", {"tracking", "bins"},
+                                          {"tracking", "bins"}, "tracking") == "tracking";
     s.direction = read_choice(props, "direction", "product", {"phase", "incident", "product"},
                               {"phase", "incident", "product"}, "phase");
     s.guide.direction = s.direction == "product"    ? DirectionGuiding::Product
@@ -114,7 +123,8 @@ GuidedVolPathSettings GuidedVolPathSettings::from(const Properties& props) {
     s.rrs = read_choice(props, "rrs", "grrs", {"standard", "grr", "grrs"}, {"standard"}, "standard");
     // The pixel estimate only serves guided RR and splitting (rrs=grrs), which does not exist yet.
     if (props.has("pixel_estimate"))
-        props.fail_at("pixel_estimate", "guided_volpath: pixel_estimate is used by rrs=grrs, which is not implemented yet");
+        props.fail_at("pixel_estimate",
+                      "guided_volpath: pixel_estimate is used by rrs=grrs, which is not implemented yet");
     s.estimate = read_choice(props, "estimate", "none", {"none", "inscattered", "incident"},
                              {"none", "inscattered", "incident"}, "none");
     if (props.has("save_field")) s.save_field = props.get_string("save_field");
@@ -128,7 +138,8 @@ GuidedVolPathSettings GuidedVolPathSettings::from(const Properties& props) {
         }
         s.load_field = p.string();
         if (!std::filesystem::exists(p))
-            props.fail_at("load_field", "guided_volpath: the guiding field \"{}\" does not exist", s.load_field);
+            props.fail_at("load_field", "guided_volpath: the guiding field \"{}\" does not exist",
+                          s.load_field);
     }
     return s;
 }
@@ -170,12 +181,14 @@ void GuidedVolPathIntegrator::preprocess(const Scene& scene, const PreprocessCon
         // Under a --time budget, training gets training_fraction of it (interface.md).
         if (context.time_budget > 0) ps.time_limit = settings_.training_fraction * context.time_budget;
         const PhotonPassResult photons = trace_photons(scene, ps, context);
-        training_stats_ = {{"photons_traced", double(photons.photons_traced)},
-                           {"photons_pilot", double(photons.pilot_photons)},
-                           {"photons_depositing_fraction",
-                            photons.photons_traced > 0 ? double(photons.photons_depositing) / double(photons.photons_traced) : 0.0},
-                           {"photon_deposits", double(photons.samples.size())},
-                           {"photon_deposit_limited", photons.deposit_limited ? 1.0 : 0.0}};
+        training_stats_ = {
+            {"photons_traced", double(photons.photons_traced)},
+            {"photons_pilot", double(photons.pilot_photons)},
+            {"photons_depositing_fraction",
+             photons.photons_traced > 0 ? double(photons.photons_depositing) / double(photons.photons_traced)
+                                        : 0.0},
+            {"photon_deposits", double(photons.samples.size())},
+            {"photon_deposit_limited", photons.deposit_limited ? 1.0 : 0.0}};
         field_ = GuidingField::build(guiding_bounds(scene), photons.samples, settings_.field);
         // Per-volume fluence counts collisions, which only happen inside media.
         field_.apply_medium_fractions(medium_fractions(scene, field_.tree(), kOccupancyPoints, context.seed));
@@ -183,7 +196,8 @@ void GuidedVolPathIntegrator::preprocess(const Scene& scene, const PreprocessCon
     estimator_.reset();
     if (settings_.estimate != "none") estimator_ = std::make_unique<CacheEstimator>(scene, field_);
     guide_.reset();
-    if (settings_.guide.distance != DistanceGuiding::Standard || settings_.guide.direction != DirectionGuiding::Phase)
+    if (settings_.guide.distance != DistanceGuiding::Standard ||
+        settings_.guide.direction != DirectionGuiding::Phase)
         guide_ = std::make_unique<WalkGuide>(scene, field_, settings_.guide);
     if (!settings_.save_field.empty()) {
         try {
@@ -196,7 +210,8 @@ void GuidedVolPathIntegrator::preprocess(const Scene& scene, const PreprocessCon
 
 Color3 GuidedVolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const Ray& ray) const {
     if (!estimator_) return walk_.Li(scene, sampler, ray, nullptr, guide_.get());
-    const CacheQuantity q = settings_.estimate == "incident" ? CacheQuantity::Incident : CacheQuantity::Inscattered;
+    const CacheQuantity q =
+        settings_.estimate == "incident" ? CacheQuantity::Incident : CacheQuantity::Inscattered;
     return estimator_->estimate(ray, scene.sensor().medium(), q, sampler);
 }
 
@@ -212,10 +227,12 @@ std::vector<std::pair<std::string, double>> GuidedVolPathIntegrator::statistics(
 std::string GuidedVolPathIntegrator::to_string() const {
     const GuidedVolPathSettings& s = settings_;
     return fmt::format(
-        "guided_volpath[max_depth={}, rr_depth={}, training={}, photons={}, training_iterations={}, leaf_samples={}, "
+        "guided_volpath[max_depth={}, rr_depth={}, training={}, photons={}, training_iterations={}, "
+        "leaf_samples={}, "
         "lobes={}, distance={}, hetero_distance={}, direction={}, rrs={}, equiangular={}, estimate={}]",
-        s.walk.max_depth, s.walk.rr_depth, s.training, s.photons, s.training_iterations, s.field.tree.max_samples, s.field.lobes, s.distance,
-        s.guide.guided_tracking ? "tracking" : "bins", s.direction, s.rrs, s.walk.equiangular, s.estimate);
+        s.walk.max_depth, s.walk.rr_depth, s.training, s.photons, s.training_iterations,
+        s.field.tree.max_samples, s.field.lobes, s.distance, s.guide.guided_tracking ? "tracking" : "bins",
+        s.direction, s.rrs, s.walk.equiangular, s.estimate);
 }
 
 }  // namespace volguide

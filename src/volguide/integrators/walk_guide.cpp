@@ -5,6 +5,7 @@
 
 #include "volguide/guiding/guided_collision.h"
 #include "volguide/media/heterogeneous.h"
+#include "volguide/media/spectral_mis.h"
 #include "volguide/render/scene.h"
 #include "volguide/render/sensor.h"
 #include "volguide/vmm/phase_vmm.h"
@@ -34,11 +35,17 @@ thread_local LastScatter last_scatter;
 // most `max_tau` optical depth. Field values (the expensive part) are read once per leaf, on entering
 // it, so the incremental sampler pays only for the leaves before the collision.
 class BinSource {
-public:
+  public:
     BinSource(const Ray& ray, float t_end, const Medium& medium, const GuidingField& field,
               const LeafEstimates* estimates, std::vector<ProxySegment>& proxies, float max_tau)
-        : ray_(ray), t_end_(t_end), medium_(medium), field_(field), estimates_(estimates), proxies_(proxies),
-          max_tau_(max_tau), cursor_(field.tree(), ray, 0.f, t_end) {
+        : ray_(ray),
+          t_end_(t_end),
+          medium_(medium),
+          field_(field),
+          estimates_(estimates),
+          proxies_(proxies),
+          max_tau_(max_tau),
+          cursor_(field.tree(), ray, 0.f, t_end) {
         proxies_.clear();  // scratch of the previous query: nothing may be read before the first span
     }
 
@@ -60,7 +67,8 @@ public:
             if (++proxy_ < proxies_.size()) {
                 const ProxySegment& p = proxies_[proxy_];
                 const float tau = p.sigma_t.max_value() * (p.t1 - p.t0);
-                pieces_ = tau > max_tau_ && std::isfinite(tau) ? int(std::min(std::ceil(tau / max_tau_), 1e6f)) : 1;
+                pieces_ =
+                    tau > max_tau_ && std::isfinite(tau) ? int(std::min(std::ceil(tau / max_tau_), 1e6f)) : 1;
                 piece_ = 0;
                 continue;
             }
@@ -71,7 +79,7 @@ public:
     // The kd leaf of the bin returned last (-1 outside the field).
     int leaf() const { return leaf_; }
 
-private:
+  private:
     // Enters the next stretch of (0, t_end): leafless before the field, the cursor's leaves, and a
     // leafless remainder should float round-off leave the cursor short of t_end.
     bool next_span() {
@@ -202,8 +210,8 @@ const LeafEstimates* WalkGuide::estimates_for(const PhaseFunction& phase) const 
     return it == estimates_.end() ? nullptr : &it->second;
 }
 
-FreeFlightSample WalkGuide::sample_distance(const Medium& medium, const Ray& ray, float tmax, const Color3& throughput,
-                                            Sampler& sampler) const {
+FreeFlightSample WalkGuide::sample_distance(const Medium& medium, const Ray& ray, float tmax,
+                                            const Color3& throughput, Sampler& sampler) const {
     last_scatter.leaf = -1;
     float b0, b1;
     const bool crosses = !field_.empty() && field_.tree().bounds().ray_intersect(ray, b0, b1) && b1 > 0.f;
@@ -215,7 +223,8 @@ FreeFlightSample WalkGuide::sample_distance(const Medium& medium, const Ray& ray
     }
 
     const LeafEstimates* estimates = estimates_for(medium.phase());
-    if (settings_.distance == DistanceGuiding::Incremental && settings_.guided_tracking && !medium.is_homogeneous())
+    if (settings_.distance == DistanceGuiding::Incremental && settings_.guided_tracking &&
+        !medium.is_homogeneous())
         if (const auto* het = dynamic_cast<const HeterogeneousMedium*>(&medium)) {
             // The whole segment: beyond the field the tracking falls back to the analog probability.
             GuidedCollisionProbability guide(field_, estimates, ray, t_end, settings_.distance_settings.c_T);
@@ -230,15 +239,17 @@ FreeFlightSample WalkGuide::sample_distance(const Medium& medium, const Ray& ray
         }
 
     Scratch& s = scratch;
+    GuidedDistanceSettings distance_settings = settings_.distance_settings;
+    distance_settings.channel_split = channel_probabilities(throughput);  // spectral MIS (§2.6)
     BinSource source(ray, t_end, medium, field_, estimates, s.proxies, settings_.max_bin_optical_depth);
     DistanceSample ds;
     if (settings_.distance == DistanceGuiding::Incremental) {
-        ds = sample_incremental_distance(source, sampler, settings_.distance_settings);
+        ds = sample_incremental_distance(source, sampler, distance_settings);
     } else {
         s.bins.clear();
         DistanceBin bin;
         while (source(bin)) s.bins.push_back(bin);
-        const TabulatedDistance table(s.bins, std::nullopt, settings_.distance_settings);
+        const TabulatedDistance table(s.bins, std::nullopt, distance_settings);
         ds = table.sample(sampler);
         ds.steps = int(s.bins.size());
     }
@@ -272,7 +283,8 @@ FreeFlightSample WalkGuide::sample_distance(const Medium& medium, const Ray& ray
     if (t_end < tmax) {
         // Beyond the field: continue with ordinary free flight from the exit point.
         const Ray rest(ray(t_end), ray.d);
-        FreeFlightSample tail = medium.sample_free_flight(rest, tmax - t_end, throughput * fs.weight, sampler);
+        FreeFlightSample tail =
+            medium.sample_free_flight(rest, tmax - t_end, throughput * fs.weight, sampler);
         tail.weight *= fs.weight;
         tail.flight_weight *= fs.weight;
         tail.t += t_end;
@@ -290,12 +302,14 @@ void WalkGuide::direction_sampler(const MediumInteraction& mi, const PhaseFuncti
     const GuidingLeaf* leaf = nullptr;
     if (!field_.empty()) {
         const LastScatter& last = last_scatter;
-        leaf = last.p == mi.p && field_.tree().holds_point(last.leaf, mi.p) ? &field_.leaves()[size_t(last.leaf)]
-                                                                           : field_.leaf_at(mi.p);
+        leaf = last.p == mi.p && field_.tree().holds_point(last.leaf, mi.p)
+                   ? &field_.leaves()[size_t(last.leaf)]
+                   : field_.leaf_at(mi.p);
     }
     const auto it = phase_vmms_.find(phase.mean_cosine());
-    const GuidedDirectionSampler& s = out.emplace(settings_.direction, leaf, phase, mi.wi, settings_.phase_prob,
-                                                  it == phase_vmms_.end() ? nullptr : &it->second);
+    const GuidedDirectionSampler& s =
+        out.emplace(settings_.direction, leaf, phase, mi.wi, settings_.phase_prob,
+                    it == phase_vmms_.end() ? nullptr : &it->second);
     if (!s.guided()) ++stats_.local().direction_unguided_vertices;
 }
 
