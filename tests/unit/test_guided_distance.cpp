@@ -206,6 +206,31 @@ TEST(GuidedDistance, SampledPdfMatchesEvaluationAndStepsCountBins) {
     }
 }
 
+TEST(GuidedDistance, ConfidenceBlendsTheGuidedProbabilityTowardFreeFlight) {
+    DistanceBin b{0.f, 1.f, Color3(0.7f), 0.8f, 1.f, 2.f, true};
+    const float P_T = -std::expm1(-0.7f);
+    const float N = 0.8f * P_T * 1.f;
+    for (DistanceDenominator den : {DistanceDenominator::Incident, DistanceDenominator::Vre}) {
+        const GuidedDistanceSettings s = settings(0.f, 0.9f, 1.f, den);
+        const float P_G = den == DistanceDenominator::Vre ? N / (N + std::exp(-0.7f) * 2.f) : N / 2.f;
+        for (float conf : {1.f, 0.25f, 0.f}) {
+            b.confidence = conf;
+            const std::vector<DistanceBin> one{b};
+            EXPECT_NEAR(incremental_surface_probability(one, s), 1.f - (conf * P_G + (1.f - conf) * P_T),
+                        1e-6f);
+        }
+    }
+    // Bins of any confidence keep the mixture normalised.
+    for (uint32_t seed = 1; seed <= 10; ++seed) {
+        auto bins = random_bins(seed, true);
+        for (size_t k = 0; k < bins.size(); ++k) bins[k].confidence = float(k % 4) / 3.f;
+        const GuidedDistanceSettings s = settings(0.5f, 0.9f, 0.5f, DistanceDenominator::Vre);
+        const double sum = integrate(bins, [&](float t) { return incremental_distance_pdf(bins, t, s); }) +
+                           incremental_surface_probability(bins, s);
+        EXPECT_NEAR(sum, 1.0, 2e-4) << seed;
+    }
+}
+
 TEST(GuidedDistance, VreDenominatorMatchesHandComputation) {
     // P^G = N / (N + T L^I) with N = alpha (1 - T) L_i, clamped to max(p_max, 1 - T).
     std::vector<DistanceBin> bins(2);

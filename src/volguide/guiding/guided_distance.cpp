@@ -107,6 +107,7 @@ IncrementalDistanceWalk::Bin IncrementalDistanceWalk::evaluate(const DistanceBin
         p.P_G =
             guided_probability(numerator, denominator, std::max(settings_.p_max, p.P_T_bar), p.nan_fallback);
         if (p.nan_fallback) p.P_G = p.P_T_bar;
+        if (bin.confidence < 1.f) p.P_G = bin.confidence * p.P_G + (1.f - bin.confidence) * p.P_T_bar;
     }
     return p;
 }

@@ -54,6 +54,8 @@ struct DistanceBin {
                                // along the ray, i.e. everything ahead on this ray [W m^-2 sr^-1]
     bool valid = true;         // false: the cache has no usable estimate here (e.g. too few samples);
                                // the guided probability then falls back to transmittance, P^G = P^T
+    float confidence = 1.f;    // in [0, 1]: P^G := confidence P^G + (1 - confidence) P^T (how far the
+                               // guided strategy may depart from free flight in this bin)
 };
 
 // The denominator of the guided conditional probability P^G_k = N_k / D_k, N_k = alpha~ (1 - T~_k) L~_i,k.

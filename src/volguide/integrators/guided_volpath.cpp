@@ -101,6 +101,11 @@ GuidedVolPathSettings GuidedVolPathSettings::from(const Properties& props) {
             ? DistanceDenominator::Vre
             : DistanceDenominator::Incident;
     s.guide.phase_prob = unit_interval("phase_prob", s.guide.phase_prob, false);
+    s.guide.leaf_tau_max = props.get_float("leaf_tau_max", s.guide.leaf_tau_max);
+    if (!(s.guide.leaf_tau_max >= 0.f) || std::isinf(s.guide.leaf_tau_max))
+        props.fail_at("leaf_tau_max",
+                      "guided_volpath: leaf_tau_max must be a finite value >= 0 (0: off), got {}",
+                      s.guide.leaf_tau_max);
     const int64_t table = props.get_int("estimate_table", s.guide.estimate_table);
     if (table < 0 || table > 256)
         props.fail_at("estimate_table",

@@ -37,8 +37,11 @@ thread_local LastScatter last_scatter;
 class BinSource {
   public:
     BinSource(const Ray& ray, float t_end, const Medium& medium, const GuidingField& field,
-              const LeafEstimates* estimates, std::vector<ProxySegment>& proxies, float max_tau)
-        : ray_(ray),
+              const LeafEstimates* estimates, std::vector<ProxySegment>& proxies, float max_tau,
+              const std::vector<float>& leaf_extent, float leaf_tau_max)
+        : leaf_extent_(leaf_extent),
+          leaf_tau_max_(leaf_tau_max),
+          ray_(ray),
           t_end_(t_end),
           medium_(medium),
           field_(field),
@@ -61,6 +64,14 @@ class BinSource {
                 bin.Li = Li_;
                 bin.L = L_;
                 bin.valid = valid_;
+                bin.confidence = 1.f;
+                if (leaf_ >= 0 && valid_ && leaf_tau_max_ > 0.f) {
+                    const float tau = leaf_extent_[size_t(leaf_)] * p.sigma_t.average();
+                    if (tau > leaf_tau_max_) {
+                        bin.confidence = leaf_tau_max_ / tau;
+                        ++damped_;
+                    }
+                }
                 invalid_ += valid_ ? 0 : 1;
                 return true;
             }
@@ -76,6 +87,7 @@ class BinSource {
         }
     }
     uint64_t invalid() const { return invalid_; }
+    uint64_t damped() const { return damped_; }  // bins with confidence < 1 (leaf_tau_max)
     // The kd leaf of the bin returned last (-1 outside the field).
     int leaf() const { return leaf_; }
 
@@ -130,6 +142,8 @@ class BinSource {
         int leaf;
         float t0, t1;
     };
+    const std::vector<float>& leaf_extent_;
+    float leaf_tau_max_;
     const Ray& ray_;
     float t_end_;
     const Medium& medium_;
@@ -146,7 +160,7 @@ class BinSource {
     bool valid_ = false;
     float Li_ = 0.f, L_ = 0.f;
     int leaf_ = -1;
-    uint64_t invalid_ = 0;
+    uint64_t invalid_ = 0, damped_ = 0;
 };
 
 Color3 exact_or_estimated_transmittance(const Medium& medium, const Ray& ray, float t, Sampler& sampler) {
@@ -170,6 +184,8 @@ WalkGuideStats& WalkGuideStats::operator+=(const WalkGuideStats& o) {
     direction_samples += o.direction_samples;
     direction_guided += o.direction_guided;
     direction_unguided_vertices += o.direction_unguided_vertices;
+    damped_bins += o.damped_bins;
+    direction_damped_vertices += o.direction_damped_vertices;
     return *this;
 }
 
@@ -184,11 +200,18 @@ std::vector<std::pair<std::string, double>> WalkGuideStats::named() const {
             {"distance_outside_field", double(distance_outside_field)},
             {"direction_samples", double(direction_samples)},
             {"direction_guided_fraction", ratio(direction_guided, direction_samples)},
-            {"direction_unguided_vertex_fraction", ratio(direction_unguided_vertices, direction_samples)}};
+            {"direction_unguided_vertex_fraction", ratio(direction_unguided_vertices, direction_samples)},
+            {"distance_damped_bin_fraction", ratio(damped_bins, distance_steps)},
+            {"direction_damped_vertex_fraction", ratio(direction_damped_vertices, direction_samples)}};
 }
 
 WalkGuide::WalkGuide(const Scene& scene, const GuidingField& field, const WalkGuideSettings& settings)
     : field_(field), settings_(settings) {
+    leaf_extent_.resize(size_t(field.tree().leaf_count()));
+    for (int i = 0; i < field.tree().leaf_count(); ++i) {
+        const Vec3f e = field.tree().leaf_bounds(i).extents();
+        leaf_extent_[size_t(i)] = std::cbrt(std::max(0.f, e.x * e.y * e.z));
+    }
     auto add = [&](const Medium* m) {
         if (!m) return;
         const float g = m->phase().mean_cosine();
@@ -241,7 +264,8 @@ FreeFlightSample WalkGuide::sample_distance(const Medium& medium, const Ray& ray
     Scratch& s = scratch;
     GuidedDistanceSettings distance_settings = settings_.distance_settings;
     distance_settings.channel_split = channel_probabilities(throughput);  // spectral MIS (§2.6)
-    BinSource source(ray, t_end, medium, field_, estimates, s.proxies, settings_.max_bin_optical_depth);
+    BinSource source(ray, t_end, medium, field_, estimates, s.proxies, settings_.max_bin_optical_depth,
+                     leaf_extent_, settings_.leaf_tau_max);
     DistanceSample ds;
     if (settings_.distance == DistanceGuiding::Incremental) {
         ds = sample_incremental_distance(source, sampler, distance_settings);
@@ -259,6 +283,7 @@ FreeFlightSample WalkGuide::sample_distance(const Medium& medium, const Ray& ray
     st.distance_steps += uint64_t(ds.steps);
     st.guided_strategy += ds.strategy == DistanceStrategy::Guided;
     st.invalid_bins += source.invalid();
+    st.damped_bins += source.damped();
     st.nan_fallbacks += uint64_t(ds.nan_fallbacks);
 
     FreeFlightSample fs;
@@ -307,9 +332,16 @@ void WalkGuide::direction_sampler(const MediumInteraction& mi, const PhaseFuncti
                    : field_.leaf_at(mi.p);
     }
     const auto it = phase_vmms_.find(phase.mean_cosine());
-    const GuidedDirectionSampler& s =
-        out.emplace(settings_.direction, leaf, phase, mi.wi, settings_.phase_prob,
-                    it == phase_vmms_.end() ? nullptr : &it->second);
+    float phase_prob = settings_.phase_prob;
+    if (leaf && settings_.leaf_tau_max > 0.f) {
+        const float tau = leaf_extent_[size_t(leaf - field_.leaves().data())] * mi.coeffs.sigma_t.average();
+        if (tau > settings_.leaf_tau_max) {
+            phase_prob = 1.f - (1.f - phase_prob) * settings_.leaf_tau_max / tau;
+            ++stats_.local().direction_damped_vertices;
+        }
+    }
+    const GuidedDirectionSampler& s = out.emplace(settings_.direction, leaf, phase, mi.wi, phase_prob,
+                                                  it == phase_vmms_.end() ? nullptr : &it->second);
     if (!s.guided()) ++stats_.local().direction_unguided_vertices;
 }
 

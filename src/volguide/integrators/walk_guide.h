@@ -18,14 +18,14 @@
 // (no proxy, no separate transmittance estimate). `guided_tracking = false` keeps the bins (H1).
 //
 // Statistics are counted per thread and summed on request.
+#include <tbb/enumerable_thread_specific.h>
+
 #include <cstdint>
 #include <map>
 #include <optional>
 #include <string>
 #include <utility>
 #include <vector>
-
-#include <tbb/enumerable_thread_specific.h>
 
 #include "volguide/guiding/guided_direction.h"
 #include "volguide/guiding/guided_distance.h"
@@ -50,26 +50,36 @@ struct WalkGuideSettings {
     // Per-leaf octahedral tables of L~_i and L~ for the distance decisions (leaf_estimates.h):
     // resolution per side, 0 = exact VMM evaluation per leaf crossed.
     int estimate_table = 16;
+    // Guiding confidence of a leaf: min(1, leaf_tau_max / tau_leaf), tau_leaf = sigma_t (channel
+    // average, at the vertex / of the bin's proxy) x the cube root of the leaf's volume. A leaf many
+    // mean free paths across holds one estimate for radiance that varies on the scale of a free path
+    // (deep in a dense medium it is near-isotropic while the leaf's VMM carries the light at its
+    // boundary); following it at every one of hundreds of events compounds its error into the path
+    // weights. The guided distance probability and the direction mixture's guided share are scaled
+    // by the confidence toward free flight and the phase function. 0: off (confidence 1).
+    float leaf_tau_max = 1.f;
 };
 
 struct WalkGuideStats {
-    uint64_t distance_queries = 0;  // guided distance decisions
-    uint64_t distance_steps = 0;    // bins stepped through by them (tracking: tentative collisions)
-    uint64_t guided_strategy = 0;   // bin queries whose decisions followed the guided probabilities
-    uint64_t guided_tracking = 0;   // queries by guided null-collision tracking (H2)
-    uint64_t invalid_bins = 0;      // bins (tracking: collisions) stepped through without a valid leaf
-    uint64_t nan_fallbacks = 0;     // bins (collisions) whose guided probability was not finite (§7.6)
+    uint64_t distance_queries = 0;        // guided distance decisions
+    uint64_t distance_steps = 0;          // bins stepped through by them (tracking: tentative collisions)
+    uint64_t guided_strategy = 0;         // bin queries whose decisions followed the guided probabilities
+    uint64_t guided_tracking = 0;         // queries by guided null-collision tracking (H2)
+    uint64_t invalid_bins = 0;            // bins (tracking: collisions) stepped through without a valid leaf
+    uint64_t nan_fallbacks = 0;           // bins (collisions) whose guided probability was not finite (§7.6)
     uint64_t distance_outside_field = 0;  // segments that miss the field: ordinary free flight
-    uint64_t direction_samples = 0;   // directions sampled at medium vertices
-    uint64_t direction_guided = 0;    // ... from the guiding VMM (the rest from the phase function)
+    uint64_t direction_samples = 0;       // directions sampled at medium vertices
+    uint64_t direction_guided = 0;        // ... from the guiding VMM (the rest from the phase function)
     uint64_t direction_unguided_vertices = 0;  // vertices without a valid leaf (phase only)
+    uint64_t damped_bins = 0;                  // bins whose leaf is optically larger than leaf_tau_max
+    uint64_t direction_damped_vertices = 0;    // vertices whose leaf is optically larger than leaf_tau_max
     WalkGuideStats& operator+=(const WalkGuideStats& o);
     // Named values for --stats.
     std::vector<std::pair<std::string, double>> named() const;
 };
 
 class WalkGuide {
-public:
+  public:
     // The field and the scene must outlive the guide.
     WalkGuide(const Scene& scene, const GuidingField& field, const WalkGuideSettings& settings);
 
@@ -78,8 +88,8 @@ public:
     bool guides_direction() const { return settings_.direction != DirectionGuiding::Phase; }
 
     // Medium::sample_free_flight's contract (weight, mi when scattered) with guided probabilities.
-    FreeFlightSample sample_distance(const Medium& medium, const Ray& ray, float tmax, const Color3& throughput,
-                                     Sampler& sampler) const;
+    FreeFlightSample sample_distance(const Medium& medium, const Ray& ray, float tmax,
+                                     const Color3& throughput, Sampler& sampler) const;
 
     // Builds the direction sampler of a medium vertex in `out` (in place: it holds a ~3 KB product
     // mixture); phase only where the field has no valid leaf.
@@ -90,7 +100,7 @@ public:
 
     WalkGuideStats stats() const;
 
-private:
+  private:
     const LeafEstimates* estimates_for(const PhaseFunction& phase) const;
 
     const GuidingField& field_;
@@ -98,6 +108,7 @@ private:
     std::map<float, InscatterCache> inscatter_;  // by phase mean cosine
     std::map<float, LeafEstimates> estimates_;   // by phase mean cosine (reads inscatter_)
     std::map<float, PhaseVmm> phase_vmms_;
+    std::vector<float> leaf_extent_;  // cube root of each leaf's volume
     mutable tbb::enumerable_thread_specific<WalkGuideStats> stats_;
 };
 
