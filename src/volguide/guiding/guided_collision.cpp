@@ -4,10 +4,15 @@
 
 namespace volguide {
 
-GuidedCollisionProbability::GuidedCollisionProbability(const GuidingField& field, const LeafEstimates* estimates,
-                                                       const Ray& ray, float t_end, float c_T,
-                                                       CollisionMixture mixture)
-    : field_(field), estimates_(estimates), direction_(ray.d), c_T_(c_T), mixture_(mixture), analog_share_(c_T),
+GuidedCollisionProbability::GuidedCollisionProbability(const GuidingField& field,
+                                                       const LeafEstimates* estimates, const Ray& ray,
+                                                       float t_end, float c_T, CollisionMixture mixture)
+    : field_(field),
+      estimates_(estimates),
+      direction_(estimates ? estimates->prepare(ray.d) : LeafEstimates::Direction{}),
+      c_T_(c_T),
+      mixture_(mixture),
+      analog_share_(c_T),
       cursor_(field.tree(), ray, 0.f, t_end) {}
 
 bool GuidedCollisionProbability::enter_leaf_at(float t) {
@@ -43,8 +48,10 @@ float GuidedCollisionProbability::scatter_probability(const TentativeCollision& 
         }
         // No scattering (or no light from it): 0; nothing carried by a null (null = 0): 1.
         const float p = scatter > 0.f ? scatter / (scatter + null) : 0.f;
-        if (std::isfinite(p) && std::isfinite(scatter + null)) p_guided = p;
-        else ++nan_fallbacks_;
+        if (std::isfinite(p) && std::isfinite(scatter + null))
+            p_guided = p;
+        else
+            ++nan_fallbacks_;
     }
     has_previous_ = true;
     previous_analog_ = p_analog;

@@ -35,30 +35,31 @@ namespace volguide {
 enum class CollisionMixture { PerFlight, PerCollision };
 
 class GuidedCollisionProbability final : public CollisionGuide {
-public:
+  public:
     // Guides collisions at t in (0, t_end) of `ray` (beyond: analog). `estimates` may be null.
     // One object per flight: it infers the previous collision's outcome (a null) from the next call.
     GuidedCollisionProbability(const GuidingField& field, const LeafEstimates* estimates, const Ray& ray,
-                               float t_end, float c_T, CollisionMixture mixture = CollisionMixture::PerFlight);
+                               float t_end, float c_T,
+                               CollisionMixture mixture = CollisionMixture::PerFlight);
 
     float scatter_probability(const TentativeCollision& c) override;
 
     // Counters of this query.
     uint64_t collisions() const { return collisions_; }
     uint64_t unguided_collisions() const { return unguided_; }  // no valid leaf: P_s = P_a
-    uint64_t nan_fallbacks() const { return nan_fallbacks_; }    // P_G not finite: P_s = P_a
+    uint64_t nan_fallbacks() const { return nan_fallbacks_; }   // P_G not finite: P_s = P_a
 
-private:
+  private:
     // Moves the cursor to the leaf containing ray(t) (t never decreases); false if there is none.
     bool enter_leaf_at(float t);
 
     const GuidingField& field_;
     const LeafEstimates* estimates_;
-    Vec3f direction_;
+    LeafEstimates::Direction direction_;  // the ray's place in the leaves' tables (computed once)
     float c_T_;
     CollisionMixture mixture_;
-    float analog_share_;          // c_k: the analog strategy's share at the current collision
-    bool has_previous_ = false;   // the previous collision's probabilities (it was a null)
+    float analog_share_;         // c_k: the analog strategy's share at the current collision
+    bool has_previous_ = false;  // the previous collision's probabilities (it was a null)
     float previous_analog_ = 0.f, previous_guided_ = 0.f;
     SpatialTree::RayCursor cursor_;
     bool cursor_done_ = false;

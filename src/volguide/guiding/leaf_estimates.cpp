@@ -11,7 +11,8 @@ Point2f octahedral_encode(const Vec3f& w) {
     const float l1 = std::abs(w.x) + std::abs(w.y) + std::abs(w.z);
     float x = w.x / l1, y = w.y / l1;
     if (w.z < 0.f) {
-        const float fx = (1.f - std::abs(y)) * std::copysign(1.f, x), fy = (1.f - std::abs(x)) * std::copysign(1.f, y);
+        const float fx = (1.f - std::abs(y)) * std::copysign(1.f, x),
+                    fy = (1.f - std::abs(x)) * std::copysign(1.f, y);
         x = fx;
         y = fy;
     }
@@ -22,7 +23,8 @@ Vec3f octahedral_decode(Point2f uv) {
     float x = 2.f * uv.x - 1.f, y = 2.f * uv.y - 1.f;
     const float z = 1.f - std::abs(x) - std::abs(y);
     if (z < 0.f) {
-        const float fx = (1.f - std::abs(y)) * std::copysign(1.f, x), fy = (1.f - std::abs(x)) * std::copysign(1.f, y);
+        const float fx = (1.f - std::abs(y)) * std::copysign(1.f, x),
+                    fy = (1.f - std::abs(x)) * std::copysign(1.f, y);
         x = fx;
         y = fy;
     }
@@ -47,7 +49,8 @@ LeafEstimates::LeafEstimates(const GuidingField& field, const InscatterCache& in
         float max_i = 0.f, max_l = 0.f;
         for (int v = 0; v < R; ++v)
             for (int u = 0; u < R; ++u) {
-                const Vec3f w = octahedral_decode(Point2f((float(u) + 0.5f) / float(R), (float(v) + 0.5f) / float(R)));
+                const Vec3f w =
+                    octahedral_decode(Point2f((float(u) + 0.5f) / float(R), (float(v) + 0.5f) / float(R)));
                 const size_t k = size_t(v * R + u);
                 inscattered[k] = inscatter.inscattered(int(l), w).average() / phi;
                 incident[k] = GuidingField::incident(leaf, w).average() / phi;
@@ -57,24 +60,20 @@ LeafEstimates::LeafEstimates(const GuidingField& field, const InscatterCache& in
         h.scale_inscattered = max_i / 65535.f;
         h.scale_incident = max_l / 65535.f;
         auto quantise = [](float x, float max) {
-            return max > 0.f && std::isfinite(x) ? uint16_t(std::lround(std::clamp(x / max, 0.f, 1.f) * 65535.f)) : uint16_t(0);
+            return max > 0.f && std::isfinite(x)
+                       ? uint16_t(std::lround(std::clamp(x / max, 0.f, 1.f) * 65535.f))
+                       : uint16_t(0);
         };
         Texel* t = &texels_[l * size_t(R * R)];
-        for (size_t k = 0; k < size_t(R * R); ++k) t[k] = {quantise(inscattered[k], max_i), quantise(incident[k], max_l)};
+        for (size_t k = 0; k < size_t(R * R); ++k)
+            t[k] = {quantise(inscattered[k], max_i), quantise(incident[k], max_l)};
     });
 }
 
-bool LeafEstimates::lookup(int leaf, const Vec3f& w, Color3& Li, Color3& L) const {
-    if (leaf < 0) return false;
-    if (resolution_ == 0) {
-        const GuidingLeaf& gl = field_.leaves()[size_t(leaf)];
-        if (!gl.valid) return false;
-        Li = inscatter_.inscattered(leaf, w);
-        L = GuidingField::incident(gl, w);
-        return true;
-    }
-    const Header& h = headers_[size_t(leaf)];
-    if (!h.valid) return false;
+LeafEstimates::Direction LeafEstimates::prepare(const Vec3f& w) const {
+    Direction d;
+    d.w = w;
+    if (resolution_ == 0) return d;
     // Bilinear between the four nearest texel centres (clamped at the map's edges).
     const int R = resolution_;
     const Point2f uv = octahedral_encode(w);
@@ -83,13 +82,43 @@ bool LeafEstimates::lookup(int leaf, const Vec3f& w, Color3& Li, Color3& L) cons
     const int x0 = std::min(int(x), std::max(R - 2, 0)), y0 = std::min(int(y), std::max(R - 2, 0));
     const int x1 = std::min(x0 + 1, R - 1), y1 = std::min(y0 + 1, R - 1);
     const float fx = x - float(x0), fy = y - float(y0);
-    const Texel* t = &texels_[size_t(leaf) * size_t(R * R)];
-    const Texel &a = t[y0 * R + x0], &b = t[y0 * R + x1], &c = t[y1 * R + x0], &d = t[y1 * R + x1];
-    const float w00 = (1.f - fx) * (1.f - fy), w10 = fx * (1.f - fy), w01 = (1.f - fx) * fy, w11 = fx * fy;
-    const float inscattered = w00 * float(a.inscattered) + w10 * float(b.inscattered) + w01 * float(c.inscattered) +
-                              w11 * float(d.inscattered);
-    const float incident =
-        w00 * float(a.incident) + w10 * float(b.incident) + w01 * float(c.incident) + w11 * float(d.incident);
+    d.offset[0] = y0 * R + x0;
+    d.offset[1] = y0 * R + x1;
+    d.offset[2] = y1 * R + x0;
+    d.offset[3] = y1 * R + x1;
+    d.weight[0] = (1.f - fx) * (1.f - fy);
+    d.weight[1] = fx * (1.f - fy);
+    d.weight[2] = (1.f - fx) * fy;
+    d.weight[3] = fx * fy;
+    return d;
+}
+
+void LeafEstimates::prefetch(int leaf, const Direction& d) const {
+    if (leaf < 0 || resolution_ == 0) return;
+    const Texel* t = &texels_[size_t(leaf) * size_t(resolution_ * resolution_)];
+    __builtin_prefetch(&headers_[size_t(leaf)]);
+    __builtin_prefetch(t + d.offset[0]);
+    __builtin_prefetch(t + d.offset[2]);
+}
+
+bool LeafEstimates::lookup(int leaf, const Direction& d, Color3& Li, Color3& L) const {
+    if (leaf < 0) return false;
+    if (resolution_ == 0) {
+        const GuidingLeaf& gl = field_.leaves()[size_t(leaf)];
+        if (!gl.valid) return false;
+        Li = inscatter_.inscattered(leaf, d.w);
+        L = GuidingField::incident(gl, d.w);
+        return true;
+    }
+    const Header& h = headers_[size_t(leaf)];
+    if (!h.valid) return false;
+    const Texel* t = &texels_[size_t(leaf) * size_t(resolution_ * resolution_)];
+    float inscattered = 0.f, incident = 0.f;
+    for (int k = 0; k < 4; ++k) {
+        const Texel& e = t[d.offset[k]];
+        inscattered += d.weight[k] * float(e.inscattered);
+        incident += d.weight[k] * float(e.incident);
+    }
     Li = h.fluence * (h.scale_inscattered * inscattered);
     L = h.fluence * (h.scale_incident * incident);
     return true;

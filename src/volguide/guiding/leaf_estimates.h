@@ -21,17 +21,33 @@
 namespace volguide {
 
 class LeafEstimates {
-public:
+  public:
     // resolution 0: exact evaluation. Both must outlive this object.
     LeafEstimates(const GuidingField& field, const InscatterCache& inscatter, int resolution);
 
+    // Where a direction falls in the tables: the same for every leaf, so a ray computes it once
+    // and reuses it in each leaf it crosses.
+    struct Direction {
+        Vec3f w;
+        int offset[4] = {0, 0, 0, 0};  // texel indices within a leaf's table
+        float weight[4] = {0.f, 0.f, 0.f, 0.f};
+    };
+    Direction prepare(const Vec3f& w) const;
+
     // L~_i(w) and L~(w) of a leaf; false (and nothing written) for an invalid leaf.
-    bool lookup(int leaf, const Vec3f& w, Color3& Li, Color3& L) const;
+    bool lookup(int leaf, const Direction& d, Color3& Li, Color3& L) const;
+    bool lookup(int leaf, const Vec3f& w, Color3& Li, Color3& L) const {
+        return lookup(leaf, prepare(w), Li, L);
+    }
+    // Hints the cache that `leaf` will be looked up soon.
+    void prefetch(int leaf, const Direction& d) const;
 
     int resolution() const { return resolution_; }
-    size_t memory_bytes() const { return headers_.capacity() * sizeof(Header) + texels_.capacity() * sizeof(Texel); }
+    size_t memory_bytes() const {
+        return headers_.capacity() * sizeof(Header) + texels_.capacity() * sizeof(Texel);
+    }
 
-private:
+  private:
     // Compact, because the lookups miss the cache (a ray visits ~10 random leaves): what a lookup
     // reads of a leaf is its header and 4 texels, and 2000 leaves at R = 16 fit in 2 MB.
     struct Header {

@@ -50,6 +50,7 @@ class BinSource {
           max_tau_(max_tau),
           cursor_(field.tree(), ray, 0.f, t_end) {
         proxies_.clear();  // scratch of the previous query: nothing may be read before the first span
+        if (estimates_) direction_ = estimates_->prepare(ray.d);
     }
 
     bool operator()(DistanceBin& bin) {
@@ -92,6 +93,10 @@ class BinSource {
     int leaf() const { return leaf_; }
 
   private:
+    struct Span {
+        int leaf;
+        float t0, t1;
+    };
     // Enters the next stretch of (0, t_end): leafless before the field, the cursor's leaves, and a
     // leafless remainder should float round-off leave the cursor short of t_end.
     bool next_span() {
@@ -100,25 +105,43 @@ class BinSource {
             enter(pending_.leaf, pending_.t0, pending_.t1);
             return true;
         }
-        if (!cursor_done_) {
-            int leaf;
-            float t0, t1;
-            if (cursor_.next(leaf, t0, t1)) {
-                if (t0 > reached_) {  // the ray enters the field's bounds at t0
-                    pending_ = {leaf, t0, t1};
-                    has_pending_ = true;
-                    enter(-1, reached_, t0);
-                } else {
-                    enter(leaf, t0, t1);
-                }
-                return true;
+        Span s;
+        bool got = false;
+        if (has_ahead_) {
+            s = ahead_;
+            has_ahead_ = false;
+            got = true;
+        } else {
+            got = pull_leaf(s);
+        }
+        if (got) {
+            // One leaf ahead: its table is fetched from memory while this leaf's bins are decided
+            // (the lookups of a large field miss the cache: ~18 % of a guided render on `thin`
+            // with 2000 leaves). thin, 256 spp, distance=incremental: render 5.0 -> 4.8 s.
+            if (estimates_ && pull_leaf(ahead_)) {
+                has_ahead_ = true;
+                estimates_->prefetch(ahead_.leaf, direction_);
             }
-            cursor_done_ = true;
+            if (s.t0 > reached_) {  // the ray enters the field's bounds at s.t0
+                pending_ = s;
+                has_pending_ = true;
+                enter(-1, reached_, s.t0);
+            } else {
+                enter(s.leaf, s.t0, s.t1);
+            }
+            return true;
         }
         if (reached_ < t_end_) {
             enter(-1, reached_, t_end_);
             return true;
         }
+        return false;
+    }
+
+    bool pull_leaf(Span& s) {
+        if (cursor_done_) return false;
+        if (cursor_.next(s.leaf, s.t0, s.t1)) return true;
+        cursor_done_ = true;
         return false;
     }
 
@@ -131,17 +154,13 @@ class BinSource {
         Li_ = L_ = 0.f;
         leaf_ = leaf_index;
         Color3 Li, L;
-        valid_ = estimates_ && estimates_->lookup(leaf_index, ray_.d, Li, L);
+        valid_ = estimates_ && estimates_->lookup(leaf_index, direction_, Li, L);
         if (valid_) {
             Li_ = Li.average();
             L_ = L.average();
         }
     }
 
-    struct Span {
-        int leaf;
-        float t0, t1;
-    };
     const std::vector<float>& leaf_extent_;
     float leaf_tau_max_;
     const Ray& ray_;
@@ -154,7 +173,10 @@ class BinSource {
     SpatialTree::RayCursor cursor_;
     bool cursor_done_ = false, has_pending_ = false;
     Span pending_{-1, 0.f, 0.f};
-    float reached_ = 0.f;  // the spans entered so far cover (0, reached_)
+    Span ahead_{-1, 0.f, 0.f};
+    bool has_ahead_ = false;
+    LeafEstimates::Direction direction_;  // the ray's place in the leaves' tables
+    float reached_ = 0.f;                 // the spans entered so far cover (0, reached_)
     size_t proxy_ = size_t(-1);
     int pieces_ = 0, piece_ = 0;
     bool valid_ = false;
