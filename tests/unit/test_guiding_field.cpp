@@ -2,7 +2,6 @@
 // comes from, fluence follows the collision estimator, queries are Phi * V_L and Phi * (V_L * phase),
 // sparse leaves are invalid, and the field is identical for 1 and 2 threads.
 #include <gtest/gtest.h>
-
 #include <tbb/task_arena.h>
 
 #include <cstring>
@@ -24,7 +23,8 @@ std::vector<RadianceSample> samples(int n, const Vec3f& towards, uint64_t seed) 
     for (int i = 0; i < n; ++i) {
         Sampler s(seed, 0, uint64_t(i));
         const Point3f p(2.f * s.next_1d(), s.next_1d(), s.next_1d());
-        const Vec3f d = s.next_1d() < 0.8f ? lobe.sample(s.next_2d()) : warp::square_to_uniform_sphere(s.next_2d());
+        const Vec3f d =
+            s.next_1d() < 0.8f ? lobe.sample(s.next_2d()) : warp::square_to_uniform_sphere(s.next_2d());
         out.push_back({p, d, Color3(3.f, 2.f, 1.f)});
     }
     return out;
@@ -49,6 +49,32 @@ TEST(GuidingField, LeafMixturesPointTowardsTheLight) {
         EXPECT_GT(dot(normalize(mean), towards), 0.95f);
         // The density is much higher towards the light than away from it.
         EXPECT_GT(leaf.vmm.pdf(towards), 20.f * leaf.vmm.pdf(-towards));
+    }
+}
+
+TEST(GuidingField, IndirectMixturesLeaveOutDirectSamples) {
+    // Direct light (a photon's first collision) from +x, the rest from +z.
+    const Vec3f light = Vec3f(1.f, 0.f, 0.f), bounce = Vec3f(0.f, 0.f, 1.f);
+    auto direct = samples(12000, light, 3), rest = samples(12000, bounce, 4);
+    for (RadianceSample& s : direct) s.direct = true;
+    std::vector<RadianceSample> all = direct;
+    all.insert(all.end(), rest.begin(), rest.end());
+    const GuidingField field = GuidingField::build(kBox, all, small_leaves());
+    ASSERT_GE(field.leaves().size(), 8u);
+    for (const GuidingLeaf& leaf : field.leaves()) {
+        ASSERT_TRUE(leaf.valid);
+        ASSERT_TRUE(leaf.valid_indirect);
+        // The full mixture has both lobes; the indirect one only the bounce.
+        EXPECT_GT(leaf.vmm.pdf(light), 3.f * leaf.vmm.pdf(-light));
+        EXPECT_GT(leaf.vmm.pdf(bounce), 3.f * leaf.vmm.pdf(-bounce));
+        EXPECT_GT(dot(normalize(leaf.vmm_indirect.mean_vector()), bounce), 0.95f);
+        EXPECT_LT(leaf.vmm_indirect.pdf(light), 0.1f * leaf.vmm_indirect.pdf(bounce));
+    }
+    // Without direct flags (camera-path training) the indirect mixture is the full one.
+    const GuidingField plain = GuidingField::build(kBox, rest, small_leaves());
+    for (const GuidingLeaf& leaf : plain.leaves()) {
+        EXPECT_EQ(leaf.valid_indirect, leaf.valid);
+        EXPECT_EQ(leaf.vmm_indirect.pdf(light), leaf.vmm.pdf(light));
     }
 }
 

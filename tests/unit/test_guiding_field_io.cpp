@@ -19,7 +19,9 @@ GuidingField make_field() {
     for (int i = 0; i < 12000; ++i) {
         Sampler r(9, 0, uint64_t(i));
         const Point3f p(r.next_1d(), r.next_1d(), 2.f * r.next_1d());
-        s.push_back({p, warp::square_to_uniform_sphere(r.next_2d()), Color3(1.f, 0.5f, 0.25f)});
+        // A tenth of the samples "direct" (a photon's first collision): the leaves fit both VMMs.
+        s.push_back(
+            {p, warp::square_to_uniform_sphere(r.next_2d()), Color3(1.f, 0.5f, 0.25f), 1.f, i % 10 == 0});
     }
     // Leaves hold 750..1500 samples; min_samples 1000 makes some of them invalid.
     GuidingFieldSettings settings;
@@ -48,6 +50,16 @@ TEST(GuidingFieldIo, RoundTripIsExact) {
     const std::string bytes = serialize_field(field);
     const GuidingField back = deserialize_field(bytes);
     EXPECT_EQ(serialize_field(back), bytes);
+    int indirect = 0;
+    for (size_t l = 0; l < field.leaves().size(); ++l) {
+        const GuidingLeaf &a = field.leaves()[l], &b = back.leaves()[l];
+        ASSERT_EQ(a.valid_indirect, b.valid_indirect);
+        if (!a.valid_indirect) continue;
+        ++indirect;
+        const Vec3f w(0.f, 0.6f, 0.8f);
+        EXPECT_EQ(a.vmm_indirect.pdf(w), b.vmm_indirect.pdf(w));
+    }
+    EXPECT_GT(indirect, 0);
     const PhaseVmm phase = hg_phase_vmm(0.6f);
     for (int i = 0; i < 500; ++i) {
         Sampler r(10, 0, uint64_t(i));
@@ -59,7 +71,8 @@ TEST(GuidingFieldIo, RoundTripIsExact) {
 }
 
 TEST(GuidingFieldIo, SaveAndLoadThroughAFile) {
-    const auto dir = std::filesystem::temp_directory_path() / ("volguide-field-" + std::to_string(::getpid()));
+    const auto dir =
+        std::filesystem::temp_directory_path() / ("volguide-field-" + std::to_string(::getpid()));
     std::filesystem::create_directories(dir);
     const std::string path = (dir / "f.vgfield").string();
     const GuidingField field = make_field();
@@ -90,7 +103,7 @@ TEST(GuidingFieldIo, CorruptFilesAreRejected) {
     }
     // 4. A newer version.
     std::string newer = good;
-    newer[8] = 2;
+    newer[8] = char(kFieldFormatVersion + 1);
     expect_rejected(newer, "version");
     // 5. Empty file.
     expect_rejected("", "magic");

@@ -14,7 +14,7 @@ namespace volguide {
 namespace {
 
 constexpr char kMagic[8] = {'V', 'G', 'F', 'I', 'E', 'L', 'D', 0};
-constexpr size_t kNodeBytes = 9, kLeafBytes = 17;
+constexpr size_t kNodeBytes = 9, kLeafBytes = 18;
 
 uint64_t fnv1a64(const char* p, size_t n) {
     uint64_t h = 14695981039346656037ull;
@@ -25,7 +25,9 @@ uint64_t fnv1a64(const char* p, size_t n) {
 void put_u32(std::string& s, uint32_t v) {
     for (int i = 0; i < 4; ++i) s.push_back(char(uint8_t(v >> (8 * i))));
 }
-void put_f32(std::string& s, float v) { put_u32(s, std::bit_cast<uint32_t>(v)); }
+void put_f32(std::string& s, float v) {
+    put_u32(s, std::bit_cast<uint32_t>(v));
+}
 
 // Sequential reader over the checksummed body with bounds checks.
 struct Reader {
@@ -72,6 +74,12 @@ std::string serialize_field(const GuidingField& field) {
             write_vmm(vmm, leaf.vmm);
             s += vmm.str();
         }
+        s.push_back(char(leaf.valid_indirect ? 1 : 0));
+        if (leaf.valid_indirect) {
+            std::ostringstream vmm;
+            write_vmm(vmm, leaf.vmm_indirect);
+            s += vmm.str();
+        }
     }
     const uint64_t sum = fnv1a64(s.data() + sizeof(kMagic), s.size() - sizeof(kMagic));
     put_u32(s, uint32_t(sum));
@@ -85,8 +93,8 @@ GuidingField deserialize_field(const std::string& bytes) {
     Reader header{bytes, sizeof(kMagic), bytes.size()};
     const uint32_t version = header.u32("header");
     if (version != kFieldFormatVersion)
-        throw FieldFormatError("unsupported guiding field version " + std::to_string(version) + " (this build reads " +
-                               std::to_string(kFieldFormatVersion) + ")");
+        throw FieldFormatError("unsupported guiding field version " + std::to_string(version) +
+                               " (this build reads " + std::to_string(kFieldFormatVersion) + ")");
     const size_t body_end = bytes.size() - 8;
     Reader tail{bytes, body_end, bytes.size()};
     const uint64_t stored = uint64_t(tail.u32("checksum")) | uint64_t(tail.u32("checksum")) << 32;
@@ -130,19 +138,27 @@ GuidingField deserialize_field(const std::string& bytes) {
         }
         leaf.samples = r.u32("leaves");
         const uint8_t valid = r.u8("leaves");
-        if (valid > 1) throw FieldFormatError("guiding field leaf " + std::to_string(l) + " has an invalid flag");
-        leaf.valid = valid == 1;
-        if (leaf.valid) {
+        if (valid > 1)
+            throw FieldFormatError("guiding field leaf " + std::to_string(l) + " has an invalid flag");
+        auto read_leaf_vmm = [&](Vmm& vmm) {
             vmm_in.seekg(std::streamoff(r.pos));
             try {
-                leaf.vmm = read_vmm<kVmmMaxLobes>(vmm_in);
+                vmm = read_vmm<kVmmMaxLobes>(vmm_in);
             } catch (const VmmFormatError& e) {
                 throw FieldFormatError("guiding field leaf " + std::to_string(l) + ": " + e.what());
             }
             r.pos = size_t(vmm_in.tellg());
             if (r.pos > r.end) throw FieldFormatError("truncated guiding field (in leaf VMMs)");
-            if (leaf.vmm.size() == 0) throw FieldFormatError("guiding field leaf " + std::to_string(l) + " is empty");
-        }
+            if (vmm.size() == 0)
+                throw FieldFormatError("guiding field leaf " + std::to_string(l) + " is empty");
+        };
+        leaf.valid = valid == 1;
+        if (leaf.valid) read_leaf_vmm(leaf.vmm);
+        const uint8_t valid_indirect = r.u8("leaves");
+        if (valid_indirect > 1)
+            throw FieldFormatError("guiding field leaf " + std::to_string(l) + " has an invalid flag");
+        leaf.valid_indirect = valid_indirect == 1;
+        if (leaf.valid_indirect) read_leaf_vmm(leaf.vmm_indirect);
     }
     if (r.pos != r.end) throw FieldFormatError("guiding field has trailing data");
     return GuidingField(std::move(tree), std::move(leaves));

@@ -6,8 +6,8 @@
 //   u32       format version (kFieldFormatVersion)
 //   6 x f32   bounds (lo, hi)
 //   u32       node count, then per node: f32 split, u32 child, u8 axis
-//   u32       leaf count, then per leaf: 3 x f32 fluence, u32 samples, u8 valid, and for a valid
-//             leaf its VMM as a vmm_io record
+//   u32       leaf count, then per leaf: 3 x f32 fluence, u32 samples, u8 valid, for a valid
+//             leaf its VMM as a vmm_io record, u8 valid_indirect, and if set the indirect VMM
 //   u64       FNV-1a checksum of everything between the magic and the checksum
 // Loading checks the magic, version, checksum, sizes, the tree's structure (SpatialTree::from_nodes),
 // finite non-negative fluence and every VMM record; any problem throws FieldFormatError naming it.
@@ -19,10 +19,10 @@
 
 namespace volguide {
 
-inline constexpr uint32_t kFieldFormatVersion = 1;
+inline constexpr uint32_t kFieldFormatVersion = 2;  // 2: per-leaf indirect VMM
 
 class FieldFormatError : public std::runtime_error {
-public:
+  public:
     using std::runtime_error::runtime_error;
 };
 

@@ -3,7 +3,6 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-
 #include <stdexcept>
 
 namespace volguide {
@@ -15,12 +14,13 @@ double box_volume(const BBox3f& b) {
     return double(e.x) * double(e.y) * double(e.z);
 }
 
-GuidingLeaf fit_leaf(std::span<const RadianceSample> samples, std::span<const uint32_t> indices, const BBox3f& box,
-                     const GuidingFieldSettings& settings) {
+GuidingLeaf fit_leaf(std::span<const RadianceSample> samples, std::span<const uint32_t> indices,
+                     const BBox3f& box, const GuidingFieldSettings& settings) {
     GuidingLeaf leaf;
     leaf.samples = uint32_t(indices.size());
-    std::vector<DirectionalSample> directions;
+    std::vector<DirectionalSample> directions, indirect;
     directions.reserve(indices.size());
+    bool any_direct = false;
     double sum[3] = {0, 0, 0}, count = 0;
     for (uint32_t i : indices) {
         const RadianceSample& s = samples[i];
@@ -29,17 +29,30 @@ GuidingLeaf fit_leaf(std::span<const RadianceSample> samples, std::span<const ui
         for (int c = 0; c < 3; ++c) sum[c] += double(s.weight[c]);
         // One directional shape for the three channels, weighted by the channel average.
         const float w = s.weight.average();
-        if (w > 0.f) directions.push_back({s.direction, w});
+        if (w > 0.f) {
+            directions.push_back({s.direction, w});
+            if (s.direct)
+                any_direct = true;
+            else
+                indirect.push_back({s.direction, w});
+        }
     }
-    const double norm = settings.fluence == FluenceEstimator::PerVolume
-                            ? box_volume(box)
-                            : std::max(count, 1.0);
+    const double norm =
+        settings.fluence == FluenceEstimator::PerVolume ? box_volume(box) : std::max(count, 1.0);
     if (norm > 0.0) leaf.fluence = Color3(float(sum[0] / norm), float(sum[1] / norm), float(sum[2] / norm));
-    if (int(directions.size()) < settings.min_samples) return leaf;
     VmmFitSettings fit = settings.fit;
     fit.initial_lobes = settings.lobes;
-    fit_vmm(leaf.vmm, directions, fit);
-    leaf.valid = leaf.vmm.size() > 0;
+    if (int(directions.size()) >= settings.min_samples) {
+        fit_vmm(leaf.vmm, directions, fit);
+        leaf.valid = leaf.vmm.size() > 0;
+    }
+    if (!any_direct) {
+        leaf.vmm_indirect = leaf.vmm;
+        leaf.valid_indirect = leaf.valid;
+    } else if (int(indirect.size()) >= settings.min_samples) {
+        fit_vmm(leaf.vmm_indirect, indirect, fit);
+        leaf.valid_indirect = leaf.vmm_indirect.size() > 0;
+    }
     return leaf;
 }
 
@@ -48,7 +61,8 @@ GuidingLeaf fit_leaf(std::span<const RadianceSample> samples, std::span<const ui
 GuidingField GuidingField::build(const BBox3f& bounds, std::span<const RadianceSample> samples,
                                  const GuidingFieldSettings& settings) {
     if (settings.lobes < 1 || settings.lobes > kVmmMaxLobes)
-        throw std::invalid_argument("guiding field: lobes must be in [1, " + std::to_string(kVmmMaxLobes) + "]");
+        throw std::invalid_argument("guiding field: lobes must be in [1, " + std::to_string(kVmmMaxLobes) +
+                                    "]");
     std::vector<Point3f> positions(samples.size());
     // Only samples that carry radiance drive the subdivision (spatial_tree.h): zero-valued training
     // samples still count in their leaf's fluence mean. Photon samples are all positive.
@@ -99,7 +113,8 @@ Color3 GuidingField::incident(const Point3f& x, const Vec3f& w) const {
     return leaf ? incident(*leaf, w) : Color3(0.f);
 }
 
-Color3 GuidingField::inscattered(const Point3f& x, const Vec3f& w, const PhaseVmm& phase, InscatterMode mode) const {
+Color3 GuidingField::inscattered(const Point3f& x, const Vec3f& w, const PhaseVmm& phase,
+                                 InscatterMode mode) const {
     const GuidingLeaf* leaf = leaf_at(x);
     return leaf ? inscattered(*leaf, w, phase, mode) : Color3(0.f);
 }

@@ -28,6 +28,10 @@ struct RadianceSample {
     Vec3f direction;
     Color3 weight;
     float count = 1.f;
+    // Light that came straight from an emitter (a photon's first collision): what next-event
+    // estimation samples at every medium vertex. Fields whose samples carry this flag also fit
+    // each leaf's distribution without it (GuidingLeaf::vmm_indirect).
+    bool direct = false;
 };
 
 // How a leaf turns its samples' weights into fluence.
@@ -54,10 +58,15 @@ struct GuidingLeaf {
     Color3 fluence{0.f};  // Phi (RGB)
     uint32_t samples = 0;
     bool valid = false;  // enough samples: guided decisions may use it (otherwise defensive only)
+    // The directional shape of the light that did not come straight from an emitter (samples
+    // without RadianceSample::direct), for direction guiding next to NEE. A field trained without
+    // direct flags (camera-path training) holds a copy of vmm / valid here.
+    Vmm vmm_indirect;
+    bool valid_indirect = false;
 };
 
 class GuidingField {
-public:
+  public:
     GuidingField() = default;
     static GuidingField build(const BBox3f& bounds, std::span<const RadianceSample> samples,
                               const GuidingFieldSettings& settings = {});
@@ -88,9 +97,10 @@ public:
                        InscatterMode mode = InscatterMode::Exact) const;
 
     static Color3 incident(const GuidingLeaf& leaf, const Vec3f& w);
-    static Color3 inscattered(const GuidingLeaf& leaf, const Vec3f& w, const PhaseVmm& phase, InscatterMode mode);
+    static Color3 inscattered(const GuidingLeaf& leaf, const Vec3f& w, const PhaseVmm& phase,
+                              InscatterMode mode);
 
-private:
+  private:
     SpatialTree tree_;
     std::vector<GuidingLeaf> leaves_;
 };

@@ -101,6 +101,8 @@ GuidedVolPathSettings GuidedVolPathSettings::from(const Properties& props) {
             ? DistanceDenominator::Vre
             : DistanceDenominator::Incident;
     s.guide.phase_prob = unit_interval("phase_prob", s.guide.phase_prob, false);
+    s.guide.direction_indirect = read_choice(props, "direction_radiance", "indirect", {"indirect", "all"},
+                                             {"indirect", "all"}, "indirect") == "indirect";
     s.guide.leaf_tau_max = props.get_float("leaf_tau_max", s.guide.leaf_tau_max);
     if (!(s.guide.leaf_tau_max >= 0.f) || std::isinf(s.guide.leaf_tau_max))
         props.fail_at("leaf_tau_max",

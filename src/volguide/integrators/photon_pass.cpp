@@ -32,7 +32,8 @@ struct BatchResult {
 
 // The medium a photon leaving `emitter` along `ray` starts in.
 const Medium* start_medium(const Emitter& emitter, const RaySample& rs) {
-    if (emitter.is_infinite() || (emitter.flags() & emitter_flags::DeltaDirection)) return nullptr;  // from outside
+    if (emitter.is_infinite() || (emitter.flags() & emitter_flags::DeltaDirection))
+        return nullptr;  // from outside
     if (const Shape* shape = emitter.shape()) {
         if (!is_medium_transition(*shape)) return nullptr;
         return shape->target_medium(rs.n, rs.ray.d);
@@ -52,12 +53,15 @@ void transport(const Scene& scene, const PhotonPassSettings& s, const Emitter& e
         SurfaceInteraction si;
         if (!scene.intersect(ray, si)) si = miss_interaction(ray);
         if (medium) {
-            const FreeFlightSample ff = medium->sample_free_flight(ray, si.is_valid() ? si.t : ray.tmax, throughput, sampler);
+            const FreeFlightSample ff =
+                medium->sample_free_flight(ray, si.is_valid() ? si.t : ray.tmax, throughput, sampler);
             if (ff.scattered) {
                 ++out.collisions;
                 // Flux arriving at the collision over sigma_t, before the albedo (theory.md §5.2).
                 const Color3 deposit = flux * throughput * ff.flight_weight;
-                if (deposit.is_finite() && !deposit.is_black()) out.samples.push_back({ff.mi.p, -ray.d, deposit});
+                // depth 0: straight from the emitter (null boundaries crossed do not count).
+                if (deposit.is_finite() && !deposit.is_black())
+                    out.samples.push_back({ff.mi.p, -ray.d, deposit, 1.f, depth == 0});
                 throughput *= ff.weight;
                 ++depth;
                 if (throughput.is_black() || (s.max_depth >= 0 && depth >= s.max_depth)) return;
@@ -122,7 +126,8 @@ void trace_one(const Scene& scene, const PhotonPassSettings& s, const EmissionFo
 // discarded. Integer counts summed over threads: the same focus for any thread count.
 EmissionFocus focus_emission(const Scene& scene, const PhotonPassSettings& s, int64_t pilot_photons,
                              const PreprocessContext& context) {
-    tbb::enumerable_thread_specific<EmissionPilot> pilots([&] { return EmissionPilot(scene.emitters().size()); });
+    tbb::enumerable_thread_specific<EmissionPilot> pilots(
+        [&] { return EmissionPilot(scene.emitters().size()); });
     const EmissionFocus uniform;
     const int64_t batches = (pilot_photons + kBatch - 1) / kBatch;
     tbb::parallel_for(int64_t(0), batches, [&](int64_t b) {
@@ -142,7 +147,8 @@ EmissionFocus focus_emission(const Scene& scene, const PhotonPassSettings& s, in
 
 }  // namespace
 
-PhotonPassResult trace_photons(const Scene& scene, const PhotonPassSettings& settings, const PreprocessContext& context) {
+PhotonPassResult trace_photons(const Scene& scene, const PhotonPassSettings& settings,
+                               const PreprocessContext& context) {
     PhotonPassResult result;
     const auto start = std::chrono::steady_clock::now();  // the pilot counts against time_limit
     EmissionFocus focus;
@@ -169,7 +175,8 @@ PhotonPassResult trace_photons(const Scene& scene, const PhotonPassSettings& set
         tbb::parallel_for(wave, wave_end, [&](int64_t b) {
             if (context.cancelled()) return;
             if (settings.time_limit > 0 &&
-                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > settings.time_limit)
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() >
+                    settings.time_limit)
                 return;
             const int64_t first = b * kBatch, last = std::min(settings.photons, first + kBatch);
             BatchResult& out = per_batch[size_t(b)];

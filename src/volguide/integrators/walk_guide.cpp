@@ -72,7 +72,7 @@ class BinSource {
                         bin.confidence = leaf_tau_max_ / tau;
                         ++damped_;
                     }
-                }
+                }  // (the same rule as WalkGuide::leaf_confidence, with the bin's proxy)
                 invalid_ += valid_ ? 0 : 1;
                 return true;
             }
@@ -207,6 +207,7 @@ WalkGuideStats& WalkGuideStats::operator+=(const WalkGuideStats& o) {
     direction_guided += o.direction_guided;
     direction_unguided_vertices += o.direction_unguided_vertices;
     damped_bins += o.damped_bins;
+    distance_skipped += o.distance_skipped;
     direction_damped_vertices += o.direction_damped_vertices;
     return *this;
 }
@@ -224,11 +225,22 @@ std::vector<std::pair<std::string, double>> WalkGuideStats::named() const {
             {"direction_guided_fraction", ratio(direction_guided, direction_samples)},
             {"direction_unguided_vertex_fraction", ratio(direction_unguided_vertices, direction_samples)},
             {"distance_damped_bin_fraction", ratio(damped_bins, distance_steps)},
+            {"distance_skipped", double(distance_skipped)},
             {"direction_damped_vertex_fraction", ratio(direction_damped_vertices, direction_samples)}};
 }
 
 WalkGuide::WalkGuide(const Scene& scene, const GuidingField& field, const WalkGuideSettings& settings)
     : field_(field), settings_(settings) {
+    if (settings_.direction_indirect) {
+        direction_leaves_.resize(field.leaves().size());
+        for (size_t i = 0; i < field.leaves().size(); ++i) {
+            GuidingLeaf& d = direction_leaves_[i];
+            d.vmm = field.leaves()[i].vmm_indirect;
+            d.valid = field.leaves()[i].valid_indirect;
+            d.fluence = field.leaves()[i].fluence;
+            d.samples = field.leaves()[i].samples;
+        }
+    }
     leaf_extent_.resize(size_t(field.tree().leaf_count()));
     for (int i = 0; i < field.tree().leaf_count(); ++i) {
         const Vec3f e = field.tree().leaf_bounds(i).extents();
@@ -250,6 +262,12 @@ WalkGuide::WalkGuide(const Scene& scene, const GuidingField& field, const WalkGu
     }
 }
 
+float WalkGuide::leaf_confidence(int leaf, const Color3& sigma_t) const {
+    if (!(settings_.leaf_tau_max > 0.f) || leaf < 0) return 1.f;
+    const float tau = leaf_extent_[size_t(leaf)] * sigma_t.average();
+    return tau > settings_.leaf_tau_max ? settings_.leaf_tau_max / tau : 1.f;
+}
+
 const LeafEstimates* WalkGuide::estimates_for(const PhaseFunction& phase) const {
     const auto it = estimates_.find(phase.mean_cosine());
     return it == estimates_.end() ? nullptr : &it->second;
@@ -257,7 +275,16 @@ const LeafEstimates* WalkGuide::estimates_for(const PhaseFunction& phase) const 
 
 FreeFlightSample WalkGuide::sample_distance(const Medium& medium, const Ray& ray, float tmax,
                                             const Color3& throughput, Sampler& sampler) const {
+    // A query from the vertex of the last guided scatter: its leaf is known. Where that leaf's
+    // confidence is below kSkipConfidence the guided share would be small, and the guided walk
+    // (a leaf lookup per bin) costs more than it can return: free flight, as for leaves without
+    // estimates.
+    const int origin_leaf = last_scatter.leaf >= 0 && last_scatter.p == ray.o ? last_scatter.leaf : -1;
     last_scatter.leaf = -1;
+    if (origin_leaf >= 0 && leaf_confidence(origin_leaf, medium.eval(ray.o).sigma_t) < kSkipConfidence) {
+        ++stats_.local().distance_skipped;
+        return medium.sample_free_flight(ray, tmax, throughput, sampler);
+    }
     float b0, b1;
     const bool crosses = !field_.empty() && field_.tree().bounds().ray_intersect(ray, b0, b1) && b1 > 0.f;
     // The guided part: (0, t_end); beyond the field's bounds the medium's own free flight.
@@ -353,12 +380,17 @@ void WalkGuide::direction_sampler(const MediumInteraction& mi, const PhaseFuncti
                    ? &field_.leaves()[size_t(last.leaf)]
                    : field_.leaf_at(mi.p);
     }
+    if (leaf && settings_.direction_indirect)
+        leaf = &direction_leaves_[size_t(leaf - field_.leaves().data())];
     const auto it = phase_vmms_.find(phase.mean_cosine());
     float phase_prob = settings_.phase_prob;
-    if (leaf && settings_.leaf_tau_max > 0.f) {
-        const float tau = leaf_extent_[size_t(leaf - field_.leaves().data())] * mi.coeffs.sigma_t.average();
-        if (tau > settings_.leaf_tau_max) {
-            phase_prob = 1.f - (1.f - phase_prob) * settings_.leaf_tau_max / tau;
+    if (leaf) {
+        const GuidingLeaf* base =
+            settings_.direction_indirect ? direction_leaves_.data() : field_.leaves().data();
+        const float confidence = leaf_confidence(int(leaf - base), mi.coeffs.sigma_t);
+        if (confidence < 1.f) {
+            // Below kSkipConfidence the product is not worth building: the phase function alone.
+            phase_prob = confidence < kSkipConfidence ? 1.f : 1.f - (1.f - phase_prob) * confidence;
             ++stats_.local().direction_damped_vertices;
         }
     }

@@ -58,6 +58,11 @@ struct WalkGuideSettings {
     // weights. The guided distance probability and the direction mixture's guided share are scaled
     // by the confidence toward free flight and the phase function. 0: off (confidence 1).
     float leaf_tau_max = 1.f;
+    // Direction guiding from the leaves' indirect distribution (GuidingLeaf::vmm_indirect): NEE
+    // already samples the light that comes straight from the emitters at every medium vertex, so
+    // the continuation's zero-variance target is f_p times the rest (theory.md §8.3). false: the
+    // full incident distribution (the paper's).
+    bool direction_indirect = true;
 };
 
 struct WalkGuideStats {
@@ -71,8 +76,9 @@ struct WalkGuideStats {
     uint64_t direction_samples = 0;       // directions sampled at medium vertices
     uint64_t direction_guided = 0;        // ... from the guiding VMM (the rest from the phase function)
     uint64_t direction_unguided_vertices = 0;  // vertices without a valid leaf (phase only)
-    uint64_t damped_bins = 0;                  // bins whose leaf is optically larger than leaf_tau_max
-    uint64_t direction_damped_vertices = 0;    // vertices whose leaf is optically larger than leaf_tau_max
+    uint64_t distance_skipped = 0;  // queries from a vertex in a leaf of confidence < kSkipConfidence
+    uint64_t damped_bins = 0;       // bins whose leaf is optically larger than leaf_tau_max
+    uint64_t direction_damped_vertices = 0;  // vertices whose leaf is optically larger than leaf_tau_max
     WalkGuideStats& operator+=(const WalkGuideStats& o);
     // Named values for --stats.
     std::vector<std::pair<std::string, double>> named() const;
@@ -102,6 +108,11 @@ class WalkGuide {
 
   private:
     const LeafEstimates* estimates_for(const PhaseFunction& phase) const;
+    // min(1, leaf_tau_max / (sigma_t average x leaf extent)); 1 when leaf_tau_max is 0 (off).
+    float leaf_confidence(int leaf, const Color3& sigma_t) const;
+    // Below this confidence a vertex neither builds the direction product nor walks the guided
+    // bins from it: phase sampling and free flight (the guided share would be under a quarter).
+    static constexpr float kSkipConfidence = 0.25f;
 
     const GuidingField& field_;
     WalkGuideSettings settings_;
@@ -109,6 +120,9 @@ class WalkGuide {
     std::map<float, LeafEstimates> estimates_;   // by phase mean cosine (reads inscatter_)
     std::map<float, PhaseVmm> phase_vmms_;
     std::vector<float> leaf_extent_;  // cube root of each leaf's volume
+    // With direction_indirect: per leaf, vmm/valid replaced by vmm_indirect/valid_indirect (the
+    // direction sampler reads a GuidingLeaf).
+    std::vector<GuidingLeaf> direction_leaves_;
     mutable tbb::enumerable_thread_specific<WalkGuideStats> stats_;
 };
 
