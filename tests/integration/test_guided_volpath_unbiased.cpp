@@ -145,14 +145,16 @@ TEST(GuidedVolPathUnbiased, WhiteFurnaceEveryCombination) {
                                           heavy ? 4096 : 1024, 17, /*test_media=*/false);
             expect_constant_image(r, 1.0);
         }
-    // Leaves "optically large" (leaf_tau_max 0.05: every bin and vertex damped toward free flight and
-    // the phase function by a different factor): still 1.
-    for (const std::string distance : {"incremental", "tabulated"}) {
-        SCOPED_TRACE("damped " + distance);
-        Rendered r = render_scene_xml(furnace_xml(false, grid, guided(distance, "product", 100000, 0.05f)),
-                                      1024, 18, false);
-        expect_constant_image(r, 1.0);
-    }
+    // Leaves "optically large": leaf_tau_max 0.4 damps bins and vertices toward free flight and the
+    // phase function by factors around 1/2 (leaves ~0.3 across, sigma_t 2 on average); 0.02 makes
+    // every vertex skip guiding (confidence < 1/4). Still 1.
+    for (const float tau_max : {0.4f, 0.02f})
+        for (const std::string distance : {"incremental", "tabulated"}) {
+            SCOPED_TRACE(fmt::format("leaf_tau_max {} {}", tau_max, distance));
+            Rendered r = render_scene_xml(
+                furnace_xml(false, grid, guided(distance, "product", 100000, tau_max)), 1024, 18, false);
+            expect_constant_image(r, 1.0);
+        }
 }
 
 TEST(GuidedVolPathUnbiased, PointLitFogMatchesVolpath) {
@@ -190,6 +192,8 @@ TEST(GuidedVolPathUnbiased, TheGuideIsUsed) {
     EXPECT_GT(d.at("distance_damped_bin_fraction"), 0.5);  // the rest: outside the fog / invalid leaves
     EXPECT_GT(d.at("direction_damped_vertex_fraction"), 0.5);
     EXPECT_LT(d.at("direction_guided_fraction"), 0.25);  // phase_prob pushed toward 1
+    EXPECT_GT(d.at("distance_skipped"), 0.0);            // queries from vertices of confidence < 1/4
+    EXPECT_EQ(s.at("distance_skipped"), 0.0);
 }
 
 TEST(GuidedVolPathUnbiased, HeterogeneousMediaUseGuidedTracking) {
