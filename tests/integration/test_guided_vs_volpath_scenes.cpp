@@ -1,5 +1,6 @@
 // Issue 7: guided_volpath's full guided sampling (distance=incremental direction=product, the
-// defaults) against volpath on the benchmark scenes `shafts` and `cloud` (bench/scenes), per pixel:
+// defaults, with surface guiding) against volpath on the benchmark scenes `shafts`, `cloud` and
+// `fogbox` (bench/scenes), per pixel:
 // two independent renders at a small resolution, each with its own per-sample variance (--variance),
 // z = (a - b) / sqrt(var_a / n_a + var_b / n_b) per pixel and channel, two-sided, Šidák-corrected at
 // alpha = 0.01 over the pixel-channels; at least 99.5 % must pass (own variances are noisy estimates
@@ -77,3 +78,6 @@ void compare(const std::string& scene, int spp_volpath, int spp_guided) {
 
 TEST(GuidedVsVolpathScenes, Shafts) { compare("shafts", 1024, 512); }
 TEST(GuidedVsVolpathScenes, Cloud) { compare("cloud", 1024, 512); }
+// A Cornell box in thin fog: the walls are diffuse and guided from the fog's leaves beside them
+// (surface_guiding), as are the shafts room's walls above.
+TEST(GuidedVsVolpathScenes, Fogbox) { compare("fogbox", 1024, 512); }

@@ -103,6 +103,8 @@ GuidedVolPathSettings GuidedVolPathSettings::from(const Properties& props) {
     s.guide.phase_prob = unit_interval("phase_prob", s.guide.phase_prob, false);
     s.guide.direction_indirect = read_choice(props, "direction_radiance", "indirect", {"indirect", "all"},
                                              {"indirect", "all"}, "indirect") == "indirect";
+    s.guide.surface = props.get_bool("surface_guiding", s.guide.surface);
+    s.guide.bsdf_prob = unit_interval("bsdf_prob", s.guide.bsdf_prob, false);
     s.guide.leaf_tau_max = props.get_float("leaf_tau_max", s.guide.leaf_tau_max);
     if (!(s.guide.leaf_tau_max >= 0.f) || std::isinf(s.guide.leaf_tau_max))
         props.fail_at("leaf_tau_max",
@@ -236,10 +238,11 @@ std::string GuidedVolPathIntegrator::to_string() const {
     return fmt::format(
         "guided_volpath[max_depth={}, rr_depth={}, training={}, photons={}, training_iterations={}, "
         "leaf_samples={}, "
-        "lobes={}, distance={}, hetero_distance={}, direction={}, rrs={}, equiangular={}, estimate={}]",
+        "lobes={}, distance={}, hetero_distance={}, direction={}, surface_guiding={}, rrs={}, equiangular={}, "
+        "estimate={}]",
         s.walk.max_depth, s.walk.rr_depth, s.training, s.photons, s.training_iterations,
         s.field.tree.max_samples, s.field.lobes, s.distance, s.guide.guided_tracking ? "tracking" : "bins",
-        s.direction, s.rrs, s.walk.equiangular, s.estimate);
+        s.direction, s.guide.surface, s.rrs, s.walk.equiangular, s.estimate);
 }
 
 }  // namespace volguide

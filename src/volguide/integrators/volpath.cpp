@@ -20,6 +20,7 @@
 
 #include <cmath>
 #include <optional>
+#include <tuple>
 
 #include "volguide/core/log.h"
 #include "volguide/integrators/equiangular.h"
@@ -371,13 +372,19 @@ Color3 VolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const Ray& ca
         if (!si.is_valid()) break;
 
         const BSDF& bsdf = *si.shape->bsdf();
+        // Guided surface directions: one mixture per vertex, used by NEE's MIS and the continuation.
+        std::optional<GuidedSurfaceSampler> surface_dir;
+        Vmm surface_guide{Vmm::Uninitialized{}};
+        if (guide && guide->guides_surfaces() && !bsdf.is_null())
+            guide->surface_sampler(si, bsdf, medium, surface_guide, surface_dir);
         // NEE (only when its path, one segment longer, is within max_depth).
         if (bsdf.has(bsdf_flags::Smooth) && depth_ok(depth + 1)) {
             VolumeEmitterSample es = sample_emitter_through_media(scene, si, &si, medium, sampler.next_2d(), sampler);
             if (!es.weight.is_black()) {
                 const Vec3f wo = si.to_local(es.ds.d);
                 const Color3 f = bsdf.eval(ctx, si, wo);
-                const float bsdf_pdf = es.ds.delta ? 0.f : bsdf.pdf(ctx, si, wo);
+                const float bsdf_pdf =
+                    es.ds.delta ? 0.f : (surface_dir ? surface_dir->pdf(ctx, wo) : bsdf.pdf(ctx, si, wo));
                 const float w = es.ds.delta ? 1.f : mis_power_heuristic(es.ds.pdf, bsdf_pdf);
                 add(throughput * f * es.weight * w);
             }
@@ -385,7 +392,16 @@ Color3 VolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const Ray& ca
 
         const float u1 = sampler.next_1d();
         const Point2f u2 = sampler.next_2d();
-        auto [bs, bsdf_weight] = bsdf.sample(ctx, si, u1, u2);
+        BSDFSample bs;
+        Color3 bsdf_weight;
+        if (surface_dir && surface_dir->guided()) {
+            const GuidedSurfaceSampler::Sample g = surface_dir->sample(ctx, sampler.next_1d(), u1, u2);
+            guide->count_surface_direction(g.guided);
+            bs = g.bs;
+            bsdf_weight = g.weight;
+        } else {
+            std::tie(bs, bsdf_weight) = bsdf.sample(ctx, si, u1, u2);
+        }
         throughput *= bsdf_weight;
         if (throughput.is_black()) break;
         eta *= bs.eta;

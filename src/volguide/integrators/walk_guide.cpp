@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "volguide/guiding/guided_collision.h"
+#include "volguide/guiding/surface_guide.h"
 #include "volguide/media/heterogeneous.h"
 #include "volguide/media/spectral_mis.h"
 #include "volguide/render/scene.h"
@@ -209,6 +210,9 @@ WalkGuideStats& WalkGuideStats::operator+=(const WalkGuideStats& o) {
     damped_bins += o.damped_bins;
     distance_skipped += o.distance_skipped;
     direction_damped_vertices += o.direction_damped_vertices;
+    surface_vertices += o.surface_vertices;
+    surface_guided_vertices += o.surface_guided_vertices;
+    surface_guided_samples += o.surface_guided_samples;
     return *this;
 }
 
@@ -226,7 +230,10 @@ std::vector<std::pair<std::string, double>> WalkGuideStats::named() const {
             {"direction_unguided_vertex_fraction", ratio(direction_unguided_vertices, direction_samples)},
             {"distance_damped_bin_fraction", ratio(damped_bins, distance_steps)},
             {"distance_skipped", double(distance_skipped)},
-            {"direction_damped_vertex_fraction", ratio(direction_damped_vertices, direction_samples)}};
+            {"direction_damped_vertex_fraction", ratio(direction_damped_vertices, direction_samples)},
+            {"surface_vertices", double(surface_vertices)},
+            {"surface_guided_vertex_fraction", ratio(surface_guided_vertices, surface_vertices)},
+            {"surface_guided_sample_fraction", ratio(surface_guided_samples, surface_vertices)}};
 }
 
 WalkGuide::WalkGuide(const Scene& scene, const GuidingField& field, const WalkGuideSettings& settings)
@@ -241,6 +248,7 @@ WalkGuide::WalkGuide(const Scene& scene, const GuidingField& field, const WalkGu
             d.samples = field.leaves()[i].samples;
         }
     }
+    surface_offset_ = 1e-4f * norm(field.tree().bounds().extents());
     leaf_extent_.resize(size_t(field.tree().leaf_count()));
     for (int i = 0; i < field.tree().leaf_count(); ++i) {
         const Vec3f e = field.tree().leaf_bounds(i).extents();
@@ -397,6 +405,35 @@ void WalkGuide::direction_sampler(const MediumInteraction& mi, const PhaseFuncti
     const GuidedDirectionSampler& s = out.emplace(settings_.direction, leaf, phase, mi.wi, phase_prob,
                                                   it == phase_vmms_.end() ? nullptr : &it->second);
     if (!s.guided()) ++stats_.local().direction_unguided_vertices;
+}
+
+void WalkGuide::surface_sampler(const SurfaceInteraction& si, const BSDF& bsdf, const Medium* medium,
+                                Vmm& guide_storage, std::optional<GuidedSurfaceSampler>& out) const {
+    const Vmm* guide = nullptr;
+    float bsdf_prob = settings_.bsdf_prob;
+    if (guides_surfaces() && !field_.empty() && bsdf.flags() == bsdf_flags::DiffuseReflection) {
+        ++stats_.local().surface_vertices;
+        // The side the path arrives from (wi above the shading frame: its normal, else the back).
+        const Vec3f n = si.wi.z >= 0.f ? Vec3f(si.sh_frame.n) : -Vec3f(si.sh_frame.n);
+        const int index = field_.tree().leaf_at(si.p + n * surface_offset_);
+        const GuidingLeaf* leaf = nullptr;
+        if (index >= 0)
+            leaf = settings_.direction_indirect ? &direction_leaves_[size_t(index)] : &field_.leaves()[size_t(index)];
+        const float confidence = leaf && medium ? leaf_confidence(index, medium->eval(si.p).sigma_t) : 1.f;
+        if (leaf && leaf->valid && leaf->vmm.count > 0 && confidence >= kSkipConfidence) {
+            bsdf_prob = 1.f - (1.f - bsdf_prob) * confidence;
+            if (settings_.direction == DirectionGuiding::Incident)
+                guide = &leaf->vmm;
+            else if (cosine_product(leaf->vmm, n, guide_storage))
+                guide = &guide_storage;
+        }
+    }
+    out.emplace(bsdf, si, guide, bsdf_prob);
+    if (out->guided()) ++stats_.local().surface_guided_vertices;
+}
+
+void WalkGuide::count_surface_direction(bool guided) const {
+    if (guided) ++stats_.local().surface_guided_samples;
 }
 
 void WalkGuide::count_direction(bool guided) const {

@@ -32,6 +32,7 @@
 #include "volguide/guiding/guiding_field.h"
 #include "volguide/guiding/inscatter_cache.h"
 #include "volguide/guiding/leaf_estimates.h"
+#include "volguide/integrators/guided_surface_sampler.h"
 #include "volguide/media/medium.h"
 
 namespace volguide {
@@ -63,6 +64,11 @@ struct WalkGuideSettings {
     // the continuation's zero-variance target is f_p times the rest (theory.md §8.3). false: the
     // full incident distribution (the paper's).
     bool direction_indirect = true;
+    // Diffuse surface vertices guided by the leaf around them (guiding/surface_guide.h), whenever
+    // directions are guided: the leaf's VMM (direction=incident) or its product with the cosine lobe
+    // (direction=product), mixed with BSDF sampling with probability bsdf_prob.
+    bool surface = true;
+    float bsdf_prob = GuidedSurfaceSampler::kDefaultBsdfProbability;
 };
 
 struct WalkGuideStats {
@@ -79,6 +85,9 @@ struct WalkGuideStats {
     uint64_t distance_skipped = 0;  // queries from a vertex in a leaf of confidence < kSkipConfidence
     uint64_t damped_bins = 0;       // bins whose leaf is optically larger than leaf_tau_max
     uint64_t direction_damped_vertices = 0;  // vertices whose leaf is optically larger than leaf_tau_max
+    uint64_t surface_vertices = 0;         // diffuse surface vertices offered to surface guiding
+    uint64_t surface_guided_vertices = 0;  // ... that found a valid leaf (mixture sampling)
+    uint64_t surface_guided_samples = 0;   // directions drawn from the surface guide
     WalkGuideStats& operator+=(const WalkGuideStats& o);
     // Named values for --stats.
     std::vector<std::pair<std::string, double>> named() const;
@@ -92,6 +101,7 @@ class WalkGuide {
     const WalkGuideSettings& settings() const { return settings_; }
     bool guides_distance() const { return settings_.distance != DistanceGuiding::Standard; }
     bool guides_direction() const { return settings_.direction != DirectionGuiding::Phase; }
+    bool guides_surfaces() const { return settings_.surface && guides_direction(); }
 
     // Medium::sample_free_flight's contract (weight, mi when scattered) with guided probabilities.
     FreeFlightSample sample_distance(const Medium& medium, const Ray& ray, float tmax,
@@ -103,6 +113,15 @@ class WalkGuide {
                            std::optional<GuidedDirectionSampler>& out) const;
     // Counts one sampled direction (guided: drawn from the guiding part of the mixture).
     void count_direction(bool guided) const;
+
+    // The direction sampler of a surface vertex: BSDF sampling mixed with the guide of the leaf
+    // beside the surface on the side the path arrives from (`medium`: the medium it travelled in,
+    // null for none; its extinction sets the leaf's confidence as in the medium). `guide_storage`
+    // holds the product guide and must outlive `out`. Leaves `out` a pure BSDF sampler where
+    // there is nothing to guide with (not diffuse, no valid leaf, surfaces not guided).
+    void surface_sampler(const SurfaceInteraction& si, const BSDF& bsdf, const Medium* medium, Vmm& guide_storage,
+                         std::optional<GuidedSurfaceSampler>& out) const;
+    void count_surface_direction(bool guided) const;
 
     WalkGuideStats stats() const;
 
@@ -120,6 +139,7 @@ class WalkGuide {
     std::map<float, LeafEstimates> estimates_;   // by phase mean cosine (reads inscatter_)
     std::map<float, PhaseVmm> phase_vmms_;
     std::vector<float> leaf_extent_;  // cube root of each leaf's volume
+    float surface_offset_ = 0.f;      // how far off a surface its leaf is looked up
     // With direction_indirect: per leaf, vmm/valid replaced by vmm_indirect/valid_indirect (the
     // direction sampler reads a GuidingLeaf).
     std::vector<GuidingLeaf> direction_leaves_;
