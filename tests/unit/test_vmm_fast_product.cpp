@@ -8,6 +8,7 @@
 
 #include "support/sphere_quadrature.h"
 #include "volguide/guiding/surface_guide.h"
+#include "volguide/vmm/phase_vmm.h"
 #include "volguide/vmm/vmm_fast_product.h"
 
 using namespace volguide;
@@ -66,6 +67,35 @@ TEST(VmmFastProduct, MatchesTheDoublePrecisionProduct) {
                 const Vec3f dr(ref.mu_x[k], ref.mu_y[k], ref.mu_z[k]), df(fast.mu_x[k], fast.mu_y[k], fast.mu_z[k]);
                 EXPECT_LT(norm(dr - df), 1e-5f) << trial;
             }
+        }
+    }
+}
+
+TEST(VmmFastProduct, MixtureTimesMixtureMatchesTheDoublePrecisionProduct) {
+    // A radiance VMM times an HG phase VMM on a travel direction (the guided direction sampler's
+    // product: lobes of b on one axis share the angle) and times a mixture of distinct axes.
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> u(0.f, 1.f);
+    for (int trial = 0; trial < 500; ++trial) {
+        Vmm a;
+        for (int k = 0; k < 8; ++k)
+            a.add_lobe(0.05f + u(rng), VmfLobe(random_direction(rng), std::exp(std::log(1e-3f) + u(rng) * std::log(1e6f))));
+        a.normalize_weights();
+        VmfMixture<kPhaseVmmMaxLobes> b;
+        if (trial % 2 == 0) {
+            b = hg_phase_vmm(-0.95f + 1.9f * u(rng)).oriented(random_direction(rng));
+        } else {
+            for (int j = 0; j < 3; ++j) b.add_lobe(0.1f + u(rng), VmfLobe(random_direction(rng), 50.f * u(rng)));
+            b.normalize_weights();
+        }
+        VmfMixture<32 * kPhaseVmmMaxLobes> ref, fast;
+        const double z_ref = product_into(a, b, ref);
+        const double z_fast = product_fast(a, b, fast);
+        ASSERT_EQ(ref.count, fast.count) << trial;
+        EXPECT_NEAR(z_fast, z_ref, 1e-4 * z_ref) << trial;
+        for (int k = 0; k < ref.count; ++k) {
+            EXPECT_NEAR(fast.weight[k], ref.weight[k], 1e-4 * ref.weight[k] + 1e-6) << trial << " lobe " << k;
+            EXPECT_NEAR(fast.kappa[k], ref.kappa[k], 1e-4 * ref.kappa[k] + 1e-4) << trial;
         }
     }
 }

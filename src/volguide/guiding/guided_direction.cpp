@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "volguide/vmm/vmm_fast_product.h"
+
 namespace volguide {
 
 namespace {
@@ -39,7 +41,7 @@ GuidedDirectionSampler::GuidedDirectionSampler(DirectionGuiding mode, const Guid
             product_integral_ = leaf->vmm.weight_sum() * double(InvFourPi);
         } else {
             // The phase VMM's lobes sit on +-(travel direction) = +-(-wi) (phase_vmm.h).
-            product_integral_ = product_into(leaf->vmm, fp.oriented(-wi), product_.emplace(ProductVmm::Uninitialized{}));
+            product_integral_ = product_fast(leaf->vmm, fp.oriented(-wi), product_.emplace(ProductVmm::Uninitialized{}));
             if (!(product_integral_ > 0.0) || !std::isfinite(product_integral_) || product_->count == 0) {
                 product_.reset();
                 product_integral_ = 0.0;

@@ -22,16 +22,20 @@ inline float vmf_normalization_fast(float kappa) {
     return kappa * inv_2pi / denom;
 }
 
-// The product lobe of lobe k of `a` with `b`: writes it to out slot `slot` with weight
-// a.weight[k] * c(kappa_a) c(kappa_b) / c(kappa_12) (the scale without its exponential) and
-// returns the exponent kappa_12 - kappa_a - kappa_b <= 0 (theory.md eq. 3.3).
+// 1 - cos of two unit vectors from their difference: no cancellation near cos = 1.
+inline float one_minus_cos_fast(float ax, float ay, float az, const Vec3f& b) {
+    const float dx = ax - b.x, dy = ay - b.y, dz = az - b.z;
+    return std::fmin(0.5f * (dx * dx + dy * dy + dz * dz), 2.f);
+}
+
+// The product lobe of lobe k of `a` with `b` (one_minus = 1 - mu_a . mu_b): writes it to out slot
+// `slot` with weight a.weight[k] * c(kappa_a) c(kappa_b) / c(kappa_12) (the scale without its
+// exponential) and returns the exponent kappa_12 - kappa_a - kappa_b <= 0 (theory.md eq. 3.3).
 template <int A, int C>
-float product_lobe_fast(const VmfMixture<A>& a, int k, const VmfLobe& b, VmfMixture<C>& out, int slot) {
+float product_lobe_fast(const VmfMixture<A>& a, int k, const VmfLobe& b, float one_minus, VmfMixture<C>& out,
+                        int slot) {
     const float ka = a.kappa[k], kb = b.kappa;
     const float ax = a.mu_x[k], ay = a.mu_y[k], az = a.mu_z[k];
-    // 1 - cos from the difference of the unit vectors: no cancellation near cos = 1.
-    const float dx = ax - b.mu.x, dy = ay - b.mu.y, dz = az - b.mu.z;
-    const float one_minus = std::fmin(0.5f * (dx * dx + dy * dy + dz * dz), 2.f);
     const float one_plus = 2.f - one_minus;
     const float k12 = std::sqrt((ka - kb) * (ka - kb) + 2.f * ka * kb * one_plus);
     const float denom = k12 + ka + kb;
@@ -67,7 +71,8 @@ double product_with_lobe_fast(const VmfMixture<A>& a, const VmfLobe& b, VmfMixtu
     std::array<float, A> exponent;
     float max_exponent = -INFINITY;
     for (int k = 0; k < a.count; ++k) {
-        exponent[k] = product_lobe_fast(a, k, b, out, k);
+        const float omc = one_minus_cos_fast(a.mu_x[k], a.mu_y[k], a.mu_z[k], b.mu);
+        exponent[k] = product_lobe_fast(a, k, b, omc, out, k);
         if (out.weight[k] > 0.f) max_exponent = std::fmax(max_exponent, exponent[k]);
     }
     out.count = 0;
@@ -81,6 +86,42 @@ double product_with_lobe_fast(const VmfMixture<A>& a, const VmfLobe& b, VmfMixtu
     out.count = a.count;
     const float inv = 1.f / z;
     for (int k = 0; k < out.count; ++k) out.weight[k] *= inv;
+    return double(z) * std::exp(double(max_exponent));
+}
+
+// out = a(w) b(w) / Z for two mixtures (K x J lobes, lobe (k, j) at k * b.count + j, the order
+// of product_into); returns Z in double (0: out is empty). Lobes of b on the axis of the lobe
+// before them (a phase VMM's) share the angle to each lobe of a.
+template <int A, int B, int C>
+double product_fast(const VmfMixture<A>& a, const VmfMixture<B>& b, VmfMixture<C>& out) {
+    static_assert(C >= A * B, "product_fast: output capacity below A x B");
+    std::array<float, A * B> exponent;
+    std::array<bool, B> same_axis;
+    for (int j = 0; j < b.count; ++j)
+        same_axis[j] = j > 0 && b.mu_x[j] == b.mu_x[j - 1] && b.mu_y[j] == b.mu_y[j - 1] && b.mu_z[j] == b.mu_z[j - 1];
+    float max_exponent = -INFINITY;
+    int n = 0;
+    for (int k = 0; k < a.count; ++k) {
+        float omc = 0.f;
+        for (int j = 0; j < b.count; ++j, ++n) {
+            const VmfLobe lb = b.lobe(j);
+            if (!same_axis[j]) omc = one_minus_cos_fast(a.mu_x[k], a.mu_y[k], a.mu_z[k], lb.mu);
+            exponent[n] = product_lobe_fast(a, k, lb, omc, out, n);
+            out.weight[n] *= b.weight[j];
+            if (out.weight[n] > 0.f) max_exponent = std::fmax(max_exponent, exponent[n]);
+        }
+    }
+    out.count = 0;
+    if (!std::isfinite(max_exponent)) return 0.0;
+    float z = 0.f;
+    for (int i = 0; i < n; ++i) {
+        out.weight[i] *= std::exp(exponent[i] - max_exponent);
+        z += out.weight[i];
+    }
+    if (!(z > 0.f) || !std::isfinite(z)) return 0.0;
+    out.count = n;
+    const float inv = 1.f / z;
+    for (int i = 0; i < n; ++i) out.weight[i] *= inv;
     return double(z) * std::exp(double(max_exponent));
 }
 
