@@ -79,8 +79,17 @@ IncrementalDistanceWalk::Bin IncrementalDistanceWalk::evaluate(const DistanceBin
     Bin p;
     p.length = bin.t1 - bin.t0;
     p.sigma_bar = scalar_sigma_t(bin.sigma_t);
-    p.P_T_bar = -std::expm1(-p.sigma_bar * p.length);
-    p.T_bar = std::exp(-p.sigma_bar * p.length);  // not 1 - P_T_bar: keeps its precision when thick
+    // One transcendental per bin: thin bins need expm1 for 1 - T (cancellation) and get T = 1 + it
+    // (>= 0.6, exact to rounding); thick ones need exp for T (its relative precision when tiny) and
+    // get 1 - T (>= 0.4, no cancellation).
+    const float tau_bar = p.sigma_bar * p.length;
+    if (tau_bar < 0.5f) {
+        p.P_T_bar = -std::expm1(-tau_bar);
+        p.T_bar = 1.f - p.P_T_bar;
+    } else {
+        p.T_bar = std::exp(-tau_bar);
+        p.P_T_bar = 1.f - p.T_bar;
+    }
     if (strategy_ != DistanceStrategy::Guided) {
         const int c = channel_of(strategy_);
         p.P_T_c = is_grey(bin.sigma_t) ? p.P_T_bar : -std::expm1(-bin.sigma_t[c] * p.length);

@@ -119,36 +119,56 @@ SpatialTree::RayCursor::RayCursor(const SpatialTree& tree, const Ray& ray, float
     : tree_(&tree), o_(ray.o), d_(ray.d), inv_d_(1.f / ray.d.x, 1.f / ray.d.y, 1.f / ray.d.z) {
     float b0, b1;
     if (!tree.bounds_.ray_intersect(ray, b0, b1)) return;
-    t0 = std::max(t0, b0);
-    t1 = std::min(t1, b1);
-    if (t0 < t1) stack_[top_++] = {0u, t0, t1};
+    t_ = std::max(t0, b0);
+    t_end_ = std::min(t1, b1);
+    if (!(t_ < t_end_)) return;
+    leaf_ = int(tree.nodes_[descend(0u, o_ + d_ * t_)].child);
+}
+
+uint32_t SpatialTree::RayCursor::descend(uint32_t node, const Point3f& p) const {
+    const std::vector<Node>& nodes = tree_->nodes_;
+    while (!nodes[node].is_leaf()) {
+        const Node& n = nodes[node];
+        const float x = p[n.axis];
+        const bool upper = x > n.split || (x == n.split && d_[n.axis] >= 0.f);
+        node = n.child + (upper ? 1u : 0u);
+    }
+    return node;
 }
 
 bool SpatialTree::RayCursor::next(int& leaf, float& t_enter, float& t_exit) {
-    // Depth-first, near child first: the stack holds the far sides still to visit (at most one
-    // per level, and the tree's depth is capped at 60).
-    while (top_ > 0) {
-        Todo todo = stack_[--top_];
-        while (true) {
-            const Node& n = tree_->nodes_[todo.node];
-            if (n.is_leaf()) {
-                leaf = int(n.child);
-                t_enter = todo.t0;
-                t_exit = todo.t1;
-                return true;
-            }
-            const int a = n.axis;
-            const float t_split = (n.split - o_[a]) * inv_d_[a];
-            auto upper_at = [&](float t) { return o_[a] + d_[a] * t >= n.split; };
-            if (!(t_split > todo.t0) || !(t_split < todo.t1)) {
-                todo.node = n.child + (upper_at(0.5f * (todo.t0 + todo.t1)) ? 1u : 0u);
-                continue;
-            }
-            const bool near_upper = upper_at(0.5f * (todo.t0 + t_split));
-            stack_[top_++] = {n.child + (near_upper ? 0u : 1u), t_split, todo.t1};
-            todo = {n.child + (near_upper ? 1u : 0u), todo.t0, t_split};
+    // Leaves whose interval rounds to nothing (a corner or edge crossed exactly) are passed over.
+    for (int guard = 0; leaf_ >= 0 && guard < 1 << 20; ++guard) {
+        const BBox3f& box = tree_->leaf_bounds_[size_t(leaf_)];
+        int axis = -1;
+        float exit = Infinity;
+        for (int a = 0; a < 3; ++a) {
+            if (d_[a] == 0.f) continue;
+            const float t = ((d_[a] > 0.f ? box.hi[a] : box.lo[a]) - o_[a]) * inv_d_[a];
+            if (t < exit) exit = t, axis = a;
+        }
+        const int current = leaf_;
+        const uint32_t rope = axis >= 0 ? tree_->rope(current, 2 * axis + (d_[axis] > 0.f ? 1 : 0)) : kNoRope;
+        const float t0 = t_;
+        if (rope == kNoRope || !(exit < t_end_)) {
+            // The last leaf: on to the end of the segment (the bounds' exit, up to rounding).
+            leaf_ = -1;
+            exit = t_end_;
+        } else {
+            exit = std::max(exit, t_);
+            Point3f p = o_ + d_ * exit;
+            p[axis] = d_[axis] > 0.f ? box.hi[axis] : box.lo[axis];  // exactly on the face
+            leaf_ = int(tree_->nodes_[descend(rope, p)].child);
+            t_ = exit;
+        }
+        if (exit > t0) {
+            leaf = current;
+            t_enter = t0;
+            t_exit = exit;
+            return true;
         }
     }
+    leaf_ = -1;
     return false;
 }
 
@@ -189,6 +209,31 @@ void SpatialTree::compute_leaf_bounds() {
         stack.push_back({n.child + 1, hi, it.depth + 1});
     }
     depth_ = depth;
+
+    // Ropes: from the root towards the region just beyond each leaf face, as long as the face's
+    // rectangle lies on one side of the splits met; stop at the first node that cuts it.
+    ropes_.assign(leaves * 6, kNoRope);
+    for (size_t leaf = 0; leaf < leaves; ++leaf) {
+        const BBox3f& box = leaf_bounds_[leaf];
+        for (int face = 0; face < 6; ++face) {
+            const int a = face / 2;
+            const bool up = face % 2 == 1;
+            const float plane = up ? box.hi[a] : box.lo[a];
+            if (plane == (up ? bounds_.hi[a] : bounds_.lo[a])) continue;  // on the bounds
+            uint32_t node = 0;
+            while (!nodes_[node].is_leaf()) {
+                const Node& n = nodes_[node];
+                int side;  // 0 lower, 1 upper, -1 the split cuts the face
+                if (n.axis == a)
+                    side = up ? (plane >= n.split ? 1 : 0) : (plane > n.split ? 1 : 0);
+                else
+                    side = box.hi[n.axis] <= n.split ? 0 : (box.lo[n.axis] >= n.split ? 1 : -1);
+                if (side < 0) break;
+                node = n.child + uint32_t(side);
+            }
+            ropes_[leaf * 6 + size_t(face)] = node;
+        }
+    }
 }
 
 SpatialTree SpatialTree::from_nodes(const BBox3f& bounds, std::vector<Node> nodes) {

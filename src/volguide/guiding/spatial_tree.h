@@ -63,8 +63,14 @@ public:
     template <class Visit>
     bool traverse(const Ray& ray, float t0, float t1, Visit&& visit) const;
 
-    // The same traversal as a pull iterator: next() yields the leaves one at a time, so a caller that
-    // stops early (the incremental distance sampler) pays only for the leaves it looked at.
+    // The same leaves as a pull iterator: next() yields them one at a time, so a caller that stops
+    // early (the incremental distance sampler) pays only for the leaves it looked at. It walks
+    // leaf to leaf by ropes (below) instead of a stack: the exit face of the current leaf's box,
+    // then a short descent from that face's rope node with the exit point (its coordinate on the
+    // exit axis set exactly to the face), ties broken by the ray's direction. The intervals are
+    // contiguous, never empty, and cover the segment's overlap with the bounds (the last leaf is
+    // extended to the bounds' exit); they equal traverse()'s up to float rounding of the crossing
+    // distances (~3x cheaper per leaf than the stack: ~20 instead of ~67 ns on a 2900-leaf field).
     class RayCursor {
     public:
         RayCursor(const SpatialTree& tree, const Ray& ray, float t0, float t1);
@@ -72,16 +78,22 @@ public:
         bool next(int& leaf, float& t_enter, float& t_exit);
 
     private:
-        struct Todo {
-            uint32_t node;
-            float t0, t1;
-        };
+        // The leaf below `node` holding p, a point of the ray: points on a split plane go to the side
+        // the ray heads for (upper when parallel, as leaf_at).
+        uint32_t descend(uint32_t node, const Point3f& p) const;
+
         const SpatialTree* tree_;
         Point3f o_;
         Vec3f d_, inv_d_;
-        Todo stack_[64];
-        int top_ = 0;
+        int leaf_ = -1;  // the leaf to yield next; -1: none left
+        float t_ = 0.f, t_end_ = 0.f;
     };
+
+    // Rope of a leaf face (theory.md §7.3's bins walk leaf to leaf): the deepest node whose region
+    // holds everything just beyond that face, or kNoRope on the bounds. face = 2 axis + (1 for the
+    // upper face).
+    static constexpr uint32_t kNoRope = 0xffffffffu;
+    uint32_t rope(int leaf, int face) const { return ropes_[size_t(leaf) * 6 + size_t(face)]; }
 
     // Flat storage, for serialization.
     struct Node {
@@ -98,11 +110,12 @@ public:
     static SpatialTree from_nodes(const BBox3f& bounds, std::vector<Node> nodes);
 
 private:
-    void compute_leaf_bounds();
+    void compute_leaf_bounds();  // and the ropes
 
     BBox3f bounds_;
     std::vector<Node> nodes_;
     std::vector<BBox3f> leaf_bounds_;
+    std::vector<uint32_t> ropes_;  // 6 per leaf (compute_leaf_bounds)
     std::vector<uint32_t> sample_index_;  // samples grouped by leaf
     std::vector<uint32_t> leaf_offset_;   // leaf i: sample_index_[leaf_offset_[i] .. leaf_offset_[i + 1])
     int depth_ = 0;
