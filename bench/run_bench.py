@@ -49,6 +49,11 @@ EXTRA_METHODS = {
     # Heterogeneous media: the bins (theory.md §7.7 H1) instead of guided tracking (H2, the default).
     "guided_volpath distance=incremental hetero_distance=bins": {
         "guided": {"distance": "incremental", "hetero_distance": "bins"}},
+    # Ablations of the direction decision at surfaces and of the distance mixture's defensive share.
+    "guided_volpath distance=incremental direction=product surface_guiding=false": {
+        "guided": {"distance": "incremental", "direction": "product", "surface_guiding": False}},
+    "guided_volpath distance=incremental direction=product c_T=0.25": {
+        "guided": {"distance": "incremental", "direction": "product", "c_T": 0.25}},
 }
 
 # Zoomed crops shown in the HTML report: (x, y, width, height) in pixels of the 160x120 image.
@@ -87,7 +92,10 @@ def guided_integrator_xml(params):
              '    <integrator type="guided_volpath">',
              '        <integer name="max_depth" value="$max_depth"/>']
     for name, value in params.items():
-        kind = "integer" if isinstance(value, int) else "string"
+        if isinstance(value, bool):
+            kind, value = "boolean", "true" if value else "false"
+        else:
+            kind = "integer" if isinstance(value, int) else "float" if isinstance(value, float) else "string"
         lines.append(f'        <{kind} name="{name}" value="{value}"/>')
     lines += ["    </integrator>", "</scene>", ""]
     return "\n".join(lines)
