@@ -200,11 +200,12 @@ TEST(GuidedVolPathUnbiased, TheGuideIsUsed) {
     EXPECT_GT(d.at("distance_skipped"), 0.0);            // queries from vertices of confidence < 1/4
     EXPECT_EQ(s.at("distance_skipped"), 0.0);
     // The diffuse floor 0.01 below the fog is guided by the leaves above it (surface_guiding,
-    // default true): the floor (6 x 6) is wider than the fog (2 x 2), but most floor vertices the
-    // camera paths reach find a valid leaf (measured 0.72); about half of their directions
-    // (bsdf_prob 0.5) come from the guide.
+    // default true) where they are mostly fog: the floor (6 x 6) is wider than the fog (2 x 2), and
+    // the leaves along the fog's lower edges reach out over the bare floor (measured: 0.72 of the
+    // floor vertices find a valid leaf, 0.15 one at least half filled with fog); about half of
+    // the guided vertices' directions (bsdf_prob 0.5) come from the guide.
     EXPECT_GT(s.at("surface_vertices"), 100.0);
-    EXPECT_GT(s.at("surface_guided_vertex_fraction"), 0.5);
+    EXPECT_GT(s.at("surface_guided_vertex_fraction"), 0.1);
     EXPECT_NEAR(s.at("surface_guided_sample_fraction") / s.at("surface_guided_vertex_fraction"), 0.5, 0.1);
     const auto off = guide_stats(lit_fog_xml(
         false, grid, guided("incremental", "product", 200000, -1.f, R"(<boolean name="surface_guiding" value="false"/>)")));

@@ -5,6 +5,7 @@
 
 #include "volguide/guiding/guided_collision.h"
 #include "volguide/guiding/surface_guide.h"
+#include "volguide/integrators/medium_occupancy.h"
 #include "volguide/media/heterogeneous.h"
 #include "volguide/media/spectral_mis.h"
 #include "volguide/render/scene.h"
@@ -14,6 +15,11 @@
 namespace volguide {
 
 namespace {
+
+// Points per leaf measuring its medium fraction for surface guiding (a 0.5 threshold: 32 points
+// give it to about +-0.09), with their own random stream.
+constexpr int kSurfaceOccupancyPoints = 32;
+constexpr uint64_t kSurfaceOccupancySeed = 0x5u;
 
 // Per-thread scratch, reused across queries (no allocation per distance decision).
 struct Scratch {
@@ -249,6 +255,8 @@ WalkGuide::WalkGuide(const Scene& scene, const GuidingField& field, const WalkGu
         }
     }
     surface_offset_ = 1e-4f * norm(field.tree().bounds().extents());
+    if (guides_surfaces() && !field.empty())
+        leaf_medium_fraction_ = medium_fractions(scene, field.tree(), kSurfaceOccupancyPoints, kSurfaceOccupancySeed);
     leaf_extent_.resize(size_t(field.tree().leaf_count()));
     for (int i = 0; i < field.tree().leaf_count(); ++i) {
         const Vec3f e = field.tree().leaf_bounds(i).extents();
@@ -420,7 +428,8 @@ void WalkGuide::surface_sampler(const SurfaceInteraction& si, const BSDF& bsdf, 
         if (index >= 0)
             leaf = settings_.direction_indirect ? &direction_leaves_[size_t(index)] : &field_.leaves()[size_t(index)];
         const float confidence = leaf && medium ? leaf_confidence(index, medium->eval(si.p).sigma_t) : 1.f;
-        if (leaf && leaf->valid && leaf->vmm.count > 0 && confidence >= kSkipConfidence) {
+        if (leaf && leaf->valid && leaf->vmm.count > 0 && confidence >= kSkipConfidence &&
+            leaf_medium_fraction_[size_t(index)] >= kSurfaceMinMediumFraction) {
             bsdf_prob = 1.f - (1.f - bsdf_prob) * confidence;
             if (settings_.direction == DirectionGuiding::Incident)
                 guide = &leaf->vmm;
