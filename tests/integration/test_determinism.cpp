@@ -1,5 +1,6 @@
-// One seed gives a bit-identical image for any thread count (issue 2), for the surface demo and for
-// the volumetric demo (media spend a data-dependent number of random numbers per path).
+// One seed gives a bit-identical image for any thread count (issue 2), for the surface demo, the
+// volumetric demo (media spend a data-dependent number of random numbers per path) and
+// guided_volpath with its trained field.
 #include <gtest/gtest.h>
 
 #include "support/cli.h"
@@ -46,4 +47,13 @@ TEST(Determinism, SameSeedSameImageForOneAndTwoThreads) {
 TEST(Determinism, VolumetricDemoSameImageForOneAndTwoThreads) {
     const std::string scene = source_dir() + "/scenes/demo/light-shafts.xml";
     expect_deterministic(render_three(scene, {"width=40", "height=24"}, "determinism-volume"), "light shafts");
+}
+
+// guided_volpath's full guided system (photon training, guided distances, product directions in the
+// fog and at the walls) on the benchmark's fog-filled Cornell box: the field and every guided
+// decision depend on the seed only.
+TEST(Determinism, GuidedSameImageForOneAndTwoThreads) {
+    const std::string scene = source_dir() + "/bench/scenes/fogbox.xml";
+    expect_deterministic(render_three(scene, {"width=32", "height=24", "integrator=guided_volpath"}, "determinism-guided"),
+                         "guided fogbox");
 }
