@@ -299,7 +299,11 @@ FreeFlightSample WalkGuide::sample_distance(const Medium& medium, const Ray& ray
     last_scatter.leaf = -1;
     if (origin_leaf >= 0 && leaf_confidence(origin_leaf, medium.eval(ray.o).sigma_t) < kSkipConfidence) {
         ++stats_.local().distance_skipped;
-        return medium.sample_free_flight(ray, tmax, throughput, sampler);
+        FreeFlightSample fs = medium.sample_free_flight(ray, tmax, throughput, sampler);
+        // Deep in a dense medium the next vertex is usually in the same leaf: hand it on, so that
+        // its direction decision needs no descent either.
+        if (fs.scattered && field_.tree().holds_point(origin_leaf, fs.mi.p)) last_scatter = {fs.mi.p, origin_leaf};
+        return fs;
     }
     float b0, b1;
     const bool crosses = !field_.empty() && field_.tree().bounds().ray_intersect(ray, b0, b1) && b1 > 0.f;
@@ -396,6 +400,9 @@ void WalkGuide::direction_sampler(const MediumInteraction& mi, const PhaseFuncti
                    ? &field_.leaves()[size_t(last.leaf)]
                    : field_.leaf_at(mi.p);
     }
+    // The distance decision that follows starts here: it then knows its origin leaf (and may skip
+    // the guided walk in a leaf of low confidence) without a descent of its own.
+    if (leaf) last_scatter = {mi.p, int(leaf - field_.leaves().data())};
     if (leaf && settings_.direction_indirect)
         leaf = &direction_leaves_[size_t(leaf - field_.leaves().data())];
     const auto it = phase_vmms_.find(phase.mean_cosine());
