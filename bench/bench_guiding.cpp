@@ -13,9 +13,14 @@
 //    incremental sampler pulled (the tabulated one always reads 20).
 //  - GuidedDirection{Construct,Sample,Pdf}: the directional sampler per vertex (8-lobe leaf x HG
 //    g = 0.6, 3 phase lobes, prepared phase VMM; "/unprepared" looks the phase VMM up per vertex).
+//  - LeafWalk{Cursor,Traverse}: the leaves crossed by a random ray through a kd-tree of the demo's
+//    photon positions split to ~2000 leaves (the size of a benchmark scene's field), by the rope
+//    cursor the distance sampler uses and by the stack traversal; time per ray, `time_per_leaf`
+//    counter (leaves/ray is the `leaves` counter; both walks yield the same leaves).
 //   cmake --build build --target bench_guiding && build/bench_guiding
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -54,6 +59,55 @@ const PhotonPassResult& demo_photons() {
 const GuidingField& demo_field() {
     static GuidingField f = GuidingField::build(guiding_bounds(demo_scene()), demo_photons().samples);
     return f;
+}
+
+// The demo's photon positions split into ~2000 leaves.
+const SpatialTree& walk_tree() {
+    static SpatialTree tree = [] {
+        std::vector<Point3f> points;
+        for (const RadianceSample& r : demo_photons().samples) points.push_back(r.position);
+        SpatialTreeSettings settings;
+        settings.max_samples = std::max(1, int(points.size() / 2000));
+        return SpatialTree::build(guiding_bounds(demo_scene()), points, settings);
+    }();
+    return tree;
+}
+
+template <bool Cursor>
+void BM_LeafWalk(benchmark::State& state) {
+    const SpatialTree& tree = walk_tree();
+    const BBox3f b = tree.bounds();
+    std::vector<Ray> rays;
+    for (int i = 0; i < 4096; ++i) {
+        Sampler s(7, 0, uint64_t(i));
+        const Vec3f e = b.extents();
+        rays.emplace_back(b.lo + Vec3f(e.x * s.next_1d(), e.y * s.next_1d(), e.z * s.next_1d()),
+                          warp::square_to_uniform_sphere(s.next_2d()));
+    }
+    size_t i = 0;
+    int64_t leaves = 0;
+    for (auto _ : state) {
+        const Ray& ray = rays[i++ & 4095];
+        float length = 0.f;
+        if constexpr (Cursor) {
+            SpatialTree::RayCursor cursor(tree, ray, 0.f, Infinity);
+            int leaf;
+            float t0, t1;
+            while (cursor.next(leaf, t0, t1)) length += t1 - t0, ++leaves;
+        } else {
+            tree.traverse(ray, 0.f, Infinity, [&](int, float t0, float t1) {
+                length += t1 - t0;
+                ++leaves;
+                return true;
+            });
+        }
+        benchmark::DoNotOptimize(length);
+    }
+    state.counters["leaf_count"] = double(tree.leaf_count());
+    state.counters["leaves"] = benchmark::Counter(double(leaves), benchmark::Counter::kAvgIterations);
+    // Seconds per leaf crossed (printed with an SI prefix: 57n = 57 ns).
+    state.counters["time_per_leaf"] =
+        benchmark::Counter(double(leaves), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
 void BM_PhotonPass(benchmark::State& state) {
@@ -219,6 +273,8 @@ BENCHMARK(BM_GuidedDirection<DirectionGuiding::Incident, Sample>)->Name("BM_Guid
 BENCHMARK(BM_GuidedDirection<DirectionGuiding::Phase, Sample>)->Name("BM_GuidedDirectionSample/phase");
 BENCHMARK(BM_GuidedDirection<DirectionGuiding::Product, Pdf>)->Name("BM_GuidedDirectionPdf/product");
 BENCHMARK(BM_GuidedDirection<DirectionGuiding::Incident, Pdf>)->Name("BM_GuidedDirectionPdf/incident");
+BENCHMARK(BM_LeafWalk<true>)->Name("BM_LeafWalkCursor");
+BENCHMARK(BM_LeafWalk<false>)->Name("BM_LeafWalkTraverse");
 BENCHMARK(BM_PhotonPass)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_FieldBuild)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Query<0>)->Name("BM_Incident");

@@ -81,7 +81,9 @@ TEST_P(GuidedSurfaceChi2, MixtureMatchesItsPdf) {
     const SurfaceInteraction si = tilted_si();
     const GuidingLeaf leaf = c.multi_lobe ? multi_lobe_leaf() : one_lobe_leaf();
     Vmm guide = leaf.vmm;
-    if (c.cosine) ASSERT_TRUE(cosine_product(leaf.vmm, si.sh_frame.n, guide));
+    if (c.cosine) {
+        ASSERT_TRUE(cosine_product(leaf.vmm, si.sh_frame.n, guide));
+    }
     const GuidedSurfaceSampler s(*bsdf, si, &guide, c.bsdf_prob);
     ASSERT_TRUE(s.guided());
     const auto r = run(s, *bsdf, si, 40 + uint64_t(c.multi_lobe) * 2 + uint64_t(c.cosine));
@@ -102,7 +104,9 @@ TEST(GuidedSurfaceSampler, GuideDirectionsBelowTheSurfaceWeighZero) {
     Sampler smp(1, 0, 0);
     for (int i = 0; i < 1000; ++i) {
         const auto r = s.sample(BSDFContext{}, 0.9f, smp.next_1d(), smp.next_2d());
-        if (r.bs.wo.z <= 0.f) EXPECT_TRUE(r.weight.is_black());
+        if (r.bs.wo.z <= 0.f) {
+            EXPECT_TRUE(r.weight.is_black());
+        }
     }
 }
 

@@ -54,7 +54,9 @@ TEST(VmmFastProduct, MatchesTheDoublePrecisionProduct) {
             // The double product underflowed (every lobe's exp(kappa_12 - kappa_a - kappa_b) below
             // 1e-308); the fast one scales by the largest lobe and keeps a normalised shape.
             EXPECT_EQ(z_ref, 0.0);
-            if (fast.count > 0) EXPECT_NEAR(fast.weight_sum(), 1.0, 1e-5);
+            if (fast.count > 0) {
+                EXPECT_NEAR(fast.weight_sum(), 1.0, 1e-5);
+            }
             continue;
         }
         ASSERT_EQ(ref.count, fast.count);

@@ -62,6 +62,25 @@ float product_lobe_fast(const VmfMixture<A>& a, int k, const VmfLobe& b, float o
     return exponent;
 }
 
+// The products' last step: lobe i's weight (its scale) times exp(exponent[i] - max_exponent), the
+// n lobes normalised to sum 1 and out.count set to n; returns Z = the scales' sum times
+// exp(max_exponent), in double (0, out empty: no finite positive mass).
+template <int C>
+double normalize_product_fast(VmfMixture<C>& out, int n, const float* exponent, float max_exponent) {
+    out.count = 0;
+    if (!std::isfinite(max_exponent)) return 0.0;
+    float z = 0.f;
+    for (int i = 0; i < n; ++i) {
+        out.weight[i] *= std::exp(exponent[i] - max_exponent);
+        z += out.weight[i];
+    }
+    if (!(z > 0.f) || !std::isfinite(z)) return 0.0;
+    out.count = n;
+    const float inv = 1.f / z;
+    for (int i = 0; i < n; ++i) out.weight[i] *= inv;
+    return double(z) * std::exp(double(max_exponent));
+}
+
 // out = a(w) b(w) / Z with Z = integral of a b; returns Z in double (0: out is empty, nothing to
 // sample). The lobes' exponentials are taken relative to the largest, so a product whose every
 // lobe is far below float range (two concentrated, distant lobes) keeps its shape.
@@ -75,18 +94,7 @@ double product_with_lobe_fast(const VmfMixture<A>& a, const VmfLobe& b, VmfMixtu
         exponent[k] = product_lobe_fast(a, k, b, omc, out, k);
         if (out.weight[k] > 0.f) max_exponent = std::fmax(max_exponent, exponent[k]);
     }
-    out.count = 0;
-    if (!std::isfinite(max_exponent)) return 0.0;
-    float z = 0.f;
-    for (int k = 0; k < a.count; ++k) {
-        out.weight[k] *= std::exp(exponent[k] - max_exponent);
-        z += out.weight[k];
-    }
-    if (!(z > 0.f) || !std::isfinite(z)) return 0.0;
-    out.count = a.count;
-    const float inv = 1.f / z;
-    for (int k = 0; k < out.count; ++k) out.weight[k] *= inv;
-    return double(z) * std::exp(double(max_exponent));
+    return normalize_product_fast(out, a.count, exponent.data(), max_exponent);
 }
 
 // out = a(w) b(w) / Z for two mixtures (K x J lobes, lobe (k, j) at k * b.count + j, the order
@@ -111,18 +119,7 @@ double product_fast(const VmfMixture<A>& a, const VmfMixture<B>& b, VmfMixture<C
             if (out.weight[n] > 0.f) max_exponent = std::fmax(max_exponent, exponent[n]);
         }
     }
-    out.count = 0;
-    if (!std::isfinite(max_exponent)) return 0.0;
-    float z = 0.f;
-    for (int i = 0; i < n; ++i) {
-        out.weight[i] *= std::exp(exponent[i] - max_exponent);
-        z += out.weight[i];
-    }
-    if (!(z > 0.f) || !std::isfinite(z)) return 0.0;
-    out.count = n;
-    const float inv = 1.f / z;
-    for (int i = 0; i < n; ++i) out.weight[i] *= inv;
-    return double(z) * std::exp(double(max_exponent));
+    return normalize_product_fast(out, n, exponent.data(), max_exponent);
 }
 
 }  // namespace volguide
