@@ -38,6 +38,10 @@ public:
 
     Color3 estimate(const Ray& camera_ray, const Medium* camera_medium, CacheQuantity quantity,
                     Sampler& sampler) const;
+    // Adds the integral over ray(t), t in (t0, t1) inside `medium`, to `result` and attenuates the
+    // transmittance T along it (the pixel estimate marches its own paths with it).
+    void march_segment(const Ray& ray, float t0, float t1, const Medium& medium, CacheQuantity quantity,
+                       Sampler& sampler, Color3& transmittance, Color3& result) const;
 
     int steps_per_diagonal = 128;
     int max_null_crossings = 64;
@@ -45,9 +49,6 @@ public:
 private:
     // L~_i or L~ of leaf `leaf` for direction d in `medium`.
     Color3 leaf_value(int leaf, const Vec3f& d, const Medium& medium, CacheQuantity quantity) const;
-    // Adds the integral over ray(t), t in (t0, t1) inside `medium`; updates the transmittance.
-    void march_segment(const Ray& ray, float t0, float t1, const Medium& medium, CacheQuantity quantity,
-                       Sampler& sampler, Color3& transmittance, Color3& result) const;
 
     const Scene& scene_;
     const GuidingField& field_;

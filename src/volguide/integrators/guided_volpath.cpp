@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <chrono>
+#include <cmath>
 #include <filesystem>
 
 #include "volguide/core/log.h"
@@ -78,8 +80,7 @@ GuidedVolPathSettings GuidedVolPathSettings::from(const Properties& props) {
     if (lobes < 1 || lobes > kVmmMaxLobes)
         props.fail_at("lobes", "guided_volpath: lobes must be in [1, {}], got {}", kVmmMaxLobes, lobes);
     s.field.lobes = int(lobes);
-    // The guided decisions: distance and direction (issue 7); rrs and the pixel estimate (issue 8)
-    // are not implemented yet, their paper default falls back.
+    // The guided decisions: distance, direction, RR and splitting (the paper's full system by default).
     s.distance = read_choice(props, "distance", "incremental", {"standard", "incremental", "tabulated"},
                              {"standard", "incremental", "tabulated"}, "standard");
     auto unit_interval = [&](const char* name, float def, bool open_top) {
@@ -129,11 +130,45 @@ GuidedVolPathSettings GuidedVolPathSettings::from(const Properties& props) {
     s.guide.direction = s.direction == "product"    ? DirectionGuiding::Product
                         : s.direction == "incident" ? DirectionGuiding::Incident
                                                     : DirectionGuiding::Phase;
-    s.rrs = read_choice(props, "rrs", "grrs", {"standard", "grr", "grrs"}, {"standard"}, "standard");
-    // The pixel estimate only serves guided RR and splitting (rrs=grrs), which does not exist yet.
-    if (props.has("pixel_estimate"))
-        props.fail_at("pixel_estimate",
-                      "guided_volpath: pixel_estimate is used by rrs=grrs, which is not implemented yet");
+    s.rrs = read_choice(props, "rrs", "grrs", {"standard", "grr", "grrs"}, {"standard", "grr", "grrs"}, "standard");
+    s.roulette.mode = s.rrs == "grrs"  ? RouletteMode::GuidedSplitting
+                      : s.rrs == "grr" ? RouletteMode::Guided
+                                       : RouletteMode::Standard;
+    s.roulette.window = props.get_float("rrs_window", s.roulette.window);
+    if (!(s.roulette.window >= 1.f) || std::isinf(s.roulette.window))
+        props.fail_at("rrs_window", "guided_volpath: rrs_window must be a finite value >= 1, got {}",
+                      s.roulette.window);
+    s.roulette.q_min = props.get_float("rrs_q_min", s.roulette.q_min);
+    if (!(s.roulette.q_min > 0.f && s.roulette.q_min <= 1.f))
+        props.fail_at("rrs_q_min", "guided_volpath: rrs_q_min must be in (0, 1], got {}", s.roulette.q_min);
+    s.roulette.q_max = props.get_float("rrs_q_max", s.roulette.q_max);
+    if (!(s.roulette.q_max >= 1.f) || std::isinf(s.roulette.q_max))
+        props.fail_at("rrs_q_max", "guided_volpath: rrs_q_max must be a finite value >= 1, got {}", s.roulette.q_max);
+    const int64_t branches = props.get_int("rrs_max_branches", s.roulette.max_branches);
+    if (branches < 1 || branches > 4096)
+        props.fail_at("rrs_max_branches", "guided_volpath: rrs_max_branches must be in [1, 4096], got {}", branches);
+    s.roulette.max_branches = int(branches);
+    s.pixel_estimate = read_choice(props, "pixel_estimate", "raymarch", {"raymarch", "render"},
+                                   {"raymarch", "render"}, "raymarch");
+    const int64_t rays = props.get_int("pixel_estimate_rays", s.pixel.rays_per_pixel);
+    if (rays < 1 || rays > 1024)
+        props.fail_at("pixel_estimate_rays", "guided_volpath: pixel_estimate_rays must be in [1, 1024], got {}", rays);
+    s.pixel.rays_per_pixel = int(rays);
+    const int64_t spp = props.get_int("pixel_estimate_spp", s.pixel_estimate_spp);
+    if (spp < 1 || spp > 4096)
+        props.fail_at("pixel_estimate_spp", "guided_volpath: pixel_estimate_spp must be in [1, 4096], got {}", spp);
+    s.pixel_estimate_spp = int(spp);
+    s.pixel.floor_fraction = props.get_float("pixel_estimate_floor", s.pixel.floor_fraction);
+    if (!(s.pixel.floor_fraction > 0.f) || std::isinf(s.pixel.floor_fraction))
+        props.fail_at("pixel_estimate_floor", "guided_volpath: pixel_estimate_floor must be a finite value > 0, got {}",
+                      s.pixel.floor_fraction);
+    s.pixel.volume_only = s.walk.volume_only;
+    s.pixel.hide_emitters = s.walk.hide_emitters;
+    if (s.rrs == "standard")
+        for (const char* name : {"rrs_window", "rrs_q_min", "rrs_q_max", "rrs_max_branches", "pixel_estimate",
+                                 "pixel_estimate_rays", "pixel_estimate_spp", "pixel_estimate_floor"})
+            if (props.has(name))
+                props.fail_at(name, "guided_volpath: {} only applies to rrs=grr or rrs=grrs (rrs=standard)", name);
     s.estimate = read_choice(props, "estimate", "none", {"none", "inscattered", "incident"},
                              {"none", "inscattered", "incident"}, "none");
     if (props.has("save_field")) s.save_field = props.get_string("save_field");
@@ -205,9 +240,40 @@ void GuidedVolPathIntegrator::preprocess(const Scene& scene, const PreprocessCon
     estimator_.reset();
     if (settings_.estimate != "none") estimator_ = std::make_unique<CacheEstimator>(scene, field_);
     guide_.reset();
+    rrs_.reset();
+    pixel_estimate_ = PixelEstimate();
     if (settings_.guide.distance != DistanceGuiding::Standard ||
-        settings_.guide.direction != DirectionGuiding::Phase)
+        settings_.guide.direction != DirectionGuiding::Phase || settings_.roulette.mode != RouletteMode::Standard)
         guide_ = std::make_unique<WalkGuide>(scene, field_, settings_.guide);
+    if (settings_.roulette.mode != RouletteMode::Standard && !estimator_) {
+        // The pixel estimate I (theory.md §9.5), once, from the finished field.
+        const auto start = std::chrono::steady_clock::now();
+        if (context.progress) {
+            Progress p;
+            p.phase = "pixel estimate";
+            context.progress(p);
+        }
+        if (settings_.pixel_estimate == "render") {
+            pixel_estimate_ = PixelEstimate::render(
+                scene,
+                [&](Sampler& sampler, const Ray& ray) {
+                    return walk_.Li(scene, sampler, ray, nullptr, guide_.get());
+                },
+                settings_.pixel_estimate_spp, settings_.pixel, context);
+        } else {
+            const CacheEstimator marcher(scene, field_);
+            pixel_estimate_ = PixelEstimate::raymarch(scene, field_, marcher, settings_.pixel, context);
+        }
+        double sum = 0.0;
+        for (int y = 0; y < pixel_estimate_.image().height; ++y)
+            for (int x = 0; x < pixel_estimate_.image().width; ++x)
+                sum += pixel_estimate_.at(Point2f((float(x) + 0.5f) / float(pixel_estimate_.image().width),
+                                                  (float(y) + 0.5f) / float(pixel_estimate_.image().height)));
+        mean_pixel_estimate_ = float(sum / std::max<double>(1.0, double(pixel_estimate_.image().pixels.size())));
+        rrs_ = std::make_unique<RouletteSplitting>(settings_.roulette);
+        rrs_->set_pixel_estimate_seconds(
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    }
     if (!settings_.save_field.empty()) {
         try {
             save_field(settings_.save_field, field_);
@@ -217,8 +283,19 @@ void GuidedVolPathIntegrator::preprocess(const Scene& scene, const PreprocessCon
     }
 }
 
+Color3 GuidedVolPathIntegrator::sample(const Scene& scene, Sampler& sampler, const Ray& ray, float pixel) const {
+    if (!rrs_) return walk_.Li(scene, sampler, ray, nullptr, guide_.get());
+    const WalkSplitting splitting{rrs_.get(), pixel};
+    return walk_.Li(scene, sampler, ray, nullptr, guide_.get(), &splitting);
+}
+
+Color3 GuidedVolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const Ray& ray, Point2f film_uv) const {
+    if (estimator_) return Li(scene, sampler, ray);
+    return sample(scene, sampler, ray, rrs_ ? pixel_estimate_.at(film_uv) : 0.f);
+}
+
 Color3 GuidedVolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const Ray& ray) const {
-    if (!estimator_) return walk_.Li(scene, sampler, ray, nullptr, guide_.get());
+    if (!estimator_) return sample(scene, sampler, ray, mean_pixel_estimate_);
     const CacheQuantity q =
         settings_.estimate == "incident" ? CacheQuantity::Incident : CacheQuantity::Inscattered;
     return estimator_->estimate(ray, scene.sensor().medium(), q, sampler);
@@ -230,6 +307,10 @@ std::vector<std::pair<std::string, double>> GuidedVolPathIntegrator::statistics(
         const auto walk = guide_->stats().named();
         stats.insert(stats.end(), walk.begin(), walk.end());
     }
+    if (rrs_) {
+        const auto rr = rrs_->stats().named();
+        stats.insert(stats.end(), rr.begin(), rr.end());
+    }
     return stats;
 }
 
@@ -238,11 +319,11 @@ std::string GuidedVolPathIntegrator::to_string() const {
     return fmt::format(
         "guided_volpath[max_depth={}, rr_depth={}, training={}, photons={}, training_iterations={}, "
         "leaf_samples={}, "
-        "lobes={}, distance={}, hetero_distance={}, direction={}, surface_guiding={}, rrs={}, equiangular={}, "
-        "estimate={}]",
+        "lobes={}, distance={}, hetero_distance={}, direction={}, surface_guiding={}, rrs={}, rrs_window={}, "
+        "pixel_estimate={}, equiangular={}, estimate={}]",
         s.walk.max_depth, s.walk.rr_depth, s.training, s.photons, s.training_iterations,
         s.field.tree.max_samples, s.field.lobes, s.distance, s.guide.guided_tracking ? "tracking" : "bins",
-        s.direction, s.guide.surface, s.rrs, s.walk.equiangular, s.estimate);
+        s.direction, s.guide.surface, s.rrs, s.roulette.window, s.pixel_estimate, s.walk.equiangular, s.estimate);
 }
 
 }  // namespace volguide

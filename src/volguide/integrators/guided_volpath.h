@@ -1,15 +1,16 @@
 #pragma once
 // `guided_volpath`: volguide's zero-variance-based volume path guiding integrator (interface.md).
 //
-// Implemented so far: the guiding field's training in preprocess(), by the photon pre-pass
-// (training=photons, theory.md §5.2, §10.1) or PPG-style from camera paths (training=progressive,
-// §10.2, progressive_training.h: training_iterations iterations of 2^k spp with volpath's walk,
-// field rebuilt after each), `save_field` / `load_field`, the `estimate` inspection images, and the
-// guided distance (incremental / tabulated) and direction (incident / product) decisions, made by a
-// WalkGuide (walk_guide.h) inside volpath's walk. Guided RR and splitting (rrs, issue 8) are not
-// implemented yet: the default falls back to throughput RR with a warning, an explicit request is an
-// error (interface.md). With distance=standard direction=phase rrs=standard it renders exactly what
-// volpath renders.
+// preprocess() trains the guiding field, by the photon pre-pass (training=photons, theory.md §5.2,
+// §10.1) or PPG-style from camera paths (training=progressive, §10.2, progressive_training.h:
+// training_iterations iterations of 2^k spp with volpath's walk, field rebuilt after each), or
+// loads it (`load_field`), then prepares the guided decisions and, for guided RR/splitting, the
+// pixel estimate I (pixel_estimate.h: raymarch through the field, or render a few guided spp and
+// filter them). The render is volpath's walk with a WalkGuide (walk_guide.h) making the distance
+// (incremental / tabulated) and direction (incident / product) decisions and RouletteSplitting
+// (roulette_splitting.h) the RR/splitting decisions after them (rrs=grr/grrs). `estimate` renders
+// the field's own inspection images instead. With distance=standard direction=phase rrs=standard
+// it renders exactly what volpath renders.
 #include <memory>
 #include <string>
 
@@ -17,6 +18,8 @@
 #include "volguide/core/properties.h"
 #include "volguide/guiding/guiding_field.h"
 #include "volguide/integrators/volpath.h"
+#include "volguide/integrators/pixel_estimate.h"
+#include "volguide/integrators/roulette_splitting.h"
 #include "volguide/integrators/walk_guide.h"
 
 namespace volguide {
@@ -36,6 +39,10 @@ struct GuidedVolPathSettings {
     GuidingFieldSettings field;  // leaf_samples -> field.tree.max_samples, lobes -> field.lobes
     std::string distance = "standard", direction = "phase", rrs = "standard";
     WalkGuideSettings guide;  // the guided decisions' parameters (c_T, p_max, filter_A, phase_prob)
+    RouletteSplittingSettings roulette;  // rrs_window, rrs_q_min, rrs_q_max, rrs_max_branches
+    std::string pixel_estimate = "raymarch";
+    PixelEstimateSettings pixel;  // pixel_estimate_rays, pixel_estimate_floor
+    int pixel_estimate_spp = 4;   // pixel_estimate=render
     std::string save_field, load_field;  // resolved paths, empty = none
     // `estimate`: none (render), or the field's own prediction of what the camera sees through the
     // media (cache_estimate.h): inscattered (compare with volpath volume_only) or incident.
@@ -47,7 +54,10 @@ struct GuidedVolPathSettings {
 class GuidedVolPathIntegrator final : public Integrator {
 public:
     explicit GuidedVolPathIntegrator(const Properties& props);
+    // Without a film position (direct calls), guided RR/splitting compares with the mean of the
+    // pixel estimate.
     Color3 Li(const Scene& scene, Sampler& sampler, const Ray& ray) const override;
+    Color3 Li(const Scene& scene, Sampler& sampler, const Ray& ray, Point2f film_uv) const override;
     void preprocess(const Scene& scene, const PreprocessContext& context) override;
     std::vector<std::pair<std::string, double>> statistics() const override;
     std::string to_string() const override;
@@ -55,13 +65,19 @@ public:
     const GuidedVolPathSettings& settings() const { return settings_; }
     // The trained (or loaded) field; empty before preprocess().
     const GuidingField& field() const { return field_; }
+    // The pixel estimate of guided RR/splitting; empty with rrs=standard.
+    const PixelEstimate& pixel_estimate() const { return pixel_estimate_; }
 
 private:
     GuidedVolPathSettings settings_;
     VolPathIntegrator walk_;
     GuidingField field_;
     std::unique_ptr<CacheEstimator> estimator_;  // estimate != none
-    std::unique_ptr<WalkGuide> guide_;           // a guided distance or direction decision
+    std::unique_ptr<WalkGuide> guide_;           // a guided distance, direction or RR decision
+    std::unique_ptr<RouletteSplitting> rrs_;     // rrs != standard
+    PixelEstimate pixel_estimate_;
+    float mean_pixel_estimate_ = 0.f;
+    Color3 sample(const Scene& scene, Sampler& sampler, const Ray& ray, float pixel) const;
     std::vector<std::pair<std::string, double>> training_stats_;  // of the last preprocess()
 };
 

@@ -12,6 +12,7 @@
 #include "volguide/core/progress.h"
 #include "volguide/core/ray.h"
 #include "volguide/core/sampler.h"
+#include "volguide/core/vec.h"
 
 namespace volguide {
 
@@ -31,6 +32,12 @@ class Integrator : public Object {
 public:
     // Radiance along `ray` (a camera ray), one sample.
     virtual Color3 Li(const Scene& scene, Sampler& sampler, const Ray& ray) const = 0;
+    // The same for a camera ray through the film position film_uv ([0, 1]^2 over the film; outside
+    // it in a filter's border): what the render loop calls. Integrators that keep per-pixel data
+    // (guided_volpath's pixel estimate) override it; the default ignores the position.
+    virtual Color3 Li(const Scene& scene, Sampler& sampler, const Ray& ray, Point2f film_uv) const {
+        return Li(scene, sampler, ray);
+    }
     // The `moment` integrator also writes the per-sample variance image.
     virtual bool writes_variance() const { return false; }
     // Work before rendering (training, pre-passes), counted in the time budget. Default: none.

@@ -15,6 +15,9 @@ public:
     Color3 Li(const Scene& scene, Sampler& sampler, const Ray& ray) const override {
         return nested_->Li(scene, sampler, ray);
     }
+    Color3 Li(const Scene& scene, Sampler& sampler, const Ray& ray, Point2f film_uv) const override {
+        return nested_->Li(scene, sampler, ray, film_uv);
+    }
     bool writes_variance() const override { return true; }
     void preprocess(const Scene& scene, const PreprocessContext& context) override {
         nested_->preprocess(scene, context);

@@ -267,7 +267,7 @@ RenderResult render(Scene& scene, const RenderOptions& options) {
     const Scene& cscene = scene;
     RadianceFn radiance = [&](Point2f uv, Sampler& sampler) {
         auto [ray, weight] = sensor.sample_ray(uv, Point2f(0.5f, 0.5f));
-        return weight * integrator.Li(cscene, sampler, ray);
+        return weight * integrator.Li(cscene, sampler, ray, uv);
     };
     RenderResult result = render_frame_impl(setup, radiance, options, arena, job_start);
     result.stats.preprocess_seconds = preprocess_seconds;

@@ -28,6 +28,14 @@ namespace volguide {
 
 class TrainingRecorder;
 class WalkGuide;
+class RouletteSplitting;
+
+// Guided Russian roulette and splitting of one camera sample (roulette_splitting.h): the decision
+// rule and the estimate I of the pixel the sample lands in.
+struct WalkSplitting {
+    const RouletteSplitting* rrs = nullptr;
+    float pixel = 0.f;
+};
 
 struct VolPathSettings {
     int max_depth = -1;
@@ -50,8 +58,12 @@ public:
     Color3 Li(const Scene& scene, Sampler& sampler, const Ray& ray, TrainingRecorder* recorder) const;
     // The same walk with `guide` (may be null) making the distance and direction decisions in media
     // (guided_volpath, walk_guide.h). Equiangular sampling is not combined with a distance guide.
+    // With `splitting` (and a guide, whose field estimates E[X]), guided RR and splitting after
+    // the distance and direction decisions at medium vertices (theory.md §9.3): split copies wait
+    // on a per-thread stack and draw from streams forked off the sample's; surfaces keep
+    // throughput RR, which a medium vertex's guided decision replaces at its depth.
     Color3 Li(const Scene& scene, Sampler& sampler, const Ray& ray, TrainingRecorder* recorder,
-              const WalkGuide* guide) const;
+              const WalkGuide* guide, const WalkSplitting* splitting = nullptr) const;
     void preprocess(const Scene& scene, const PreprocessContext& context) override;
     std::string to_string() const override;
     const VolPathSettings& settings() const { return settings_; }

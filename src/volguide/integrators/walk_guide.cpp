@@ -448,6 +448,26 @@ void WalkGuide::surface_sampler(const SurfaceInteraction& si, const BSDF& bsdf, 
     if (out->guided()) ++stats_.local().surface_guided_vertices;
 }
 
+int WalkGuide::vertex_leaf(const Point3f& x) const {
+    if (field_.empty()) return -1;
+    const LastScatter& last = last_scatter;
+    if (last.leaf >= 0 && last.p == x && field_.tree().holds_point(last.leaf, x)) return last.leaf;
+    return field_.tree().leaf_at(x);
+}
+
+Color3 WalkGuide::inscattered_estimate(const MediumInteraction& mi, const Vec3f& d) const {
+    const int leaf = vertex_leaf(mi.p);
+    if (leaf < 0 || !mi.medium) return Color3(0.f);
+    last_scatter = {mi.p, leaf};  // the direction decision here needs no descent
+    const auto it = inscatter_.find(mi.medium->phase().mean_cosine());
+    return it == inscatter_.end() ? Color3(0.f) : it->second.inscattered(leaf, d);
+}
+
+Color3 WalkGuide::incident_estimate(const Point3f& x, const Vec3f& w) const {
+    const int leaf = vertex_leaf(x);
+    return leaf < 0 ? Color3(0.f) : GuidingField::incident(field_.leaves()[size_t(leaf)], w);
+}
+
 void WalkGuide::count_surface_direction(bool guided) const {
     if (guided) ++stats_.local().surface_guided_samples;
 }

@@ -124,10 +124,18 @@ class WalkGuide {
                          std::optional<GuidedSurfaceSampler>& out) const;
     void count_surface_direction(bool guided) const;
 
+    // The field's estimates for guided RR and splitting (theory.md §9.3), 0 where the field has no
+    // valid leaf: L~_i(x, d) at the medium vertex mi reached along d (what the vertex collects from
+    // here on), and L~(x, w) arriving at x from w (what the continuation along w collects).
+    Color3 inscattered_estimate(const MediumInteraction& mi, const Vec3f& d) const;
+    Color3 incident_estimate(const Point3f& x, const Vec3f& w) const;
+
     WalkGuideStats stats() const;
 
   private:
     const LeafEstimates* estimates_for(const PhaseFunction& phase) const;
+    // The leaf at x (-1 outside the field), without a descent when x is this thread's last vertex.
+    int vertex_leaf(const Point3f& x) const;
     // min(1, leaf_tau_max / (sigma_t average x leaf extent)); 1 when leaf_tau_max is 0 (off).
     float leaf_confidence(int leaf, const Color3& sigma_t) const;
     // Below this confidence a vertex neither builds the direction product nor walks the guided

@@ -1,0 +1,79 @@
+#pragma once
+// The pixel estimate I of guided Russian roulette and splitting (theory.md §9.5, eq. 9.2): the
+// value each pixel is expected to converge to, against which a partial path's expected
+// contribution is compared (roulette_splitting.h).
+//
+// raymarch: after training, M jittered camera rays per pixel (stratified in the pixel, M =
+// `rays_per_pixel`) are marched through the guiding field: the in-scattered radiance
+// T sigma_s L~_i along every medium segment (CacheEstimator's march, the field's own prediction),
+// across null surfaces, following one sampled lobe of purely specular surfaces (a dielectric
+// sphere's refraction into its medium), plus the attenuated emission of a visible emitter or the
+// environment. At the first rough surface its outgoing radiance is estimated by one NEE sample
+// through the media (direct light) plus one BSDF-sampled direction weighted by the field's
+// incident radiance L~ of the leaf on that side (the rest; the leaf's full L~ also holds the direct
+// light, so this side over-estimates a little — it shapes probabilities only). volume_only: the V
+// image's estimate, the media in front of the first real surface.
+//
+// render (the alternative): a few guided samples per pixel, smoothed (see render()).
+//
+// The estimate is stored per pixel as the channel average and floored at `floor_fraction` of the
+// image mean, so that a pixel the field thinks black cannot make every path through it split to
+// the cap (theory.md §13.13).
+#include <algorithm>
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "volguide/core/image.h"
+#include "volguide/core/progress.h"
+#include "volguide/core/ray.h"
+#include "volguide/core/sampler.h"
+#include "volguide/core/vec.h"
+
+namespace volguide {
+
+class Scene;
+class GuidingField;
+class CacheEstimator;
+struct PreprocessContext;
+
+struct PixelEstimateSettings {
+    int rays_per_pixel = 4;
+    float floor_fraction = 0.01f;
+    bool volume_only = false;
+    bool hide_emitters = false;
+    int max_specular_events = 16;
+};
+
+class PixelEstimate {
+  public:
+    PixelEstimate() = default;
+    // Marches the scene's sensor: deterministic for a seed, any thread count.
+    static PixelEstimate raymarch(const Scene& scene, const GuidingField& field, const CacheEstimator& estimator,
+                                  const PixelEstimateSettings& settings, const PreprocessContext& context);
+    // render: `spp` samples per pixel of `radiance` (the guided walk without RR/splitting) on its
+    // own random stream, smoothed by a 3 x 3 box (a few samples per pixel are noisy; I only needs
+    // the scale). Deterministic for a seed, any thread count.
+    static PixelEstimate render(const Scene& scene, const std::function<Color3(Sampler&, const Ray&)>& radiance,
+                                int spp, const PixelEstimateSettings& settings, const PreprocessContext& context);
+    // From a given RGB image (the film's resolution): channel averages, floored.
+    static PixelEstimate from_image(Image image, float floor_fraction);
+
+    bool empty() const { return image_.pixels.empty(); }
+    // I at a film position (film uv in [0, 1]^2; positions outside, from a filter's border, clamp).
+    float at(Point2f film_uv) const {
+        const int x = std::clamp(int(film_uv.x * float(image_.width)), 0, image_.width - 1);
+        const int y = std::clamp(int(film_uv.y * float(image_.height)), 0, image_.height - 1);
+        return value_[size_t(y) * size_t(image_.width) + size_t(x)];
+    }
+    // The RGB estimate before flooring (for inspection and the comparison with references).
+    const Image& image() const { return image_; }
+    float floor() const { return floor_; }
+
+  private:
+    Image image_;
+    std::vector<float> value_;  // floored channel averages, row-major
+    float floor_ = 0.f;
+};
+
+}  // namespace volguide

@@ -1,0 +1,109 @@
+#include "volguide/integrators/roulette_splitting.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace volguide {
+
+float weight_window_factor(float r, float s) {
+    // Window centre at r = 1, bounds 2/(1+s) and 2s/(1+s): below, RR to the lower bound; above,
+    // split to the upper bound (theory.md eq. 9.1). s = 1 collapses it to q = r.
+    const float lower = 2.f / (1.f + s), upper = s * lower;
+    if (r < lower) return r / lower;
+    if (r > upper) return r / upper;
+    return 1.f;
+}
+
+RouletteSplittingStats& RouletteSplittingStats::operator+=(const RouletteSplittingStats& o) {
+    decisions += o.decisions;
+    invalid_estimates += o.invalid_estimates;
+    kills += o.kills;
+    splits += o.splits;
+    extra_branches += o.extra_branches;
+    cap_limited += o.cap_limited;
+    camera_samples += o.camera_samples;
+    if (branch_histogram.size() < o.branch_histogram.size()) branch_histogram.resize(o.branch_histogram.size(), 0);
+    for (size_t k = 0; k < o.branch_histogram.size(); ++k) branch_histogram[k] += o.branch_histogram[k];
+    pixel_estimate_seconds += o.pixel_estimate_seconds;
+    return *this;
+}
+
+int RouletteSplittingStats::branches_quantile(double fraction) const {
+    uint64_t total = 0;
+    for (uint64_t c : branch_histogram) total += c;
+    if (total == 0) return 0;
+    const double need = fraction * double(total);
+    uint64_t seen = 0;
+    for (size_t k = 0; k < branch_histogram.size(); ++k) {
+        seen += branch_histogram[k];
+        if (double(seen) >= need) return int(k);
+    }
+    return int(branch_histogram.size()) - 1;
+}
+
+std::vector<std::pair<std::string, double>> RouletteSplittingStats::named() const {
+    auto ratio = [](uint64_t a, uint64_t b) { return b ? double(a) / double(b) : 0.0; };
+    uint64_t branches = 0;
+    int max_branches = 0;
+    for (size_t k = 0; k < branch_histogram.size(); ++k) {
+        branches += branch_histogram[k] * k;
+        if (branch_histogram[k] > 0) max_branches = int(k);
+    }
+    return {{"rrs_decisions", double(decisions)},
+            {"rrs_invalid_estimate_fraction", ratio(invalid_estimates, decisions)},
+            {"rrs_kills", double(kills)},
+            {"rrs_splits", double(splits)},
+            {"rrs_extra_branches", double(extra_branches)},
+            {"rrs_cap_limited", double(cap_limited)},
+            {"rrs_branches_per_camera_sample", ratio(branches, camera_samples)},
+            {"rrs_branches_p999", double(branches_quantile(0.999))},
+            {"rrs_branches_max", double(max_branches)},
+            {"rrs_pixel_estimate_seconds", pixel_estimate_seconds}};
+}
+
+RouletteSplitting::RouletteSplitting(const RouletteSplittingSettings& settings) : settings_(settings) {}
+
+float RouletteSplitting::factor(const Color3& weight, const Color3& estimate, float pixel, int branches) const {
+    RouletteSplittingStats& st = stats_.local();
+    ++st.decisions;
+    const float expected = (weight * estimate).average();
+    if (!(expected > 0.f) || !std::isfinite(expected) || !(pixel > 0.f)) {
+        ++st.invalid_estimates;
+        return 1.f;
+    }
+    float q = weight_window_factor(expected / pixel, settings_.window);
+    q = std::clamp(q, settings_.q_min, splits() ? settings_.q_max : 1.f);
+    // The continuations may not take the camera sample past its branch cap: n <= floor(q) + 1 and
+    // this branch is one of them, so q <= max_branches - branches + 1 bounds n.
+    const float allowed = float(std::max(1, settings_.max_branches - branches + 1));
+    if (q > allowed) {
+        q = allowed;
+        ++st.cap_limited;
+    }
+    return q;
+}
+
+void RouletteSplitting::count_outcome(int n) const {
+    RouletteSplittingStats& st = stats_.local();
+    if (n == 0) ++st.kills;
+    if (n > 1) {
+        ++st.splits;
+        st.extra_branches += uint64_t(n - 1);
+    }
+}
+
+void RouletteSplitting::count_camera_sample(int branches) const {
+    RouletteSplittingStats& st = stats_.local();
+    ++st.camera_samples;
+    if (st.branch_histogram.empty()) st.branch_histogram.assign(size_t(settings_.max_branches) + 1, 0);
+    st.branch_histogram[size_t(std::clamp(branches, 0, settings_.max_branches))] += 1;
+}
+
+RouletteSplittingStats RouletteSplitting::stats() const {
+    RouletteSplittingStats total;
+    for (const RouletteSplittingStats& s : stats_) total += s;
+    total.pixel_estimate_seconds = pixel_estimate_seconds_;
+    return total;
+}
+
+}  // namespace volguide

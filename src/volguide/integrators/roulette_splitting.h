@@ -1,0 +1,81 @@
+#pragma once
+// Guided Russian roulette and splitting (theory.md §9): after a guided decision, the partial path's
+// expected contribution E[X] = <w * Psi~> (w its weight, Psi~ the field's estimate of what the
+// continuation collects) is compared with the pixel's estimated value I. The ratio r = E[X] / I is
+// turned into an expected number of continuations q by the weight window of size s (eq. 9.1):
+// s = 1 is the paper's q = r, s = 5 the ADRRS window (no decision for r in [1/3, 5/3]). q is
+// clamped to [q_min, q_max] and to the branches the camera sample may still create; the number of
+// continuations is n = floor(q + xi) (E[n] = q) and each carries the weight 1/q, so any q gives an
+// unbiased estimator (§9.4, §9.6). Only grr: q <= 1 (no splitting).
+//
+// Statistics (kills, splits, branches per camera sample with its distribution) are counted per
+// thread and summed on request.
+#include <tbb/enumerable_thread_specific.h>
+
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "volguide/core/color.h"
+
+namespace volguide {
+
+enum class RouletteMode { Standard, Guided, GuidedSplitting };
+
+struct RouletteSplittingSettings {
+    RouletteMode mode = RouletteMode::Standard;
+    float window = 1.f;  // s >= 1: 1 the paper's q = E[X]/I, 5 ADRRS
+    float q_min = 0.1f, q_max = 20.f;
+    int max_branches = 64;  // path branches per camera sample, the original included
+};
+
+// The weight-window factor q(r) of eq. 9.1 before clamping (r >= 0).
+float weight_window_factor(float r, float window);
+
+// Continuations of a decision with expected count q: floor(q + u), u in [0, 1).
+inline int stochastic_round(float q, float u) { return int(q + u); }
+
+struct RouletteSplittingStats {
+    uint64_t decisions = 0;          // guided RR/splitting decisions (q computed)
+    uint64_t invalid_estimates = 0;  // decisions without a usable estimate (q = 1)
+    uint64_t kills = 0;              // decisions that ended the path (n = 0)
+    uint64_t splits = 0;             // decisions that continued with n > 1
+    uint64_t extra_branches = 0;     // sum of n - 1 over the splits
+    uint64_t cap_limited = 0;        // decisions whose q was lowered by the branch cap
+    uint64_t camera_samples = 0;
+    // branch_histogram[k]: camera samples that made k branches (k = 0 unused; the last bin is the cap)
+    std::vector<uint64_t> branch_histogram;
+    double pixel_estimate_seconds = 0;
+    RouletteSplittingStats& operator+=(const RouletteSplittingStats& o);
+    // Smallest k such that at least `fraction` of the camera samples made <= k branches.
+    int branches_quantile(double fraction) const;
+    std::vector<std::pair<std::string, double>> named() const;
+};
+
+class RouletteSplitting {
+  public:
+    explicit RouletteSplitting(const RouletteSplittingSettings& settings);
+    const RouletteSplittingSettings& settings() const { return settings_; }
+    bool splits() const { return settings_.mode == RouletteMode::GuidedSplitting; }
+
+    // The expected number of continuations of a path of weight `weight` whose continuation is
+    // estimated at `estimate`, in a pixel estimated at `pixel` (> 0), when the camera sample has
+    // `branches` branches so far: 1 when the estimate is unusable (zero, not finite). Counts the
+    // decision.
+    float factor(const Color3& weight, const Color3& estimate, float pixel, int branches) const;
+    // Counts a decision's outcome: n continuations.
+    void count_outcome(int n) const;
+    // Counts a finished camera sample that made `branches` branches.
+    void count_camera_sample(int branches) const;
+
+    void set_pixel_estimate_seconds(double s) { pixel_estimate_seconds_ = s; }
+    RouletteSplittingStats stats() const;
+
+  private:
+    RouletteSplittingSettings settings_;
+    double pixel_estimate_seconds_ = 0;
+    mutable tbb::enumerable_thread_specific<RouletteSplittingStats> stats_;
+};
+
+}  // namespace volguide
