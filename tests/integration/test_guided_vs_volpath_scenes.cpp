@@ -1,6 +1,7 @@
-// Issue 7: guided_volpath's full guided sampling (distance=incremental direction=product, the
-// defaults, with surface guiding) against volpath on the benchmark scenes `shafts`, `cloud` and
-// `fogbox` (bench/scenes), per pixel:
+// Issues 7 and 8: guided_volpath's full system (its defaults: distance=incremental
+// direction=product with surface guiding, rrs=grrs with the ray-marched pixel estimate) against
+// volpath on the benchmark scenes `shafts`, `cloud`, `sss` and `fogbox` (bench/scenes), and guided
+// RR alone and the ADRRS window (s = 5) on `shafts`, per pixel:
 // two independent renders at a small resolution, each with its own per-sample variance (--variance),
 // z = (a - b) / sqrt(var_a / n_a + var_b / n_b) per pixel and channel, two-sided, Šidák-corrected at
 // alpha = 0.01 over the pixel-channels; at least 99.5 % must pass (own variances are noisy estimates
@@ -36,10 +37,13 @@ Render render(const TempDir& dir, const std::string& scene, const std::string& n
     return {read_image(dir.file(name + ".exr")), read_image(dir.file(name + "_var.exr")), spp};
 }
 
-void compare(const std::string& scene, int spp_volpath, int spp_guided) {
+// `guided_xml`: an integrator file for the guided render (empty: guided_volpath's defaults).
+void compare(const std::string& scene, int spp_volpath, int spp_guided, const std::string& guided_xml = "") {
     TempDir dir("guided-vs-volpath-" + scene);
     const Render v = render(dir, scene, "volpath", spp_volpath, 11, {"integrator=volpath"});
-    const Render g = render(dir, scene, "guided", spp_guided, 12, {"integrator=guided_volpath"});
+    std::vector<std::string> defines = {"integrator=guided_volpath"};
+    if (!guided_xml.empty()) defines.push_back("integrator_xml=" + dir.write("guided.xml", guided_xml));
+    const Render g = render(dir, scene, "guided", spp_guided, 12, defines);
     ASSERT_EQ(v.mean.pixels.size(), g.mean.pixels.size());
     const double n = 3.0 * double(v.mean.pixels.size());
     const double level = 1.0 - std::pow(1.0 - 0.01, 1.0 / n);
@@ -81,3 +85,14 @@ TEST(GuidedVsVolpathScenes, Cloud) { compare("cloud", 1024, 512); }
 // A Cornell box in thin fog: the walls are diffuse and guided from the fog's leaves beside them
 // (surface_guiding), as are the shafts room's walls above.
 TEST(GuidedVsVolpathScenes, Fogbox) { compare("fogbox", 1024, 512); }
+// A dense scattering sphere behind a dielectric (subsurface scattering): hundreds of guided RR and
+// splitting decisions per path.
+TEST(GuidedVsVolpathScenes, Sss) { compare("sss", 1024, 512); }
+
+std::string rrs_integrator(const std::string& rrs, float window) {
+    return R"(<scene version="3.0.0"><integrator type="guided_volpath"><integer name="max_depth" value="$max_depth"/>)"
+           R"(<string name="rrs" value=")" + rrs + R"("/><float name="rrs_window" value=")" + std::to_string(window) +
+           R"("/></integrator></scene>)";
+}
+TEST(GuidedVsVolpathScenes, ShaftsGuidedRussianRoulette) { compare("shafts", 1024, 512, rrs_integrator("grr", 1.f)); }
+TEST(GuidedVsVolpathScenes, ShaftsAdrrsWindow) { compare("shafts", 1024, 512, rrs_integrator("grrs", 5.f)); }

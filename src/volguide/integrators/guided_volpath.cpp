@@ -11,6 +11,7 @@
 #include "volguide/integrators/medium_occupancy.h"
 #include "volguide/integrators/photon_pass.h"
 #include "volguide/integrators/progressive_training.h"
+#include "volguide/render/image_io.h"
 #include "volguide/render/scene.h"
 
 namespace volguide {
@@ -162,11 +163,13 @@ GuidedVolPathSettings GuidedVolPathSettings::from(const Properties& props) {
     if (!(s.pixel.floor_fraction > 0.f) || std::isinf(s.pixel.floor_fraction))
         props.fail_at("pixel_estimate_floor", "guided_volpath: pixel_estimate_floor must be a finite value > 0, got {}",
                       s.pixel.floor_fraction);
+    if (props.has("save_pixel_estimate")) s.save_pixel_estimate = props.get_string("save_pixel_estimate");
     s.pixel.volume_only = s.walk.volume_only;
     s.pixel.hide_emitters = s.walk.hide_emitters;
     if (s.rrs == "standard")
         for (const char* name : {"rrs_window", "rrs_q_min", "rrs_q_max", "rrs_max_branches", "pixel_estimate",
-                                 "pixel_estimate_rays", "pixel_estimate_spp", "pixel_estimate_floor"})
+                                 "pixel_estimate_rays", "pixel_estimate_spp", "pixel_estimate_floor",
+                                 "save_pixel_estimate"})
             if (props.has(name))
                 props.fail_at(name, "guided_volpath: {} only applies to rrs=grr or rrs=grrs (rrs=standard)", name);
     s.estimate = read_choice(props, "estimate", "none", {"none", "inscattered", "incident"},
@@ -270,6 +273,14 @@ void GuidedVolPathIntegrator::preprocess(const Scene& scene, const PreprocessCon
                 sum += pixel_estimate_.at(Point2f((float(x) + 0.5f) / float(pixel_estimate_.image().width),
                                                   (float(y) + 0.5f) / float(pixel_estimate_.image().height)));
         mean_pixel_estimate_ = float(sum / std::max<double>(1.0, double(pixel_estimate_.image().pixels.size())));
+        if (!settings_.save_pixel_estimate.empty()) {
+            try {
+                write_exr(settings_.save_pixel_estimate, pixel_estimate_.image());
+            } catch (const std::exception& e) {
+                throw InputError(settings_.location, fmt::format("guided_volpath: cannot write the pixel estimate: {}",
+                                                                 e.what()));
+            }
+        }
         rrs_ = std::make_unique<RouletteSplitting>(settings_.roulette);
         rrs_->set_pixel_estimate_seconds(
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());

@@ -43,6 +43,7 @@ struct GuidedVolPathSettings {
     std::string pixel_estimate = "raymarch";
     PixelEstimateSettings pixel;  // pixel_estimate_rays, pixel_estimate_floor
     int pixel_estimate_spp = 4;   // pixel_estimate=render
+    std::string save_pixel_estimate;  // EXR of I (RGB, before the floor), empty = none
     std::string save_field, load_field;  // resolved paths, empty = none
     // `estimate`: none (render), or the field's own prediction of what the camera sees through the
     // media (cache_estimate.h): inscattered (compare with volpath volume_only) or incident.

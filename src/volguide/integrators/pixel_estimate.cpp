@@ -7,6 +7,8 @@
 
 #include "volguide/core/sampler.h"
 #include "volguide/guiding/guiding_field.h"
+#include "volguide/guiding/surface_guide.h"
+#include "volguide/vmm/vmf.h"
 #include "volguide/integrators/cache_estimate.h"
 #include "volguide/integrators/integrator.h"
 #include "volguide/integrators/volume_nee.h"
@@ -21,6 +23,19 @@ namespace {
 
 // The estimate's random stream, apart from camera paths (0) and training passes.
 constexpr uint64_t kPixelEstimateStream = 0x9e57;
+
+// Irradiance on a surface of normal n per unit fluence of a leaf whose incident radiance has the
+// shape V: integral of V(w) max(0, n . w) dw, the clamped cosine replaced by pi times the vMF of
+// mean cosine 2/3 on n (the same integral), so each lobe is a closed-form convolution (eq. 3.4).
+float field_irradiance_shape(const Vmm& v, const Vec3f& n) {
+    const double kappa_cos = cosine_lobe_kappa();
+    double sum = 0.0;
+    for (int k = 0; k < v.size(); ++k) {
+        const VmfLobe l = v.lobe(k);
+        sum += double(v.weight[k]) * vmf_convolution_exact(l.kappa, kappa_cos, 1.0 - double(dot(l.mu, n)));
+    }
+    return float(Pi * sum);
+}
 
 // The estimated radiance along one camera ray (see pixel_estimate.h).
 Color3 march_camera_ray(const Scene& scene, const GuidingField& field, const CacheEstimator& estimator,
@@ -62,15 +77,21 @@ Color3 march_camera_ray(const Scene& scene, const GuidingField& field, const Cac
             ray = si.spawn_ray(wo);
             continue;
         }
-        // A rough surface: direct light by one NEE sample, the rest from the field beside it.
-        const VolumeEmitterSample es = sample_emitter_through_media(scene, si, &si, medium, sampler.next_2d(), sampler);
-        if (!es.weight.is_black()) result += T * bsdf.eval(ctx, si, si.to_local(es.ds.d)) * es.weight;
+        // A rough surface, seen from the side the ray arrives on: its albedo (one BSDF sample's
+        // weight) times the irradiance there over pi, the irradiance from the field's leaf on that
+        // side (both direct and indirect light, in closed form) or, without a valid leaf, from one
+        // NEE sample (direct light only).
         const float u1 = sampler.next_1d();
-        const auto [bs, weight] = bsdf.sample(ctx, si, u1, sampler.next_2d());
-        if (!weight.is_black() && !field.empty()) {
-            const Vec3f wo = si.to_world(bs.wo);
-            if (const GuidingLeaf* leaf = field.leaf_at(si.p + wo * leaf_offset); leaf && leaf->valid)
-                result += T * weight * GuidingField::incident(*leaf, wo);
+        const Color3 albedo = bsdf.sample(ctx, si, u1, sampler.next_2d()).second;
+        if (albedo.is_black()) break;
+        const Vec3f n = si.wi.z >= 0.f ? Vec3f(si.sh_frame.n) : -Vec3f(si.sh_frame.n);
+        const GuidingLeaf* leaf = field.empty() ? nullptr : field.leaf_at(si.p + n * leaf_offset);
+        if (leaf && leaf->valid) {
+            result += T * albedo * leaf->fluence * (field_irradiance_shape(leaf->vmm, n) * InvPi);
+        } else {
+            const VolumeEmitterSample es =
+                sample_emitter_through_media(scene, si, &si, medium, sampler.next_2d(), sampler);
+            if (!es.weight.is_black()) result += T * bsdf.eval(ctx, si, si.to_local(es.ds.d)) * es.weight;
         }
         break;
     }

@@ -8,10 +8,10 @@
 // T sigma_s L~_i along every medium segment (CacheEstimator's march, the field's own prediction),
 // across null surfaces, following one sampled lobe of purely specular surfaces (a dielectric
 // sphere's refraction into its medium), plus the attenuated emission of a visible emitter or the
-// environment. At the first rough surface its outgoing radiance is estimated by one NEE sample
-// through the media (direct light) plus one BSDF-sampled direction weighted by the field's
-// incident radiance L~ of the leaf on that side (the rest; the leaf's full L~ also holds the direct
-// light, so this side over-estimates a little — it shapes probabilities only). volume_only: the V
+// environment. At the first rough surface its outgoing radiance is estimated as diffuse: the albedo
+// (one BSDF sample's weight) times the irradiance over pi, the irradiance in closed form from the
+// field's leaf on the side the ray arrives from (direct and indirect light) or, where there is no
+// valid leaf (a surface in vacuum), from one NEE sample through the media. volume_only: the V
 // image's estimate, the media in front of the first real surface.
 //
 // render (the alternative): a few guided samples per pixel, smoothed (see render()).

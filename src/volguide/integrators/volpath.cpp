@@ -331,7 +331,7 @@ Color3 VolPathIntegrator::Li(const Scene& scene, Sampler& camera_sampler, const 
         need_intersection = true;
         // Direction-stage guided RR/splitting: the continuation along w_j collects ~ L~(x_j, w_j).
         if (rrs && !throughput.is_black()) {
-            const Color3 estimate = guide->incident_estimate(mi.p, ps.wo);
+            const Color3 estimate = guide->incident_estimate(mi, ps.wo);
             if (estimate.max_value() > 0.f) rr_depth_done = depth;  // replaces throughput RR at this depth
             if (!roulette_split(estimate, [&](const Sampler& r) { return snapshot(r); })) return false;
         }

@@ -455,16 +455,22 @@ int WalkGuide::vertex_leaf(const Point3f& x) const {
     return field_.tree().leaf_at(x);
 }
 
-Color3 WalkGuide::inscattered_estimate(const MediumInteraction& mi, const Vec3f& d) const {
+int WalkGuide::trusted_vertex_leaf(const MediumInteraction& mi) const {
     const int leaf = vertex_leaf(mi.p);
-    if (leaf < 0 || !mi.medium) return Color3(0.f);
-    last_scatter = {mi.p, leaf};  // the direction decision here needs no descent
+    if (leaf < 0) return -1;
+    last_scatter = {mi.p, leaf};  // the decisions that follow at this vertex need no descent
+    return leaf_confidence(leaf, mi.coeffs.sigma_t) < kSkipConfidence ? -1 : leaf;
+}
+
+Color3 WalkGuide::inscattered_estimate(const MediumInteraction& mi, const Vec3f& d) const {
+    const int leaf = mi.medium ? trusted_vertex_leaf(mi) : -1;
+    if (leaf < 0) return Color3(0.f);
     const auto it = inscatter_.find(mi.medium->phase().mean_cosine());
     return it == inscatter_.end() ? Color3(0.f) : it->second.inscattered(leaf, d);
 }
 
-Color3 WalkGuide::incident_estimate(const Point3f& x, const Vec3f& w) const {
-    const int leaf = vertex_leaf(x);
+Color3 WalkGuide::incident_estimate(const MediumInteraction& mi, const Vec3f& w) const {
+    const int leaf = trusted_vertex_leaf(mi);
     return leaf < 0 ? Color3(0.f) : GuidingField::incident(field_.leaves()[size_t(leaf)], w);
 }
 
