@@ -54,6 +54,14 @@ EXTRA_METHODS = {
         "guided": {"distance": "incremental", "direction": "product", "surface_guiding": False}},
     "guided_volpath distance=incremental direction=product c_T=0.25": {
         "guided": {"distance": "incremental", "direction": "product", "c_T": 0.25}},
+    # Guided RR/splitting (issue 8): guided sampling without any RR (rr_depth = the scenes' max_depth
+    # 64: the seed's "no RR" column), and the ADRRS weight window s = 5 instead of the paper's s = 1.
+    "guided_volpath distance=incremental direction=product rr_depth=64": {
+        "guided": {"distance": "incremental", "direction": "product", "rr_depth": 64}},
+    "guided_volpath distance=incremental direction=product rrs=grrs rrs_window=5": {
+        "guided": {"distance": "incremental", "direction": "product", "rrs": "grrs", "rrs_window": 5.0}},
+    "guided_volpath distance=incremental direction=product rrs=grr rrs_window=5": {
+        "guided": {"distance": "incremental", "direction": "product", "rrs": "grr", "rrs_window": 5.0}},
 }
 
 # Zoomed crops shown in the HTML report: (x, y, width, height) in pixels of the 160x120 image.
@@ -154,6 +162,13 @@ def run_method(volguide, scene, method, spec, args, out):
                 "reference_mean"):
         row[key] = ref[key]
     row["convergence"] = st["convergence"]
+    # Guided RR/splitting: branches per camera sample (mean, 99.9th percentile) and the budget overrun.
+    integ = st.get("integrator", {})
+    if "rrs_branches_per_camera_sample" in integ:
+        row["branches_mean"] = integ["rrs_branches_per_camera_sample"]
+        row["branches_p999"] = integ["rrs_branches_p999"]
+        row["branches_max"] = integ["rrs_branches_max"]
+        row["pixel_estimate_seconds"] = integ["rrs_pixel_estimate_seconds"]
     png = os.path.join(out, "images", name + ".png")
     heat = os.path.join(out, "images", name + "__error.png")
     subprocess.run([volguide, "convert", exr, png], check=True, capture_output=True)
@@ -201,7 +216,8 @@ def fmt(v, digits=4):
 def write_csv(rows, path):
     cols = ["scene", "method", "status", "time_budget", "seconds", "preprocess_seconds", "render_seconds", "spp",
             "relmse_1e-2", "relmse_1e-3", "relmse_1e-2_trimmed", "relmse_1e-3_trimmed", "mse", "mean",
-            "reference_mean", "speedup_1e-2", "speedup_1e-3", "note", "command"]
+            "reference_mean", "speedup_1e-2", "speedup_1e-3", "branches_mean", "branches_p999", "branches_max",
+            "pixel_estimate_seconds", "note", "command"]
     with open(path, "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=cols, extrasaction="ignore")
         w.writeheader()
@@ -217,8 +233,9 @@ def table_markdown(rows, scenes, machine, args, checks):
            "- relMSE = mean over pixels and channels of (I - R)^2 / (R^2 + eps) against bench/references/; "
            "speed-up = relMSE(volpath) / relMSE(method) at equal time (eps 1e-2).", ""]
     for scene in scenes:
-        out += [f"## {scene}", "", "| method | spp | relMSE (1e-2) | relMSE (1e-3) | relMSE (1e-3, trimmed) | MSE "
-                "| speed-up vs volpath |", "|---|---:|---:|---:|---:|---:|---:|"]
+        out += [f"## {scene}", "", "| method | spp | seconds | relMSE (1e-2) | relMSE (1e-3) | "
+                "relMSE (1e-3, trimmed) | MSE | speed-up vs volpath | branches mean / p99.9 / max |",
+                "|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
         skipped = []
         for r in rows:
             if r["scene"] != scene:
@@ -226,8 +243,11 @@ def table_markdown(rows, scenes, machine, args, checks):
             if r["status"] != "ok":
                 skipped.append(r)
                 continue
-            out.append(f"| `{r['method']}` | {r['spp']} | {fmt(r['relmse_1e-2'])} | {fmt(r['relmse_1e-3'])} | "
-                       f"{fmt(r['relmse_1e-3_trimmed'])} | {fmt(r['mse'])} | {fmt(r.get('speedup_1e-2'), 3)}x |")
+            branches = (f"{r['branches_mean']:.3f} / {r['branches_p999']:.0f} / {r['branches_max']:.0f}"
+                        if "branches_mean" in r else "")
+            out.append(f"| `{r['method']}` | {r['spp']} | {r['seconds']:.1f} | {fmt(r['relmse_1e-2'])} | "
+                       f"{fmt(r['relmse_1e-3'])} | {fmt(r['relmse_1e-3_trimmed'])} | {fmt(r['mse'])} | "
+                       f"{fmt(r.get('speedup_1e-2'), 3)}x | {branches} |")
         c = checks.get(scene)
         if c:
             out += ["", f"Reference: estimated relMSE(1e-2) {fmt(c['reference_relmse_1e-2'])} = "

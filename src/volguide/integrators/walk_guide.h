@@ -126,7 +126,8 @@ class WalkGuide {
 
     // The field's estimates for guided RR and splitting (theory.md §9.3) at the medium vertex mi:
     // L~_i(x, d) for the ray that reached it along d (what the vertex collects from here on), and
-    // L~(x, w) arriving from w (what the continuation along w collects). 0 (no guided decision:
+    // L~(x, w) arriving from w (what the continuation along w collects). Both from the distance
+    // decisions' per-leaf tables when they exist. 0 (no guided decision:
     // throughput RR) where the field has no valid leaf, and where the leaf's confidence is below
     // kSkipConfidence: deep in a dense medium one estimate per leaf cannot follow radiance that
     // varies on the scale of a free path, and RR by it compounds: guided RR alone took sss's
