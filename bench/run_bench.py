@@ -55,13 +55,18 @@ EXTRA_METHODS = {
     "guided_volpath distance=incremental direction=product c_T=0.25": {
         "guided": {"distance": "incremental", "direction": "product", "c_T": 0.25}},
     # Guided RR/splitting (issue 8): guided sampling without any RR (rr_depth = the scenes' max_depth
-    # 64: the seed's "no RR" column), and the ADRRS weight window s = 5 instead of the paper's s = 1.
+    # 64: the seed's "no RR" column), and the weight windows: the paper's s = 1 and ADRRS's s = 5
+    # (the default since 2026-11-24; before, "rrs=grr" and "rrs=grrs" meant s = 1).
     "guided_volpath distance=incremental direction=product rr_depth=64": {
         "guided": {"distance": "incremental", "direction": "product", "rr_depth": 64}},
     "guided_volpath distance=incremental direction=product rrs=grrs rrs_window=5": {
         "guided": {"distance": "incremental", "direction": "product", "rrs": "grrs", "rrs_window": 5.0}},
     "guided_volpath distance=incremental direction=product rrs=grr rrs_window=5": {
         "guided": {"distance": "incremental", "direction": "product", "rrs": "grr", "rrs_window": 5.0}},
+    "guided_volpath distance=incremental direction=product rrs=grrs rrs_window=1": {
+        "guided": {"distance": "incremental", "direction": "product", "rrs": "grrs", "rrs_window": 1.0}},
+    "guided_volpath distance=incremental direction=product rrs=grr rrs_window=1": {
+        "guided": {"distance": "incremental", "direction": "product", "rrs": "grr", "rrs_window": 1.0}},
 }
 
 # Zoomed crops shown in the HTML report: (x, y, width, height) in pixels of the 160x120 image.

@@ -310,12 +310,32 @@ TEST(GuidedVolPath, TrainsSavesLoadsAndRendersWhatVolpathRenders) {
     EXPECT_FALSE(std::filesystem::exists(dir.file("b.exr")));
 }
 
-TEST(GuidedVolPath, UnimplementedDecisionsAreErrorsWhenRequested) {
+TEST(GuidedVolPath, BadRouletteSplittingParametersAreErrorsNamingTheLine) {
     TempDir dir("guided-volpath-errors");
-    const std::string xml = point_light_scene(
-        Point3f(0.f), 0.5f, 0.5f, R"(<integrator type="guided_volpath"><string name="rrs" value="grrs"/></integrator>)");
-    CliResult r = run_cli({"render", dir.write("s.xml", xml), "-o", dir.file("o.exr"), "--spp", "1", "--quiet"});
-    EXPECT_EQ(r.exit_code, 1);
-    EXPECT_NE(r.err.find("not implemented"), std::string::npos) << r.err;
-    EXPECT_NE(r.err.find("s.xml:2"), std::string::npos) << r.err;
+    auto run = [&](const std::string& params) {
+        const std::string xml =
+            point_light_scene(Point3f(0.f), 0.5f, 0.5f, R"(<integrator type="guided_volpath">)" + params + "</integrator>");
+        return run_cli({"render", dir.write("s.xml", xml), "-o", dir.file("o.exr"), "--spp", "1", "--quiet"});
+    };
+    struct Case {
+        std::string params, message;
+    };
+    for (const Case& c : std::vector<Case>{
+             {R"(<float name="rrs_window" value="0.5"/>)", "rrs_window must be"},
+             {R"(<float name="rrs_q_min" value="0"/>)", "rrs_q_min must be"},
+             {R"(<float name="rrs_q_max" value="0.5"/>)", "rrs_q_max must be"},
+             {R"(<integer name="rrs_max_branches" value="0"/>)", "rrs_max_branches must be"},
+             {R"(<string name="pixel_estimate" value="guess"/>)", "invalid pixel_estimate"},
+             {R"(<string name="rrs" value="standard"/><float name="rrs_window" value="5"/>)",
+              "only applies to rrs=grr or rrs=grrs"}}) {
+        SCOPED_TRACE(c.params);
+        const CliResult r = run(c.params);
+        EXPECT_EQ(r.exit_code, 1);
+        EXPECT_NE(r.err.find(c.message), std::string::npos) << r.err;
+        EXPECT_NE(r.err.find("s.xml:2"), std::string::npos) << r.err;
+        EXPECT_FALSE(std::filesystem::exists(dir.file("o.exr")));
+    }
+    // The full system (the defaults) renders.
+    const CliResult ok = run(R"(<integer name="photons" value="20000"/>)");
+    EXPECT_EQ(ok.exit_code, 0) << ok.err;
 }
