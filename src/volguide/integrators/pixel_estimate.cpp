@@ -11,6 +11,7 @@
 #include "volguide/vmm/vmf.h"
 #include "volguide/integrators/cache_estimate.h"
 #include "volguide/integrators/integrator.h"
+#include "volguide/integrators/medium_occupancy.h"
 #include "volguide/integrators/volume_nee.h"
 #include "volguide/render/bsdf.h"
 #include "volguide/render/emitter.h"
@@ -38,8 +39,15 @@ float field_irradiance_shape(const Vmm& v, const Vec3f& n) {
 }
 
 // The estimated radiance along one camera ray (see pixel_estimate.h).
+// A leaf describes the light around a surface only when it is mostly medium (as for surface
+// guiding): a floor beside a dense sphere shares a large leaf with the sphere's inside, whose
+// radiance it does not see (sss: the floor read black, I's mean 0.57 of the image's).
+constexpr float kSurfaceMinMediumFraction = 0.5f;
+constexpr int kOccupancyPoints = 32;
+
 Color3 march_camera_ray(const Scene& scene, const GuidingField& field, const CacheEstimator& estimator,
-                        const PixelEstimateSettings& settings, Ray ray, Sampler& sampler) {
+                        const std::vector<float>& leaf_medium_fraction, const PixelEstimateSettings& settings,
+                        Ray ray, Sampler& sampler) {
     const BSDFContext ctx;
     const float leaf_offset = 1e-4f * norm(field.tree().bounds().extents());
     Color3 T(1.f), result(0.f);
@@ -85,8 +93,9 @@ Color3 march_camera_ray(const Scene& scene, const GuidingField& field, const Cac
         const Color3 albedo = bsdf.sample(ctx, si, u1, sampler.next_2d()).second;
         if (albedo.is_black()) break;
         const Vec3f n = si.wi.z >= 0.f ? Vec3f(si.sh_frame.n) : -Vec3f(si.sh_frame.n);
-        const GuidingLeaf* leaf = field.empty() ? nullptr : field.leaf_at(si.p + n * leaf_offset);
-        if (leaf && leaf->valid) {
+        const int index = field.empty() ? -1 : field.tree().leaf_at(si.p + n * leaf_offset);
+        const GuidingLeaf* leaf = index >= 0 ? &field.leaves()[size_t(index)] : nullptr;
+        if (leaf && leaf->valid && leaf_medium_fraction[size_t(index)] >= kSurfaceMinMediumFraction) {
             result += T * albedo * leaf->fluence * (field_irradiance_shape(leaf->vmm, n) * InvPi);
         } else {
             const VolumeEmitterSample es =
@@ -164,6 +173,8 @@ PixelEstimate PixelEstimate::raymarch(const Scene& scene, const GuidingField& fi
     const int M = std::max(1, settings.rays_per_pixel);
     const int strata = std::max(1, int(std::sqrt(float(M))));  // strata x strata cells, the rest uniform
     Image image(W, H);
+    const std::vector<float> fractions =
+        field.empty() ? std::vector<float>() : medium_fractions(scene, field.tree(), kOccupancyPoints, context.seed);
     tbb::parallel_for(tbb::blocked_range<int>(0, H), [&](const tbb::blocked_range<int>& rows) {
         for (int y = rows.begin(); y != rows.end(); ++y) {
             if (context.cancelled()) return;
@@ -177,7 +188,7 @@ PixelEstimate PixelEstimate::raymarch(const Scene& scene, const GuidingField& fi
                         u = Vec2f((float(k % strata) + u.x) / float(strata), (float(k / strata) + u.y) / float(strata));
                     const Point2f film_uv((float(x) + u.x) / float(W), (float(y) + u.y) / float(H));
                     const auto [ray, weight] = sensor.sample_ray(film_uv, Point2f(0.5f, 0.5f));
-                    const Color3 L = weight * march_camera_ray(scene, field, estimator, settings, ray, sampler);
+                    const Color3 L = weight * march_camera_ray(scene, field, estimator, fractions, settings, ray, sampler);
                     if (L.is_finite()) sum += L;
                 }
                 image.at(x, y) = sum * (1.f / float(M));

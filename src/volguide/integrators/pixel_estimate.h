@@ -11,7 +11,8 @@
 // environment. At the first rough surface its outgoing radiance is estimated as diffuse: the albedo
 // (one BSDF sample's weight) times the irradiance over pi, the irradiance in closed form from the
 // field's leaf on the side the ray arrives from (direct and indirect light) or, where there is no
-// valid leaf (a surface in vacuum), from one NEE sample through the media. volume_only: the V
+// valid leaf at least half filled by a medium (a surface in vacuum), from one NEE sample through
+// the media. volume_only: the V
 // image's estimate, the media in front of the first real surface.
 //
 // render (the alternative): a few guided samples per pixel, smoothed (see render()).
