@@ -267,12 +267,6 @@ void GuidedVolPathIntegrator::preprocess(const Scene& scene, const PreprocessCon
             const CacheEstimator marcher(scene, field_);
             pixel_estimate_ = PixelEstimate::raymarch(scene, field_, marcher, settings_.pixel, context);
         }
-        double sum = 0.0;
-        for (int y = 0; y < pixel_estimate_.image().height; ++y)
-            for (int x = 0; x < pixel_estimate_.image().width; ++x)
-                sum += pixel_estimate_.at(Point2f((float(x) + 0.5f) / float(pixel_estimate_.image().width),
-                                                  (float(y) + 0.5f) / float(pixel_estimate_.image().height)));
-        mean_pixel_estimate_ = float(sum / std::max<double>(1.0, double(pixel_estimate_.image().pixels.size())));
         if (!settings_.save_pixel_estimate.empty()) {
             try {
                 write_exr(settings_.save_pixel_estimate, pixel_estimate_.image());
@@ -306,7 +300,7 @@ Color3 GuidedVolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const R
 }
 
 Color3 GuidedVolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const Ray& ray) const {
-    if (!estimator_) return sample(scene, sampler, ray, mean_pixel_estimate_);
+    if (!estimator_) return sample(scene, sampler, ray, pixel_estimate_.mean());
     const CacheQuantity q =
         settings_.estimate == "incident" ? CacheQuantity::Incident : CacheQuantity::Inscattered;
     return estimator_->estimate(ray, scene.sensor().medium(), q, sampler);

@@ -77,7 +77,6 @@ private:
     std::unique_ptr<WalkGuide> guide_;           // a guided distance, direction or RR decision
     std::unique_ptr<RouletteSplitting> rrs_;     // rrs != standard
     PixelEstimate pixel_estimate_;
-    float mean_pixel_estimate_ = 0.f;
     Color3 sample(const Scene& scene, Sampler& sampler, const Ray& ray, float pixel) const;
     std::vector<std::pair<std::string, double>> training_stats_;  // of the last preprocess()
 };
