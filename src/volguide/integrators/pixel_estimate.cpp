@@ -8,7 +8,7 @@
 #include "volguide/core/sampler.h"
 #include "volguide/guiding/guiding_field.h"
 #include "volguide/guiding/surface_guide.h"
-#include "volguide/vmm/vmf.h"
+#include "volguide/vmm/vmm.h"
 #include "volguide/integrators/cache_estimate.h"
 #include "volguide/integrators/integrator.h"
 #include "volguide/integrators/medium_occupancy.h"
@@ -22,20 +22,19 @@ namespace volguide {
 
 namespace {
 
-// The estimate's random stream, apart from camera paths (0) and training passes.
-constexpr uint64_t kPixelEstimateStream = 0x9e57;
+// The estimates' random streams, apart from camera paths (0) and training passes.
+constexpr uint64_t kPixelEstimateStream = 0x9e57, kPixelRenderStream = 0x9e58;
 
 // Irradiance on a surface of normal n per unit fluence of a leaf whose incident radiance has the
 // shape V: integral of V(w) max(0, n . w) dw, the clamped cosine replaced by pi times the vMF of
 // mean cosine 2/3 on n (the same integral), so each lobe is a closed-form convolution (eq. 3.4).
 float field_irradiance_shape(const Vmm& v, const Vec3f& n) {
-    const double kappa_cos = cosine_lobe_kappa();
-    double sum = 0.0;
-    for (int k = 0; k < v.size(); ++k) {
-        const VmfLobe l = v.lobe(k);
-        sum += double(v.weight[k]) * vmf_convolution_exact(l.kappa, kappa_cos, 1.0 - double(dot(l.mu, n)));
-    }
-    return float(Pi * sum);
+    ZonalMixture<1> cosine;
+    cosine.count = 1;
+    cosine.weight[0] = 1.f;
+    cosine.kappa[0] = cosine_lobe_kappa();
+    cosine.sign[0] = 1.f;
+    return float(Pi * convolve_exact(v, cosine, n));
 }
 
 // The estimated radiance along one camera ray (see pixel_estimate.h).
@@ -107,6 +106,38 @@ Color3 march_camera_ray(const Scene& scene, const GuidingField& field, const Cac
     return result;
 }
 
+// Per pixel, the mean of `count` camera samples of `radiance` (non-finite ones dropped), each on
+// its own stream Sampler(seed, pixel, k, stream); `stratify`: the first floor(sqrt(count))^2
+// samples are stratified over the pixel. Parallel over rows, deterministic for any thread count.
+Image average_camera_samples(const Scene& scene, int count, uint64_t stream, bool stratify,
+                             const PreprocessContext& context,
+                             const std::function<Color3(Sampler&, const Ray&)>& radiance) {
+    const Sensor& sensor = scene.sensor();
+    const int W = sensor.film().width(), H = sensor.film().height();
+    const int strata = stratify ? std::max(1, int(std::sqrt(float(count)))) : 0;
+    Image image(W, H);
+    tbb::parallel_for(tbb::blocked_range<int>(0, H), [&](const tbb::blocked_range<int>& rows) {
+        for (int y = rows.begin(); y != rows.end(); ++y) {
+            if (context.cancelled()) return;
+            for (int x = 0; x < W; ++x) {
+                Color3 sum(0.f);
+                for (int k = 0; k < count; ++k) {
+                    Sampler sampler(context.seed, uint64_t(y) * uint64_t(W) + uint64_t(x), uint64_t(k), stream);
+                    Vec2f u = sampler.next_2d();
+                    if (k < strata * strata)
+                        u = Vec2f((float(k % strata) + u.x) / float(strata), (float(k / strata) + u.y) / float(strata));
+                    const Point2f film_uv((float(x) + u.x) / float(W), (float(y) + u.y) / float(H));
+                    const auto [ray, weight] = sensor.sample_ray(film_uv, Point2f(0.5f, 0.5f));
+                    const Color3 L = weight * radiance(sampler, ray);
+                    if (L.is_finite()) sum += L;
+                }
+                image.at(x, y) = sum * (1.f / float(count));
+            }
+        }
+    });
+    return image;
+}
+
 }  // namespace
 
 PixelEstimate PixelEstimate::from_image(Image image, float floor_fraction) {
@@ -133,27 +164,8 @@ PixelEstimate PixelEstimate::from_image(Image image, float floor_fraction) {
 
 PixelEstimate PixelEstimate::render(const Scene& scene, const std::function<Color3(Sampler&, const Ray&)>& radiance,
                                     int spp, const PixelEstimateSettings& settings, const PreprocessContext& context) {
-    const Sensor& sensor = scene.sensor();
-    const int W = sensor.film().width(), H = sensor.film().height();
-    Image raw(W, H);
-    tbb::parallel_for(tbb::blocked_range<int>(0, H), [&](const tbb::blocked_range<int>& rows) {
-        for (int y = rows.begin(); y != rows.end(); ++y) {
-            if (context.cancelled()) return;
-            for (int x = 0; x < W; ++x) {
-                Color3 sum(0.f);
-                for (int k = 0; k < spp; ++k) {
-                    Sampler sampler(context.seed, uint64_t(y) * uint64_t(W) + uint64_t(x), uint64_t(k),
-                                    kPixelEstimateStream + 1);
-                    const Vec2f u = sampler.next_2d();
-                    const Point2f film_uv((float(x) + u.x) / float(W), (float(y) + u.y) / float(H));
-                    const auto [ray, weight] = sensor.sample_ray(film_uv, Point2f(0.5f, 0.5f));
-                    const Color3 L = weight * radiance(sampler, ray);
-                    if (L.is_finite()) sum += L;
-                }
-                raw.at(x, y) = sum * (1.f / float(spp));
-            }
-        }
-    });
+    const Image raw = average_camera_samples(scene, spp, kPixelRenderStream, /*stratify=*/false, context, radiance);
+    const int W = raw.width, H = raw.height;
     Image smooth(W, H);
     for (int y = 0; y < H; ++y)
         for (int x = 0; x < W; ++x) {
@@ -173,33 +185,13 @@ PixelEstimate PixelEstimate::render(const Scene& scene, const std::function<Colo
 
 PixelEstimate PixelEstimate::raymarch(const Scene& scene, const GuidingField& field, const CacheEstimator& estimator,
                                       const PixelEstimateSettings& settings, const PreprocessContext& context) {
-    const Sensor& sensor = scene.sensor();
-    const int W = sensor.film().width(), H = sensor.film().height();
-    const int M = std::max(1, settings.rays_per_pixel);
-    const int strata = std::max(1, int(std::sqrt(float(M))));  // strata x strata cells, the rest uniform
-    Image image(W, H);
     const std::vector<float> fractions =
         field.empty() ? std::vector<float>() : medium_fractions(scene, field.tree(), kOccupancyPoints, context.seed);
-    tbb::parallel_for(tbb::blocked_range<int>(0, H), [&](const tbb::blocked_range<int>& rows) {
-        for (int y = rows.begin(); y != rows.end(); ++y) {
-            if (context.cancelled()) return;
-            for (int x = 0; x < W; ++x) {
-                Color3 sum(0.f);
-                for (int k = 0; k < M; ++k) {
-                    Sampler sampler(context.seed, uint64_t(y) * uint64_t(W) + uint64_t(x), uint64_t(k),
-                                    kPixelEstimateStream);
-                    Vec2f u = sampler.next_2d();
-                    if (k < strata * strata)
-                        u = Vec2f((float(k % strata) + u.x) / float(strata), (float(k / strata) + u.y) / float(strata));
-                    const Point2f film_uv((float(x) + u.x) / float(W), (float(y) + u.y) / float(H));
-                    const auto [ray, weight] = sensor.sample_ray(film_uv, Point2f(0.5f, 0.5f));
-                    const Color3 L = weight * march_camera_ray(scene, field, estimator, fractions, settings, ray, sampler);
-                    if (L.is_finite()) sum += L;
-                }
-                image.at(x, y) = sum * (1.f / float(M));
-            }
-        }
-    });
+    Image image = average_camera_samples(
+        scene, std::max(1, settings.rays_per_pixel), kPixelEstimateStream, /*stratify=*/true, context,
+        [&](Sampler& sampler, const Ray& ray) {
+            return march_camera_ray(scene, field, estimator, fractions, settings, ray, sampler);
+        });
     return from_image(std::move(image), settings.floor_fraction);
 }
 

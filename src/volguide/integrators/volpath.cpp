@@ -159,23 +159,31 @@ Color3 VolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const Ray& ca
 
 namespace {
 
-// One branch of a camera sample's walk waiting on the stack (guided splitting): the walk's state,
-// its own random stream, and, for a split at a medium vertex before its NEE and direction, that
-// vertex.
-struct PendingBranch {
-    Color3 throughput;
-    float eta;
+// The state a path carries from one event to the next (everything but the pending intersection):
+// what a split copy inherits.
+struct WalkState {
+    Color3 throughput{1.f};
+    float eta = 1.f;
     Ray ray;
-    const Medium* medium;
-    int depth, rr_depth_done, null_crossings;
-    bool specular_chain;
-    Interaction last_vertex;
-    float last_pdf;
-    bool last_equi;
+    const Medium* medium = nullptr;
+    int depth = 0;             // real scattering events so far (null crossings do not count)
+    int rr_depth_done = -1;    // Russian roulette is played once per depth
+    int null_crossings = 0;
+    bool specular_chain = false;  // the last real event was a delta lobe: emitter hits count fully
+    Interaction last_vertex;   // last real scattering vertex and the pdf of the direction it sampled
+    float last_pdf = 1.f;
+    // Equiangular bookkeeping of the last medium vertex (for the MIS of phase-sampled hits).
+    bool last_equi = false;
     EquiSegment last_seg;
-    float last_t, last_pd;
+    float last_t = 0.f, last_pd = 0.f;
+};
+
+// One branch of a camera sample's walk waiting on the stack (guided splitting): its state, its own
+// random stream, and, for a split at a medium vertex before its NEE and direction, that vertex.
+struct PendingBranch {
+    WalkState state;
     Sampler sampler;
-    bool at_vertex = false;  // resume at `mi` (NEE and direction), else trace `ray`
+    bool at_vertex = false;  // resume at `mi` (NEE and direction), else trace state.ray
     MediumInteraction mi;
     bool equi = false;
     EquiSegment seg;
@@ -199,29 +207,34 @@ Color3 VolPathIntegrator::Li(const Scene& scene, Sampler& camera_sampler, const 
     auto depth_ok = [&](int d) { return s.max_depth < 0 || d < s.max_depth; };
     const BSDFContext ctx;
 
-    Color3 result(0.f), throughput(1.f);
+    Color3 result(0.f);
     // Every contribution goes through add(): the training recorder attributes it to the suffix of
     // the medium vertices recorded so far.
     auto add = [&](const Color3& c) {
         result += c;
         if (recorder) recorder->contribution(c);
     };
-    float eta = 1.f;
-    Ray ray = camera_ray;
-    const Medium* medium = scene.sensor().medium();
-    int depth = 0;             // real scattering events so far (null crossings do not count)
-    int rr_depth_done = -1;    // Russian roulette is played once per depth
-    bool specular_chain = false;  // the last real event was a delta lobe: emitter hits count fully
-    Interaction last_vertex;   // last real scattering vertex and the pdf of the direction it sampled
-    float last_pdf = 1.f;
-    // Equiangular bookkeeping of the last medium vertex (for the MIS of phase-sampled hits).
-    bool last_equi = false;
-    EquiSegment last_seg;
-    float last_t = 0.f, last_pd = 0.f;
+    WalkState state;
+    state.ray = camera_ray;
+    state.medium = scene.sensor().medium();
+    // The walk below reads and writes the state through these names (a split copies `state`).
+    Color3& throughput = state.throughput;
+    float& eta = state.eta;
+    Ray& ray = state.ray;
+    const Medium*& medium = state.medium;
+    int& depth = state.depth;
+    int& rr_depth_done = state.rr_depth_done;
+    int& null_crossings = state.null_crossings;
+    bool& specular_chain = state.specular_chain;
+    Interaction& last_vertex = state.last_vertex;
+    float& last_pdf = state.last_pdf;
+    bool& last_equi = state.last_equi;
+    EquiSegment& last_seg = state.last_seg;
+    float& last_t = state.last_t;
+    float& last_pd = state.last_pd;
 
     SurfaceInteraction si;
     bool need_intersection = true;
-    int null_crossings = 0;
 
     // The camera sample's first branch draws from the caller's sampler (so that without splitting
     // the walk is volpath's, number for number); split copies from streams forked off it.
@@ -232,20 +245,7 @@ Color3 VolPathIntegrator::Li(const Scene& scene, Sampler& camera_sampler, const 
     const size_t stack_base = stack.size();
     auto snapshot = [&](const Sampler& branch_rng) {
         PendingBranch b;
-        b.throughput = throughput;
-        b.eta = eta;
-        b.ray = ray;
-        b.medium = medium;
-        b.depth = depth;
-        b.rr_depth_done = rr_depth_done;
-        b.null_crossings = null_crossings;
-        b.specular_chain = specular_chain;
-        b.last_vertex = last_vertex;
-        b.last_pdf = last_pdf;
-        b.last_equi = last_equi;
-        b.last_seg = last_seg;
-        b.last_t = last_t;
-        b.last_pd = last_pd;
+        b.state = state;
         b.sampler = branch_rng;
         return b;
     };
@@ -537,20 +537,7 @@ Color3 VolPathIntegrator::Li(const Scene& scene, Sampler& camera_sampler, const 
         if (stack.size() == stack_base) break;
         PendingBranch b = std::move(stack.back());
         stack.pop_back();
-        throughput = b.throughput;
-        eta = b.eta;
-        ray = b.ray;
-        medium = b.medium;
-        depth = b.depth;
-        rr_depth_done = b.rr_depth_done;
-        null_crossings = b.null_crossings;
-        specular_chain = b.specular_chain;
-        last_vertex = b.last_vertex;
-        last_pdf = b.last_pdf;
-        last_equi = b.last_equi;
-        last_seg = b.last_seg;
-        last_t = b.last_t;
-        last_pd = b.last_pd;
+        state = b.state;
         branch_sampler = b.sampler;
         rng = &branch_sampler;
         need_intersection = true;
