@@ -19,7 +19,7 @@
 #include "volguide/guiding/guiding_field.h"
 #include "volguide/integrators/volpath.h"
 #include "volguide/integrators/pixel_estimate.h"
-#include "volguide/integrators/roulette_splitting.h"
+#include "volguide/guiding/roulette_splitting.h"
 #include "volguide/integrators/walk_guide.h"
 
 namespace volguide {

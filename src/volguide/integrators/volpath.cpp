@@ -26,7 +26,7 @@
 
 #include "volguide/core/log.h"
 #include "volguide/integrators/equiangular.h"
-#include "volguide/integrators/roulette_splitting.h"
+#include "volguide/guiding/roulette_splitting.h"
 #include "volguide/integrators/training_recorder.h"
 #include "volguide/integrators/walk_guide.h"
 #include "volguide/integrators/volume_nee.h"
