@@ -14,7 +14,7 @@ BENCH_ARGS ?=
 # CTest label expression for `make test`; CI runs everything.
 TEST_ARGS ?=
 
-.PHONY: deps build test demo bench bench-micro clean format
+.PHONY: deps build test install demo bench bench-micro clean format
 
 deps:
 	@scripts/install-deps.sh $(APT_PACKAGES)
@@ -27,6 +27,13 @@ build: deps $(BUILD_DIR)/CMakeCache.txt
 
 test: build
 	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS) $(TEST_ARGS)
+
+# make install PREFIX=DIR: the guiding core library, its API headers and the CMake package
+# (find_package(volguide) -> volguide::volguide; docs/guiding-api.md).
+PREFIX ?=
+install: build
+	@test -n "$(PREFIX)" || { echo "usage: make install PREFIX=DIR" >&2; exit 2; }
+	cmake --install $(BUILD_DIR) --prefix $(PREFIX)
 
 demo: build
 	@scripts/demo.sh $(BUILD_DIR)
