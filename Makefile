@@ -31,8 +31,12 @@ test: build
 # make install PREFIX=DIR: the guiding core library, its API headers and the CMake package
 # (find_package(volguide) -> volguide::volguide; docs/guiding-api.md).
 PREFIX ?=
+ifneq ($(filter install,$(MAKECMDGOALS)),)
+ifeq ($(PREFIX),)
+$(error usage: make install PREFIX=DIR)
+endif
+endif
 install: build
-	@test -n "$(PREFIX)" || { echo "usage: make install PREFIX=DIR" >&2; exit 2; }
 	cmake --install $(BUILD_DIR) --prefix $(PREFIX)
 
 demo: build
