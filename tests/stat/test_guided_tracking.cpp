@@ -1,4 +1,4 @@
-// Guided null-collision tracking (HeterogeneousMedium::guided_free_flight, theory.md §7.7 H2) is
+// Guided null-collision tracking (Medium::sample_free_flight with a CollisionGuide, theory.md §7.7 H2) is
 // unbiased for any scatter probability that is positive where sigma_s is and below 1 where
 // mu > sigma_t: against quadrature on the tracking tests' procedural cloud (oracles.md §4),
 //   E[w 1{escaped}] = T_c(s),  E[w 1{scattered}] = int T_c sigma_s,c dt,  E[w 1{scattered} t] = int T_c sigma_s,c t dt,
@@ -85,7 +85,7 @@ double check_unbiased(HeterogeneousMedium& m, const std::function<std::unique_pt
             for (int i = 0; i < n; ++i) {
                 Sampler s(seed + ri, uint64_t(ms), uint64_t(i));
                 auto guide = guide_for(r);
-                const FreeFlightSample fs = m.guided_free_flight(r.ray, r.tmax, Color3(1.f), s, *guide);
+                const FreeFlightSample fs = m.sample_free_flight(r.ray, r.tmax, Color3(1.f), s, guide.get());
                 EXPECT_TRUE(fs.weight.is_finite());
                 EXPECT_LE(fs.weight.max_value(), max_weight);
                 if (fs.scattered) {
@@ -203,7 +203,7 @@ TEST(GuidedTracking, AnalogProbabilityIsDeltaTracking) {
             for (int i = 0; i < 5000; ++i) {
                 Sampler s(7, uint64_t(ms), uint64_t(i)), s_ref(7, uint64_t(ms), uint64_t(i));
                 TrackingCounts counts;
-                const FreeFlightSample fs = m->guided_free_flight(r.ray, r.tmax, Color3(1.f), s, analog, &counts);
+                const FreeFlightSample fs = m->sample_free_flight(r.ray, r.tmax, Color3(1.f), s, &analog, &counts);
                 const FreeFlightSample ref = m->sample_free_flight(r.ray, r.tmax, Color3(1.f), s_ref);
                 ASSERT_EQ(counts.real_collisions, fs.scattered ? 1u : 0u);
                 const float expected = fs.scattered ? 0.7f : 1.f;
@@ -233,7 +233,7 @@ TEST(GuidedTracking, CertainDecisionsAreExactAndFinite) {
     RunningStats escaped;
     for (int i = 0; i < 20000; ++i) {
         Sampler s(11, 0, uint64_t(i));
-        const FreeFlightSample fs = dense->guided_free_flight(ray, Infinity, Color3(1.f), s, always);
+        const FreeFlightSample fs = dense->sample_free_flight(ray, Infinity, Color3(1.f), s, &always);
         ASSERT_TRUE(fs.weight.is_finite());
         if (fs.scattered) {
             ASSERT_NEAR(fs.weight.r, 0.6f, 1e-5f);
@@ -252,7 +252,7 @@ TEST(GuidedTracking, CertainDecisionsAreExactAndFinite) {
         RunningStats tr;
         for (int i = 0; i < 20000; ++i) {
             Sampler s(12, 0, uint64_t(i));
-            const FreeFlightSample fs = black->guided_free_flight(ray, Infinity, Color3(1.f), s, *g);
+            const FreeFlightSample fs = black->sample_free_flight(ray, Infinity, Color3(1.f), s, g);
             ASSERT_FALSE(fs.scattered && g == &never);
             ASSERT_TRUE(fs.weight.is_finite());
             tr.add(fs.scattered ? 0.0 : fs.weight.r);
