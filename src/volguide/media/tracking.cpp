@@ -50,36 +50,42 @@ FreeFlightSample HeterogeneousMedium::track(const Ray& ray, float tmax, const Co
 
     const Color3 entry = channel_probabilities(throughput);
     Color3 w(1.f);
-    bool ended = false;  // scattered, or the tracking weight vanished
-    for_each_tentative_collision(o, d, t0, t1, sampler, counts, [&](float t, float mu) {
+    // The decision that ended the walk (Null: none did, the ray reached the segment's end) and, for
+    // a scatter, its collision: the scatter is recorded after the walk, so that the per-collision
+    // callback stays small. always_inline: GCC 12 otherwise keeps the guided instance's callback
+    // out of line, a call per tentative collision (the parent's guided loop had none).
+    CollisionDecision end{CollisionDecision::Event::Null};
+    CollisionSite scatter{};
+    for_each_tentative_collision(o, d, t0, t1, sampler, counts, [&](float t, float mu) __attribute__((always_inline)) {
         CollisionSite c{t, mu, sigma_t_local(o + d * t), Color3(0.f), w * entry};
-        Point3f p;
-        auto read_scattering = [&] {
-            p = ray(t);
-            c.sigma_s = c.sigma_t * albedo_->eval(p);
-        };
-        if constexpr (Policy::reads_scattering) read_scattering();
-        const CollisionDecision decision = policy(c, sampler);
-        if (decision.event == CollisionDecision::Event::Scatter) {
-            if (counts) ++counts->real_collisions;
-            if constexpr (!Policy::reads_scattering) read_scattering();
-            fs.scatter_at(ray, t, p, this, {c.sigma_t, c.sigma_s});
-            fs.flight_weight = w * decision.factor;
-            fs.weight = fs.flight_weight * c.sigma_s;
-            ended = true;
-            return false;
-        }
-        if (decision.event == CollisionDecision::Event::Null) {
+        if constexpr (Policy::reads_scattering) c.sigma_s = c.sigma_t * albedo_->eval(ray(t));
+        end = policy(c, sampler);
+        if (end.event == CollisionDecision::Event::Null) {
             if (counts) ++counts->null_collisions;
-            w = w * (Color3(mu) - c.sigma_t) * decision.factor;
-            if (!w.is_black()) return true;  // (zero: sigma_t = mu in every channel that carried weight)
+            w = w * (Color3(mu) - c.sigma_t) * end.factor;
+            if (!w.is_black()) return true;
+            end.event = CollisionDecision::Event::Vanish;  // sigma_t = mu in every channel that carried weight
         }
-        fs.weight = fs.flight_weight = Color3(0.f);  // nothing can be carried further
-        ended = true;
+        if (end.event == CollisionDecision::Event::Scatter) scatter = c;
         return false;
     });
-    if (ended) return fs;
-    fs.weight = fs.flight_weight = w;
+    switch (end.event) {
+        case CollisionDecision::Event::Scatter: {
+            if (counts) ++counts->real_collisions;
+            const Point3f p = ray(scatter.t);
+            if constexpr (!Policy::reads_scattering) scatter.sigma_s = scatter.sigma_t * albedo_->eval(p);
+            fs.scatter_at(ray, scatter.t, p, this, {scatter.sigma_t, scatter.sigma_s});
+            fs.flight_weight = w * end.factor;
+            fs.weight = fs.flight_weight * scatter.sigma_s;
+            break;
+        }
+        case CollisionDecision::Event::Vanish:  // nothing can be carried further
+            fs.weight = fs.flight_weight = Color3(0.f);
+            break;
+        case CollisionDecision::Event::Null:
+            fs.weight = fs.flight_weight = w;
+            break;
+    }
     return fs;
 }
 
