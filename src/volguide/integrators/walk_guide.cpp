@@ -6,7 +6,6 @@
 #include "volguide/guiding/guided_collision.h"
 #include "volguide/guiding/surface_guide.h"
 #include "volguide/integrators/medium_occupancy.h"
-#include "volguide/media/heterogeneous.h"
 #include "volguide/media/spectral_mis.h"
 #include "volguide/render/scene.h"
 #include "volguide/render/sensor.h"
@@ -192,11 +191,8 @@ class BinSource {
     uint64_t invalid_ = 0, damped_ = 0;
 };
 
+// Exact in homogeneous media (the closed form, no random numbers), an unbiased estimate otherwise.
 Color3 exact_or_estimated_transmittance(const Medium& medium, const Ray& ray, float t, Sampler& sampler) {
-    if (medium.is_homogeneous()) {
-        const Color3 st = medium.eval(ray.o).sigma_t;
-        return Color3(std::exp(-st.r * t), std::exp(-st.g * t), std::exp(-st.b * t));
-    }
     return medium.transmittance(ray, t, sampler);
 }
 
@@ -316,19 +312,18 @@ FreeFlightSample WalkGuide::sample_distance(const Medium& medium, const Ray& ray
 
     const LeafEstimates* estimates = estimates_for(medium.phase());
     if (settings_.distance == DistanceGuiding::Incremental && settings_.guided_tracking &&
-        !medium.is_homogeneous())
-        if (const auto* het = dynamic_cast<const HeterogeneousMedium*>(&medium)) {
-            // The whole segment: beyond the field the tracking falls back to the analog probability.
-            GuidedCollisionProbability guide(field_, estimates, ray, t_end, settings_.distance_settings.c_T);
-            FreeFlightSample fs = het->guided_free_flight(ray, tmax, throughput, sampler, guide);
-            WalkGuideStats& st = stats_.local();
-            ++st.distance_queries;
-            ++st.guided_tracking;
-            st.distance_steps += guide.collisions();
-            st.invalid_bins += guide.unguided_collisions();
-            st.nan_fallbacks += guide.nan_fallbacks();
-            return fs;
-        }
+        medium.tracks_null_collisions()) {
+        // The whole segment: beyond the field the tracking falls back to the analog probability.
+        GuidedCollisionProbability guide(field_, estimates, ray, t_end, settings_.distance_settings.c_T);
+        FreeFlightSample fs = medium.sample_free_flight(ray, tmax, throughput, sampler, &guide);
+        WalkGuideStats& st = stats_.local();
+        ++st.distance_queries;
+        ++st.guided_tracking;
+        st.distance_steps += guide.collisions();
+        st.invalid_bins += guide.unguided_collisions();
+        st.nan_fallbacks += guide.nan_fallbacks();
+        return fs;
+    }
 
     Scratch& s = scratch;
     GuidedDistanceSettings distance_settings = settings_.distance_settings;
