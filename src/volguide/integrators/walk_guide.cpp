@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "volguide/guiding/distance_bins.h"
 #include "volguide/guiding/guided_collision.h"
 #include "volguide/guiding/surface_guide.h"
 #include "volguide/integrators/medium_occupancy.h"
@@ -36,161 +37,6 @@ struct LastScatter {
     int leaf = -1;
 };
 thread_local LastScatter last_scatter;
-
-// Pulls the bins of the ray segment (0, t_end) lazily: the kd leaves from a tree cursor (a stretch
-// before the field's bounds is a leafless span), cut at the medium's proxy segments and split to at
-// most `max_tau` optical depth. Field values (the expensive part) are read once per leaf, on entering
-// it, so the incremental sampler pays only for the leaves before the collision.
-class BinSource {
-  public:
-    BinSource(const Ray& ray, float t_end, const Medium& medium, const GuidingField& field,
-              const LeafEstimates* estimates, std::vector<ProxySegment>& proxies, float max_tau,
-              const std::vector<float>& leaf_extent, float leaf_tau_max)
-        : leaf_extent_(leaf_extent),
-          leaf_tau_max_(leaf_tau_max),
-          ray_(ray),
-          t_end_(t_end),
-          medium_(medium),
-          field_(field),
-          estimates_(estimates),
-          proxies_(proxies),
-          max_tau_(max_tau),
-          cursor_(field.tree(), ray, 0.f, t_end) {
-        proxies_.clear();  // scratch of the previous query: nothing may be read before the first span
-        if (estimates_) direction_ = estimates_->prepare(ray.d);
-    }
-
-    bool operator()(DistanceBin& bin) {
-        while (true) {
-            if (piece_ < pieces_) {
-                const ProxySegment& p = proxies_[proxy_];
-                const float len = (p.t1 - p.t0) / float(pieces_);
-                bin.t0 = p.t0 + len * float(piece_);
-                bin.t1 = ++piece_ == pieces_ ? p.t1 : p.t0 + len * float(piece_);
-                bin.sigma_t = p.sigma_t;
-                bin.albedo = p.albedo;
-                bin.Li = Li_;
-                bin.L = L_;
-                bin.valid = valid_;
-                bin.confidence = 1.f;
-                if (leaf_ >= 0 && valid_ && leaf_tau_max_ > 0.f) {
-                    const float tau = leaf_extent_[size_t(leaf_)] * p.sigma_t.average();
-                    if (tau > leaf_tau_max_) {
-                        bin.confidence = leaf_tau_max_ / tau;
-                        ++damped_;
-                    }
-                }  // (the same rule as WalkGuide::leaf_confidence, with the bin's proxy)
-                invalid_ += valid_ ? 0 : 1;
-                return true;
-            }
-            if (++proxy_ < proxies_.size()) {
-                const ProxySegment& p = proxies_[proxy_];
-                const float tau = p.sigma_t.max_value() * (p.t1 - p.t0);
-                pieces_ =
-                    tau > max_tau_ && std::isfinite(tau) ? int(std::min(std::ceil(tau / max_tau_), 1e6f)) : 1;
-                piece_ = 0;
-                continue;
-            }
-            if (!next_span()) return false;
-        }
-    }
-    uint64_t invalid() const { return invalid_; }
-    uint64_t damped() const { return damped_; }  // bins with confidence < 1 (leaf_tau_max)
-    // The kd leaf of the bin returned last (-1 outside the field).
-    int leaf() const { return leaf_; }
-
-  private:
-    struct Span {
-        int leaf;
-        float t0, t1;
-    };
-    // Enters the next stretch of (0, t_end): leafless before the field, the cursor's leaves, and a
-    // leafless remainder should float round-off leave the cursor short of t_end.
-    bool next_span() {
-        if (has_pending_) {
-            has_pending_ = false;
-            enter(pending_.leaf, pending_.t0, pending_.t1);
-            return true;
-        }
-        Span s;
-        bool got = false;
-        if (has_ahead_) {
-            s = ahead_;
-            has_ahead_ = false;
-            got = true;
-        } else {
-            got = pull_leaf(s);
-        }
-        if (got) {
-            // One leaf ahead: its table is fetched from memory while this leaf's bins are decided
-            // (the lookups of a large field miss the cache: ~18 % of a guided render on `thin`
-            // with 2000 leaves). thin, 256 spp, distance=incremental: render 5.0 -> 4.8 s.
-            if (estimates_ && pull_leaf(ahead_)) {
-                has_ahead_ = true;
-                estimates_->prefetch(ahead_.leaf, direction_);
-            }
-            if (s.t0 > reached_) {  // the ray enters the field's bounds at s.t0
-                pending_ = s;
-                has_pending_ = true;
-                enter(-1, reached_, s.t0);
-            } else {
-                enter(s.leaf, s.t0, s.t1);
-            }
-            return true;
-        }
-        if (reached_ < t_end_) {
-            enter(-1, reached_, t_end_);
-            return true;
-        }
-        return false;
-    }
-
-    bool pull_leaf(Span& s) {
-        if (cursor_done_) return false;
-        if (cursor_.next(s.leaf, s.t0, s.t1)) return true;
-        cursor_done_ = true;
-        return false;
-    }
-
-    void enter(int leaf_index, float t0, float t1) {
-        reached_ = std::max(reached_, t1);
-        proxies_.clear();
-        medium_.proxy_segments(ray_, t0, t1, proxies_);
-        proxy_ = size_t(-1);
-        pieces_ = piece_ = 0;
-        Li_ = L_ = 0.f;
-        leaf_ = leaf_index;
-        Color3 Li, L;
-        valid_ = estimates_ && estimates_->lookup(leaf_index, direction_, Li, L);
-        if (valid_) {
-            Li_ = Li.average();
-            L_ = L.average();
-        }
-    }
-
-    const std::vector<float>& leaf_extent_;
-    float leaf_tau_max_;
-    const Ray& ray_;
-    float t_end_;
-    const Medium& medium_;
-    const GuidingField& field_;
-    const LeafEstimates* estimates_;
-    std::vector<ProxySegment>& proxies_;
-    float max_tau_;
-    SpatialTree::RayCursor cursor_;
-    bool cursor_done_ = false, has_pending_ = false;
-    Span pending_{-1, 0.f, 0.f};
-    Span ahead_{-1, 0.f, 0.f};
-    bool has_ahead_ = false;
-    LeafEstimates::Direction direction_;  // the ray's place in the leaves' tables
-    float reached_ = 0.f;                 // the spans entered so far cover (0, reached_)
-    size_t proxy_ = size_t(-1);
-    int pieces_ = 0, piece_ = 0;
-    bool valid_ = false;
-    float Li_ = 0.f, L_ = 0.f;
-    int leaf_ = -1;
-    uint64_t invalid_ = 0, damped_ = 0;
-};
 
 Color3 exact_or_estimated_transmittance(const Medium& medium, const Ray& ray, float t, Sampler& sampler) {
     if (medium.is_homogeneous()) {
@@ -257,11 +103,7 @@ WalkGuide::WalkGuide(const Scene& scene, const GuidingField& field, const WalkGu
     surface_offset_ = 1e-4f * norm(field.tree().bounds().extents());
     if (guides_surfaces() && !field.empty())
         leaf_medium_fraction_ = medium_fractions(scene, field.tree(), kSurfaceOccupancyPoints, kSurfaceOccupancySeed);
-    leaf_extent_.resize(size_t(field.tree().leaf_count()));
-    for (int i = 0; i < field.tree().leaf_count(); ++i) {
-        const Vec3f e = field.tree().leaf_bounds(i).extents();
-        leaf_extent_[size_t(i)] = std::cbrt(std::max(0.f, e.x * e.y * e.z));
-    }
+    leaf_extent_ = leaf_extents(field.tree());
     auto add = [&](const Medium* m) {
         if (!m) return;
         const float g = m->phase().mean_cosine();
