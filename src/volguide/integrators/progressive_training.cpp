@@ -81,7 +81,7 @@ ProgressiveTrainingResult train_progressive(const Scene& scene, const BBox3f& bo
                         const Vec2f u = sampler.next_2d();
                         const Point2f uv((float(x) + u.x) / float(W), (float(y) + u.y) / float(H));
                         const Ray ray = sensor.sample_ray(uv, Point2f(0.5f, 0.5f)).first;
-                        walk.Li(scene, sampler, ray, &recorder);
+                        walk.walk(scene, sampler, ray, &recorder);
                         recorder.finish(out);
                     }
                 }

@@ -11,6 +11,7 @@
 #include <mutex>
 #include <stdexcept>
 
+#include "volguide/integrators/camera_sample.h"
 #include "volguide/integrators/integrator.h"
 #include "volguide/render/scene.h"
 #include "volguide/render/sensors/film_buffer.h"
@@ -122,6 +123,7 @@ RenderResult render_frame_impl(const FrameSetup& setup, const RadianceFn& radian
     const int border = setup.sample_border ? filter_border_size(*setup.filter) : 0;
     const int W = setup.width, H = setup.height;
     const int grid_w = W + 2 * border, grid_h = H + 2 * border;
+    const FilmGrid grid{W, H, border};
     const int T = options.tile_size;
     std::vector<PixelRect> tiles;
     for (int y = -border; y < H + border; y += T)
@@ -170,20 +172,16 @@ RenderResult render_frame_impl(const FrameSetup& setup, const RadianceFn& radian
                     stop_time = true;
                     return;
                 }
-                for (int x = rect.x0; x < rect.x1; ++x) {
-                    const uint64_t pixel_index = uint64_t(y + border) * grid_w + uint64_t(x + border);
+                for (int x = rect.x0; x < rect.x1; ++x)
                     for (int s = spp_done; s < spp_done + n; ++s) {
-                        Sampler sampler(seed, pixel_index, uint64_t(s));
-                        Vec2f u = sampler.next_2d();
-                        Point2f pos(float(x) + u.x, float(y) + u.y);
-                        Color3 L = radiance(Point2f(pos.x / float(W), pos.y / float(H)), sampler);
+                        FilmSample fs = film_sample(grid, seed, x, y, uint64_t(s));
+                        const Color3 L = radiance(fs.film_uv, fs.sampler);
                         if (!L.is_finite()) {
                             if (bad++ == 0) first_bad[t] = SampleLocation{x, y, s};
                             continue;
                         }
-                        buf->splat(pos, L);
+                        buf->splat(fs.pos, L);
                     }
-                }
             }
             nonfinite[t] = bad;
             buffers[t] = std::move(buf);
@@ -266,8 +264,7 @@ RenderResult render(Scene& scene, const RenderOptions& options) {
     setup.variance = integrator.writes_variance() || options.variance;
     const Scene& cscene = scene;
     RadianceFn radiance = [&](Point2f uv, Sampler& sampler) {
-        auto [ray, weight] = sensor.sample_ray(uv, Point2f(0.5f, 0.5f));
-        return weight * integrator.Li(cscene, sampler, ray, uv);
+        return camera_sample_value(cscene, integrator, uv, sampler);
     };
     RenderResult result = render_frame_impl(setup, radiance, options, arena, job_start);
     result.stats.preprocess_seconds = preprocess_seconds;

@@ -22,22 +22,6 @@ namespace {
 constexpr int kSurfaceOccupancyPoints = 32;
 constexpr uint64_t kSurfaceOccupancySeed = 0x5u;
 
-// Per-thread scratch, reused across queries (no allocation per distance decision).
-struct Scratch {
-    std::vector<ProxySegment> proxies;
-    std::vector<DistanceBin> bins;  // tabulated only
-};
-thread_local Scratch scratch;
-
-// The leaf of this thread's last guided scatter, so that the direction decision at that vertex need
-// not descend the tree again (leaf_at was ~1.5 % of aniso's guided profile). Reset by every
-// distance query; trusted only when SpatialTree::leaf_at would provably return it (holds_point).
-struct LastScatter {
-    Point3f p;
-    int leaf = -1;
-};
-thread_local LastScatter last_scatter;
-
 Color3 exact_or_estimated_transmittance(const Medium& medium, const Ray& ray, float t, Sampler& sampler) {
     if (medium.is_homogeneous()) {
         const Color3 st = medium.eval(ray.o).sigma_t;
@@ -132,19 +116,20 @@ const LeafEstimates* WalkGuide::estimates_for(const PhaseFunction& phase) const 
 }
 
 FreeFlightSample WalkGuide::sample_distance(const Medium& medium, const Ray& ray, float tmax,
-                                            const Color3& throughput, Sampler& sampler) const {
+                                            const Color3& throughput, Sampler& sampler, GuideRegion& region,
+                                            DistanceScratch& scratch) const {
     // A query from the vertex of the last guided scatter: its leaf is known. Where that leaf's
     // confidence is below kSkipConfidence the guided share would be small, and the guided walk
     // (a leaf lookup per bin) costs more than it can return: free flight, as for leaves without
     // estimates.
-    const int origin_leaf = last_scatter.leaf >= 0 && last_scatter.p == ray.o ? last_scatter.leaf : -1;
-    last_scatter.leaf = -1;
+    const int origin_leaf = region.leaf;
+    region.leaf = -1;
     if (origin_leaf >= 0 && leaf_confidence(origin_leaf, medium.eval(ray.o).sigma_t) < kSkipConfidence) {
         ++stats_.local().distance_skipped;
         FreeFlightSample fs = medium.sample_free_flight(ray, tmax, throughput, sampler);
         // Deep in a dense medium the next vertex is usually in the same leaf: hand it on, so that
         // its direction decision needs no descent either.
-        if (fs.scattered && field_.tree().holds_point(origin_leaf, fs.mi.p)) last_scatter = {fs.mi.p, origin_leaf};
+        if (fs.scattered && field_.tree().holds_point(origin_leaf, fs.mi.p)) region.leaf = origin_leaf;
         return fs;
     }
     float b0, b1;
@@ -172,7 +157,7 @@ FreeFlightSample WalkGuide::sample_distance(const Medium& medium, const Ray& ray
             return fs;
         }
 
-    Scratch& s = scratch;
+    DistanceScratch& s = scratch;
     GuidedDistanceSettings distance_settings = settings_.distance_settings;
     distance_settings.channel_split = channel_probabilities(throughput);  // spectral MIS (§2.6)
     BinSource source(ray, t_end, medium, field_, estimates, s.proxies, settings_.max_bin_optical_depth,
@@ -202,7 +187,7 @@ FreeFlightSample WalkGuide::sample_distance(const Medium& medium, const Ray& ray
         const float t = ds.t;
         const Color3 tr = exact_or_estimated_transmittance(medium, ray, t, sampler);
         const Point3f p = ray(t);
-        last_scatter = {p, source.leaf()};
+        region.leaf = source.leaf();
         fs.scatter_at(ray, t, p, &medium, medium.eval(p));
         fs.flight_weight = tr * (1.f / ds.pdf);
         fs.weight = fs.flight_weight * fs.mi.coeffs.sigma_s;
@@ -233,18 +218,16 @@ FreeFlightSample WalkGuide::sample_distance(const Medium& medium, const Ray& ray
     return fs;
 }
 
-void WalkGuide::direction_sampler(const MediumInteraction& mi, const PhaseFunction& phase,
+void WalkGuide::direction_sampler(const MediumInteraction& mi, const PhaseFunction& phase, GuideRegion& region,
                                   std::optional<GuidedDirectionSampler>& out) const {
     const GuidingLeaf* leaf = nullptr;
     if (!field_.empty()) {
-        const LastScatter& last = last_scatter;
-        leaf = last.p == mi.p && field_.tree().holds_point(last.leaf, mi.p)
-                   ? &field_.leaves()[size_t(last.leaf)]
-                   : field_.leaf_at(mi.p);
+        leaf = region.leaf >= 0 && field_.tree().holds_point(region.leaf, mi.p) ? &field_.leaves()[size_t(region.leaf)]
+                                                                               : field_.leaf_at(mi.p);
     }
     // The distance decision that follows starts here: it then knows its origin leaf (and may skip
     // the guided walk in a leaf of low confidence) without a descent of its own.
-    if (leaf) last_scatter = {mi.p, int(leaf - field_.leaves().data())};
+    if (leaf) region.leaf = int(leaf - field_.leaves().data());
     if (leaf && settings_.direction_indirect)
         leaf = &direction_leaves_[size_t(leaf - field_.leaves().data())];
     const auto it = phase_vmms_.find(phase.mean_cosine());
@@ -290,22 +273,21 @@ void WalkGuide::surface_sampler(const SurfaceInteraction& si, const BSDF& bsdf, 
     if (out->guided()) ++stats_.local().surface_guided_vertices;
 }
 
-int WalkGuide::vertex_leaf(const Point3f& x) const {
+int WalkGuide::vertex_leaf(const Point3f& x, const GuideRegion& region) const {
     if (field_.empty()) return -1;
-    const LastScatter& last = last_scatter;
-    if (last.leaf >= 0 && last.p == x && field_.tree().holds_point(last.leaf, x)) return last.leaf;
+    if (region.leaf >= 0 && field_.tree().holds_point(region.leaf, x)) return region.leaf;
     return field_.tree().leaf_at(x);
 }
 
-int WalkGuide::trusted_vertex_leaf(const MediumInteraction& mi) const {
-    const int leaf = vertex_leaf(mi.p);
+int WalkGuide::trusted_vertex_leaf(const MediumInteraction& mi, GuideRegion& region) const {
+    const int leaf = vertex_leaf(mi.p, region);
     if (leaf < 0) return -1;
-    last_scatter = {mi.p, leaf};  // the decisions that follow at this vertex need no descent
+    region.leaf = leaf;  // the decisions that follow at this vertex need no descent
     return leaf_confidence(leaf, mi.coeffs.sigma_t) < kSkipConfidence ? -1 : leaf;
 }
 
-Color3 WalkGuide::inscattered_estimate(const MediumInteraction& mi, const Vec3f& d) const {
-    const int leaf = mi.medium ? trusted_vertex_leaf(mi) : -1;
+Color3 WalkGuide::inscattered_estimate(const MediumInteraction& mi, const Vec3f& d, GuideRegion& region) const {
+    const int leaf = mi.medium ? trusted_vertex_leaf(mi, region) : -1;
     if (leaf < 0) return Color3(0.f);
     // The distance decisions' tables when they exist (one bilinear lookup instead of K x J lobes).
     if (const LeafEstimates* tables = estimates_for(mi.medium->phase())) {
@@ -317,8 +299,8 @@ Color3 WalkGuide::inscattered_estimate(const MediumInteraction& mi, const Vec3f&
     return it == inscatter_.end() ? Color3(0.f) : it->second.inscattered(leaf, d);
 }
 
-Color3 WalkGuide::incident_estimate(const MediumInteraction& mi, const Vec3f& w) const {
-    const int leaf = mi.medium ? trusted_vertex_leaf(mi) : -1;
+Color3 WalkGuide::incident_estimate(const MediumInteraction& mi, const Vec3f& w, GuideRegion& region) const {
+    const int leaf = mi.medium ? trusted_vertex_leaf(mi, region) : -1;
     if (leaf < 0) return Color3(0.f);
     // The full L~, although NEE took the direct light at x: the continuation still collects the
     // emitter hits MIS gives it (a sky), and the indirect part alone (tried with its own fluence)
