@@ -157,6 +157,12 @@ FreeFlightSample WalkGuide::sample_distance(const Medium& medium, const Ray& ray
             return fs;
         }
 
+    return binned_distance(medium, ray, tmax, t_end, estimates, throughput, sampler, region, scratch);
+}
+
+FreeFlightSample WalkGuide::binned_distance(const Medium& medium, const Ray& ray, float tmax, float t_end,
+                                            const LeafEstimates* estimates, const Color3& throughput,
+                                            Sampler& sampler, GuideRegion& region, DistanceScratch& scratch) const {
     DistanceScratch& s = scratch;
     GuidedDistanceSettings distance_settings = settings_.distance_settings;
     distance_settings.channel_split = channel_probabilities(throughput);  // spectral MIS (§2.6)
@@ -181,13 +187,17 @@ FreeFlightSample WalkGuide::sample_distance(const Medium& medium, const Ray& ray
     st.invalid_bins += source.invalid();
     st.damped_bins += source.damped();
     st.nan_fallbacks += uint64_t(ds.nan_fallbacks);
+    if (ds.event == DistanceEvent::Medium && ds.pdf > 0.f) region.leaf = source.leaf();
+    return binned_flight(medium, ray, tmax, t_end, ds, throughput, sampler);
+}
 
+FreeFlightSample WalkGuide::binned_flight(const Medium& medium, const Ray& ray, float tmax, float t_end,
+                                          const DistanceSample& ds, const Color3& throughput, Sampler& sampler) const {
     FreeFlightSample fs;
     if (ds.event == DistanceEvent::Medium && ds.pdf > 0.f) {
         const float t = ds.t;
         const Color3 tr = exact_or_estimated_transmittance(medium, ray, t, sampler);
         const Point3f p = ray(t);
-        region.leaf = source.leaf();
         fs.scatter_at(ray, t, p, &medium, medium.eval(p));
         fs.flight_weight = tr * (1.f / ds.pdf);
         fs.weight = fs.flight_weight * fs.mi.coeffs.sigma_s;

@@ -154,6 +154,15 @@ class WalkGuide {
 
   private:
     const LeafEstimates* estimates_for(const PhaseFunction& phase) const;
+    // sample_distance's decision on the bins of (0, t_end) (distance_bins.h; t_end: where the ray
+    // leaves the field or reaches tmax), weighted by binned_flight.
+    FreeFlightSample binned_distance(const Medium& medium, const Ray& ray, float tmax, float t_end,
+                                     const LeafEstimates* estimates, const Color3& throughput, Sampler& sampler,
+                                     GuideRegion& region, DistanceScratch& scratch) const;
+    // The weights of the bins' decision `ds` (the caller contract of guided_distance.h), and beyond
+    // the field (t_end < tmax) the medium's own free flight.
+    FreeFlightSample binned_flight(const Medium& medium, const Ray& ray, float tmax, float t_end,
+                                   const DistanceSample& ds, const Color3& throughput, Sampler& sampler) const;
     // The leaf at x (-1 outside the field), without a descent when `region` (x's) holds it.
     int vertex_leaf(const Point3f& x, const GuideRegion& region) const;
     // vertex_leaf(mi.p), kept in `region`, if its confidence at mi is at least kSkipConfidence, else -1.
