@@ -155,12 +155,7 @@ PixelEstimate PixelEstimate::from_image(Image image, float floor_fraction) {
     const double mean = e.value_.empty() ? 0.0 : sum / double(e.value_.size());
     // A black image still needs a positive I (every decision then compares with the floor).
     e.floor_ = std::max(float(floor_fraction * mean), 1e-6f);
-    double floored = 0.0;
-    for (float& v : e.value_) {
-        v = std::max(v, e.floor_);
-        floored += v;
-    }
-    e.mean_ = e.value_.empty() ? 0.f : float(floored / double(e.value_.size()));
+    for (float& v : e.value_) v = std::max(v, e.floor_);
     return e;
 }
 

@@ -1,6 +1,7 @@
 #pragma once
 // The guided decisions of `guided_volpath`'s walk (theory.md §7–8), between the guiding field and
-// volpath's walk, which calls it in place of free-flight and phase sampling.
+// volpath's walk, which calls them through GuidedWalkPolicy (guided_walk_policy.h, a WalkPolicy) in
+// place of free-flight, phase and BSDF sampling.
 //
 // Distance (§7.9): along a ray segment (0, tmax) in one medium, bins are the kd-tree leaves the ray
 // crosses, cut at the medium's proxy segments (majorant cells of a heterogeneous medium) and split so
