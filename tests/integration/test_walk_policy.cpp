@@ -43,8 +43,29 @@ class CountingPolicy final : public WalkPolicy {
 
 bool same_bits(const Color3& a, const Color3& b) { return a.r == b.r && a.g == b.g && a.b == b.b; }
 
-// Every pixel's first `spp` samples of `scene` with volpath (settings from the scene's integrator
-// properties are not needed: the defaults), without a policy and with `policy`.
+// One camera ray walked without a policy (stream a) and with `policy` (stream b, a copy of a).
+struct TwoWalks {
+    Color3 plain, with_policy;
+    bool same_dimension;  // both walks drew as many numbers
+};
+TwoWalks walk_twice(const Scene& scene, const VolPathIntegrator& volpath, const Ray& ray, Sampler& a, Sampler& b,
+                    WalkPolicy& policy) {
+    TwoWalks w;
+    w.plain = volpath.walk(scene, a, ray, nullptr);
+    w.with_policy = volpath.walk(scene, b, ray, &policy);
+    w.same_dimension = a.next_1d() == b.next_1d();
+    return w;
+}
+
+VolPathIntegrator volpath_with(bool equiangular) {
+    VolPathSettings settings;
+    settings.max_depth = 32;
+    settings.equiangular = equiangular;
+    return VolPathIntegrator(settings);
+}
+
+// Calls check(ray, a, b) for every pixel's first `spp` camera samples of `scene`, with two copies
+// of the sample's stream.
 template <typename Check>
 void for_each_sample(const Scene& scene, const VolPathIntegrator& volpath, int spp, Check&& check) {
     const Film& film = scene.sensor().film();
@@ -65,19 +86,13 @@ TEST(WalkPolicy, DefaultPolicyIsTheAnalogWalkNumberForNumber) {
     for (const char* name : {"fogbox", "sss", "cloud"}) {
         auto scene = load_bench_scene(name);
         for (bool equiangular : {false, true}) {
-            VolPathSettings settings;
-            settings.max_depth = 32;
-            settings.equiangular = equiangular;
-            const VolPathIntegrator volpath(settings);
+            const VolPathIntegrator volpath = volpath_with(equiangular);
             int differ = 0, nonzero = 0;
             for_each_sample(*scene, volpath, 4, [&](const Ray& ray, Sampler& a, Sampler& b) {
                 WalkPolicy analog;
-                const Color3 plain = volpath.walk(*scene, a, ray, nullptr);
-                const Color3 with_policy = volpath.walk(*scene, b, ray, &analog);
-                differ += !same_bits(plain, with_policy);
-                nonzero += plain.max_value() > 0.f;
-                // Both walks drew the same numbers: the streams are at the same dimension.
-                differ += a.next_1d() != b.next_1d();
+                const TwoWalks w = walk_twice(*scene, volpath, ray, a, b, analog);
+                differ += !same_bits(w.plain, w.with_policy) || !w.same_dimension;
+                nonzero += w.plain.max_value() > 0.f;
             });
             EXPECT_EQ(differ, 0) << name << (equiangular ? " equiangular" : "");
             EXPECT_GT(nonzero, 10) << name;
@@ -87,17 +102,14 @@ TEST(WalkPolicy, DefaultPolicyIsTheAnalogWalkNumberForNumber) {
 
 TEST(WalkPolicy, RecordingSeesEveryContributionAndMediumVertex) {
     auto scene = load_bench_scene("fogbox");
-    VolPathSettings settings;
-    settings.max_depth = 32;
-    const VolPathIntegrator volpath(settings);
+    const VolPathIntegrator volpath = volpath_with(false);
     int vertices = 0, samples = 0;
     for_each_sample(*scene, volpath, 4, [&](const Ray& ray, Sampler& a, Sampler& b) {
         CountingPolicy policy;
-        const Color3 plain = volpath.walk(*scene, a, ray, nullptr);
-        const Color3 recorded = volpath.walk(*scene, b, ray, &policy);
-        EXPECT_TRUE(same_bits(plain, recorded));
+        const TwoWalks w = walk_twice(*scene, volpath, ray, a, b, policy);
+        EXPECT_TRUE(same_bits(w.plain, w.with_policy) && w.same_dimension);
         // The same additions in the same order: the same sum.
-        EXPECT_TRUE(same_bits(policy.contributions, recorded));
+        EXPECT_TRUE(same_bits(policy.contributions, w.with_policy));
         EXPECT_EQ(policy.camera_samples, 1);
         vertices += policy.vertices;
         ++samples;
