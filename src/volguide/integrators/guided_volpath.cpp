@@ -8,6 +8,7 @@
 
 #include "volguide/core/log.h"
 #include "volguide/guiding/field_io.h"
+#include "volguide/integrators/guided_walk_policy.h"
 #include "volguide/integrators/medium_occupancy.h"
 #include "volguide/integrators/photon_pass.h"
 #include "volguide/integrators/progressive_training.h"
@@ -259,9 +260,7 @@ void GuidedVolPathIntegrator::preprocess(const Scene& scene, const PreprocessCon
         if (settings_.pixel_estimate == "render") {
             pixel_estimate_ = PixelEstimate::render(
                 scene,
-                [&](Sampler& sampler, const Ray& ray) {
-                    return walk_.Li(scene, sampler, ray, nullptr, guide_.get());
-                },
+                [&](Sampler& sampler, const Ray& ray) { return guided_walk(scene, sampler, ray, 0.f); },
                 settings_.pixel_estimate_spp, settings_.pixel, context);
         } else {
             const CacheEstimator marcher(scene, field_);
@@ -288,22 +287,19 @@ void GuidedVolPathIntegrator::preprocess(const Scene& scene, const PreprocessCon
     }
 }
 
-Color3 GuidedVolPathIntegrator::sample(const Scene& scene, Sampler& sampler, const Ray& ray, float pixel) const {
-    if (!rrs_) return walk_.Li(scene, sampler, ray, nullptr, guide_.get());
-    const WalkSplitting splitting{rrs_.get(), pixel};
-    return walk_.Li(scene, sampler, ray, nullptr, guide_.get(), &splitting);
+Color3 GuidedVolPathIntegrator::guided_walk(const Scene& scene, Sampler& sampler, const Ray& ray, float pixel) const {
+    if (!guide_) return walk_.walk(scene, sampler, ray, nullptr);
+    GuidedWalkPolicy policy(*guide_, rrs_.get(), pixel);
+    return walk_.walk(scene, sampler, ray, &policy);
 }
 
-Color3 GuidedVolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const Ray& ray, Point2f film_uv) const {
-    if (estimator_) return Li(scene, sampler, ray);
-    return sample(scene, sampler, ray, rrs_ ? pixel_estimate_.at(film_uv) : 0.f);
-}
-
-Color3 GuidedVolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const Ray& ray) const {
-    if (!estimator_) return sample(scene, sampler, ray, pixel_estimate_.mean());
-    const CacheQuantity q =
-        settings_.estimate == "incident" ? CacheQuantity::Incident : CacheQuantity::Inscattered;
-    return estimator_->estimate(ray, scene.sensor().medium(), q, sampler);
+Color3 GuidedVolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const CameraRay& camera) const {
+    if (estimator_) {
+        const CacheQuantity q =
+            settings_.estimate == "incident" ? CacheQuantity::Incident : CacheQuantity::Inscattered;
+        return estimator_->estimate(camera.ray, scene.sensor().medium(), q, sampler);
+    }
+    return guided_walk(scene, sampler, camera.ray, rrs_ ? pixel_estimate_.at(camera.film_uv) : 0.f);
 }
 
 std::vector<std::pair<std::string, double>> GuidedVolPathIntegrator::statistics() const {

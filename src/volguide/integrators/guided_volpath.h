@@ -55,10 +55,8 @@ struct GuidedVolPathSettings {
 class GuidedVolPathIntegrator final : public Integrator {
 public:
     explicit GuidedVolPathIntegrator(const Properties& props);
-    // Without a film position (direct calls), guided RR/splitting compares with the mean of the
-    // pixel estimate.
-    Color3 Li(const Scene& scene, Sampler& sampler, const Ray& ray) const override;
-    Color3 Li(const Scene& scene, Sampler& sampler, const Ray& ray, Point2f film_uv) const override;
+    // Guided RR/splitting compares with the pixel estimate at the camera ray's film position.
+    Color3 Li(const Scene& scene, Sampler& sampler, const CameraRay& camera) const override;
     void preprocess(const Scene& scene, const PreprocessContext& context) override;
     std::vector<std::pair<std::string, double>> statistics() const override;
     std::string to_string() const override;
@@ -77,7 +75,8 @@ private:
     std::unique_ptr<WalkGuide> guide_;           // a guided distance, direction or RR decision
     std::unique_ptr<RouletteSplitting> rrs_;     // rrs != standard
     PixelEstimate pixel_estimate_;
-    Color3 sample(const Scene& scene, Sampler& sampler, const Ray& ray, float pixel) const;
+    // The guided walk along ray, with guided RR/splitting (when rrs_) against the pixel value I.
+    Color3 guided_walk(const Scene& scene, Sampler& sampler, const Ray& ray, float pixel) const;
     std::vector<std::pair<std::string, double>> training_stats_;  // of the last preprocess()
 };
 

@@ -10,6 +10,7 @@
 #include "volguide/guiding/surface_guide.h"
 #include "volguide/vmm/vmm.h"
 #include "volguide/integrators/cache_estimate.h"
+#include "volguide/integrators/camera_sample.h"
 #include "volguide/integrators/integrator.h"
 #include "volguide/integrators/medium_occupancy.h"
 #include "volguide/integrators/volume_nee.h"
@@ -126,9 +127,10 @@ Image average_camera_samples(const Scene& scene, int count, uint64_t stream, boo
                     Vec2f u = sampler.next_2d();
                     if (k < strata * strata)
                         u = Vec2f((float(k % strata) + u.x) / float(strata), (float(k / strata) + u.y) / float(strata));
-                    const Point2f film_uv((float(x) + u.x) / float(W), (float(y) + u.y) / float(H));
-                    const auto [ray, weight] = sensor.sample_ray(film_uv, Point2f(0.5f, 0.5f));
-                    const Color3 L = weight * radiance(sampler, ray);
+                    const Point2f pos = film_position(x, y, u);
+                    const Point2f film_uv(pos.x / float(W), pos.y / float(H));
+                    const Color3 L = camera_sample_value(
+                        sensor, film_uv, [&](const CameraRay& camera) { return radiance(sampler, camera.ray); });
                     if (L.is_finite()) sum += L;
                 }
                 image.at(x, y) = sum * (1.f / float(count));
@@ -153,12 +155,7 @@ PixelEstimate PixelEstimate::from_image(Image image, float floor_fraction) {
     const double mean = e.value_.empty() ? 0.0 : sum / double(e.value_.size());
     // A black image still needs a positive I (every decision then compares with the floor).
     e.floor_ = std::max(float(floor_fraction * mean), 1e-6f);
-    double floored = 0.0;
-    for (float& v : e.value_) {
-        v = std::max(v, e.floor_);
-        floored += v;
-    }
-    e.mean_ = e.value_.empty() ? 0.f : float(floored / double(e.value_.size()));
+    for (float& v : e.value_) v = std::max(v, e.floor_);
     return e;
 }
 
