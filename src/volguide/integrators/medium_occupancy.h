@@ -1,7 +1,7 @@
 #pragma once
 // The fraction of each guiding-field leaf's volume that holds a scattering medium, by jittered
 // point sampling (the photon field's fluence is a per-volume collision estimate, which must be
-// divided by the medium's share of the leaf: GuidingField::apply_medium_fractions).
+// divided by the medium's share of the leaf: GuidingField::set_medium_fractions).
 //
 // The medium at a point is found the way a ray would find it: cast from the point in a random
 // direction, skip surfaces without media, and at the first shape with media take its interior if

@@ -6,22 +6,12 @@
 #include "volguide/integrators/distance_bins.h"
 #include "volguide/guiding/guided_collision.h"
 #include "volguide/guiding/surface_guide.h"
-#include "volguide/integrators/medium_occupancy.h"
 #include "volguide/media/spectral_mis.h"
 #include "volguide/render/scene.h"
 #include "volguide/render/sensor.h"
 #include "volguide/vmm/phase_vmm.h"
 
 namespace volguide {
-
-namespace {
-
-// Points per leaf measuring its medium fraction for surface guiding (a 0.5 threshold: 32 points
-// give it to about +-0.09), with their own random stream.
-constexpr int kSurfaceOccupancyPoints = 32;
-constexpr uint64_t kSurfaceOccupancySeed = 0x5u;
-
-}  // namespace
 
 WalkGuideStats& WalkGuideStats::operator+=(const WalkGuideStats& o) {
     distance_queries += o.distance_queries;
@@ -76,8 +66,6 @@ WalkGuide::WalkGuide(const Scene& scene, const GuidingField& field, const WalkGu
         }
     }
     surface_offset_ = 1e-4f * norm(field.tree().bounds().extents());
-    if (guides_surfaces() && !field.empty())
-        leaf_medium_fraction_ = medium_fractions(scene, field.tree(), kSurfaceOccupancyPoints, kSurfaceOccupancySeed);
     leaf_extent_ = leaf_extents(field.tree());
     auto add = [&](const Medium* m) {
         if (!m) return;
@@ -261,7 +249,7 @@ void WalkGuide::surface_sampler(const SurfaceInteraction& si, const BSDF& bsdf, 
             leaf = settings_.direction_indirect ? &direction_leaves_[size_t(index)] : &field_.leaves()[size_t(index)];
         const float confidence = leaf && medium ? leaf_confidence(index, medium->eval(si.p).sigma_t) : 1.f;
         if (leaf && leaf->valid && leaf->vmm.count > 0 && confidence >= kSkipConfidence &&
-            leaf_medium_fraction_[size_t(index)] >= kSurfaceMinMediumFraction) {
+            field_.leaves()[size_t(index)].mostly_medium()) {
             bsdf_prob = 1.f - (1.f - bsdf_prob) * confidence;
             if (settings_.direction == DirectionGuiding::Incident)
                 guide = &leaf->vmm;

@@ -69,7 +69,8 @@ struct WalkGuideSettings {
     // Diffuse surface vertices guided by the leaf around them (guiding/surface_guide.h), whenever
     // directions are guided: the leaf's VMM (direction=incident) or its product with the cosine lobe
     // (direction=product), mixed with BSDF sampling with probability bsdf_prob. Only leaves mostly
-    // filled by a medium guide surfaces (WalkGuide::leaf_medium_fraction_).
+    // filled by a medium guide surfaces (GuidingLeaf::mostly_medium; a field without measured
+    // medium fractions guides none).
     bool surface = true;
     float bsdf_prob = GuidedSurfaceSampler::kDefaultBsdfProbability;
 };
@@ -181,12 +182,6 @@ class WalkGuide {
     std::map<float, PhaseVmm> phase_vmms_;
     std::vector<float> leaf_extent_;  // cube root of each leaf's volume
     float surface_offset_ = 0.f;      // how far off a surface its leaf is looked up
-    // Per leaf, the share of its volume inside a medium (surface guiding only): a leaf guides the
-    // surfaces in it only when at least kSurfaceMinMediumFraction of it is medium, so that its
-    // photons describe the space around them (a floor beside a dense sphere shares a large leaf
-    // with the sphere's inside, whose radiance it does not see).
-    std::vector<float> leaf_medium_fraction_;
-    static constexpr float kSurfaceMinMediumFraction = 0.5f;
     // With direction_indirect: per leaf, vmm/valid replaced by vmm_indirect/valid_indirect (the
     // direction sampler reads a GuidingLeaf).
     std::vector<GuidingLeaf> direction_leaves_;
