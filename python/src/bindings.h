@@ -1,0 +1,12 @@
+#pragma once
+// The module's parts, one function per concept, called from module.cpp.
+#include <pybind11/pybind11.h>
+
+namespace volguide::python {
+
+void bind_errors(pybind11::module_& m);
+void bind_images(pybind11::module_& m);
+void bind_scene(pybind11::module_& m);
+void bind_field(pybind11::module_& m);
+
+}  // namespace volguide::python
