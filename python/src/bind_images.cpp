@@ -15,20 +15,6 @@
 namespace volguide::python {
 
 namespace {
-py::dict diff_dict(const ImageDiff& d) {
-    py::dict out;
-    out["relmse_1e-2"] = d.relmse_1e2;
-    out["relmse_1e-3"] = d.relmse_1e3;
-    out["relmse_1e-2_trimmed"] = d.relmse_1e2_trimmed;
-    out["relmse_1e-3_trimmed"] = d.relmse_1e3_trimmed;
-    out["mse"] = d.mse;
-    out["mean"] = d.mean;
-    out["reference_mean"] = d.reference_mean;
-    out["nonfinite"] = d.nonfinite;
-    out["pixels"] = d.pixels;
-    return out;
-}
-
 // Mean over pixels and channels of (I - R)^2 / (R^2 + eps) in double, non-finite values of I left
 // out (as compare_images does, which offers eps 1e-2 and 1e-3 only).
 double relmse(const Image& image, const Image& reference, double eps) {
@@ -47,6 +33,20 @@ double relmse(const Image& image, const Image& reference, double eps) {
     return n ? sum / double(n) : 0.0;
 }
 }  // namespace
+
+py::dict image_diff_dict(const ImageDiff& d) {
+    py::dict out;
+    out["relmse_1e-2"] = d.relmse_1e2;
+    out["relmse_1e-3"] = d.relmse_1e3;
+    out["relmse_1e-2_trimmed"] = d.relmse_1e2_trimmed;
+    out["relmse_1e-3_trimmed"] = d.relmse_1e3_trimmed;
+    out["mse"] = d.mse;
+    out["mean"] = d.mean;
+    out["reference_mean"] = d.reference_mean;
+    out["nonfinite"] = d.nonfinite;
+    out["pixels"] = d.pixels;
+    return out;
+}
 
 void bind_images(py::module_& m) {
     m.def(
@@ -68,7 +68,7 @@ void bind_images(py::module_& m) {
     m.def(
         "compare_images",
         [](const FloatArray& image, const FloatArray& reference) {
-            return diff_dict(compare_images(array_to_image(image, "image"), array_to_image(reference, "reference")));
+            return image_diff_dict(compare_images(array_to_image(image, "image"), array_to_image(reference, "reference")));
         },
         py::arg("image"), py::arg("reference"),
         "All error metrics of `volguide diff` / the --stats 'reference' block, as a dict.");

@@ -15,6 +15,7 @@
 #include "interruptible.h"
 #include "volguide/integrators/guided_volpath.h"
 #include "volguide/integrators/render_loop.h"
+#include "volguide/render/image_compare.h"
 #include "volguide/scene/loader.h"
 
 namespace volguide::python {
@@ -80,6 +81,24 @@ Integrator& integrator_of(const std::shared_ptr<SceneHandle>& scene, const std::
     return chosen ? *chosen->integrator : const_cast<Integrator&>(scene->scene->integrator());
 }
 
+// One point of the convergence curve against a reference (as the CLI's --reference records it).
+struct ConvergencePoint {
+    int spp = 0;
+    double seconds = 0;
+    ImageDiff diff;
+};
+
+py::list convergence_list(const std::vector<ConvergencePoint>& points) {
+    py::list out;
+    for (const ConvergencePoint& p : points) {
+        py::dict d = image_diff_dict(p.diff);
+        d["spp"] = p.spp;
+        d["seconds"] = p.seconds;
+        out.append(d);
+    }
+    return out;
+}
+
 py::dict counters(const Integrator& integrator) {
     py::dict out;
     for (const auto& [name, value] : integrator.statistics()) out[py::str(name)] = value;
@@ -130,7 +149,8 @@ void check_positive(const char* name, std::optional<double> value) {
 }
 
 py::tuple render_scene(const std::shared_ptr<SceneHandle>& scene, std::optional<int> spp, std::optional<double> time,
-                       uint64_t seed, std::optional<int> threads, const std::optional<IntegratorHandle>& chosen) {
+                       uint64_t seed, std::optional<int> threads, const std::optional<IntegratorHandle>& chosen,
+                       const std::optional<FloatArray>& reference) {
     check_positive("spp", spp ? std::optional<double>(*spp) : std::nullopt);
     check_positive("time", time);
     check_positive("threads", threads ? std::optional<double>(*threads) : std::nullopt);
@@ -142,6 +162,19 @@ py::tuple render_scene(const std::shared_ptr<SceneHandle>& scene, std::optional<
     options.seed = seed;
     options.threads = threads.value_or(0);
     options.cancel = &cancel;
+    // Convergence against the reference at 1, 2, 4, ... spp and at the end (the CLI's --reference).
+    std::optional<Image> ref;
+    if (reference) {
+        ref = array_to_image(*reference, "reference");
+        const Film& film = scene->scene->sensor().film();
+        if (ref->width != film.width() || ref->height != film.height())
+            throw py::value_error("reference size differs from the film's");
+    }
+    std::vector<ConvergencePoint> convergence;
+    if (ref)
+        options.on_pass = [&](int spp, double seconds, const Image& mean) {
+            if ((spp & (spp - 1)) == 0) convergence.push_back({spp, seconds, compare_images(mean, *ref)});
+        };
     RenderResult result;
     run_interruptible(
         [&] {
@@ -149,7 +182,15 @@ py::tuple render_scene(const std::shared_ptr<SceneHandle>& scene, std::optional<
             result = render(*scene->scene, integrator, options);
         },
         cancel);
-    return py::make_tuple(image_to_array(result.mean), stats_dict(*scene, result, options, integrator));
+    py::dict stats = stats_dict(*scene, result, options, integrator);
+    if (ref && result.spp > 0) {
+        const ImageDiff final_diff = compare_images(result.mean, *ref);
+        if (convergence.empty() || convergence.back().spp != result.spp)
+            convergence.push_back({result.spp, result.stats.total_seconds, final_diff});
+        stats["reference"] = image_diff_dict(final_diff);
+        stats["convergence"] = convergence_list(convergence);
+    }
+    return py::make_tuple(image_to_array(result.mean), stats);
 }
 
 // Runs a guided_volpath integrator's preprocessing (training or loading its field, the pixel
@@ -259,8 +300,9 @@ void bind_scene(py::module_& m) {
           "parameters (bool -> boolean, int -> integer, float -> float, str -> string).");
     m.def("render", &render_scene, py::arg("scene"), py::kw_only(), py::arg("spp") = py::none(),
           py::arg("time") = py::none(), py::arg("seed") = 0, py::arg("threads") = py::none(),
-          py::arg("integrator") = py::none(),
-          "Renders the scene; returns (image, stats): a float32 (H, W, 3) array and the --stats dict. "
+          py::arg("integrator") = py::none(), py::arg("reference") = py::none(),
+          "Renders the scene; returns (image, stats): a float32 (H, W, 3) array and the --stats dict "
+          "(with a reference image: its 'reference' relMSEs and the 'convergence' curve at 1, 2, 4, ... spp). "
           "Releases the GIL; Ctrl-C stops the render and raises KeyboardInterrupt.");
     m.def("train", &train, py::arg("scene"), py::kw_only(), py::arg("integrator") = py::none(), py::arg("seed") = 0,
           py::arg("threads") = py::none(), py::arg("time") = py::none(),

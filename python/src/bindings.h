@@ -2,7 +2,14 @@
 // The module's parts, one function per concept, called from module.cpp.
 #include <pybind11/pybind11.h>
 
+namespace volguide {
+struct ImageDiff;
+}
+
 namespace volguide::python {
+
+// An ImageDiff as the dict of the --stats 'reference' block (bind_images.cpp).
+pybind11::dict image_diff_dict(const ImageDiff& diff);
 
 void bind_errors(pybind11::module_& m);
 void bind_images(pybind11::module_& m);

@@ -103,3 +103,16 @@ def test_radiance_sees_the_light_and_nothing_else():
     assert np.array_equal(values[1:], np.zeros((2, 3)))
     with pytest.raises(ValueError):
         volguide.radiance(scene, np.zeros((2, 3)), np.ones((3, 3)))
+
+
+def test_reference_gives_the_convergence_curve(fogbox):
+    reference, _ = volguide.render(fogbox, spp=32, seed=7)
+    image, stats = volguide.render(fogbox, spp=16, seed=1, reference=reference)
+    curve = stats["convergence"]
+    assert [p["spp"] for p in curve] == [1, 2, 4, 8, 16]
+    assert all(a["seconds"] <= b["seconds"] for a, b in zip(curve, curve[1:]))
+    assert stats["reference"]["relmse_1e-2"] == pytest.approx(volguide.relmse(image, reference), rel=1e-6)
+    assert curve[-1]["relmse_1e-2"] == stats["reference"]["relmse_1e-2"]
+    assert curve[-1]["relmse_1e-2"] < curve[0]["relmse_1e-2"]
+    with pytest.raises(ValueError):
+        volguide.render(fogbox, spp=1, reference=reference[:5])
