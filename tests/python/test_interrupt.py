@@ -9,8 +9,12 @@ import time
 import volguide
 from conftest import SCENES
 
+# The child installs Python's own SIGINT handler explicitly: a process started with SIGINT ignored
+# (a background job of a non-interactive shell, as CI may run ctest) would otherwise inherit SIG_IGN,
+# and Python installs its KeyboardInterrupt handler only over the default disposition.
 CHILD = r"""
-import sys, time, volguide
+import signal, sys, time, volguide
+signal.signal(signal.SIGINT, signal.default_int_handler)
 scene = volguide.load_scene(sys.argv[1], width=160, height=120, spp=4)
 print("rendering", flush=True)
 try:
