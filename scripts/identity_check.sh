@@ -32,8 +32,14 @@ integrator_xml() {  # $1 = file, $2.. = name=value
     echo '<scene version="3.0.0">'
     echo '    <integrator type="guided_volpath">'
     echo '        <integer name="max_depth" value="$max_depth"/>'
+    local kv name value kind
     for kv in "$@"; do
-      echo "        <string name=\"${kv%%=*}\" value=\"${kv#*=}\"/>"
+      name="${kv%%=*}"; value="${kv#*=}"
+      if [[ "$value" =~ ^-?[0-9]+$ ]]; then kind=integer
+      elif [[ "$value" =~ ^-?[0-9]*\.[0-9]+$ ]]; then kind=float
+      elif [[ "$value" == true || "$value" == false ]]; then kind=boolean
+      else kind=string; fi
+      echo "        <$kind name=\"$name\" value=\"$value\"/>"
     done
     echo '    </integrator>'
     echo '</scene>'
