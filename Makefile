@@ -16,7 +16,7 @@ BENCH_ARGS ?=
 # CTest label expression for `make test`; CI runs everything.
 TEST_ARGS ?=
 
-.PHONY: deps build python test demo bench bench-micro clean format
+.PHONY: deps build python test install demo bench bench-micro clean format
 
 deps:
 	@scripts/install-deps.sh $(APT_PACKAGES)
@@ -33,6 +33,17 @@ python: deps $(BUILD_DIR)/CMakeCache.txt
 
 test: build
 	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS) $(TEST_ARGS)
+
+# make install PREFIX=DIR: the guiding core library, its API headers and the CMake package
+# (find_package(volguide) -> volguide::volguide; docs/guiding-api.md).
+PREFIX ?=
+ifneq ($(filter install,$(MAKECMDGOALS)),)
+ifeq ($(PREFIX),)
+$(error usage: make install PREFIX=DIR)
+endif
+endif
+install: build
+	cmake --install $(BUILD_DIR) --prefix $(PREFIX)
 
 demo: build
 	@scripts/demo.sh $(BUILD_DIR)

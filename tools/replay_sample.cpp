@@ -1,7 +1,8 @@
 // replay_sample SCENE.xml X Y SAMPLE SEED [name=value ...]: recomputes one camera sample of a render
-// exactly as the render loop draws it (Sampler(seed, pixel index, sample), the same film position and
-// camera ray) and prints its radiance, e.g. to debug the sample `volguide render` reports as the first
-// non-finite one. Films with sample_border are not supported (the pixel index would include the border).
+// through the render loop's own entry point (camera_sample.h: film_sample draws its stream and film
+// position, camera_sample_value its ray, radiance and weight) after the same preprocessing, and
+// prints the value the film splats, e.g. to debug the sample `volguide render` reports as the first
+// non-finite one. X and Y are film pixels (in the filter's border with sample_border).
 #include <fmt/format.h>
 
 #include <cfenv>
@@ -10,9 +11,10 @@
 #include <exception>
 #include <string>
 
-#include "volguide/core/sampler.h"
+#include "volguide/integrators/camera_sample.h"
 #include "volguide/integrators/integrator.h"
 #include "volguide/render/scene.h"
+#include "volguide/render/sensors/rfilters.h"
 #include "volguide/scene/loader.h"
 
 int main(int argc, char** argv) {
@@ -33,7 +35,7 @@ int main(int argc, char** argv) {
         const int x = std::atoi(argv[2]), y = std::atoi(argv[3]), s = std::atoi(argv[4]);
         const uint64_t seed = std::strtoull(argv[5], nullptr, 10);
         const Film& film = scene->sensor().film();
-        if (film.sample_border()) throw std::runtime_error("films with sample_border are not supported");
+        const FilmGrid grid{film.width(), film.height(), film.sample_border() ? filter_border_size(film.filter()) : 0};
         Integrator& integrator = const_cast<Integrator&>(scene->integrator());
         PreprocessContext context;
         context.seed = seed;
@@ -41,11 +43,8 @@ int main(int argc, char** argv) {
         // REPLAY_TRAP_FP=1: stop (SIGFPE) at the first invalid operation, to find it in a debugger.
         if (const char* trap = std::getenv("REPLAY_TRAP_FP"); trap && std::string(trap) == "1")
             feenableexcept(FE_INVALID);
-        Sampler sampler(seed, uint64_t(y) * film.width() + uint64_t(x), uint64_t(s));
-        Vec2f u = sampler.next_2d();
-        Point2f uv((float(x) + u.x) / float(film.width()), (float(y) + u.y) / float(film.height()));
-        auto [ray, weight] = scene->sensor().sample_ray(uv, Point2f(0.5f, 0.5f));
-        Color3 L = weight * integrator.Li(*scene, sampler, ray);
+        FilmSample sample = film_sample(grid, seed, x, y, uint64_t(s));
+        const Color3 L = camera_sample_value(*scene, integrator, sample.film_uv, sample.sampler);
         fmt::print("pixel ({}, {}) sample {} seed {}: L = ({}, {}, {})\n", x, y, s, seed, L.r, L.g, L.b);
         return L.is_finite() ? 0 : 3;
     } catch (const std::exception& e) {

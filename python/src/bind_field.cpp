@@ -16,6 +16,7 @@
 #include "volguide/guiding/guided_direction.h"
 #include "volguide/integrators/cache_estimate.h"
 #include "volguide/integrators/integrator.h"
+#include "volguide/integrators/medium_occupancy.h"
 #include "volguide/integrators/pixel_estimate.h"
 #include "volguide/media/phase_hg.h"
 #include "volguide/vmm/phase_vmm.h"
@@ -70,6 +71,7 @@ py::dict leaves(const FieldHandle& h) {
     const py::ssize_t n = py::ssize_t(ls.size());
     auto lo = zeros<float>({n, 3}), hi = zeros<float>({n, 3}), fluence = zeros<float>({n, 3});
     auto samples = zeros<uint32_t>({n});
+    auto medium_fraction = zeros<float>({n});
     auto valid = zeros<bool>({n}), valid_indirect = zeros<bool>({n});
     std::vector<const Vmm*> vmm(ls.size()), indirect(ls.size());
     for (py::ssize_t i = 0; i < n; ++i) {
@@ -81,6 +83,7 @@ py::dict leaves(const FieldHandle& h) {
             fluence.mutable_at(i, a) = leaf.fluence[a];
         }
         samples.mutable_at(i) = leaf.samples;
+        medium_fraction.mutable_at(i) = leaf.medium_fraction;
         valid.mutable_at(i) = leaf.valid;
         valid_indirect.mutable_at(i) = leaf.valid_indirect;
         vmm[size_t(i)] = leaf.valid ? &leaf.vmm : nullptr;
@@ -91,6 +94,7 @@ py::dict leaves(const FieldHandle& h) {
     out["hi"] = hi;
     out["fluence"] = fluence;
     out["samples"] = samples;
+    out["medium_fraction"] = medium_fraction;
     out["valid"] = valid;
     add_lobes(out, "", vmm);
     out["valid_indirect"] = valid_indirect;
@@ -195,8 +199,17 @@ py::array_t<float> pixel_estimate(const std::shared_ptr<SceneHandle>& scene, con
             std::lock_guard lock(scene->jobs);
             tbb::task_arena arena(threads.value_or(0) > 0 ? *threads : tbb::task_arena::automatic);
             arena.execute([&] {
-                const CacheEstimator estimator(*scene->scene, *h.field);
-                image = PixelEstimate::raymarch(*scene->scene, *h.field, estimator, settings, context).image();
+                // As guided_volpath: a field without medium fractions (format 2) gets them measured
+                // here, so that surfaces read the leaves that are mostly medium.
+                std::optional<GuidingField> measured;
+                if (!h.field->empty() && !h.field->has_medium_fractions()) {
+                    measured.emplace(*h.field);
+                    measured->set_medium_fractions(
+                        medium_fractions(*scene->scene, h.field->tree(), kMediumFractionPoints, seed), false);
+                }
+                const GuidingField& field = measured ? *measured : *h.field;
+                const CacheEstimator estimator(*scene->scene, field);
+                image = PixelEstimate::raymarch(*scene->scene, field, estimator, settings, context).image();
             });
         },
         cancel);
@@ -224,7 +237,8 @@ void bind_field(py::module_& m) {
                                })
         .def_property_readonly("scene", [](const FieldHandle& h) { return h.scene; })
         .def("leaves", &leaves,
-             "Per leaf, as arrays over N leaves: lo, hi (N, 3) bounds; fluence (N, 3); samples; valid; lobes (lobe "
+             "Per leaf, as arrays over N leaves: lo, hi (N, 3) bounds; fluence (N, 3); samples; medium_fraction "
+             "(the share of the leaf inside a medium, -1 if not measured); valid; lobes (lobe "
              "count), weights (N, K), mu (N, K, 3), kappa (N, K) of V_L (zero-padded; zero for invalid leaves); "
              "the same with the prefix indirect_ for the indirect-light VMM.")
         .def("leaf_at", &leaf_at, py::arg("points"), "Leaf index of each point, -1 outside the field.")

@@ -233,11 +233,13 @@ py::array_t<float> radiance(const std::shared_ptr<SceneHandle>& scene, const Flo
             arena.execute([&] {
                 tbb::parallel_for(size_t(0), o.size(), [&](size_t i) {
                     if (cancel.load(std::memory_order_relaxed)) return;
-                    const Ray ray(o[i], normalize(d[i]));
+                    // A ray of no pixel: guided RR/splitting compares with the film centre's pixel
+                    // estimate (any value keeps the estimate unbiased; it only shapes the splitting).
+                    const CameraRay camera_ray{Ray(o[i], normalize(d[i])), Point2f(0.5f, 0.5f)};
                     Color3 sum(0.f);
                     for (int k = 0; k < spp; ++k) {
                         Sampler sampler(seed, i, uint64_t(k), kRadianceStream);
-                        sum += integrator.Li(*scene->scene, sampler, ray);
+                        sum += integrator.Li(*scene->scene, sampler, camera_ray);
                     }
                     out[i] = sum / float(spp);
                 });

@@ -15,5 +15,6 @@ void bind_errors(pybind11::module_& m);
 void bind_images(pybind11::module_& m);
 void bind_scene(pybind11::module_& m);
 void bind_field(pybind11::module_& m);
+void bind_distance(pybind11::module_& m);  // Field.distance_pdf (after bind_field)
 
 }  // namespace volguide::python

@@ -8,4 +8,5 @@ PYBIND11_MODULE(_core, m) {
     volguide::python::bind_images(m);
     volguide::python::bind_scene(m);
     volguide::python::bind_field(m);
+    volguide::python::bind_distance(m);
 }

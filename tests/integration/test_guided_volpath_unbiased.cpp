@@ -255,10 +255,12 @@ TEST(GuidedVolPathUnbiased, TransmittanceStrategiesAloneGiveUnitWeights) {
         ws.distance_settings.c_T = 1.f;
         const WalkGuide guide(*scene, integrator.field(), ws);
         int scattered = 0;
+        DistanceScratch scratch;
         for (int i = 0; i < 2000; ++i) {
             Sampler s(9, 0, uint64_t(i));
             const Ray ray(Point3f(0.f), warp::square_to_uniform_sphere(s.next_2d()));
-            const FreeFlightSample f = guide.sample_distance(*medium, ray, 0.999f, Color3(1.f), s);
+            GuideRegion region;  // the origin's leaf is not known
+            const FreeFlightSample f = guide.sample_distance(*medium, ray, 0.999f, Color3(1.f), s, region, scratch);
             scattered += f.scattered;
             ASSERT_NEAR(f.weight.r, 1.f, 2e-4f) << "query " << i << (f.scattered ? " scattered" : " passed");
         }

@@ -38,6 +38,9 @@ def test_leaves_are_consistent_arrays(trained):
     assert valid.any()
     np.testing.assert_allclose(leaves["weights"][valid].sum(axis=1), 1.0, rtol=1e-5)
     assert (leaves["samples"][valid] > 0).all()
+    # A trained field's medium fractions are measured (guided_volpath measures them once per field).
+    fraction = leaves["medium_fraction"]
+    assert fraction.shape == (n,) and ((fraction >= 0) & (fraction <= 1)).all()
     # Lobes beyond each leaf's count are zero.
     for i in range(n):
         assert not leaves["weights"][i, leaves["lobes"][i]:].any()

@@ -1,4 +1,4 @@
-// Guided null-collision tracking (HeterogeneousMedium::guided_free_flight, theory.md §7.7 H2) is
+// Guided null-collision tracking (Medium::sample_free_flight with a CollisionGuide, theory.md §7.7 H2) is
 // unbiased for any scatter probability that is positive where sigma_s is and below 1 where
 // mu > sigma_t: against quadrature on the tracking tests' procedural cloud (oracles.md §4),
 //   E[w 1{escaped}] = T_c(s),  E[w 1{scattered}] = int T_c sigma_s,c dt,  E[w 1{scattered} t] = int T_c sigma_s,c t dt,
@@ -10,13 +10,16 @@
 // a P_s that is 0 over a stretch with sigma_s > 0 must fail the same z-tests (the tests can fail);
 // with P_s = P_a (grey) the walk is delta tracking: weight = albedo at scatters, 1 on escape, and
 // the same decisions as sample_free_flight from the same random numbers; P_s = 1 / 0 where the
-// other branch carries nothing are exact and finite; a NaN P_s falls back to the analog one.
+// other branch carries nothing are exact and finite; a NaN P_s falls back to the analog one; the
+// guide is asked once per tentative collision, in order, with the true coefficients there and
+// normalised channel weights, and only by media whose free flight is a null-collision walk.
 // z-tests use |z| < 4 (per-test alpha 6e-5).
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <functional>
 #include <initializer_list>
+#include <vector>
 
 #include "support/media_test_util.h"
 #include "support/running_stats.h"
@@ -85,7 +88,7 @@ double check_unbiased(HeterogeneousMedium& m, const std::function<std::unique_pt
             for (int i = 0; i < n; ++i) {
                 Sampler s(seed + ri, uint64_t(ms), uint64_t(i));
                 auto guide = guide_for(r);
-                const FreeFlightSample fs = m.guided_free_flight(r.ray, r.tmax, Color3(1.f), s, *guide);
+                const FreeFlightSample fs = m.sample_free_flight(r.ray, r.tmax, Color3(1.f), s, guide.get());
                 EXPECT_TRUE(fs.weight.is_finite());
                 EXPECT_LE(fs.weight.max_value(), max_weight);
                 if (fs.scattered) {
@@ -203,7 +206,7 @@ TEST(GuidedTracking, AnalogProbabilityIsDeltaTracking) {
             for (int i = 0; i < 5000; ++i) {
                 Sampler s(7, uint64_t(ms), uint64_t(i)), s_ref(7, uint64_t(ms), uint64_t(i));
                 TrackingCounts counts;
-                const FreeFlightSample fs = m->guided_free_flight(r.ray, r.tmax, Color3(1.f), s, analog, &counts);
+                const FreeFlightSample fs = m->sample_free_flight(r.ray, r.tmax, Color3(1.f), s, &analog, &counts);
                 const FreeFlightSample ref = m->sample_free_flight(r.ray, r.tmax, Color3(1.f), s_ref);
                 ASSERT_EQ(counts.real_collisions, fs.scattered ? 1u : 0u);
                 const float expected = fs.scattered ? 0.7f : 1.f;
@@ -233,7 +236,7 @@ TEST(GuidedTracking, CertainDecisionsAreExactAndFinite) {
     RunningStats escaped;
     for (int i = 0; i < 20000; ++i) {
         Sampler s(11, 0, uint64_t(i));
-        const FreeFlightSample fs = dense->guided_free_flight(ray, Infinity, Color3(1.f), s, always);
+        const FreeFlightSample fs = dense->sample_free_flight(ray, Infinity, Color3(1.f), s, &always);
         ASSERT_TRUE(fs.weight.is_finite());
         if (fs.scattered) {
             ASSERT_NEAR(fs.weight.r, 0.6f, 1e-5f);
@@ -252,7 +255,7 @@ TEST(GuidedTracking, CertainDecisionsAreExactAndFinite) {
         RunningStats tr;
         for (int i = 0; i < 20000; ++i) {
             Sampler s(12, 0, uint64_t(i));
-            const FreeFlightSample fs = black->guided_free_flight(ray, Infinity, Color3(1.f), s, *g);
+            const FreeFlightSample fs = black->sample_free_flight(ray, Infinity, Color3(1.f), s, g);
             ASSERT_FALSE(fs.scattered && g == &never);
             ASSERT_TRUE(fs.weight.is_finite());
             tr.add(fs.scattered ? 0.0 : fs.weight.r);
@@ -260,4 +263,61 @@ TEST(GuidedTracking, CertainDecisionsAreExactAndFinite) {
         // sigma_t = majorant: the first null collision ends the walk with weight 0 (unbiased).
         EXPECT_LT(tr.z(transmittance, kFloor), kZ) << tr.mean() << " vs " << transmittance;
     }
+}
+
+TEST(GuidedTracking, TheGuideSeesEveryTentativeCollision) {
+    auto m = cloud_medium(3, Color3(0.9f, 0.5f, 0.99f), 4.f);
+    EXPECT_TRUE(m->tracks_null_collisions());
+    struct Recording final : CollisionGuide {
+        std::vector<TentativeCollision> seen;
+        float scatter_probability(const TentativeCollision& c) override {
+            seen.push_back(c);
+            return modulated(c);
+        }
+    };
+    uint64_t collisions = 0, scattered = 0;
+    for (const TestRay& r : test_rays())
+        for (float ms : {1.f, 10.f}) {
+            m->set_majorant_scale(ms);
+            for (int i = 0; i < 500; ++i) {
+                Sampler s(13, uint64_t(ms), uint64_t(i));
+                Recording guide;
+                TrackingCounts counts;
+                const Medium& medium = *m;  // the virtual call the walk guide makes
+                const FreeFlightSample fs = medium.sample_free_flight(r.ray, r.tmax, Color3(0.3f, 1.f, 0.6f), s, &guide);
+                // the same call with counters (and the same random numbers)
+                Sampler s_counted(13, uint64_t(ms), uint64_t(i));
+                Recording counted_guide;
+                const FreeFlightSample fs_counted =
+                    m->sample_free_flight(r.ray, r.tmax, Color3(0.3f, 1.f, 0.6f), s_counted, &counted_guide, &counts);
+                ASSERT_EQ(fs.t, fs_counted.t);
+                ASSERT_EQ(fs.weight, fs_counted.weight);
+                ASSERT_EQ(guide.seen.size(), counts.null_collisions + counts.real_collisions);
+                ASSERT_EQ(counts.real_collisions, fs.scattered ? 1u : 0u);
+                float previous = 0.f;
+                for (const TentativeCollision& c : guide.seen) {
+                    ASSERT_GT(c.t, previous);
+                    ASSERT_LT(c.t, r.tmax);
+                    previous = c.t;
+                    const MediumCoefficients truth = m->eval(r.ray(c.t));
+                    for (int ch = 0; ch < 3; ++ch) {
+                        ASSERT_NEAR(c.sigma_t[ch], truth.sigma_t[ch], 1e-4f);  // world vs local lookup rounding
+                        ASSERT_NEAR(c.sigma_s[ch], truth.sigma_s[ch], 1e-4f);
+                        ASSERT_GE(c.sigma_t[ch], 0.f);
+                        ASSERT_LE(c.sigma_t[ch], c.mu * (1.f + 1e-5f));
+                        ASSERT_GE(c.channel_weights[ch], 0.f);
+                    }
+                    ASSERT_NEAR(c.channel_weights.r + c.channel_weights.g + c.channel_weights.b, 1.f, 1e-5f);
+                }
+                if (fs.scattered) {
+                    ASSERT_FALSE(guide.seen.empty());
+                    ASSERT_EQ(guide.seen.back().t, fs.t);
+                }
+                collisions += guide.seen.size();
+                scattered += fs.scattered;
+            }
+        }
+    m->set_majorant_scale(1.f);
+    EXPECT_GT(scattered, 100u);
+    EXPECT_GT(collisions, 10 * scattered);  // the loose majorant adds many nulls
 }

@@ -1,9 +1,11 @@
 // Homogeneous media: the closed-form free-flight sampler with one-sample spectral MIS must give
 // E[w 1{scattered} f(t)] = int_0^s T_c(t) sigma_s,c f(t) dt and E[w 1{escaped}] = T_c(s) per channel
-// (z-tests), and transmittance() is exact.
+// (z-tests), and transmittance() is exact. The free flight has no tentative collisions: a
+// CollisionGuide passed to it is not consulted.
 #include <gtest/gtest.h>
 
 #include "support/running_stats.h"
+#include "volguide/media/guided_tracking.h"
 #include "volguide/media/homogeneous.h"
 #include "volguide/media/phase_isotropic.h"
 
@@ -126,4 +128,28 @@ TEST(MediaHomogeneous, ExactTransmittance) {
     const Color3 tinf = m->transmittance(Ray(Point3f(0.f), Vec3f(1.f, 0.f, 0.f)), Infinity, s);
     EXPECT_EQ(tinf, Color3(0.f, 1.f, 0.f));
     EXPECT_TRUE(m->is_homogeneous());
+}
+
+TEST(MediaHomogeneous, ClosedFormDoesNotConsultACollisionGuide) {
+    struct AlwaysScatter final : CollisionGuide {
+        int calls = 0;
+        float scatter_probability(const TentativeCollision&) override {
+            ++calls;
+            return 1.f;
+        }
+    } guide;
+    auto m = make_medium(Color3(0.5f, 1.f, 2.f), Color3(0.7f));
+    EXPECT_FALSE(m->tracks_null_collisions());
+    const Medium& medium = *m;
+    const Ray ray(Point3f(0.f), Vec3f(0.f, 1.f, 0.f));
+    for (int i = 0; i < 1000; ++i) {
+        Sampler s(5, 0, uint64_t(i)), s_ref(5, 0, uint64_t(i));
+        const FreeFlightSample fs = medium.sample_free_flight(ray, 1.5f, Color3(0.2f, 1.f, 3.f), s, &guide);
+        const FreeFlightSample ref = medium.sample_free_flight(ray, 1.5f, Color3(0.2f, 1.f, 3.f), s_ref);
+        ASSERT_EQ(fs.scattered, ref.scattered);
+        ASSERT_EQ(fs.t, ref.t);
+        ASSERT_EQ(fs.weight, ref.weight);
+        ASSERT_EQ(fs.flight_weight, ref.flight_weight);
+    }
+    EXPECT_EQ(guide.calls, 0);
 }

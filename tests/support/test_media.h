@@ -58,8 +58,9 @@ public:
         phase_ = std::move(phase);
     }
     MediumCoefficients eval(const Point3f&) const override { return coeffs_; }
-    FreeFlightSample sample_free_flight(const Ray& ray, float tmax, const Color3& throughput,
-                                        Sampler& sampler) const override {
+    using Medium::sample_free_flight;
+    FreeFlightSample sample_free_flight(const Ray& ray, float tmax, const Color3& throughput, Sampler& sampler,
+                                        CollisionGuide*) const override {
         FreeFlightSample ff;
         // Channel c with probability q_c proportional to |throughput_c| (uniform if all vanish).
         Color3 q(std::abs(throughput.r), std::abs(throughput.g), std::abs(throughput.b));
@@ -97,6 +98,7 @@ public:
         if (t0 < t1) out.push_back({t0, t1, coeffs_.sigma_t, st > 0.f ? coeffs_.sigma_s.average() / st : 0.f});
     }
     bool is_homogeneous() const override { return true; }
+    bool tracks_null_collisions() const override { return false; }
     BBox3f bbox() const override { return BBox3f(Point3f(-Infinity), Point3f(Infinity)); }
     std::string to_string() const override { return "TestHomogeneousMedium"; }
 

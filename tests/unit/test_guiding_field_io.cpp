@@ -1,7 +1,9 @@
 // Save/load of the guiding field: the round trip is bit-exact and gives identical queries; corrupt,
-// truncated, foreign, newer-version and inconsistent files are rejected with a clear error.
+// truncated, foreign, newer-version and inconsistent files are rejected with a clear error; the
+// per-leaf medium fractions (format 3) round-trip and format 2 files still load, unmeasured.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -132,4 +134,95 @@ TEST(GuidingFieldIo, StructurallyInvalidButChecksummedFilesAreRejected) {
     const float neg = -1.f;
     std::memcpy(&bad[leaves_at], &neg, 4);
     expect_rejected(rechecksum(bad), "fluence");
+}
+
+namespace {
+
+std::string rechecksummed(std::string s) {
+    s.resize(s.size() - 8);
+    uint64_t h = 14695981039346656037ull;
+    for (size_t i = 8; i < s.size(); ++i) h = (h ^ uint64_t(uint8_t(s[i]))) * 1099511628211ull;
+    for (int i = 0; i < 8; ++i) s.push_back(char(uint8_t(h >> (8 * i))));
+    return s;
+}
+
+// A field whose leaves are all invalid (no VMM records), so that every leaf record has the same
+// size (format 3: 3 x f32 fluence, u32 samples, f32 medium fraction, u8 valid, u8 valid_indirect).
+GuidingField make_vmmless_field() {
+    std::vector<RadianceSample> s;
+    for (int i = 0; i < 4000; ++i) {
+        Sampler r(11, 0, uint64_t(i));
+        s.push_back({Point3f(r.next_1d(), r.next_1d(), r.next_1d()), Vec3f(0.f, 0.f, 1.f), Color3(1.f), 1.f, false});
+    }
+    GuidingFieldSettings settings;
+    settings.tree.max_samples = 500;
+    settings.min_samples = 1 << 30;
+    return GuidingField::build(BBox3f(Point3f(0.f), Point3f(1.f)), s, settings);
+}
+
+}  // namespace
+
+TEST(GuidingFieldIo, MediumFractionsAreSavedAndVersion2FilesLoadWithoutThem) {
+    GuidingField field = make_vmmless_field();
+    const size_t n = field.leaves().size();
+    ASSERT_GT(n, 4u);
+    EXPECT_FALSE(field.has_medium_fractions());
+    std::vector<float> fractions(n);
+    for (size_t l = 0; l < n; ++l) fractions[l] = float(l % 5) / 4.f;  // 0, 0.25, .., 1
+    field.set_medium_fractions(fractions, /*scale_fluence=*/false);
+    ASSERT_TRUE(field.has_medium_fractions());
+
+    const std::string v3 = serialize_field(field);
+    const GuidingField back = deserialize_field(v3);
+    ASSERT_TRUE(back.has_medium_fractions());
+    for (size_t l = 0; l < n; ++l) {
+        EXPECT_EQ(back.leaves()[l].medium_fraction, fractions[l]);
+        EXPECT_EQ(back.leaves()[l].mostly_medium(), fractions[l] >= 0.5f);
+    }
+
+    const size_t leaves_at = 8 + 4 + 24 + 4 + field.tree().nodes().size() * 9 + 4;
+    constexpr size_t kLeafV3 = 22, kFractionAt = 16;
+    ASSERT_EQ(v3.size(), leaves_at + n * kLeafV3 + 8);
+    // A medium fraction that is NaN or above 1 is rejected.
+    for (float bad_value : {std::nanf(""), 1.5f}) {
+        std::string bad = v3;
+        std::memcpy(&bad[leaves_at + kFractionAt], &bad_value, 4);
+        expect_rejected(rechecksummed(bad), "medium fraction");
+    }
+
+    // The same field written as version 2 (no fraction per leaf) loads with its fractions unmeasured.
+    std::string v2 = v3.substr(0, leaves_at);
+    v2[8] = 2;
+    for (size_t l = 0; l < n; ++l) {
+        const std::string leaf = v3.substr(leaves_at + l * kLeafV3, kLeafV3);
+        v2 += leaf.substr(0, kFractionAt) + leaf.substr(kFractionAt + 4);
+    }
+    v2 += std::string(8, '\0');
+    const GuidingField old = deserialize_field(rechecksummed(v2));
+    EXPECT_FALSE(old.has_medium_fractions());
+    ASSERT_EQ(old.leaves().size(), n);
+    for (size_t l = 0; l < n; ++l) {
+        EXPECT_EQ(old.leaves()[l].medium_fraction, -1.f);
+        EXPECT_FALSE(old.leaves()[l].mostly_medium());
+        EXPECT_EQ(old.leaves()[l].fluence, field.leaves()[l].fluence);
+        EXPECT_EQ(old.leaves()[l].samples, field.leaves()[l].samples);
+    }
+    // Versions before 2 are rejected by name.
+    std::string older = v2;
+    older[8] = 1;
+    expect_rejected(rechecksummed(older), "version");
+}
+
+TEST(GuidingFieldIo, MediumFractionsScaleThePerVolumeFluenceOnlyWhenAsked) {
+    GuidingField scaled = make_vmmless_field(), kept = make_vmmless_field();
+    std::vector<float> fractions(scaled.leaves().size(), 0.5f);
+    fractions[0] = 0.f;  // a sliver the measurement missed: left unscaled
+    scaled.set_medium_fractions(fractions, true);
+    kept.set_medium_fractions(fractions, false);
+    const GuidingField plain = make_vmmless_field();
+    EXPECT_EQ(scaled.leaves()[0].fluence, plain.leaves()[0].fluence);
+    for (size_t l = 1; l < fractions.size(); ++l) {
+        EXPECT_EQ(scaled.leaves()[l].fluence, plain.leaves()[l].fluence * 2.f);
+        EXPECT_EQ(kept.leaves()[l].fluence, plain.leaves()[l].fluence);
+    }
 }

@@ -9,7 +9,7 @@
 
 #include "support/running_stats.h"
 #include "volguide/core/sampler.h"
-#include "volguide/integrators/roulette_splitting.h"
+#include "volguide/guiding/roulette_splitting.h"
 
 using namespace volguide;
 using namespace volguide::test;

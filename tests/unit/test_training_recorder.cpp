@@ -9,14 +9,14 @@ using namespace volguide;
 
 TEST(TrainingRecorder, SuffixRadianceOverThroughputAndPdf) {
     TrainingRecorder rec;
-    rec.contribution(Color3(100.f));  // seen directly by the camera: no vertex to credit
-    rec.medium_vertex(Point3f(1.f, 0.f, 0.f), Vec3f(1.f, 0.f, 0.f), 0.25f, Color3(0.5f, 0.5f, 0.f));
-    rec.contribution(Color3(1.f, 2.f, 3.f));  // e.g. the emitter hit after vertex 0
-    rec.medium_nee(Point3f(2.f, 0.f, 0.f), Vec3f(0.f, 1.f, 0.f), Color3(7.f));
-    rec.contribution(Color3(0.5f));  // NEE at vertex 1: credited to vertex 0 only
-    rec.medium_vertex(Point3f(2.f, 0.f, 0.f), Vec3f(0.f, 0.f, 1.f), 0.5f, Color3(0.25f));
-    rec.contribution(Color3(0.25f));
-    rec.medium_nee(Point3f(3.f, 0.f, 0.f), Vec3f(0.f, 1.f, 0.f), Color3(0.f));  // zero: dropped
+    rec.record_contribution(Color3(100.f));  // seen directly by the camera: no vertex to credit
+    rec.record_medium_vertex(Point3f(1.f, 0.f, 0.f), Vec3f(1.f, 0.f, 0.f), 0.25f, Color3(0.5f, 0.5f, 0.f));
+    rec.record_contribution(Color3(1.f, 2.f, 3.f));  // e.g. the emitter hit after vertex 0
+    rec.record_medium_nee(Point3f(2.f, 0.f, 0.f), Vec3f(0.f, 1.f, 0.f), Color3(7.f));
+    rec.record_contribution(Color3(0.5f));  // NEE at vertex 1: credited to vertex 0 only
+    rec.record_medium_vertex(Point3f(2.f, 0.f, 0.f), Vec3f(0.f, 0.f, 1.f), 0.5f, Color3(0.25f));
+    rec.record_contribution(Color3(0.25f));
+    rec.record_medium_nee(Point3f(3.f, 0.f, 0.f), Vec3f(0.f, 1.f, 0.f), Color3(0.f));  // zero: dropped
     std::vector<RadianceSample> out;
     rec.finish(out);
     ASSERT_EQ(out.size(), 3u);
@@ -34,14 +34,14 @@ TEST(TrainingRecorder, SuffixRadianceOverThroughputAndPdf) {
     EXPECT_EQ(out[2].direction, Vec3f(0.f, 1.f, 0.f));
     EXPECT_EQ(out[2].count, 0.f);
     // finish() clears: the next path starts empty.
-    rec.contribution(Color3(1.f));
+    rec.record_contribution(Color3(1.f));
     rec.finish(out);
     EXPECT_EQ(out.size(), 3u);
 }
 
 TEST(TrainingRecorder, ZeroValuedVerticesAreKept) {
     TrainingRecorder rec;
-    rec.medium_vertex(Point3f(0.f), Vec3f(0.f, 0.f, 1.f), 0.1f, Color3(1.f));
+    rec.record_medium_vertex(Point3f(0.f), Vec3f(0.f, 0.f, 1.f), 0.1f, Color3(1.f));
     std::vector<RadianceSample> out;
     rec.finish(out);
     ASSERT_EQ(out.size(), 1u);

@@ -14,7 +14,10 @@ namespace volguide {
 namespace {
 
 constexpr char kMagic[8] = {'V', 'G', 'F', 'I', 'E', 'L', 'D', 0};
-constexpr size_t kNodeBytes = 9, kLeafBytes = 18;
+constexpr size_t kNodeBytes = 9;
+constexpr uint32_t kOldestReadableVersion = 2;
+// The smallest leaf record (an invalid leaf) of a format version.
+size_t min_leaf_bytes(uint32_t version) { return version >= 3 ? 22 : 18; }
 
 uint64_t fnv1a64(const char* p, size_t n) {
     uint64_t h = 14695981039346656037ull;
@@ -68,6 +71,7 @@ std::string serialize_field(const GuidingField& field) {
     for (const GuidingLeaf& leaf : field.leaves()) {
         for (int c = 0; c < 3; ++c) put_f32(s, leaf.fluence[c]);
         put_u32(s, leaf.samples);
+        put_f32(s, leaf.medium_fraction);
         s.push_back(char(leaf.valid ? 1 : 0));
         if (leaf.valid) {
             std::ostringstream vmm;
@@ -92,9 +96,10 @@ GuidingField deserialize_field(const std::string& bytes) {
         throw FieldFormatError("not a volguide guiding field (bad magic)");
     Reader header{bytes, sizeof(kMagic), bytes.size()};
     const uint32_t version = header.u32("header");
-    if (version != kFieldFormatVersion)
-        throw FieldFormatError("unsupported guiding field version " + std::to_string(version) +
-                               " (this build reads " + std::to_string(kFieldFormatVersion) + ")");
+    if (version < kOldestReadableVersion || version > kFieldFormatVersion)
+        throw FieldFormatError("unsupported guiding field version " + std::to_string(version) + " (this build reads " +
+                               std::to_string(kOldestReadableVersion) + " to " + std::to_string(kFieldFormatVersion) +
+                               ")");
     const size_t body_end = bytes.size() - 8;
     Reader tail{bytes, body_end, bytes.size()};
     const uint64_t stored = uint64_t(tail.u32("checksum")) | uint64_t(tail.u32("checksum")) << 32;
@@ -126,7 +131,7 @@ GuidingField deserialize_field(const std::string& bytes) {
     if (int64_t(leaf_count) != tree.leaf_count())
         throw FieldFormatError("guiding field has " + std::to_string(leaf_count) + " leaves, its tree " +
                                std::to_string(tree.leaf_count()));
-    r.need(size_t(leaf_count) * kLeafBytes, "leaves");
+    r.need(size_t(leaf_count) * min_leaf_bytes(version), "leaves");
     std::vector<GuidingLeaf> leaves(leaf_count);
     std::istringstream vmm_in(bytes);  // VMM records are read in place
     for (uint32_t l = 0; l < leaf_count; ++l) {
@@ -137,6 +142,12 @@ GuidingField deserialize_field(const std::string& bytes) {
                 throw FieldFormatError("guiding field leaf " + std::to_string(l) + " has an invalid fluence");
         }
         leaf.samples = r.u32("leaves");
+        if (version >= 3) {
+            leaf.medium_fraction = r.f32("leaves");
+            if (!(leaf.medium_fraction <= 1.f) || std::isnan(leaf.medium_fraction))
+                throw FieldFormatError("guiding field leaf " + std::to_string(l) + " has an invalid medium fraction");
+            if (leaf.medium_fraction < 0.f) leaf.medium_fraction = -1.f;
+        }
         const uint8_t valid = r.u8("leaves");
         if (valid > 1)
             throw FieldFormatError("guiding field leaf " + std::to_string(l) + " has an invalid flag");

@@ -6,7 +6,8 @@
 //   u32       format version (kFieldFormatVersion)
 //   6 x f32   bounds (lo, hi)
 //   u32       node count, then per node: f32 split, u32 child, u8 axis
-//   u32       leaf count, then per leaf: 3 x f32 fluence, u32 samples, u8 valid, for a valid
+//   u32       leaf count, then per leaf: 3 x f32 fluence, u32 samples, f32 medium fraction
+//             (< 0: not measured; absent in version 2, whose fields load as not measured), u8 valid, for a valid
 //             leaf its VMM as a vmm_io record, u8 valid_indirect, and if set the indirect VMM
 //   u64       FNV-1a checksum of everything between the magic and the checksum
 // Loading checks the magic, version, checksum, sizes, the tree's structure (SpatialTree::from_nodes),
@@ -19,7 +20,8 @@
 
 namespace volguide {
 
-inline constexpr uint32_t kFieldFormatVersion = 2;  // 2: per-leaf indirect VMM
+// 2: per-leaf indirect VMM; 3: per-leaf medium fraction. Version 2 files are still read.
+inline constexpr uint32_t kFieldFormatVersion = 3;
 
 class FieldFormatError : public std::runtime_error {
   public:

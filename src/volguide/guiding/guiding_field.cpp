@@ -85,13 +85,15 @@ GuidingField::GuidingField(SpatialTree tree, std::vector<GuidingLeaf> leaves)
         throw std::invalid_argument("guiding field: leaf count does not match the tree");
 }
 
-void GuidingField::apply_medium_fractions(std::span<const float> fractions) {
+void GuidingField::set_medium_fractions(std::span<const float> fractions, bool scale_fluence) {
     if (fractions.size() != leaves_.size())
         throw std::invalid_argument("guiding field: one medium fraction per leaf expected");
     for (size_t l = 0; l < leaves_.size(); ++l) {
+        const float f = std::clamp(fractions[l], 0.f, 1.f);
+        leaves_[l].medium_fraction = f;
         // A fraction measured as 0 in a leaf that did receive collisions is a sliver the measurement
         // missed: leave that leaf unscaled rather than divide by 0.
-        if (fractions[l] > 0.f) leaves_[l].fluence = leaves_[l].fluence * (1.f / std::min(fractions[l], 1.f));
+        if (scale_fluence && f > 0.f) leaves_[l].fluence = leaves_[l].fluence * (1.f / f);
     }
 }
 

@@ -63,6 +63,14 @@ struct GuidingLeaf {
     // direct flags (camera-path training) holds a copy of vmm / valid here.
     Vmm vmm_indirect;
     bool valid_indirect = false;
+    // The share of the leaf's volume inside a scattering medium, measured by the renderer (it needs
+    // the scene; GuidingField::set_medium_fractions); < 0: not measured.
+    float medium_fraction = -1.f;
+    // The leaf is mostly medium: its samples describe the light in the space around any point of
+    // it, so it may guide the surfaces inside it (a floor beside a dense sphere shares a large leaf
+    // with the sphere's inside, whose radiance it does not see). False when not measured.
+    bool mostly_medium() const { return medium_fraction >= kMostlyMediumFraction; }
+    static constexpr float kMostlyMediumFraction = 0.5f;
 };
 
 class GuidingField {
@@ -77,12 +85,14 @@ class GuidingField {
     const std::vector<GuidingLeaf>& leaves() const { return leaves_; }
     bool empty() const { return leaves_.empty(); }
 
-    // Per-volume (photon) fluence averages the collision estimator over the whole leaf, but
-    // collisions only happen where there is a medium: a leaf half outside a fog sphere would read
-    // half the fluence. Divides each leaf's fluence by the fraction of its volume that holds a
-    // medium (fractions[leaf] in [0, 1], measured by the renderer; 0 leaves the leaf unchanged).
-    // Call once, for PerVolume fields.
-    void apply_medium_fractions(std::span<const float> fractions);
+    // Stores each leaf's medium fraction (fractions[leaf] in [0, 1], measured by the renderer:
+    // integrators/medium_occupancy.h). With scale_fluence (per-volume photon fields, once): per-volume
+    // fluence averages the collision estimator over the whole leaf, but collisions only happen
+    // where there is a medium, so a leaf half outside a fog sphere would read half the fluence;
+    // each leaf's fluence is divided by its fraction (a fraction of 0 leaves the leaf unchanged).
+    void set_medium_fractions(std::span<const float> fractions, bool scale_fluence);
+    // Whether the leaves' medium fractions were measured (set_medium_fractions, or loaded).
+    bool has_medium_fractions() const { return !leaves_.empty() && leaves_.front().medium_fraction >= 0.f; }
 
     // The leaf at x, or nullptr outside the field's bounds.
     const GuidingLeaf* leaf_at(const Point3f& x) const {

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "volguide/integrators/volume_nee.h"
+#include "volguide/media/homogeneous_transmittance.h"
 #include "volguide/media/medium.h"
 #include "volguide/render/bsdf.h"
 #include "volguide/render/scene.h"
@@ -64,7 +65,7 @@ void CacheEstimator::march_segment(const Ray& ray, float t0, float t1, const Med
                 homogeneous ? constant : medium.eval(ray(a + (float(k) + sampler.next_1d()) * len));
             for (int ch = 0; ch < 3; ++ch) {
                 result[ch] += T[ch] * step_weight(c.sigma_s[ch], c.sigma_t[ch], len) * value[ch];
-                T[ch] *= std::exp(-c.sigma_t[ch] * len);
+                T[ch] *= transmittance_1(c.sigma_t[ch], len);
             }
         }
     };

@@ -14,51 +14,21 @@
 #include <memory>
 #include <string>
 
-#include "volguide/integrators/cache_estimate.h"
-#include "volguide/core/properties.h"
 #include "volguide/guiding/guiding_field.h"
-#include "volguide/integrators/volpath.h"
+#include "volguide/guiding/roulette_splitting.h"
+#include "volguide/integrators/cache_estimate.h"
+#include "volguide/integrators/guided_volpath_settings.h"
 #include "volguide/integrators/pixel_estimate.h"
-#include "volguide/integrators/roulette_splitting.h"
+#include "volguide/integrators/volpath.h"
 #include "volguide/integrators/walk_guide.h"
 
 namespace volguide {
 
-struct GuidedVolPathSettings {
-    VolPathSettings walk;  // max_depth, rr_depth, hide_emitters, equiangular
-    std::string training = "photons";
-    int64_t photons = 1000000;  // the paper uses ~50 M; 1 M trains in seconds on two cores
-    // Photon collisions kept at most (0: no cap): dense media deposit tens per photon, and the
-    // field's build and fit time grows with them (4 M: 160 MB, ~3.5 s to build and fit on two
-    // cores; on `aniso` 2 M photons deposit more than 8 M collisions, whose fit took 26 s uncapped).
-    int64_t max_deposits = 4000000;
-    // Focused photon emission (emission_focus.h): a pilot finds where each emitter lights a medium.
-    bool photon_focus = true;
-    int training_iterations = 5;  // progressive: iteration k traces 2^k spp (5: 31 spp in total)
-    float training_fraction = 0.25f;
-    GuidingFieldSettings field;  // leaf_samples -> field.tree.max_samples, lobes -> field.lobes
-    std::string distance = "standard", direction = "phase", rrs = "standard";
-    WalkGuideSettings guide;  // the guided decisions' parameters (c_T, p_max, filter_A, phase_prob)
-    RouletteSplittingSettings roulette;  // rrs_window, rrs_q_min, rrs_q_max, rrs_max_branches
-    std::string pixel_estimate = "raymarch";
-    PixelEstimateSettings pixel;  // pixel_estimate_rays, pixel_estimate_floor
-    int pixel_estimate_spp = 4;   // pixel_estimate=render
-    std::string save_pixel_estimate;  // EXR of I (RGB, before the floor), empty = none
-    std::string save_field, load_field;  // resolved paths, empty = none
-    // `estimate`: none (render), or the field's own prediction of what the camera sees through the
-    // media (cache_estimate.h): inscattered (compare with volpath volume_only) or incident.
-    std::string estimate = "none";
-    SourceLocation location;
-    static GuidedVolPathSettings from(const Properties& props);
-};
-
 class GuidedVolPathIntegrator final : public Integrator {
 public:
     explicit GuidedVolPathIntegrator(const Properties& props);
-    // Without a film position (direct calls), guided RR/splitting compares with the mean of the
-    // pixel estimate.
-    Color3 Li(const Scene& scene, Sampler& sampler, const Ray& ray) const override;
-    Color3 Li(const Scene& scene, Sampler& sampler, const Ray& ray, Point2f film_uv) const override;
+    // Guided RR/splitting compares with the pixel estimate at the camera ray's film position.
+    Color3 Li(const Scene& scene, Sampler& sampler, const CameraRay& camera) const override;
     void preprocess(const Scene& scene, const PreprocessContext& context) override;
     std::vector<std::pair<std::string, double>> statistics() const override;
     std::string to_string() const override;
@@ -77,7 +47,13 @@ private:
     std::unique_ptr<WalkGuide> guide_;           // a guided distance, direction or RR decision
     std::unique_ptr<RouletteSplitting> rrs_;     // rrs != standard
     PixelEstimate pixel_estimate_;
-    Color3 sample(const Scene& scene, Sampler& sampler, const Ray& ray, float pixel) const;
+    // The guided walk along ray, with guided RR/splitting (when rrs_) against the pixel value I.
+    Color3 guided_walk(const Scene& scene, Sampler& sampler, const Ray& ray, float pixel) const;
+    // preprocess()'s steps: the field (loaded or trained) with its leaves' medium fractions, then
+    // the pixel estimate I of guided RR/splitting.
+    void load_or_train_field(const Scene& scene, const PreprocessContext& context);
+    GuidingField train_by_photons(const Scene& scene, const PreprocessContext& context);
+    void make_pixel_estimate(const Scene& scene, const PreprocessContext& context);
     std::vector<std::pair<std::string, double>> training_stats_;  // of the last preprocess()
 };
 

@@ -28,16 +28,18 @@ struct PreprocessContext {
     bool cancelled() const { return cancel && cancel->load(std::memory_order_relaxed); }
 };
 
+// A camera ray and the film position it leaves from, what an integrator estimates the radiance
+// along (camera_sample.h makes them). Integrators that keep per-pixel data (guided_volpath's pixel
+// estimate) read the position; the others only the ray.
+struct CameraRay {
+    Ray ray;
+    Point2f film_uv;  // [0, 1]^2 over the film; outside it in a filter's border
+};
+
 class Integrator : public Object {
 public:
-    // Radiance along `ray` (a camera ray), one sample.
-    virtual Color3 Li(const Scene& scene, Sampler& sampler, const Ray& ray) const = 0;
-    // The same for a camera ray through the film position film_uv ([0, 1]^2 over the film; outside
-    // it in a filter's border): what the render loop calls. Integrators that keep per-pixel data
-    // (guided_volpath's pixel estimate) override it; the default ignores the position.
-    virtual Color3 Li(const Scene& scene, Sampler& sampler, const Ray& ray, Point2f film_uv) const {
-        return Li(scene, sampler, ray);
-    }
+    // Radiance along a camera ray, one sample.
+    virtual Color3 Li(const Scene& scene, Sampler& sampler, const CameraRay& camera) const = 0;
     // The `moment` integrator also writes the per-sample variance image.
     virtual bool writes_variance() const { return false; }
     // Work before rendering (training, pre-passes), counted in the time budget. Default: none.

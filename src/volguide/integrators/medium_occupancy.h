@@ -1,7 +1,7 @@
 #pragma once
 // The fraction of each guiding-field leaf's volume that holds a scattering medium, by jittered
 // point sampling (the photon field's fluence is a per-volume collision estimate, which must be
-// divided by the medium's share of the leaf: GuidingField::apply_medium_fractions).
+// divided by the medium's share of the leaf: GuidingField::set_medium_fractions).
 //
 // The medium at a point is found the way a ray would find it: cast from the point in a random
 // direction, skip surfaces without media, and at the first shape with media take its interior if
@@ -23,6 +23,10 @@ const Medium* medium_at(const Scene& scene, const Point3f& p, Point2f u);
 // The same rule with the probe along a given ray: the medium a ray leaving from ray.o along ray.d
 // travels in first.
 const Medium* medium_along(const Scene& scene, const Ray& ray);
+
+// The points per leaf guided_volpath measures a field's medium fractions with: ~4 % standard error
+// for a half-filled leaf.
+inline constexpr int kMediumFractionPoints = 128;
 
 // Per leaf of `tree`: the fraction of `points_per_leaf` jittered points that lie in a medium with
 // sigma_t > 0. Parallel over leaves, deterministic for any thread count.

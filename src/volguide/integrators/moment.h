@@ -12,11 +12,8 @@ namespace volguide {
 class MomentIntegrator final : public Integrator {
 public:
     explicit MomentIntegrator(const Properties& props);
-    Color3 Li(const Scene& scene, Sampler& sampler, const Ray& ray) const override {
-        return nested_->Li(scene, sampler, ray);
-    }
-    Color3 Li(const Scene& scene, Sampler& sampler, const Ray& ray, Point2f film_uv) const override {
-        return nested_->Li(scene, sampler, ray, film_uv);
+    Color3 Li(const Scene& scene, Sampler& sampler, const CameraRay& camera) const override {
+        return nested_->Li(scene, sampler, camera);
     }
     bool writes_variance() const override { return true; }
     void preprocess(const Scene& scene, const PreprocessContext& context) override {

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include "volguide/integrators/volume_nee.h"
 #include "volguide/render/bsdf.h"
 #include "volguide/render/emitter.h"
 #include "volguide/render/scene.h"
@@ -33,42 +34,15 @@ const Emitter* emitter_seen(const Scene& scene, const SurfaceInteraction& si) {
     return si.shape->emitter();
 }
 
-// Direction record of an emitter hit from `ref`, for the MIS pdf of emitter sampling.
-DirectionSample hit_direction_sample(const SurfaceInteraction& si, const Interaction& ref, const Vec3f& ray_d,
-                                     const Emitter* emitter) {
-    DirectionSample ds;
-    ds.emitter = emitter;
-    if (!si.is_valid()) {
-        ds.d = ray_d;
-        ds.dist = Infinity;
-        return ds;
-    }
-    ds.p = si.p;
-    ds.n = si.sh_frame.n;
-    ds.uv = si.uv;
-    Vec3f d = si.p - ref.p;
-    ds.dist = norm(d);
-    ds.d = d / ds.dist;
-    return ds;
-}
-
-// A miss is represented as an invalid interaction whose wi is the world direction -ray.d.
-SurfaceInteraction miss_interaction(const Ray& ray) {
-    SurfaceInteraction si;
-    si.t = Infinity;
-    si.wi = -ray.d;
-    return si;
-}
-
 }  // namespace
 
-Color3 PathIntegrator::Li(const Scene& scene, Sampler& sampler, const Ray& camera_ray) const {
+Color3 PathIntegrator::Li(const Scene& scene, Sampler& sampler, const CameraRay& camera) const {
     const PathSettings& s = settings_;
     if (s.max_depth == 0) return Color3(0.f);
     const BSDFContext ctx;
     Color3 result(0.f), throughput(1.f);
     float eta = 1.f;
-    Ray ray = camera_ray;
+    Ray ray = camera.ray;
 
     SurfaceInteraction si;
     if (!scene.intersect(ray, si)) si = miss_interaction(ray);
@@ -108,7 +82,7 @@ Color3 PathIntegrator::Li(const Scene& scene, Sampler& sampler, const Ray& camer
         if (const Emitter* e = emitter_seen(scene, next)) {
             bool delta = (bs.sampled_flags & bsdf_flags::Delta) != 0;
             float emitter_pdf = 0.f;
-            if (!delta) emitter_pdf = scene.pdf_emitter_direction(si, hit_direction_sample(next, si, ray.d, e));
+            if (!delta) emitter_pdf = scene.pdf_emitter_direction(si, emitter_hit_record(next, si, ray.d, e));
             float mis = delta ? 1.f : mis_power_heuristic(bs.pdf, emitter_pdf);
             result += throughput * e->eval(next) * mis;
         }

@@ -19,7 +19,7 @@ class PathIntegrator final : public Integrator {
 public:
     explicit PathIntegrator(const Properties& props) : settings_(PathSettings::from(props)) {}
     explicit PathIntegrator(PathSettings s) : settings_(s) {}
-    Color3 Li(const Scene& scene, Sampler& sampler, const Ray& ray) const override;
+    Color3 Li(const Scene& scene, Sampler& sampler, const CameraRay& camera) const override;
     std::string to_string() const override;
 
 private:

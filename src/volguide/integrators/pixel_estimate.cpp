@@ -10,8 +10,8 @@
 #include "volguide/guiding/surface_guide.h"
 #include "volguide/vmm/vmm.h"
 #include "volguide/integrators/cache_estimate.h"
+#include "volguide/integrators/camera_sample.h"
 #include "volguide/integrators/integrator.h"
-#include "volguide/integrators/medium_occupancy.h"
 #include "volguide/integrators/volume_nee.h"
 #include "volguide/render/bsdf.h"
 #include "volguide/render/emitter.h"
@@ -38,15 +38,8 @@ float field_irradiance_shape(const Vmm& v, const Vec3f& n) {
 }
 
 // The estimated radiance along one camera ray (see pixel_estimate.h).
-// A leaf describes the light around a surface only when it is mostly medium (as for surface
-// guiding): a floor beside a dense sphere shares a large leaf with the sphere's inside, whose
-// radiance it does not see (sss: the floor read black, I's mean 0.57 of the image's).
-constexpr float kSurfaceMinMediumFraction = 0.5f;
-constexpr int kOccupancyPoints = 32;
-
 Color3 march_camera_ray(const Scene& scene, const GuidingField& field, const CacheEstimator& estimator,
-                        const std::vector<float>& leaf_medium_fraction, const PixelEstimateSettings& settings,
-                        Ray ray, Sampler& sampler) {
+                        const PixelEstimateSettings& settings, Ray ray, Sampler& sampler) {
     const BSDFContext ctx;
     const float leaf_offset = 1e-4f * norm(field.tree().bounds().extents());
     Color3 T(1.f), result(0.f);
@@ -87,14 +80,16 @@ Color3 march_camera_ray(const Scene& scene, const GuidingField& field, const Cac
         // A rough surface, seen from the side the ray arrives on: its albedo (one BSDF sample's
         // weight) times the irradiance there over pi, the irradiance from the field's leaf on that
         // side (both direct and indirect light, in closed form) or, without a valid leaf, from one
-        // NEE sample (direct light only).
+        // NEE sample (direct light only). Only a leaf that is mostly medium describes the light
+        // around the surface (GuidingLeaf::mostly_medium; sss: the floor read black, I's mean 0.57
+        // of the image's).
         const float u1 = sampler.next_1d();
         const Color3 albedo = bsdf.sample(ctx, si, u1, sampler.next_2d()).second;
         if (albedo.is_black()) break;
         const Vec3f n = si.wi.z >= 0.f ? Vec3f(si.sh_frame.n) : -Vec3f(si.sh_frame.n);
         const int index = field.empty() ? -1 : field.tree().leaf_at(si.p + n * leaf_offset);
         const GuidingLeaf* leaf = index >= 0 ? &field.leaves()[size_t(index)] : nullptr;
-        if (leaf && leaf->valid && leaf_medium_fraction[size_t(index)] >= kSurfaceMinMediumFraction) {
+        if (leaf && leaf->valid && leaf->mostly_medium()) {
             result += T * albedo * leaf->fluence * (field_irradiance_shape(leaf->vmm, n) * InvPi);
         } else {
             const VolumeEmitterSample es =
@@ -126,9 +121,10 @@ Image average_camera_samples(const Scene& scene, int count, uint64_t stream, boo
                     Vec2f u = sampler.next_2d();
                     if (k < strata * strata)
                         u = Vec2f((float(k % strata) + u.x) / float(strata), (float(k / strata) + u.y) / float(strata));
-                    const Point2f film_uv((float(x) + u.x) / float(W), (float(y) + u.y) / float(H));
-                    const auto [ray, weight] = sensor.sample_ray(film_uv, Point2f(0.5f, 0.5f));
-                    const Color3 L = weight * radiance(sampler, ray);
+                    const Point2f pos = film_position(x, y, u);
+                    const Point2f film_uv(pos.x / float(W), pos.y / float(H));
+                    const Color3 L = camera_sample_value(
+                        sensor, film_uv, [&](const CameraRay& camera) { return radiance(sampler, camera.ray); });
                     if (L.is_finite()) sum += L;
                 }
                 image.at(x, y) = sum * (1.f / float(count));
@@ -153,12 +149,7 @@ PixelEstimate PixelEstimate::from_image(Image image, float floor_fraction) {
     const double mean = e.value_.empty() ? 0.0 : sum / double(e.value_.size());
     // A black image still needs a positive I (every decision then compares with the floor).
     e.floor_ = std::max(float(floor_fraction * mean), 1e-6f);
-    double floored = 0.0;
-    for (float& v : e.value_) {
-        v = std::max(v, e.floor_);
-        floored += v;
-    }
-    e.mean_ = e.value_.empty() ? 0.f : float(floored / double(e.value_.size()));
+    for (float& v : e.value_) v = std::max(v, e.floor_);
     return e;
 }
 
@@ -185,12 +176,10 @@ PixelEstimate PixelEstimate::render(const Scene& scene, const std::function<Colo
 
 PixelEstimate PixelEstimate::raymarch(const Scene& scene, const GuidingField& field, const CacheEstimator& estimator,
                                       const PixelEstimateSettings& settings, const PreprocessContext& context) {
-    const std::vector<float> fractions =
-        field.empty() ? std::vector<float>() : medium_fractions(scene, field.tree(), kOccupancyPoints, context.seed);
     Image image = average_camera_samples(
         scene, std::max(1, settings.rays_per_pixel), kPixelEstimateStream, /*stratify=*/true, context,
         [&](Sampler& sampler, const Ray& ray) {
-            return march_camera_ray(scene, field, estimator, fractions, settings, ray, sampler);
+            return march_camera_ray(scene, field, estimator, settings, ray, sampler);
         });
     return from_image(std::move(image), settings.floor_fraction);
 }

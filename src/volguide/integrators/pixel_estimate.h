@@ -70,13 +70,11 @@ class PixelEstimate {
     // The RGB estimate before flooring (for inspection and the comparison with references).
     const Image& image() const { return image_; }
     float floor() const { return floor_; }
-    // The mean of the floored per-pixel values (for samples without a film position).
-    float mean() const { return mean_; }
 
   private:
     Image image_;
     std::vector<float> value_;  // floored channel averages, row-major
-    float floor_ = 0.f, mean_ = 0.f;
+    float floor_ = 0.f;
 };
 
 }  // namespace volguide

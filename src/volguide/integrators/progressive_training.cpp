@@ -7,6 +7,7 @@
 #include <chrono>
 #include <mutex>
 
+#include "volguide/integrators/camera_sample.h"
 #include "volguide/integrators/training_recorder.h"
 #include "volguide/render/scene.h"
 #include "volguide/render/sensor.h"
@@ -24,6 +25,34 @@ struct Tile {
     int x0, y0, x1, y1;
 };
 
+// Samples [first_sample, first_sample + spp) of every pixel of `tile`, each a walk of volpath with
+// the recorder as its policy, their training samples appended to `out` in pixel and sample order.
+void trace_tile(const Scene& scene, const VolPathIntegrator& walk, const Tile& tile, int first_sample, int spp,
+                uint64_t seed, std::vector<RadianceSample>& out) {
+    const Sensor& sensor = scene.sensor();
+    const FilmGrid grid{sensor.film().width(), sensor.film().height(), 0};
+    TrainingRecorder recorder;
+    for (int y = tile.y0; y < tile.y1; ++y)
+        for (int x = tile.x0; x < tile.x1; ++x)
+            for (int s = first_sample; s < first_sample + spp; ++s) {
+                FilmSample sample = film_sample(grid, seed, x, y, uint64_t(s), kTrainingStream);
+                const Ray ray = sensor.sample_ray(sample.film_uv, Point2f(0.5f, 0.5f)).first;
+                walk.walk(scene, sample.sampler, ray, &recorder);
+                recorder.finish(out);
+            }
+}
+
+// Progress of iteration (first_sample, spp) with `share` of its tiles done.
+Progress training_progress(int first_sample, int spp, double share, double total_spp, double elapsed) {
+    Progress p;
+    p.phase = "training";
+    p.fraction = (double(first_sample) + double(spp) * share) / total_spp;
+    p.spp_done = first_sample;
+    p.spp_target = int(total_spp);
+    p.elapsed = elapsed;
+    return p;
+}
+
 }  // namespace
 
 ProgressiveTrainingResult train_progressive(const Scene& scene, const BBox3f& bounds,
@@ -36,8 +65,7 @@ ProgressiveTrainingResult train_progressive(const Scene& scene, const BBox3f& bo
     GuidingFieldSettings fs = settings.field;
     fs.fluence = FluenceEstimator::PerSampleMean;
 
-    const Sensor& sensor = scene.sensor();
-    const int W = sensor.film().width(), H = sensor.film().height();
+    const int W = scene.sensor().film().width(), H = scene.sensor().film().height();
     const int T = std::max(settings.tile_size, 1);
     std::vector<Tile> tiles;
     for (int y = 0; y < H; y += T)
@@ -70,33 +98,13 @@ ProgressiveTrainingResult train_progressive(const Scene& scene, const BBox3f& bo
             if (context.cancelled()) return;
             // Iteration 0 always completes: a field needs some samples.
             if (limited && k > 0 && elapsed() > settings.time_limit) return;
-            const Tile& tile = tiles[t];
-            TrainingRecorder recorder;
-            std::vector<RadianceSample>& out = per_tile[t];
-            for (int y = tile.y0; y < tile.y1; ++y)
-                for (int x = tile.x0; x < tile.x1; ++x) {
-                    const uint64_t pixel = uint64_t(y) * uint64_t(W) + uint64_t(x);
-                    for (int s = first_sample; s < first_sample + spp; ++s) {
-                        Sampler sampler(context.seed, pixel, uint64_t(s), kTrainingStream);
-                        const Vec2f u = sampler.next_2d();
-                        const Point2f uv((float(x) + u.x) / float(W), (float(y) + u.y) / float(H));
-                        const Ray ray = sensor.sample_ray(uv, Point2f(0.5f, 0.5f)).first;
-                        walk.Li(scene, sampler, ray, &recorder);
-                        recorder.finish(out);
-                    }
-                }
+            trace_tile(scene, walk, tiles[t], first_sample, spp, context.seed, per_tile[t]);
             done[t] = 1;
             const size_t n = ++finished;
-            if (context.progress) {
-                std::lock_guard lock(progress_mutex);
-                Progress p;
-                p.phase = "training";
-                p.fraction = (double(first_sample) + double(spp) * double(n) / double(tiles.size())) / total_spp;
-                p.spp_done = first_sample;
-                p.spp_target = int(total_spp);
-                p.elapsed = elapsed();
-                context.progress(p);
-            }
+            if (!context.progress) return;
+            std::lock_guard lock(progress_mutex);
+            context.progress(training_progress(first_sample, spp, double(n) / double(tiles.size()), total_spp,
+                                               elapsed()));
         });
         bool complete = true;
         for (size_t t = 0; t < tiles.size(); ++t) {

@@ -11,6 +11,7 @@
 #include <mutex>
 #include <stdexcept>
 
+#include "volguide/integrators/camera_sample.h"
 #include "volguide/integrators/integrator.h"
 #include "volguide/render/scene.h"
 #include "volguide/render/sensors/film_buffer.h"
@@ -97,6 +98,170 @@ std::unique_ptr<tbb::global_control> thread_limit(int requested) {
                                                  size_t(requested));
 }
 
+// The tiles covering the sampled grid (the film and `border` pixels around it), row by row.
+std::vector<PixelRect> make_tiles(int W, int H, int border, int T) {
+    std::vector<PixelRect> tiles;
+    for (int y = -border; y < H + border; y += T)
+        for (int x = -border; x < W + border; x += T)
+            tiles.push_back({x, y, std::min(x + T, W + border), std::min(y + T, H + border)});
+    return tiles;
+}
+
+// What the tiles of one pass leave: their buffers and non-finite samples (merged in tile order),
+// and whether the pass was stopped.
+struct PassOutput {
+    explicit PassOutput(size_t tiles) : buffers(tiles), nonfinite(tiles, 0), first_bad(tiles) {}
+    std::vector<std::unique_ptr<TileBuffer>> buffers;
+    std::vector<uint64_t> nonfinite;
+    std::vector<SampleLocation> first_bad;
+    std::atomic<bool> stop_cancel{false}, stop_time{false};
+    std::atomic<uint64_t> samples_done{0};
+};
+
+// One render_frame call: the frame's fixed setup and its passes.
+class FrameRenderer {
+  public:
+    FrameRenderer(const FrameSetup& setup, const RadianceFn& radiance, const RenderOptions& options,
+                  tbb::task_arena& arena, Clock::time_point job_start)
+        : setup_(setup),
+          radiance_(radiance),
+          options_(options),
+          arena_(arena),
+          job_start_(job_start),
+          seed_(options.seed.value_or(setup.seed)),
+          budget_(options.time_budget > 0 ? options.time_budget : 0.0),
+          // 0 = unbounded: only the time budget (or a cancel) ends the render.
+          target_(options.spp > 0 ? options.spp : (budget_ > 0 ? 0 : std::max(setup.default_spp, 1))),
+          deadline_(budget_ > 0 ? job_start + std::chrono::duration_cast<Clock::duration>(
+                                                  std::chrono::duration<double>(budget_))
+                                : Clock::time_point::max()),
+          // Samples are taken over the film, plus the filter's border when sample_border is set.
+          grid_{setup.width, setup.height, setup.sample_border ? filter_border_size(*setup.filter) : 0},
+          tiles_(make_tiles(setup.width, setup.height, grid_.border, options.tile_size)),
+          splatter_(*setup.filter, setup.width, setup.height),
+          film_(setup.width, setup.height, setup.variance),
+          reporter_(options.progress, job_start, budget_, target_) {}
+
+    RenderResult run() {
+        RenderResult result;
+        RenderStats& stats = result.stats;
+        stats.seed = seed_;
+        stats.threads = arena_.max_concurrency();
+        reporter_.set_render_start(Clock::now());
+        const auto render_start = Clock::now();
+        int spp_done = 0;
+        for (int pass = 0; target_ == 0 || spp_done < target_; ++pass) {
+            if (stopped_before_pass(spp_done == 0, stats)) break;
+            const int n = target_ > 0 ? std::min(pass_size(pass), target_ - spp_done) : pass_size(pass);
+            if (!run_pass(spp_done, n, stats)) break;
+            spp_done += n;
+            reporter_.report(spp_done, spp_done, true);
+            if (options_.on_pass) options_.on_pass(spp_done, seconds_since(job_start_), film_.mean());
+        }
+        result.spp = spp_done;
+        result.mean = film_.mean();
+        if (setup_.variance) result.variance = film_.variance();
+        stats.render_seconds = seconds_since(render_start);
+        stats.total_seconds = seconds_since(job_start_);
+        return result;
+    }
+
+  private:
+    uint64_t grid_samples(int n) const {
+        return uint64_t(grid_.width + 2 * grid_.border) * uint64_t(grid_.height + 2 * grid_.border) * uint64_t(n);
+    }
+
+    // Cancelled, or out of time (the first pass always runs).
+    bool stopped_before_pass(bool first, RenderStats& stats) const {
+        if (options_.cancel && options_.cancel->load()) {
+            stats.cancelled = true;
+            return true;
+        }
+        if (!first && Clock::now() >= deadline_) {
+            stats.time_limited = true;
+            return true;
+        }
+        return false;
+    }
+
+    // Samples [spp_done, spp_done + n) of every pixel, merged into the film when the pass completes;
+    // false (nothing merged) when it was stopped.
+    bool run_pass(int spp_done, int n, RenderStats& stats) {
+        PassOutput out(tiles_.size());
+        arena_.execute([&] {
+            tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles_.size(), 1),
+                              [&](const tbb::blocked_range<size_t>& r) {
+                                  for (size_t t = r.begin(); t != r.end(); ++t) render_tile(t, spp_done, n, out);
+                              });
+        });
+        if (out.stop_cancel || out.stop_time) {
+            stats.discarded_samples += out.samples_done.load();
+            stats.cancelled = out.stop_cancel.load();
+            stats.time_limited = !stats.cancelled;
+            return false;
+        }
+        // Merge in tile order: the same floating-point sums whatever thread rendered which tile.
+        for (size_t t = 0; t < tiles_.size(); ++t) {
+            film_.add(*out.buffers[t]);
+            out.buffers[t].reset();
+            stats.nonfinite_samples += out.nonfinite[t];
+            if (out.nonfinite[t] > 0 && !stats.first_nonfinite) stats.first_nonfinite = out.first_bad[t];
+        }
+        stats.passes += 1;
+        stats.samples += grid_samples(n);
+        return true;
+    }
+
+    void render_tile(size_t t, int spp_done, int n, PassOutput& out) {
+        if (out.stop_cancel.load(std::memory_order_relaxed) || out.stop_time.load(std::memory_order_relaxed)) return;
+        const bool first = spp_done == 0;
+        const PixelRect& rect = tiles_[t];
+        auto buf = std::make_unique<TileBuffer>(splatter_, splatter_.footprint(rect), setup_.variance);
+        uint64_t bad = 0;
+        for (int y = rect.y0; y < rect.y1; ++y) {
+            // Stop checks once per row: a cancelled or late pass is dropped as a whole.
+            if (options_.cancel && options_.cancel->load(std::memory_order_relaxed)) {
+                out.stop_cancel = true;
+                return;
+            }
+            if (!first && Clock::now() >= deadline_) {
+                out.stop_time = true;
+                return;
+            }
+            for (int x = rect.x0; x < rect.x1; ++x)
+                for (int s = spp_done; s < spp_done + n; ++s) {
+                    FilmSample fs = film_sample(grid_, seed_, x, y, uint64_t(s));
+                    const Color3 L = radiance_(fs.film_uv, fs.sampler);
+                    if (!L.is_finite()) {
+                        if (bad++ == 0) out.first_bad[t] = SampleLocation{x, y, s};
+                        continue;
+                    }
+                    buf->splat(fs.pos, L);
+                }
+        }
+        out.nonfinite[t] = bad;
+        out.buffers[t] = std::move(buf);
+        const uint64_t tile_samples = uint64_t(rect.width()) * rect.height() * n;
+        const uint64_t done = out.samples_done.fetch_add(tile_samples) + tile_samples;
+        reporter_.report(spp_done, spp_done + double(n) * double(done) / double(grid_samples(n)), false);
+    }
+
+    const FrameSetup& setup_;
+    const RadianceFn& radiance_;
+    const RenderOptions& options_;
+    tbb::task_arena& arena_;
+    const Clock::time_point job_start_;
+    const uint64_t seed_;
+    const double budget_;
+    const int target_;
+    const Clock::time_point deadline_;
+    const FilmGrid grid_;
+    const std::vector<PixelRect> tiles_;
+    Splatter splatter_;
+    FilmBuffer film_;
+    ProgressReporter reporter_;
+};
+
 RenderResult render_frame_impl(const FrameSetup& setup, const RadianceFn& radiance,
                                const RenderOptions& options, tbb::task_arena& arena,
                                Clock::time_point job_start) {
@@ -104,126 +269,7 @@ RenderResult render_frame_impl(const FrameSetup& setup, const RadianceFn& radian
     if (!setup.filter) throw std::invalid_argument("render: no reconstruction filter");
     if (options.spp < 0) throw std::invalid_argument("render: spp must be >= 0");
     if (options.tile_size <= 0) throw std::invalid_argument("render: tile size must be positive");
-
-    RenderResult result;
-    RenderStats& stats = result.stats;
-    const uint64_t seed = options.seed.value_or(setup.seed);
-    const double budget = options.time_budget > 0 ? options.time_budget : 0.0;
-    // 0 = unbounded: only the time budget (or a cancel) ends the render.
-    const int target = options.spp > 0 ? options.spp : (budget > 0 ? 0 : std::max(setup.default_spp, 1));
-    const auto deadline =
-        budget > 0
-            ? job_start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(budget))
-            : Clock::time_point::max();
-    stats.seed = seed;
-    stats.threads = arena.max_concurrency();
-
-    // Samples are taken over the film, plus the filter's border when sample_border is set.
-    const int border = setup.sample_border ? filter_border_size(*setup.filter) : 0;
-    const int W = setup.width, H = setup.height;
-    const int grid_w = W + 2 * border, grid_h = H + 2 * border;
-    const int T = options.tile_size;
-    std::vector<PixelRect> tiles;
-    for (int y = -border; y < H + border; y += T)
-        for (int x = -border; x < W + border; x += T)
-            tiles.push_back({x, y, std::min(x + T, W + border), std::min(y + T, H + border)});
-
-    Splatter splatter(*setup.filter, W, H);
-    FilmBuffer film(W, H, setup.variance);
-    ProgressReporter reporter(options.progress, job_start, budget, target);
-    reporter.set_render_start(Clock::now());
-    auto render_start = Clock::now();
-
-    int spp_done = 0;
-    for (int pass = 0; target == 0 || spp_done < target; ++pass) {
-        const bool first = spp_done == 0;
-        if (options.cancel && options.cancel->load()) {
-            stats.cancelled = true;
-            break;
-        }
-        if (!first && Clock::now() >= deadline) {
-            stats.time_limited = true;
-            break;
-        }
-        const int n = target > 0 ? std::min(pass_size(pass), target - spp_done) : pass_size(pass);
-        const uint64_t pass_samples = uint64_t(grid_w) * grid_h * n;
-
-        std::vector<std::unique_ptr<TileBuffer>> buffers(tiles.size());
-        std::vector<uint64_t> nonfinite(tiles.size(), 0);
-        std::vector<SampleLocation> first_bad(tiles.size());
-        std::atomic<bool> stop_cancel{false}, stop_time{false};
-        std::atomic<uint64_t> samples_done{0};
-
-        auto render_tile = [&](size_t t) {
-            if (stop_cancel.load(std::memory_order_relaxed) || stop_time.load(std::memory_order_relaxed))
-                return;
-            const PixelRect& rect = tiles[t];
-            auto buf = std::make_unique<TileBuffer>(splatter, splatter.footprint(rect), setup.variance);
-            uint64_t bad = 0;
-            for (int y = rect.y0; y < rect.y1; ++y) {
-                // Stop checks once per row: a cancelled or late pass is dropped as a whole.
-                if (options.cancel && options.cancel->load(std::memory_order_relaxed)) {
-                    stop_cancel = true;
-                    return;
-                }
-                if (!first && Clock::now() >= deadline) {
-                    stop_time = true;
-                    return;
-                }
-                for (int x = rect.x0; x < rect.x1; ++x) {
-                    const uint64_t pixel_index = uint64_t(y + border) * grid_w + uint64_t(x + border);
-                    for (int s = spp_done; s < spp_done + n; ++s) {
-                        Sampler sampler(seed, pixel_index, uint64_t(s));
-                        Vec2f u = sampler.next_2d();
-                        Point2f pos(float(x) + u.x, float(y) + u.y);
-                        Color3 L = radiance(Point2f(pos.x / float(W), pos.y / float(H)), sampler);
-                        if (!L.is_finite()) {
-                            if (bad++ == 0) first_bad[t] = SampleLocation{x, y, s};
-                            continue;
-                        }
-                        buf->splat(pos, L);
-                    }
-                }
-            }
-            nonfinite[t] = bad;
-            buffers[t] = std::move(buf);
-            uint64_t done = samples_done.fetch_add(uint64_t(rect.width()) * rect.height() * n) +
-                            uint64_t(rect.width()) * rect.height() * n;
-            reporter.report(spp_done, spp_done + double(n) * double(done) / double(pass_samples), false);
-        };
-        arena.execute([&] {
-            tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles.size(), 1),
-                              [&](const tbb::blocked_range<size_t>& r) {
-                                  for (size_t t = r.begin(); t != r.end(); ++t) render_tile(t);
-                              });
-        });
-
-        if (stop_cancel || stop_time) {
-            stats.discarded_samples += samples_done.load();
-            stats.cancelled = stop_cancel.load();
-            stats.time_limited = !stats.cancelled;
-            break;
-        }
-        // Merge in tile order: the same floating-point sums whatever thread rendered which tile.
-        for (size_t t = 0; t < tiles.size(); ++t) {
-            film.add(*buffers[t]);
-            buffers[t].reset();
-            stats.nonfinite_samples += nonfinite[t];
-            if (nonfinite[t] > 0 && !stats.first_nonfinite) stats.first_nonfinite = first_bad[t];
-        }
-        spp_done += n;
-        stats.passes += 1;
-        stats.samples += pass_samples;
-        reporter.report(spp_done, spp_done, true);
-        if (options.on_pass) options.on_pass(spp_done, seconds_since(job_start), film.mean());
-    }
-
-    result.spp = spp_done;
-    result.mean = film.mean();
-    if (setup.variance) result.variance = film.variance();
-    stats.render_seconds = seconds_since(render_start);
-    stats.total_seconds = seconds_since(job_start);
-    return result;
+    return FrameRenderer(setup, radiance, options, arena, job_start).run();
 }
 
 }  // namespace
@@ -268,8 +314,7 @@ RenderResult render(const Scene& scene, Integrator& integrator, const RenderOpti
     setup.seed = sensor.seed();
     setup.variance = integrator.writes_variance() || options.variance;
     RadianceFn radiance = [&](Point2f uv, Sampler& sampler) {
-        auto [ray, weight] = sensor.sample_ray(uv, Point2f(0.5f, 0.5f));
-        return weight * integrator.Li(scene, sampler, ray, uv);
+        return camera_sample_value(scene, integrator, uv, sampler);
     };
     RenderResult result = render_frame_impl(setup, radiance, options, arena, job_start);
     result.stats.preprocess_seconds = preprocess_seconds;

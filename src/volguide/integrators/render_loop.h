@@ -35,8 +35,8 @@ struct RenderOptions {
     std::function<void(int spp, double seconds, const Image& mean)> on_pass;
 };
 
-// Where a sample went wrong, to replay it: Sampler(seed, pixel index, sample) with the pixel index
-// y * width + x over the sampled grid (which includes the border with sample_border).
+// Where a sample went wrong, to replay it (tools/replay_sample): film_sample(grid, seed, x, y,
+// sample) of camera_sample.h draws it again.
 struct SampleLocation {
     int x = 0, y = 0;  // film pixel (may be outside the film with sample_border)
     int sample = 0;

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include "volguide/integrators/path.h"
 #include "volguide/integrators/volume_nee.h"
 #include "volguide/media/medium.h"
 #include "volguide/render/bsdf.h"
@@ -11,13 +12,10 @@
 namespace volguide {
 
 SimpleVolPathIntegrator::SimpleVolPathIntegrator(const Properties& props) {
-    int64_t max_depth = props.get_int("max_depth", -1);
-    if (max_depth < -1) props.fail_at("max_depth", "max_depth must be -1 (unbounded) or >= 0, got {}", max_depth);
-    int64_t rr_depth = props.get_int("rr_depth", 5);
-    if (rr_depth <= 0) props.fail_at("rr_depth", "rr_depth must be > 0, got {}", rr_depth);
-    max_depth_ = int(max_depth);
-    rr_depth_ = int(rr_depth);
-    hide_emitters_ = props.get_bool("hide_emitters", false);
+    const PathSettings s = PathSettings::from(props);
+    max_depth_ = s.max_depth;
+    rr_depth_ = s.rr_depth;
+    hide_emitters_ = s.hide_emitters;
 }
 
 std::string SimpleVolPathIntegrator::to_string() const {
@@ -25,10 +23,10 @@ std::string SimpleVolPathIntegrator::to_string() const {
                        hide_emitters_);
 }
 
-Color3 SimpleVolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const Ray& camera_ray) const {
+Color3 SimpleVolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const CameraRay& camera) const {
     const BSDFContext ctx;
     Color3 result(0.f), throughput(1.f);
-    Ray ray = camera_ray;
+    Ray ray = camera.ray;
     const Medium* medium = scene.sensor().medium();
     int depth = 0;  // real scattering events
     for (int steps = 0; steps < 100000; ++steps) {

@@ -12,7 +12,7 @@ namespace volguide {
 class SimpleVolPathIntegrator final : public Integrator {
 public:
     explicit SimpleVolPathIntegrator(const Properties& props);
-    Color3 Li(const Scene& scene, Sampler& sampler, const Ray& ray) const override;
+    Color3 Li(const Scene& scene, Sampler& sampler, const CameraRay& camera) const override;
     std::string to_string() const override;
 
 private:

@@ -1,6 +1,6 @@
 #pragma once
-// Turns one camera path into guiding-field training samples (theory.md §10.2). The walk (volpath's
-// Li with a recorder) reports, in path order:
+// Turns one camera path into guiding-field training samples (theory.md §10.2). The walk (volpath's,
+// with the recorder as its policy, walk_policy.h: analog decisions) reports, in path order:
 //   - every contribution it adds to the pixel estimate (NEE, emitter hits with their MIS weights);
 //   - at each real medium scattering vertex x_j, after sampling the next direction w_j with pdf p:
 //     the position, w_j and the throughput up to and including f_p / p;
@@ -22,24 +22,25 @@
 
 #include "volguide/core/color.h"
 #include "volguide/guiding/guiding_field.h"
+#include "volguide/integrators/walk_policy.h"
 
 namespace volguide {
 
-class TrainingRecorder {
+class TrainingRecorder final : public WalkPolicy {
 public:
     void clear();
     // A contribution the walk adds to the pixel (after its throughput and MIS weight).
-    void contribution(const Color3& value) {
+    void record_contribution(const Color3& value) override {
         if (!vertices_.empty()) suffix_[vertices_.size() - 1] += value;
     }
     // A medium vertex: `pdf` is the density the next direction w was sampled with (phase sampling
     // today, a guided mixture later) and `throughput` the path weight including f_p / pdf.
-    void medium_vertex(const Point3f& x, const Vec3f& w, float pdf, const Color3& throughput) {
+    void record_medium_vertex(const Point3f& x, const Vec3f& w, float pdf, const Color3& throughput) override {
         vertices_.push_back({x, w, pdf, throughput});
         suffix_.push_back(Color3(0.f));
     }
     // The MIS-weighted NEE radiance estimate at x towards the light d (weight = L T w_mis / p_light).
-    void medium_nee(const Point3f& x, const Vec3f& d, const Color3& weight) {
+    void record_medium_nee(const Point3f& x, const Vec3f& d, const Color3& weight) override {
         if (!weight.is_black() && weight.is_finite()) nee_.push_back({x, d, weight, 0.f});
     }
     // Appends the path's samples to `out` (vertices in path order, then NEE samples) and clears.

@@ -13,7 +13,7 @@
 //    of the last real scattering vertex and the emitter pdf seen from it, exactly the pair NEE used.
 //  - `equiangular` (default false): in homogeneous media, equiangular sampling towards point, spot
 //    and area lights, combined with distance sampling + NEE and with phase sampling by a three-way
-//    power heuristic (see volpath.cpp). Heterogeneous media keep distance sampling (warning).
+//    power heuristic (see equiangular_mis.h). Heterogeneous media keep distance sampling (warning).
 //  - `volume_only` (default false, a volguide extension): only light whose camera path scatters
 //    first in a medium — the "V" image of theory.md §12.2, which is the integral of T sigma_s L_i
 //    along the camera ray (the reference of the guiding field's in-scattered estimate).
@@ -26,16 +26,7 @@
 
 namespace volguide {
 
-class TrainingRecorder;
-class WalkGuide;
-class RouletteSplitting;
-
-// Guided Russian roulette and splitting of one camera sample (roulette_splitting.h): the decision
-// rule and the estimate I of the pixel the sample lands in.
-struct WalkSplitting {
-    const RouletteSplitting* rrs = nullptr;
-    float pixel = 0.f;
-};
+class WalkPolicy;
 
 struct VolPathSettings {
     int max_depth = -1;
@@ -51,19 +42,13 @@ class VolPathIntegrator final : public Integrator {
 public:
     explicit VolPathIntegrator(const Properties& props) : settings_(VolPathSettings::from(props)) {}
     explicit VolPathIntegrator(VolPathSettings s) : settings_(s) {}
-    Color3 Li(const Scene& scene, Sampler& sampler, const Ray& ray) const override;
-    // The same walk, reporting its medium vertices and contributions to `recorder` (may be null)
-    // for progressive training (training_recorder.h). Training uses equiangular = false: the
-    // recorder's NEE samples assume NEE and phase sampling are the only direct-light strategies.
-    Color3 Li(const Scene& scene, Sampler& sampler, const Ray& ray, TrainingRecorder* recorder) const;
-    // The same walk with `guide` (may be null) making the distance and direction decisions in media
-    // (guided_volpath, walk_guide.h). Equiangular sampling is not combined with a distance guide.
-    // With `splitting` (and a guide, whose field estimates E[X]), guided RR and splitting after
-    // the distance and direction decisions at medium vertices (theory.md §9.3): split copies wait
-    // on a per-thread stack and draw from streams forked off the sample's; surfaces keep
-    // throughput RR, which a medium vertex's guided decision replaces at its depth.
-    Color3 Li(const Scene& scene, Sampler& sampler, const Ray& ray, TrainingRecorder* recorder,
-              const WalkGuide* guide, const WalkSplitting* splitting = nullptr) const;
+    Color3 Li(const Scene& scene, Sampler& sampler, const CameraRay& camera) const override;
+    // The walk of one camera ray (volpath_walk.h) with `policy` (null: the analog walk) making the
+    // decisions guiding, training or guided RR/splitting change (walk_policy.h). Equiangular
+    // sampling is not combined with a policy that guides distances; training policies need
+    // equiangular = false (the recorder's NEE samples assume NEE and phase sampling are the only
+    // direct-light strategies).
+    Color3 walk(const Scene& scene, Sampler& sampler, const Ray& ray, WalkPolicy* policy) const;
     void preprocess(const Scene& scene, const PreprocessContext& context) override;
     std::string to_string() const override;
     const VolPathSettings& settings() const { return settings_; }

@@ -1,6 +1,7 @@
 #pragma once
 // The guided decisions of `guided_volpath`'s walk (theory.md §7–8), between the guiding field and
-// volpath's walk, which calls it in place of free-flight and phase sampling.
+// volpath's walk, which calls them through GuidedWalkPolicy (guided_walk_policy.h, a WalkPolicy) in
+// place of free-flight, phase and BSDF sampling.
 //
 // Distance (§7.9): along a ray segment (0, tmax) in one medium, bins are the kd-tree leaves the ray
 // crosses, cut at the medium's proxy segments (majorant cells of a heterogeneous medium) and split so
@@ -33,6 +34,7 @@
 #include "volguide/guiding/inscatter_cache.h"
 #include "volguide/guiding/leaf_estimates.h"
 #include "volguide/integrators/guided_surface_sampler.h"
+#include "volguide/integrators/walk_policy.h"
 #include "volguide/media/medium.h"
 
 namespace volguide {
@@ -67,7 +69,8 @@ struct WalkGuideSettings {
     // Diffuse surface vertices guided by the leaf around them (guiding/surface_guide.h), whenever
     // directions are guided: the leaf's VMM (direction=incident) or its product with the cosine lobe
     // (direction=product), mixed with BSDF sampling with probability bsdf_prob. Only leaves mostly
-    // filled by a medium guide surfaces (WalkGuide::leaf_medium_fraction_).
+    // filled by a medium guide surfaces (GuidingLeaf::mostly_medium; a field without measured
+    // medium fractions guides none).
     bool surface = true;
     float bsdf_prob = GuidedSurfaceSampler::kDefaultBsdfProbability;
 };
@@ -94,6 +97,18 @@ struct WalkGuideStats {
     std::vector<std::pair<std::string, double>> named() const;
 };
 
+// Scratch of the distance decisions, reused across them (no allocation per decision); owned by the
+// caller (one per walk), it carries nothing from one decision to the next.
+struct DistanceScratch {
+    std::vector<ProxySegment> proxies;
+    std::vector<DistanceBin> bins;  // tabulated only
+};
+
+// The decisions take the GuideRegion of the vertex they are made at (walk_policy.h): its kd leaf
+// when a decision before found it (-1: not known), so that the direction decision at a guided
+// scatter and the distance decision that leaves it need not descend the tree again (leaf_at was
+// ~1.5 % of aniso's guided profile), and the decisions update it. A leaf handed on is trusted only
+// where SpatialTree::leaf_at would provably return it (holds_point).
 class WalkGuide {
   public:
     // The field and the scene must outlive the guide.
@@ -104,13 +119,14 @@ class WalkGuide {
     bool guides_direction() const { return settings_.direction != DirectionGuiding::Phase; }
     bool guides_surfaces() const { return settings_.surface && guides_direction(); }
 
-    // Medium::sample_free_flight's contract (weight, mi when scattered) with guided probabilities.
-    FreeFlightSample sample_distance(const Medium& medium, const Ray& ray, float tmax,
-                                     const Color3& throughput, Sampler& sampler) const;
+    // Medium::sample_free_flight's contract (weight, mi when scattered) with guided probabilities,
+    // from the vertex of `region` (ray.o); `region` becomes the scattering vertex's (-1: not known).
+    FreeFlightSample sample_distance(const Medium& medium, const Ray& ray, float tmax, const Color3& throughput,
+                                     Sampler& sampler, GuideRegion& region, DistanceScratch& scratch) const;
 
     // Builds the direction sampler of a medium vertex in `out` (in place: it holds a ~3 KB product
     // mixture); phase only where the field has no valid leaf.
-    void direction_sampler(const MediumInteraction& mi, const PhaseFunction& phase,
+    void direction_sampler(const MediumInteraction& mi, const PhaseFunction& phase, GuideRegion& region,
                            std::optional<GuidedDirectionSampler>& out) const;
     // Counts one sampled direction (guided: drawn from the guiding part of the mixture).
     void count_direction(bool guided) const;
@@ -133,17 +149,26 @@ class WalkGuide {
     // varies on the scale of a free path, and RR by it compounds: guided RR alone took sss's
     // image mean 7 % low at 512 spp (heavy-tailed weights from leaves estimated too dark), with
     // relMSE 19x volpath's.
-    Color3 inscattered_estimate(const MediumInteraction& mi, const Vec3f& d) const;
-    Color3 incident_estimate(const MediumInteraction& mi, const Vec3f& w) const;
+    Color3 inscattered_estimate(const MediumInteraction& mi, const Vec3f& d, GuideRegion& region) const;
+    Color3 incident_estimate(const MediumInteraction& mi, const Vec3f& w, GuideRegion& region) const;
 
     WalkGuideStats stats() const;
 
   private:
     const LeafEstimates* estimates_for(const PhaseFunction& phase) const;
-    // The leaf at x (-1 outside the field), without a descent when x is this thread's last vertex.
-    int vertex_leaf(const Point3f& x) const;
-    // vertex_leaf(mi.p) if its confidence at mi is at least kSkipConfidence, else -1.
-    int trusted_vertex_leaf(const MediumInteraction& mi) const;
+    // sample_distance's decision on the bins of (0, t_end) (distance_bins.h; t_end: where the ray
+    // leaves the field or reaches tmax), weighted by binned_flight.
+    FreeFlightSample binned_distance(const Medium& medium, const Ray& ray, float tmax, float t_end,
+                                     const LeafEstimates* estimates, const Color3& throughput, Sampler& sampler,
+                                     GuideRegion& region, DistanceScratch& scratch) const;
+    // The weights of the bins' decision `ds` (the caller contract of guided_distance.h), and beyond
+    // the field (t_end < tmax) the medium's own free flight.
+    FreeFlightSample binned_flight(const Medium& medium, const Ray& ray, float tmax, float t_end,
+                                   const DistanceSample& ds, const Color3& throughput, Sampler& sampler) const;
+    // The leaf at x (-1 outside the field), without a descent when `region` (x's) holds it.
+    int vertex_leaf(const Point3f& x, const GuideRegion& region) const;
+    // vertex_leaf(mi.p), kept in `region`, if its confidence at mi is at least kSkipConfidence, else -1.
+    int trusted_vertex_leaf(const MediumInteraction& mi, GuideRegion& region) const;
     // min(1, leaf_tau_max / (sigma_t average x leaf extent)); 1 when leaf_tau_max is 0 (off).
     float leaf_confidence(int leaf, const Color3& sigma_t) const;
     // Below this confidence a vertex neither builds the direction product nor walks the guided
@@ -157,12 +182,6 @@ class WalkGuide {
     std::map<float, PhaseVmm> phase_vmms_;
     std::vector<float> leaf_extent_;  // cube root of each leaf's volume
     float surface_offset_ = 0.f;      // how far off a surface its leaf is looked up
-    // Per leaf, the share of its volume inside a medium (surface guiding only): a leaf guides the
-    // surfaces in it only when at least kSurfaceMinMediumFraction of it is medium, so that its
-    // photons describe the space around them (a floor beside a dense sphere shares a large leaf
-    // with the sphere's inside, whose radiance it does not see).
-    std::vector<float> leaf_medium_fraction_;
-    static constexpr float kSurfaceMinMediumFraction = 0.5f;
     // With direction_indirect: per leaf, vmm/valid replaced by vmm_indirect/valid_indirect (the
     // direction sampler reads a GuidingLeaf).
     std::vector<GuidingLeaf> direction_leaves_;

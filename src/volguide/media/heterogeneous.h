@@ -3,21 +3,22 @@
 // constvolume over the unit cube) times `scale`, albedo (constant or volume), a phase function.
 // The medium exists inside the sigma_t volume's box (Mitsuba: intersect_aabb of sigma_t).
 //
-// Free flights: spectral tracking (Kutz et al. 2017) over a majorant grid with a 3-D DDA. At a
-// tentative collision with tracking weight w, a real collision is chosen with probability
+// Free flights: one null-collision walk over a majorant grid with a 3-D DDA (tentative collisions at
+// each cell's rate mu), whose scatter/continue decisions come from a policy (media/collision_policy.h):
+// spectral tracking (Kutz et al. 2017) by default, at a tentative collision with tracking weight w
+// a real collision with probability
 //   P_c = <|sigma_t w|> / (<|sigma_t w|> + <|sigma_n w|>),  sigma_n = mu - sigma_t,
 // (<.> = channel average) and the weight becomes w sigma_s / (mu P_c) (absorption is folded
 // into the weight: real collisions always scatter); a null collision has P_n = 1 - P_c and
 // w <- w sigma_n / (mu P_n). For grey sigma_t this is delta tracking with weight = albedo.
 // With absolute values the estimator stays unbiased even where mu < sigma_t (only noisier).
+// Guided tracking (media/guided_tracking.h): the same walk with the caller's scatter probability.
 // Transmittance: ratio tracking, or residual ratio tracking with the per-cell per-channel mean
 // as control (default); both unbiased for any majorant. Both stop small estimates by unbiased
 // Russian roulette (survival max|T| / 0.05 once max|T| < 0.05).
-// Guided tracking (media/guided_tracking.h): the same walk with the caller's scatter probability.
 #include <cmath>
 
 #include "volguide/media/dda.h"
-#include "volguide/media/guided_tracking.h"
 #include "volguide/media/majorant_grid.h"
 #include "volguide/media/medium.h"
 #include "volguide/media/volume.h"
@@ -44,17 +45,15 @@ public:
     void set_transmittance_estimator(TransmittanceEstimator e) { estimator_ = e; }
 
     MediumCoefficients eval(const Point3f& p) const override;
-    FreeFlightSample sample_free_flight(const Ray& ray, float tmax, const Color3& throughput,
-                                        Sampler& sampler) const override {
-        return sample_free_flight(ray, tmax, throughput, sampler, nullptr);
-    }
+    using Medium::sample_free_flight;
     FreeFlightSample sample_free_flight(const Ray& ray, float tmax, const Color3& throughput, Sampler& sampler,
-                                        TrackingCounts* counts) const;
-    // Free flight with the caller's scatter probability at every tentative collision (guided
-    // null-collision tracking); same contract as sample_free_flight (weight, flight_weight, mi when
-    // scattered). counts (optional) gets the tentative collisions: real = the scatter, null = the rest.
-    FreeFlightSample guided_free_flight(const Ray& ray, float tmax, const Color3& throughput, Sampler& sampler,
-                                        CollisionGuide& guide, TrackingCounts* counts = nullptr) const;
+                                        CollisionGuide* guide) const override {
+        return sample_free_flight(ray, tmax, throughput, sampler, guide, nullptr);
+    }
+    // The same with event counters (optional): real = the scatter, null = the other collisions.
+    FreeFlightSample sample_free_flight(const Ray& ray, float tmax, const Color3& throughput, Sampler& sampler,
+                                        CollisionGuide* guide, TrackingCounts* counts) const;
+    bool tracks_null_collisions() const override { return true; }
     Color3 transmittance(const Ray& ray, float tmax, Sampler& sampler) const override;
     void proxy_segments(const Ray& ray, float t0, float t1, std::vector<ProxySegment>& out) const override;
     Color3 ratio_tracking(const Ray& ray, float tmax, Sampler& sampler) const;
@@ -65,7 +64,7 @@ public:
     std::string to_string() const override;
 
 private:
-    // The tentative collisions of delta/ratio/guided tracking along the local segment o + t d,
+    // The tentative collisions of the free flight and of ratio tracking along the local segment o + t d,
     // t in (t0, t1): a Poisson process at each majorant cell's rate mu, walked cell by cell with a
     // DDA. Calls collide(t, mu) at each; it returns false to stop. The optical depth to the next
     // collision is redrawn (one random number) after each collision that continues.
@@ -93,6 +92,12 @@ private:
             }
         }
     }
+
+    // The free flight of sample_free_flight: the tentative collisions' decisions from `policy`
+    // (media/collision_policy.h), the weights and the scattering vertex from the walk.
+    template <class Policy>
+    FreeFlightSample track(const Ray& ray, float tmax, const Color3& throughput, Sampler& sampler,
+                           const Policy& policy, TrackingCounts* counts) const;
 
     // The ray in the sigma_t volume's local coordinates (t unchanged) clipped to the unit cube
     // and (0, tmax); false when it misses.

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include "volguide/media/homogeneous_transmittance.h"
 #include "volguide/media/medium_params.h"
 #include "volguide/media/spectral_mis.h"
 
@@ -28,7 +29,7 @@ void HomogeneousMedium::proxy_segments(const Ray& ray, float t0, float t1, std::
 }
 
 FreeFlightSample HomogeneousMedium::sample_free_flight(const Ray& ray, float tmax, const Color3& throughput,
-                                                       Sampler& sampler) const {
+                                                       Sampler& sampler, CollisionGuide*) const {
     float u_channel = sampler.next_1d();
     const float u_t = sampler.next_1d();
     const Color3 probs = grey_ ? Color3(1.f / 3.f) : channel_probabilities(throughput);

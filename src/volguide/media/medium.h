@@ -1,10 +1,13 @@
 #pragma once
 // Participating media. A Medium owns its coefficients (homogeneous values or grid volumes, times
 // `scale`), its phase function, and the unbiased estimators the integrators use:
-//  - sample_free_flight: delta tracking (spectral tracking for chromatic media) over a majorant grid;
-//  - transmittance: ratio / residual ratio tracking for shadow rays.
+//  - sample_free_flight: closed-form distance sampling (homogeneous), or a null-collision walk
+//    over a majorant grid (heterogeneous) whose scatter decisions are spectral tracking's, or the
+//    caller's when it passes a CollisionGuide (guided null-collision tracking, theory.md §7.7 H2);
+//  - transmittance: exact for homogeneous media (media/homogeneous_transmittance.h), ratio /
+//    residual ratio tracking for heterogeneous ones.
 // Every estimator is unbiased for any majorant that bounds sigma_t; a looser majorant only costs
-// time. Integrators never see null collisions.
+// time. Integrators never see null collisions; a CollisionGuide sees them one at a time.
 #include <memory>
 #include <vector>
 
@@ -19,6 +22,7 @@
 namespace volguide {
 
 class Medium;
+class CollisionGuide;
 
 struct MediumCoefficients {
     Color3 sigma_t;  // extinction (1/length), already multiplied by `scale`
@@ -78,8 +82,18 @@ public:
     // infinite (then the ray must scatter or be absorbed, or leave the medium's bounds).
     // `throughput` is the path's current throughput: chromatic media choose the channel that drives
     // the decision in proportion to it (media/spectral_mis.h); it does not scale the returned weight.
+    // `guide` (may be null): where tracks_null_collisions(), the scatter probability at each
+    // tentative collision (media/guided_tracking.h; it must outlive the call); media sampled in
+    // closed form do not consult it.
     virtual FreeFlightSample sample_free_flight(const Ray& ray, float tmax, const Color3& throughput,
-                                                Sampler& sampler) const = 0;
+                                                Sampler& sampler, CollisionGuide* guide) const = 0;
+    FreeFlightSample sample_free_flight(const Ray& ray, float tmax, const Color3& throughput,
+                                        Sampler& sampler) const {
+        return sample_free_flight(ray, tmax, throughput, sampler, nullptr);
+    }
+    // Whether free flights walk tentative collisions (a null-collision walk a CollisionGuide can
+    // steer) rather than being sampled in closed form.
+    virtual bool tracks_null_collisions() const = 0;
     // Unbiased estimate of the transmittance over t in (0, tmax).
     virtual Color3 transmittance(const Ray& ray, float tmax, Sampler& sampler) const = 0;
 

@@ -11,6 +11,7 @@
 
 #include "volguide/core/color.h"
 #include "volguide/core/math.h"
+#include "volguide/media/homogeneous_transmittance.h"
 
 namespace volguide {
 
@@ -37,12 +38,6 @@ inline int sample_channel(const Color3& probs, float& u) {
     const float p = probs[2];
     u = p > 0.f ? std::clamp((u - cdf) / p, 0.f, OneMinusEpsilon) : u;
     return 2;
-}
-
-// e^(-sigma t) with 0 * inf = 0 (an empty channel transmits everything, even to infinity).
-inline float transmittance_1(float sigma, float t) { return sigma > 0.f ? std::exp(-sigma * t) : 1.f; }
-inline Color3 transmittance_rgb(const Color3& sigma, float t) {
-    return {transmittance_1(sigma.r, t), transmittance_1(sigma.g, t), transmittance_1(sigma.b, t)};
 }
 
 // Density of the mixture of per-channel exponential free flights at t, and its probability of

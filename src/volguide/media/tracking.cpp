@@ -1,8 +1,10 @@
-// Null-collision estimators of the heterogeneous medium (theory.md §2.2-2.4, §2.6), all driven by
-// a DDA over the majorant grid in the sigma_t volume's local coordinates (t is the world ray
+// Null-collision estimators of the heterogeneous medium (theory.md §2.2-2.4, §2.6, §7.7 H2), all
+// driven by a DDA over the majorant grid in the sigma_t volume's local coordinates (t is the world ray
 // parameter throughout, so distances need no conversion).
+#include "volguide/media/collision_policy.h"
 #include "volguide/media/dda.h"
 #include "volguide/media/heterogeneous.h"
+#include "volguide/media/homogeneous_transmittance.h"
 #include "volguide/media/spectral_mis.h"
 
 namespace volguide {
@@ -10,7 +12,6 @@ namespace volguide {
 namespace {
 
 inline float exponential(Sampler& s) { return -std::log1p(-s.next_1d()); }
-inline Color3 abs(const Color3& c) { return {std::abs(c.r), std::abs(c.g), std::abs(c.b)}; }
 inline float max_abs(const Color3& c) { return std::max({std::abs(c.r), std::abs(c.g), std::abs(c.b)}); }
 
 // Unbiased Russian roulette on a transmittance estimate that has become small: survivors are
@@ -28,11 +29,18 @@ inline bool roulette(Color3& tr, Sampler& s) {
 
 }  // namespace
 
-// Spectral tracking (Kutz et al. 2017): the event probabilities weigh each channel by the path
-// weight, i.e. the throughput on entry (as channel probabilities) times the tracking weight w
-// accumulated here; w alone is returned.
 FreeFlightSample HeterogeneousMedium::sample_free_flight(const Ray& ray, float tmax, const Color3& throughput,
-                                                         Sampler& sampler, TrackingCounts* counts) const {
+                                                         Sampler& sampler, CollisionGuide* guide,
+                                                         TrackingCounts* counts) const {
+    if (guide) return track(ray, tmax, throughput, sampler, GuidedTrackingPolicy{*guide}, counts);
+    return track(ray, tmax, throughput, sampler, SpectralTrackingPolicy{}, counts);
+}
+
+// The event probabilities weigh each channel by the path weight, i.e. the throughput on entry (as
+// channel probabilities) times the tracking weight w accumulated here; w alone is returned.
+template <class Policy>
+FreeFlightSample HeterogeneousMedium::track(const Ray& ray, float tmax, const Color3& throughput, Sampler& sampler,
+                                            const Policy& policy, TrackingCounts* counts) const {
     FreeFlightSample fs;
     fs.t = tmax;
     Point3f o;
@@ -42,33 +50,42 @@ FreeFlightSample HeterogeneousMedium::sample_free_flight(const Ray& ray, float t
 
     const Color3 entry = channel_probabilities(throughput);
     Color3 w(1.f);
-    bool ended = false;  // scattered, or the tracking weight vanished
-    for_each_tentative_collision(o, d, t0, t1, sampler, counts, [&](float t, float mu) {
-        const Color3 sigma_t = sigma_t_local(o + d * t);
-        const Color3 sigma_n = Color3(mu) - sigma_t;
-        const Color3 path_w = w * entry;
-        const float pc = abs(sigma_t * path_w).average(), pn = abs(sigma_n * path_w).average();
-        const float z = pc + pn;
-        if (!(z > 0.f)) {  // the tracking weight vanished: nothing can be carried further
-            fs.weight = fs.flight_weight = Color3(0.f);
-            ended = true;
-            return false;
+    // The decision that ended the walk (Null: none did, the ray reached the segment's end) and, for
+    // a scatter, its collision: the scatter is recorded after the walk, so that the per-collision
+    // callback stays small. always_inline: GCC 12 otherwise keeps the guided instance's callback
+    // out of line, a call per tentative collision (the parent's guided loop had none).
+    CollisionDecision end{CollisionDecision::Event::Null};
+    CollisionSite scatter{};
+    for_each_tentative_collision(o, d, t0, t1, sampler, counts, [&](float t, float mu) __attribute__((always_inline)) {
+        CollisionSite c{t, mu, sigma_t_local(o + d * t), Color3(0.f), w * entry};
+        if constexpr (Policy::reads_scattering) c.sigma_s = c.sigma_t * albedo_->eval(ray(t));
+        end = policy(c, sampler);
+        if (end.event == CollisionDecision::Event::Null) {
+            if (counts) ++counts->null_collisions;
+            w = w * (Color3(mu) - c.sigma_t) * end.factor;
+            if (!w.is_black()) return true;
+            end.event = CollisionDecision::Event::Vanish;  // sigma_t = mu in every channel that carried weight
         }
-        if (sampler.next_1d() * z < pc) {
-            if (counts) ++counts->real_collisions;
-            const Point3f p = ray(t);
-            fs.scatter_at(ray, t, p, this, {sigma_t, sigma_t * albedo_->eval(p)});
-            fs.flight_weight = w * (z / (mu * pc));
-            fs.weight = fs.flight_weight * fs.mi.coeffs.sigma_s;
-            ended = true;
-            return false;
-        }
-        if (counts) ++counts->null_collisions;
-        w = w * sigma_n * (z / (mu * pn));
-        return true;
+        if (end.event == CollisionDecision::Event::Scatter) scatter = c;
+        return false;
     });
-    if (ended) return fs;
-    fs.weight = fs.flight_weight = w;
+    switch (end.event) {
+        case CollisionDecision::Event::Scatter: {
+            if (counts) ++counts->real_collisions;
+            const Point3f p = ray(scatter.t);
+            if constexpr (!Policy::reads_scattering) scatter.sigma_s = scatter.sigma_t * albedo_->eval(p);
+            fs.scatter_at(ray, scatter.t, p, this, {scatter.sigma_t, scatter.sigma_s});
+            fs.flight_weight = w * end.factor;
+            fs.weight = fs.flight_weight * scatter.sigma_s;
+            break;
+        }
+        case CollisionDecision::Event::Vanish:  // nothing can be carried further
+            fs.weight = fs.flight_weight = Color3(0.f);
+            break;
+        case CollisionDecision::Event::Null:
+            fs.weight = fs.flight_weight = w;
+            break;
+    }
     return fs;
 }
 
@@ -105,7 +122,7 @@ Color3 HeterogeneousMedium::residual_ratio_tracking(const Ray& ray, float tmax, 
         const float seg_start = dda.t(), seg_end = dda.segment_end();
         if (!(seg_end > seg_start)) continue;
         // Control variate: the cell's per-channel mean extinction, integrated exactly.
-        if (!cell.control.is_black()) tr *= exp(cell.control * -(seg_end - seg_start));
+        if (!cell.control.is_black()) tr *= transmittance_rgb(cell.control, seg_end - seg_start);
         const float rate = majorant_scale_ * cell.residual_rate;
         if (!(rate > 0.f)) continue;
         // The residual sigma_t - control, by ratio tracking with a Poisson process of this rate.

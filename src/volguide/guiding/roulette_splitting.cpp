@@ -1,4 +1,4 @@
-#include "volguide/integrators/roulette_splitting.h"
+#include "volguide/guiding/roulette_splitting.h"
 
 #include <algorithm>
 #include <cmath>

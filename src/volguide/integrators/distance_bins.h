@@ -1,0 +1,120 @@
+#pragma once
+// The bins of a ray segment for the guided distance samplers (guiding/guided_distance.h, theory.md
+// §7.6, §7.9): along (0, t_end) of a ray in one medium, the kd-tree leaves the ray crosses (a
+// stretch before the field's bounds is a leafless span), cut at the medium's proxy segments
+// (majorant cells of a heterogeneous medium) and split so that no bin is optically thicker than
+// `max_tau`. Each bin carries its proxy coefficients and its leaf's L~_i and L~ looking along the
+// ray (channel averages, §7.8), and a confidence min(1, leaf_tau_max / tau_leaf) with tau_leaf the
+// bin's proxy extinction (channel average) times the leaf's extent (WalkGuide's rule for leaves
+// many mean free paths across; leaf_tau_max = 0: off).
+//
+// A source pulls the bins lazily (the incremental sampler stops at the collision): field values,
+// the expensive part, are read once per leaf, on entering it. Usage:
+//   BinSource source(ray, t_end, medium, field, estimates, proxies, max_tau, leaf_extents(tree), 0.f);
+//   DistanceBin bin;
+//   while (source(bin)) bins.push_back(bin);  // or sample_incremental_distance(source, ...)
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "volguide/core/ray.h"
+#include "volguide/guiding/guided_distance.h"
+#include "volguide/guiding/guiding_field.h"
+#include "volguide/guiding/leaf_estimates.h"
+#include "volguide/guiding/spatial_tree.h"
+#include "volguide/media/medium.h"
+
+namespace volguide {
+
+// The cube root of each leaf's volume: the length that sets a leaf's optical size.
+std::vector<float> leaf_extents(const SpatialTree& tree);
+
+class BinSource {
+  public:
+    // The ray, medium, field, estimates (null: every bin invalid), `proxies` (caller-owned scratch,
+    // cleared here) and `leaf_extent` must outlive the source.
+    BinSource(const Ray& ray, float t_end, const Medium& medium, const GuidingField& field,
+              const LeafEstimates* estimates, std::vector<ProxySegment>& proxies, float max_tau,
+              const std::vector<float>& leaf_extent, float leaf_tau_max);
+
+    // The next bin; false after the last one (at t_end).
+    bool operator()(DistanceBin& bin) {
+        while (true) {
+            if (piece_ < pieces_) {
+                emit(bin);
+                return true;
+            }
+            if (++proxy_ < proxies_.size()) {
+                const ProxySegment& p = proxies_[proxy_];
+                const float tau = p.sigma_t.max_value() * (p.t1 - p.t0);
+                pieces_ =
+                    tau > max_tau_ && std::isfinite(tau) ? int(std::min(std::ceil(tau / max_tau_), 1e6f)) : 1;
+                piece_ = 0;
+                continue;
+            }
+            if (!next_span()) return false;
+        }
+    }
+    uint64_t invalid() const { return invalid_; }  // bins without a valid leaf so far
+    uint64_t damped() const { return damped_; }    // bins with confidence < 1 (leaf_tau_max)
+    // The kd leaf of the bin returned last (-1 outside the field).
+    int leaf() const { return leaf_; }
+
+  private:
+    struct Span {
+        int leaf;
+        float t0, t1;
+    };
+    // The next piece of the current proxy segment.
+    void emit(DistanceBin& bin) {
+        const ProxySegment& p = proxies_[proxy_];
+        const float len = (p.t1 - p.t0) / float(pieces_);
+        bin.t0 = p.t0 + len * float(piece_);
+        bin.t1 = ++piece_ == pieces_ ? p.t1 : p.t0 + len * float(piece_);
+        bin.sigma_t = p.sigma_t;
+        bin.albedo = p.albedo;
+        bin.Li = Li_;
+        bin.L = L_;
+        bin.valid = valid_;
+        bin.confidence = 1.f;
+        if (leaf_ >= 0 && valid_ && leaf_tau_max_ > 0.f) {
+            const float tau = leaf_extent_[size_t(leaf_)] * p.sigma_t.average();
+            if (tau > leaf_tau_max_) {
+                bin.confidence = leaf_tau_max_ / tau;
+                ++damped_;
+            }
+        }
+        invalid_ += valid_ ? 0 : 1;
+    }
+    // Enters the next stretch of (0, t_end): leafless before the field, the cursor's leaves, and a
+    // leafless remainder should float round-off leave the cursor short of t_end.
+    bool next_span();
+    bool pull_leaf(Span& s);
+    void enter(int leaf_index, float t0, float t1);
+
+    const std::vector<float>& leaf_extent_;
+    float leaf_tau_max_;
+    const Ray& ray_;
+    float t_end_;
+    const Medium& medium_;
+    const LeafEstimates* estimates_;
+    std::vector<ProxySegment>& proxies_;
+    float max_tau_;
+    SpatialTree::RayCursor cursor_;
+    bool cursor_done_ = false, has_pending_ = false;
+    Span pending_{-1, 0.f, 0.f};
+    Span ahead_{-1, 0.f, 0.f};
+    bool has_ahead_ = false;
+    LeafEstimates::Direction direction_;  // the ray's place in the leaves' tables
+    float reached_ = 0.f;                 // the spans entered so far cover (0, reached_)
+    size_t proxy_ = size_t(-1);
+    int pieces_ = 0, piece_ = 0;
+    bool valid_ = false;
+    float Li_ = 0.f, L_ = 0.f;
+    int leaf_ = -1;
+    uint64_t invalid_ = 0, damped_ = 0;
+};
+
+}  // namespace volguide

@@ -1,0 +1,54 @@
+#pragma once
+// guided_volpath's policy for volpath's walk (walk_policy.h): the guiding field's distance and
+// direction decisions (WalkGuide, walk_guide.h) and, with a RouletteSplitting, guided RR and
+// splitting against the pixel estimate I of the camera sample's pixel (roulette_splitting.h).
+// Decisions the guide does not make are the analog ones, with the same random numbers. One object
+// per camera sample (it holds the vertex's prepared samplers and the distance decisions' scratch).
+#include <optional>
+
+#include "volguide/guiding/guided_direction.h"
+#include "volguide/integrators/guided_surface_sampler.h"
+#include "volguide/guiding/roulette_splitting.h"
+#include "volguide/integrators/walk_guide.h"
+#include "volguide/integrators/walk_policy.h"
+#include "volguide/vmm/vmm.h"
+
+namespace volguide {
+
+class GuidedWalkPolicy final : public WalkPolicy {
+  public:
+    // `rrs` null: no guided RR/splitting; `pixel`: I of the camera sample's pixel (> 0 with rrs).
+    GuidedWalkPolicy(const WalkGuide& guide, const RouletteSplitting* rrs, float pixel)
+        : guide_(guide), rrs_(rrs), pixel_(pixel) {}
+
+    bool guides_distance() const override { return guide_.guides_distance(); }
+    FreeFlightSample sample_distance(const Medium& medium, const Ray& ray, float tmax, const Color3& throughput,
+                                     Sampler& sampler, GuideRegion& region) override;
+
+    void prepare_direction(const MediumInteraction& mi, GuideRegion& region) override;
+    float direction_pdf(const MediumInteraction& mi, const Vec3f& wo) const override;
+    PhaseSample sample_direction(const MediumInteraction& mi, Sampler& sampler) override;
+
+    void prepare_surface_direction(const SurfaceInteraction& si, const BSDF& bsdf, const Medium* medium) override;
+    float surface_direction_pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const BSDF& bsdf,
+                                const Vec3f& wo_local) const override;
+    std::pair<BSDFSample, Color3> sample_surface_direction(const BSDFContext& ctx, const SurfaceInteraction& si,
+                                                           const BSDF& bsdf, float u1, Point2f u2,
+                                                           Sampler& sampler) override;
+
+    Continuation continuation(ContinuationStage stage, const MediumInteraction& mi, const Vec3f& w,
+                              const Color3& throughput, int branches, Sampler& sampler,
+                              GuideRegion& region) override;
+    void end_camera_sample(int branches) override;
+
+  private:
+    const WalkGuide& guide_;
+    const RouletteSplitting* rrs_;
+    float pixel_;
+    DistanceScratch scratch_;
+    std::optional<GuidedDirectionSampler> direction_;  // of the current medium vertex
+    std::optional<GuidedSurfaceSampler> surface_;      // of the current surface vertex
+    Vmm surface_guide_{Vmm::Uninitialized{}};          // the product guide surface_ reads
+};
+
+}  // namespace volguide

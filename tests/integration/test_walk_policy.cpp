@@ -1,0 +1,118 @@
+// volpath's walk and its policy interface (walk_policy.h): the default policy makes the analog
+// decisions with exactly the random numbers of the walk without a policy, and a policy sees every
+// contribution the walk adds and every medium vertex it scatters at.
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <string>
+
+#include "volguide/integrators/camera_sample.h"
+#include "volguide/integrators/volpath.h"
+#include "volguide/integrators/walk_policy.h"
+#include "volguide/render/scene.h"
+#include "volguide/scene/loader.h"
+
+using namespace volguide;
+
+namespace {
+
+std::unique_ptr<Scene> load_bench_scene(const std::string& name) {
+    LoadOptions options;
+    options.defines = {{"width", "8"}, {"height", "6"}, {"spp", "1"}};
+    return load_scene(std::string(VOLGUIDE_SOURCE_DIR) + "/bench/scenes/" + name + ".xml", options);
+}
+
+// Records what the walk reports, deciding nothing.
+class CountingPolicy final : public WalkPolicy {
+  public:
+    void record_contribution(const Color3& value) override {
+        contributions += value;
+        ++contribution_calls;
+    }
+    void record_medium_vertex(const Point3f&, const Vec3f&, float pdf, const Color3&) override {
+        ++vertices;
+        EXPECT_GT(pdf, 0.f);
+    }
+    void end_camera_sample(int branches) override {
+        EXPECT_EQ(branches, 1);  // no continuation decision: never a copy
+        ++camera_samples;
+    }
+    Color3 contributions{0.f};
+    int contribution_calls = 0, vertices = 0, camera_samples = 0;
+};
+
+bool same_bits(const Color3& a, const Color3& b) { return a.r == b.r && a.g == b.g && a.b == b.b; }
+
+// One camera ray walked without a policy (stream a) and with `policy` (stream b, a copy of a).
+struct TwoWalks {
+    Color3 plain, with_policy;
+    bool same_dimension;  // both walks drew as many numbers
+};
+TwoWalks walk_twice(const Scene& scene, const VolPathIntegrator& volpath, const Ray& ray, Sampler& a, Sampler& b,
+                    WalkPolicy& policy) {
+    TwoWalks w;
+    w.plain = volpath.walk(scene, a, ray, nullptr);
+    w.with_policy = volpath.walk(scene, b, ray, &policy);
+    w.same_dimension = a.next_1d() == b.next_1d();
+    return w;
+}
+
+VolPathIntegrator volpath_with(bool equiangular) {
+    VolPathSettings settings;
+    settings.max_depth = 32;
+    settings.equiangular = equiangular;
+    return VolPathIntegrator(settings);
+}
+
+// Calls check(ray, a, b) for every pixel's first `spp` camera samples of `scene`, with two copies
+// of the sample's stream.
+template <typename Check>
+void for_each_sample(const Scene& scene, const VolPathIntegrator& volpath, int spp, Check&& check) {
+    const Film& film = scene.sensor().film();
+    const FilmGrid grid{film.width(), film.height(), 0};
+    for (int y = 0; y < film.height(); ++y)
+        for (int x = 0; x < film.width(); ++x)
+            for (int s = 0; s < spp; ++s) {
+                FilmSample a = film_sample(grid, 5, x, y, uint64_t(s));
+                FilmSample b = a;
+                const Ray ray = scene.sensor().sample_ray(a.film_uv, Point2f(0.5f, 0.5f)).first;
+                check(ray, a.sampler, b.sampler);
+            }
+}
+
+}  // namespace
+
+TEST(WalkPolicy, DefaultPolicyIsTheAnalogWalkNumberForNumber) {
+    for (const char* name : {"fogbox", "sss", "cloud"}) {
+        auto scene = load_bench_scene(name);
+        for (bool equiangular : {false, true}) {
+            const VolPathIntegrator volpath = volpath_with(equiangular);
+            int differ = 0, nonzero = 0;
+            for_each_sample(*scene, volpath, 4, [&](const Ray& ray, Sampler& a, Sampler& b) {
+                WalkPolicy analog;
+                const TwoWalks w = walk_twice(*scene, volpath, ray, a, b, analog);
+                differ += !same_bits(w.plain, w.with_policy) || !w.same_dimension;
+                nonzero += w.plain.max_value() > 0.f;
+            });
+            EXPECT_EQ(differ, 0) << name << (equiangular ? " equiangular" : "");
+            EXPECT_GT(nonzero, 10) << name;
+        }
+    }
+}
+
+TEST(WalkPolicy, RecordingSeesEveryContributionAndMediumVertex) {
+    auto scene = load_bench_scene("fogbox");
+    const VolPathIntegrator volpath = volpath_with(false);
+    int vertices = 0, samples = 0;
+    for_each_sample(*scene, volpath, 4, [&](const Ray& ray, Sampler& a, Sampler& b) {
+        CountingPolicy policy;
+        const TwoWalks w = walk_twice(*scene, volpath, ray, a, b, policy);
+        EXPECT_TRUE(same_bits(w.plain, w.with_policy) && w.same_dimension);
+        // The same additions in the same order: the same sum.
+        EXPECT_TRUE(same_bits(policy.contributions, w.with_policy));
+        EXPECT_EQ(policy.camera_samples, 1);
+        vertices += policy.vertices;
+        ++samples;
+    });
+    EXPECT_GT(vertices, samples / 4);  // the fog scatters: vertices were reported
+}
