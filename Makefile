@@ -2,11 +2,13 @@
 BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 # Debian packages the build and tests need (python3-matplotlib and chromium: the benchmark report, its
-# plots and the headless check of its HTML page, exercised by the bench_harness test). Keep in sync with CMakeLists.txt.
+# plots and the headless check of its HTML page, exercised by the bench_harness test; python3-pybind11,
+# python3-numpy, python3-pytest: the Python module and its tests). Keep in sync with CMakeLists.txt.
 APT_PACKAGES := build-essential cmake pkg-config libembree-dev libtbb-dev libopenexr-dev \
   libpugixml-dev libtinyobjloader-dev libfmt-dev libcli11-dev nlohmann-json3-dev libstb-dev \
   libgtest-dev libgmock-dev libbenchmark-dev libopenvdb-dev \
-  libboost-iostreams-dev python3 python3-matplotlib chromium
+  libboost-iostreams-dev python3 python3-matplotlib chromium \
+  python3-dev python3-pybind11 python3-numpy python3-pytest
 # make bench QUICK=1: the reduced budget; TIME=seconds per render; BENCH_ARGS: any run_bench.py option.
 QUICK ?=
 TIME ?=
@@ -14,7 +16,7 @@ BENCH_ARGS ?=
 # CTest label expression for `make test`; CI runs everything.
 TEST_ARGS ?=
 
-.PHONY: deps build test install demo bench bench-micro clean format
+.PHONY: deps build python test install demo bench bench-micro clean format
 
 deps:
 	@scripts/install-deps.sh $(APT_PACKAGES)
@@ -24,6 +26,10 @@ $(BUILD_DIR)/CMakeCache.txt:
 
 build: deps $(BUILD_DIR)/CMakeCache.txt
 	cmake --build $(BUILD_DIR) -j $(JOBS)
+
+# The Python module into $(BUILD_DIR)/python (use it with PYTHONPATH=$(BUILD_DIR)/python; docs/python.md).
+python: deps $(BUILD_DIR)/CMakeCache.txt
+	cmake --build $(BUILD_DIR) -j $(JOBS) --target python
 
 test: build
 	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS) $(TEST_ARGS)

@@ -16,13 +16,6 @@
 
 namespace volguide {
 
-namespace {
-
-// Points per leaf measuring its medium fraction: ~4 % standard error for a half-filled leaf.
-constexpr int kOccupancyPoints = 128;
-
-}  // namespace
-
 GuidedVolPathIntegrator::GuidedVolPathIntegrator(const Properties& props)
     : settings_(GuidedVolPathSettings::from(props)), walk_(settings_.walk) {}
 
@@ -80,7 +73,7 @@ void GuidedVolPathIntegrator::load_or_train_field(const Scene& scene, const Prep
     // pixel estimate trust only leaves mostly filled by a medium (GuidingLeaf::mostly_medium). A
     // field of format v2 or from progressive training is measured here, its fluence left as it is.
     if (!field_.empty() && !field_.has_medium_fractions())
-        field_.set_medium_fractions(medium_fractions(scene, field_.tree(), kOccupancyPoints, context.seed),
+        field_.set_medium_fractions(medium_fractions(scene, field_.tree(), kMediumFractionPoints, context.seed),
                                     photon_fluence);
 }
 

@@ -15,7 +15,11 @@ constexpr int kMaxSkippedSurfaces = 64;
 }  // namespace
 
 const Medium* medium_at(const Scene& scene, const Point3f& p, Point2f u) {
-    Ray ray(p, warp::square_to_uniform_sphere(u));
+    return medium_along(scene, Ray(p, warp::square_to_uniform_sphere(u)));
+}
+
+const Medium* medium_along(const Scene& scene, const Ray& probe) {
+    Ray ray = probe;
     for (int k = 0; k < kMaxSkippedSurfaces; ++k) {
         SurfaceInteraction si;
         if (!scene.intersect(ray, si)) break;

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "volguide/core/ray.h"
 #include "volguide/guiding/spatial_tree.h"
 
 namespace volguide {
@@ -19,6 +20,13 @@ class Medium;
 
 // The medium at p (nullptr for none), as described above; u picks the probe direction.
 const Medium* medium_at(const Scene& scene, const Point3f& p, Point2f u);
+// The same rule with the probe along a given ray: the medium a ray leaving from ray.o along ray.d
+// travels in first.
+const Medium* medium_along(const Scene& scene, const Ray& ray);
+
+// The points per leaf guided_volpath measures a field's medium fractions with: ~4 % standard error
+// for a half-filled leaf.
+inline constexpr int kMediumFractionPoints = 128;
 
 // Per leaf of `tree`: the fraction of `points_per_leaf` jittered points that lie in a medium with
 // sigma_t > 0. Parallel over leaves, deterministic for any thread count.

@@ -281,11 +281,14 @@ RenderResult render_frame(const FrameSetup& setup, const RadianceFn& radiance, c
 }
 
 RenderResult render(Scene& scene, const RenderOptions& options) {
+    // The scene owns its integrator; preprocessing (training) mutates it before rendering.
+    return render(scene, const_cast<Integrator&>(scene.integrator()), options);
+}
+
+RenderResult render(const Scene& scene, Integrator& integrator, const RenderOptions& options) {
     const auto job_start = Clock::now();
     auto limit = thread_limit(options.threads);
     tbb::task_arena arena(arena_threads(options.threads));
-    // The scene owns its integrator; preprocessing (training) mutates it before rendering.
-    Integrator& integrator = const_cast<Integrator&>(scene.integrator());
     if (options.progress) {
         Progress p;
         p.phase = "preprocess";
@@ -310,9 +313,8 @@ RenderResult render(Scene& scene, const RenderOptions& options) {
     setup.default_spp = sensor.sample_count();
     setup.seed = sensor.seed();
     setup.variance = integrator.writes_variance() || options.variance;
-    const Scene& cscene = scene;
     RadianceFn radiance = [&](Point2f uv, Sampler& sampler) {
-        return camera_sample_value(cscene, integrator, uv, sampler);
+        return camera_sample_value(scene, integrator, uv, sampler);
     };
     RenderResult result = render_frame_impl(setup, radiance, options, arena, job_start);
     result.stats.preprocess_seconds = preprocess_seconds;

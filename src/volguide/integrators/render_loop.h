@@ -18,6 +18,7 @@
 namespace volguide {
 
 class Scene;
+class Integrator;
 
 struct RenderOptions {
     int spp = 0;                   // > 0 overrides the sensor's sample_count
@@ -70,6 +71,9 @@ std::vector<int> pass_schedule(int spp);
 // Renders the scene's sensor with its integrator (after integrator preprocessing, which counts
 // toward the time budget). The variance image is filled when the integrator writes_variance().
 RenderResult render(Scene& scene, const RenderOptions& options);
+// The same with another integrator than the scene's own (the Python module renders one scene with
+// several integrators); `integrator` is preprocessed like the scene's.
+RenderResult render(const Scene& scene, Integrator& integrator, const RenderOptions& options);
 
 // Scene-free core, also used by tests: `radiance(film_uv, sampler)` returns one sample's value.
 struct FrameSetup {
