@@ -22,6 +22,8 @@ target_link_libraries(volguide_guiding PUBLIC TBB::tbb)
 target_compile_features(volguide_guiding PUBLIC cxx_std_20)
 # Position-independent, so that a renderer can link it into a shared plugin.
 set_target_properties(volguide_guiding PROPERTIES EXPORT_NAME volguide POSITION_INDEPENDENT_CODE ON)
+# (see the full library's -fno-semantic-interposition in CMakeLists.txt)
+target_compile_options(volguide_guiding PRIVATE $<$<CXX_COMPILER_ID:GNU,Clang>:-fno-semantic-interposition>)
 
 # Installed headers: the two modules' headers and the header-only files of core/ and media/ they
 # include (no .cpp of core/ or media/ is needed). The install test (tests/scripts/
