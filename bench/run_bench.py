@@ -42,6 +42,10 @@ METHODS = {
         "guided": {"distance": "incremental", "direction": "product", "rrs": "grr"}},
     "guided_volpath distance=incremental direction=product rrs=grrs": {
         "guided": {"distance": "incremental", "direction": "product", "rrs": "grrs"}},
+    # The peer (issue 19): Intel Open PGL's directional guiding as Cycles drives it, trained online
+    # from the render's own passes (training_spp 128, or under --time the passes up to 25 % of the
+    # budget; those samples are in the image). Skipped when volguide was built without Open PGL.
+    "openpgl_volpath": {"defines": ["integrator=openpgl_volpath"]},
 }
 
 # Methods run only when named in --methods (comparisons of variants, not part of the default table).
@@ -155,7 +159,8 @@ def run_method(volguide, scene, method, spec, args, out):
     res = subprocess.run(cmd, capture_output=True, text=True)
     if res.returncode != 0:
         message = res.stderr.strip().splitlines()[-1] if res.stderr.strip() else f"exit code {res.returncode}"
-        row["status"] = "skipped" if "not implemented" in message else "failed"
+        skipped = "not implemented" in message or "built without Intel Open PGL" in message
+        row["status"] = "skipped" if skipped else "failed"
         row["note"] = message
         return row
     with open(stats_file) as f:
@@ -174,6 +179,10 @@ def run_method(volguide, scene, method, spec, args, out):
         row["branches_p999"] = integ["rrs_branches_p999"]
         row["branches_max"] = integ["rrs_branches_max"]
         row["pixel_estimate_seconds"] = integ["rrs_pixel_estimate_seconds"]
+    # Open PGL trains during the render: the job time when its last field update ended.
+    if "openpgl_training_seconds" in integ:
+        row["training_seconds"] = integ["openpgl_training_seconds"]
+        row["training_spp"] = integ["openpgl_training_spp"]
     png = os.path.join(out, "images", name + ".png")
     heat = os.path.join(out, "images", name + "__error.png")
     subprocess.run([volguide, "convert", exr, png], check=True, capture_output=True)

@@ -72,6 +72,11 @@ int run_info(const InfoArgs& args) {
                scene->environment() ? ", with an environment" : "");
     fmt::print("bbox: [{}, {}, {}] - [{}, {}, {}]\n", b.lo.x, b.lo.y, b.lo.z, b.hi.x, b.hi.y, b.hi.z);
     if (scene->integrator().writes_variance()) fmt::print("variance: written to <output stem>_var.exr\n");
+#if VOLGUIDE_HAVE_OPENPGL
+    fmt::print("openpgl: built in (Intel Open PGL {}; integrator openpgl_volpath)\n", VOLGUIDE_OPENPGL_VERSION);
+#else
+    fmt::print("openpgl: not built in (integrator openpgl_volpath unavailable)\n");
+#endif
     return 0;
 }
 

@@ -31,6 +31,13 @@ int main(int argc, char** argv) {
     CLI::App app{"volguide: a physically based renderer for Mitsuba 3 scenes with volume path guiding",
                  "volguide"};
     app.require_subcommand(1);
+    // --version: what optional peers are built in (Open PGL: the openpgl_volpath integrator).
+#if VOLGUIDE_HAVE_OPENPGL
+    app.set_version_flag("--version", "volguide\nIntel Open PGL " VOLGUIDE_OPENPGL_VERSION
+                                      ": built in (integrator openpgl_volpath)");
+#else
+    app.set_version_flag("--version", "volguide\nIntel Open PGL: not built in (integrator openpgl_volpath unavailable)");
+#endif
 
     RenderArgs render;
     CLI::App* render_cmd = app.add_subcommand("render", "render a scene to an image");
@@ -81,6 +88,8 @@ int main(int argc, char** argv) {
     } catch (const CLI::CallForHelp& e) {
         return app.exit(e);
     } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForVersion& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
         app.exit(e);  // prints the message and a hint

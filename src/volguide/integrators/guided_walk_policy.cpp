@@ -10,7 +10,7 @@ FreeFlightSample GuidedWalkPolicy::sample_distance(const Medium& medium, const R
     return medium.sample_free_flight(ray, tmax, throughput, sampler);
 }
 
-void GuidedWalkPolicy::prepare_direction(const MediumInteraction& mi, GuideRegion& region) {
+void GuidedWalkPolicy::prepare_direction(const MediumInteraction& mi, GuideRegion& region, Sampler&) {
     direction_.reset();
     if (guide_.guides_direction()) guide_.direction_sampler(mi, mi.medium->phase(), region, direction_);
 }
@@ -32,7 +32,7 @@ PhaseSample GuidedWalkPolicy::sample_direction(const MediumInteraction& mi, Samp
 }
 
 void GuidedWalkPolicy::prepare_surface_direction(const SurfaceInteraction& si, const BSDF& bsdf,
-                                                 const Medium* medium) {
+                                                 const Medium* medium, Sampler&) {
     surface_.reset();
     if (guide_.guides_surfaces() && !bsdf.is_null()) guide_.surface_sampler(si, bsdf, medium, surface_guide_, surface_);
 }

@@ -25,11 +25,12 @@ class GuidedWalkPolicy final : public WalkPolicy {
     FreeFlightSample sample_distance(const Medium& medium, const Ray& ray, float tmax, const Color3& throughput,
                                      Sampler& sampler, GuideRegion& region) override;
 
-    void prepare_direction(const MediumInteraction& mi, GuideRegion& region) override;
+    void prepare_direction(const MediumInteraction& mi, GuideRegion& region, Sampler& sampler) override;
     float direction_pdf(const MediumInteraction& mi, const Vec3f& wo) const override;
     PhaseSample sample_direction(const MediumInteraction& mi, Sampler& sampler) override;
 
-    void prepare_surface_direction(const SurfaceInteraction& si, const BSDF& bsdf, const Medium* medium) override;
+    void prepare_surface_direction(const SurfaceInteraction& si, const BSDF& bsdf, const Medium* medium,
+                                   Sampler& sampler) override;
     float surface_direction_pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const BSDF& bsdf,
                                 const Vec3f& wo_local) const override;
     std::pair<BSDFSample, Color3> sample_surface_direction(const BSDFContext& ctx, const SurfaceInteraction& si,

@@ -44,6 +44,11 @@ public:
     virtual bool writes_variance() const { return false; }
     // Work before rendering (training, pre-passes), counted in the time budget. Default: none.
     virtual void preprocess(const Scene& scene, const PreprocessContext& context) {}
+    // After each render pass is merged into the image: spp_done samples per pixel so far, seconds
+    // since the job started. Integrators that learn from their own render's samples (openpgl_volpath,
+    // as Cycles trains Open PGL) update there, between passes, so that every pass samples one fixed
+    // distribution. Default: nothing.
+    virtual void end_pass(int spp_done, double seconds) {}
     // Named counters of the last render (e.g. guided decisions), for --stats. Default: none.
     virtual std::vector<std::pair<std::string, double>> statistics() const { return {}; }
 };

@@ -9,6 +9,9 @@
 #include "volguide/integrators/simple_volpath.h"
 #include "volguide/integrators/volpath.h"
 #include "volguide/scene/factories.h"
+#if VOLGUIDE_HAVE_OPENPGL
+#include "volguide/openpgl/openpgl_volpath.h"
+#endif
 
 namespace volguide {
 
@@ -21,7 +24,17 @@ ObjectPtr create_integrator(const Properties& props) {
     if (type == "simple_volpath") return std::make_shared<SimpleVolPathIntegrator>(props);
     if (type == "moment") return std::make_shared<MomentIntegrator>(props);
     if (type == "guided_volpath") return std::make_shared<GuidedVolPathIntegrator>(props);
-    props.fail_here("unsupported integrator plugin '{}' (supported: path, volpath, volpathmis, simple_volpath, guided_volpath, moment)", type);
+    if (type == "openpgl_volpath") {
+#if VOLGUIDE_HAVE_OPENPGL
+        return std::make_shared<OpenPglVolPathIntegrator>(props);
+#else
+        props.fail_here(
+            "integrator 'openpgl_volpath' is not available: volguide was built without Intel Open PGL (it is built "
+            "from ../shared/third_party/openpgl-0.7.1-src.tar.gz or found as an installed openpgl CMake package "
+            "when configuring; `volguide --version` says whether it is built in)");
+#endif
+    }
+    props.fail_here("unsupported integrator plugin '{}' (supported: path, volpath, volpathmis, simple_volpath, guided_volpath, openpgl_volpath, moment)", type);
 }
 
 }  // namespace volguide

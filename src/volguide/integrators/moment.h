@@ -20,6 +20,7 @@ public:
         nested_->preprocess(scene, context);
     }
     const Integrator& nested() const { return *nested_; }
+    void end_pass(int spp_done, double seconds) override { nested_->end_pass(spp_done, seconds); }
     std::vector<std::pair<std::string, double>> statistics() const override { return nested_->statistics(); }
     std::string to_string() const override { return "moment[" + nested_->to_string() + "]"; }
 

@@ -156,6 +156,7 @@ class FrameRenderer {
             if (!run_pass(spp_done, n, stats)) break;
             spp_done += n;
             reporter_.report(spp_done, spp_done, true);
+            if (options_.end_pass) options_.end_pass(spp_done, seconds_since(job_start_));
             if (options_.on_pass) options_.on_pass(spp_done, seconds_since(job_start_), film_.mean());
         }
         result.spp = spp_done;
@@ -316,7 +317,12 @@ RenderResult render(const Scene& scene, Integrator& integrator, const RenderOpti
     RadianceFn radiance = [&](Point2f uv, Sampler& sampler) {
         return camera_sample_value(scene, integrator, uv, sampler);
     };
-    RenderResult result = render_frame_impl(setup, radiance, options, arena, job_start);
+    // The integrator may learn from each pass (Integrator::end_pass), within the render's arena.
+    RenderOptions pass_options = options;
+    pass_options.end_pass = [&](int spp, double seconds) {
+        arena.execute([&] { integrator.end_pass(spp, seconds); });
+    };
+    RenderResult result = render_frame_impl(setup, radiance, pass_options, arena, job_start);
     result.stats.preprocess_seconds = preprocess_seconds;
     return result;
 }

@@ -120,7 +120,7 @@ bool VolumeWalk::scatter(const MediumVertex& v) {
         return true;
     }
     // One direction sampler per vertex, used by NEE's MIS and the continuation.
-    if (policy_) policy_->prepare_direction(mi, s.region);
+    if (policy_) policy_->prepare_direction(mi, s.region, *rng_);
     if (mi.medium->sample_emitters()) {
         s.specular_chain = false;
         sample_nee_medium(v);
@@ -163,11 +163,12 @@ bool VolumeWalk::surface_step() {
     WalkState& s = state_;
     // volume_only: a camera path whose first real event is not a medium scattering is excluded.
     if (settings_.volume_only && s.depth == 0 && !(si_.is_valid() && si_.shape->bsdf()->is_null())) return false;
+    if (policy_) policy_->record_surface_hit(si_);
     emitter_hit();
     if (!si_.is_valid()) return false;
 
     const BSDF& bsdf = *si_.shape->bsdf();
-    if (policy_) policy_->prepare_surface_direction(si_, bsdf, s.medium);
+    if (policy_) policy_->prepare_surface_direction(si_, bsdf, s.medium, *rng_);
     // NEE (only when its path, one segment longer, is within max_depth).
     if (bsdf.has(bsdf_flags::Smooth) && depth_ok(s.depth + 1)) sample_nee_surface(bsdf);
 
@@ -179,6 +180,7 @@ bool VolumeWalk::surface_step() {
     if (s.throughput.is_black()) return false;
     s.eta *= bs.eta;
     const Vec3f wo = si_.to_world(bs.wo);
+    if (policy_) policy_->record_surface_vertex(si_, bs, wo, s.throughput);
     if (bs.sampled_flags & bsdf_flags::Null) {
         if (++s.null_crossings > 1024) return false;  // a ray stuck on a surface
     } else {

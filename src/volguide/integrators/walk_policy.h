@@ -59,7 +59,8 @@ class WalkPolicy {
     }
 
     // The direction decision at the medium vertex mi (mi.medium set): prepare, then pdf and sample.
-    virtual void prepare_direction(const MediumInteraction& mi, GuideRegion& region) {}
+    // prepare may draw from `sampler` (Open PGL's stochastic region lookup); the defaults draw nothing.
+    virtual void prepare_direction(const MediumInteraction& mi, GuideRegion& region, Sampler& sampler) {}
     virtual float direction_pdf(const MediumInteraction& mi, const Vec3f& wo) const {
         return mi.medium->phase().pdf(mi.wi, wo);
     }
@@ -69,7 +70,8 @@ class WalkPolicy {
 
     // The direction decision at a surface vertex (`medium`: the one the path arrived through):
     // prepare, then pdf (of a local direction) and sample (u1, u2 drawn by the walk).
-    virtual void prepare_surface_direction(const SurfaceInteraction& si, const BSDF& bsdf, const Medium* medium) {}
+    virtual void prepare_surface_direction(const SurfaceInteraction& si, const BSDF& bsdf, const Medium* medium,
+                                           Sampler& sampler) {}
     virtual float surface_direction_pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const BSDF& bsdf,
                                         const Vec3f& wo_local) const {
         return bsdf.pdf(ctx, si, wo_local);
@@ -92,10 +94,17 @@ class WalkPolicy {
 
     // Recording, in path order: a contribution added to the estimate (after throughput and MIS
     // weight); a medium vertex x after its direction w was sampled with density pdf (throughput
-    // includes f_p / pdf); the MIS-weighted NEE estimate at x towards the light d.
+    // includes f_p / pdf); the MIS-weighted NEE estimate at x towards the light d; the surface
+    // events below.
     virtual void record_contribution(const Color3& value) {}
     virtual void record_medium_vertex(const Point3f& x, const Vec3f& w, float pdf, const Color3& throughput) {}
     virtual void record_medium_nee(const Point3f& x, const Vec3f& d, const Color3& weight) {}
+    // The ray reached the pending intersection si (invalid: it left the scene), before its
+    // emission is added; and, at a surface, the BSDF's direction bs was sampled (wo: world
+    // space; throughput includes its weight). Path-segment recorders (Open PGL) need both.
+    virtual void record_surface_hit(const SurfaceInteraction& si) {}
+    virtual void record_surface_vertex(const SurfaceInteraction& si, const BSDFSample& bs, const Vec3f& wo,
+                                       const Color3& throughput) {}
 };
 
 }  // namespace volguide
