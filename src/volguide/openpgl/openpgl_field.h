@@ -24,6 +24,8 @@ class OpenPglField {
     int updates() const { return updates_; }
 
     void add_samples(const openpgl::cpp::SampleData* samples, size_t n) { storage_.AddSamples(samples, n); }
+    // The samples added since the last update (what the next update trains on).
+    const openpgl::cpp::SampleStorage& pending_samples() const { return storage_; }
     // Field::Update with the samples added since the last update, then drops them (as Cycles does).
     void update();
     size_t samples_total() const { return samples_total_; }
