@@ -98,7 +98,8 @@ TEST(OpenPglVolpath, AvailabilityIsReported) {
     const CliResult version = run_cli({"--version"});
     EXPECT_EQ(version.exit_code, 0) << version.err;
 #if VOLGUIDE_HAVE_OPENPGL
-    EXPECT_NE(version.out.find("Intel Open PGL 0.7.1: built in"), std::string::npos) << version.out;
+    EXPECT_NE(version.out.find("Intel Open PGL " VOLGUIDE_OPENPGL_VERSION ": built in"), std::string::npos)
+        << version.out;
 #else
     EXPECT_NE(version.out.find("Intel Open PGL: not built in"), std::string::npos) << version.out;
     // A scene naming the integrator fails with its file and line.
