@@ -321,6 +321,7 @@ RenderResult render(const Scene& scene, Integrator& integrator, const RenderOpti
     RenderOptions pass_options = options;
     pass_options.end_pass = [&](int spp, double seconds) {
         arena.execute([&] { integrator.end_pass(spp, seconds); });
+        if (options.end_pass) options.end_pass(spp, seconds);
     };
     RenderResult result = render_frame_impl(setup, radiance, pass_options, arena, job_start);
     result.stats.preprocess_seconds = preprocess_seconds;

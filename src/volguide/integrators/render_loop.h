@@ -33,8 +33,8 @@ struct RenderOptions {
     // counts from the start of the job (preprocessing included), like the time budget. Its own
     // cost is part of the render time, so keep it cheap.
     std::function<void(int spp, double seconds, const Image& mean)> on_pass;
-    // Called after each pass is merged, before on_pass, with no image (render() sets it to the
-    // integrator's Integrator::end_pass; its cost counts toward the time budget too).
+    // Called after each pass is merged, before on_pass, with no image (render() calls the
+    // integrator's Integrator::end_pass first, then this; its cost counts toward the time budget).
     std::function<void(int spp, double seconds)> end_pass;
 };
 
