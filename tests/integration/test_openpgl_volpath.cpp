@@ -9,6 +9,8 @@
 //  - the same seed gives the same image for 1 and 2 threads: Open PGL's training runs with
 //    deterministic = true (regions sort their samples before fitting), so the samples' arrival
 //    order from the threads does not matter.
+//  - untrained (training_spp = 0) it renders volpath's image bit for bit (the policy's analog path
+//    draws exactly volpath's random numbers).
 #include <gtest/gtest.h>
 
 #include <fmt/format.h>
@@ -167,4 +169,22 @@ TEST(OpenPglVolpath, SameSeedSameImageForAnyThreadCount) {
     for (size_t i = 0; i < a.mean.pixels.size(); ++i)
         for (int c = 0; c < 3; ++c) differ += a.mean.pixels[i][c] != b.mean.pixels[i][c];
     EXPECT_EQ(differ, 0) << "pixel-channels differing between --threads 1 and --threads 2";
+}
+
+// Without training (training_spp = 0) the field never guides, and the policy draws exactly the
+// random numbers volpath's walk draws: the image is volpath's, bit for bit.
+TEST(OpenPglVolpath, UntrainedIsVolpathBitForBit) {
+    REQUIRE_OPENPGL();
+    TempDir dir("openpgl-untrained");
+    const std::string xml = dir.write(
+        "openpgl.xml", R"(<scene version="3.0.0"><integrator type="openpgl_volpath">)"
+                       R"(<integer name="max_depth" value="$max_depth"/><integer name="training_spp" value="0"/>)"
+                       R"(</integrator></scene>)");
+    const Render a = render_bench(dir, "shafts", "volpath", 16, 3, {"-D", "integrator=volpath"});
+    const Render b = render_bench(dir, "shafts", "openpgl", 16, 3, {"-D", "integrator_xml=" + xml});
+    ASSERT_EQ(a.mean.pixels.size(), b.mean.pixels.size());
+    long differ = 0;
+    for (size_t i = 0; i < a.mean.pixels.size(); ++i)
+        for (int c = 0; c < 3; ++c) differ += a.mean.pixels[i][c] != b.mean.pixels[i][c];
+    EXPECT_EQ(differ, 0) << "pixel-channels differing from volpath";
 }
