@@ -98,7 +98,8 @@ int main(int argc, char** argv) {
     InfoArgs info;
     CLI::App* info_cmd = app.add_subcommand("info", "summarise a scene, or a saved guiding field (--field)");
     info_cmd->add_option("scene", info.scene, "Mitsuba 3 XML scene");
-    info_cmd->add_option("--field", info.field, "a guiding field written by guided_volpath's save_field");
+    info_cmd->add_option("--field", info.field,
+                         "a guiding field written by guided_volpath's save_field, or a training file of `volguide train`");
     info_cmd->add_option("-D,--define", info.defines, "set a scene <default> (name=value); repeatable")
         ->allow_extra_args(false);
 

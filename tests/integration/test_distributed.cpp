@@ -149,6 +149,11 @@ TEST_F(Distributed, TrainThenRenderWithFieldGivesTheRendersImage) {
     EXPECT_TRUE(identical(image("full_var.exr"), image("with_field_var.exr")));
     EXPECT_EQ(part("full.exr").info.field, part("with_field.exr").info.field);
     EXPECT_NE(part("full.exr").info.field, "none");
+    // `info --field` reads training files too: what it was trained for, and the field.
+    const CliRun info = run("info --field f.vgt");
+    ASSERT_EQ(info.code, 0) << info.err;
+    EXPECT_NE(info.out.find("field fingerprint: " + part("full.exr").info.field), std::string::npos) << info.out;
+    EXPECT_NE(info.out.find("leaves: "), std::string::npos) << info.out;
     // A field trained with another seed is another field.
     ok("train s.xml -o g.vgt --seed 6 --quiet");
     ok("render s.xml --field g.vgt --seed 5 --spp 4 -o other.exr --quiet");
