@@ -7,21 +7,26 @@
 #   scripts/slurm/submit.sh SCENE.xml OUTDIR CHUNKS SPP_PER_CHUNK [SEED] [-- sbatch options...]
 #
 # OUTDIR must be on a filesystem every node sees. Environment: VOLGUIDE (the CLI, default: volguide on
-# PATH), VOLGUIDE_ARGS (more render/train options, e.g. "-D res=4"), VOLGUIDE_TRAIN_TIME (train --time).
+# PATH), VOLGUIDE_ARGS (more render/train options, e.g. "-D res=4"), VOLGUIDE_TRAIN_TIME (train --time),
+# VOLGUIDE_SIGNAL_LEAD (seconds before a chunk's time limit that it gets SIGTERM, default 300; "" = none).
 # Prints the three job ids (train, array, merge) on one line.
 set -euo pipefail
 
 if [[ $# -lt 4 ]]; then
-    sed -n '2,14p' "$0" >&2
+    sed -n '2,12p' "$0" >&2
     exit 2
 fi
 scene=$(realpath "$1")
 outdir=$(realpath -m "$2")
 chunks=$3
 spp=$4
-seed=${5:-0}
-shift $(( $# >= 5 ? 5 : 4 ))
-[[ "${1:-}" == "--" ]] && shift
+shift 4
+seed=0
+if [[ $# -gt 0 && "$1" != "--" ]]; then
+    seed=$1
+    shift
+fi
+if [[ $# -gt 0 && "$1" == "--" ]]; then shift; fi
 here=$(dirname "$(realpath "$0")")
 mkdir -p "$outdir/logs"
 
@@ -31,7 +36,10 @@ export VOLGUIDE_ARGS=${VOLGUIDE_ARGS:-} VOLGUIDE_TRAIN_TIME=${VOLGUIDE_TRAIN_TIM
 
 common=(--parsable --export=ALL --chdir "$outdir" "$@")
 train=$(sbatch "${common[@]}" --job-name vg-train -o "$outdir/logs/train-%j.out" "$here/train.sbatch")
-array=$(sbatch "${common[@]}" --job-name vg-chunk --dependency "afterok:$train" --array "0-$((chunks - 1))" \
+lead=${VOLGUIDE_SIGNAL_LEAD-300}
+signal=()
+[[ -n "$lead" ]] && signal=(--signal "B:TERM@$lead")
+array=$(sbatch "${common[@]}" "${signal[@]}" --job-name vg-chunk --dependency "afterok:$train" --array "0-$((chunks - 1))" \
     -o "$outdir/logs/chunk-%A_%a.out" "$here/chunk.sbatch")
 merge=$(sbatch "${common[@]}" --job-name vg-merge --dependency "afterany:$array" \
     -o "$outdir/logs/merge-%j.out" "$here/merge.sbatch")
