@@ -236,7 +236,7 @@ class FrameRenderer {
                     FilmSample fs = film_sample(grid_, seed_, x, y, s);
                     const Color3 L = radiance_(fs.film_uv, fs.sampler);
                     if (!L.is_finite()) {
-                        if (bad++ == 0) out.first_bad[t] = SampleLocation{x, y, int(s)};
+                        if (bad++ == 0) out.first_bad[t] = SampleLocation{x, y, s};
                         continue;
                     }
                     buf->splat(fs.pos, L);

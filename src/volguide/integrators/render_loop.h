@@ -43,7 +43,7 @@ struct RenderOptions {
 // sample) of camera_sample.h draws it again.
 struct SampleLocation {
     int x = 0, y = 0;  // film pixel (may be outside the film with sample_border)
-    int sample = 0;
+    uint64_t sample = 0;  // the absolute sample index (FIRST + k with --samples FIRST:COUNT)
 };
 
 struct RenderStats {
