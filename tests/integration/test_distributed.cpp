@@ -303,6 +303,35 @@ TEST_F(Distributed, SigtermLeavesAPartialChunkThatMerges) {
     FAIL() << "the chunk never completed a pass before SIGTERM";
 }
 
+TEST_F(Distributed, SigtermDuringTrainingWritesNothing) {
+    for (int attempt = 0; attempt < 3; ++attempt) {
+        const pid_t pid = fork();
+        ASSERT_GE(pid, 0);
+        if (pid == 0) {
+            if (chdir(dir_.c_str()) != 0) _exit(99);
+            if (!freopen("train_stdout.txt", "w", stdout) || !freopen("train_stderr.txt", "w", stderr)) _exit(97);
+            const std::string cli = test::cli_path();
+            execl(cli.c_str(), cli.c_str(), "train", "s.xml", "-D", "photons=200000000", "-o", "big.vgt",
+                  "--threads", "1", "--quiet", static_cast<char*>(nullptr));
+            _exit(98);
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(500 << attempt));
+        kill(pid, SIGTERM);
+        int status = 0;
+        waitpid(pid, &status, 0);
+        // Killed before the handler was installed (a very slow start): try again, later.
+        if (WIFSIGNALED(status) && WTERMSIG(status) == SIGTERM) continue;
+        ASSERT_TRUE(WIFEXITED(status));
+        EXPECT_EQ(WEXITSTATUS(status), 1);
+        EXPECT_NE(slurp(path("train_stderr.txt")).find("big.vgt: interrupted during training; nothing was written"),
+                  std::string::npos)
+            << slurp(path("train_stderr.txt"));
+        EXPECT_FALSE(fs::exists(path("big.vgt")));
+        return;
+    }
+    FAIL() << "train never got as far as installing its signal handler";
+}
+
 TEST_F(Distributed, UsageErrors) {
     for (const char* args : {"render s.xml --samples 3", "render s.xml --samples 0:0", "render s.xml --samples a:b",
                              "render s.xml --samples 0:4 --spp 4", "train s.xml", "merge a.exr",
