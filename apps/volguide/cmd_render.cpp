@@ -1,4 +1,6 @@
-// `volguide render`: load, render (progressive, interruptible), then write the image atomically.
+// `volguide render`: load, render (progressive, interruptible by Ctrl-C or SIGTERM), then write the image
+// atomically; an EXR is a part of a distributed render (render_part.h): with `--field` the pre-pass
+// comes from a training file, with `--samples FIRST:COUNT` only those sample indices are rendered.
 #include <fmt/format.h>
 
 #include <chrono>
@@ -12,16 +14,16 @@
 #include "commands.h"
 #include "interrupt.h"
 #include "progress_display.h"
+#include "scene_identity.h"
 #include "volguide/core/log.h"
 #include "volguide/integrators/integrator.h"
 #include "volguide/integrators/render_loop.h"
 #include "volguide/render/image_compare.h"
-#include "scene_identity.h"
 #include "volguide/render/image_io.h"
 #include "volguide/render/render_part.h"
-#include "volguide/scene/scene_fingerprint.h"
 #include "volguide/render/scene.h"
 #include "volguide/scene/loader.h"
+#include "volguide/scene/scene_fingerprint.h"
 
 namespace volguide::cli {
 
