@@ -17,7 +17,7 @@ BENCH_ARGS ?=
 # CTest label expression for `make test`; CI runs everything.
 TEST_ARGS ?=
 
-.PHONY: deps build python test install demo bench bench-micro clean format
+.PHONY: deps build python test install demo bench bench-micro bench-distributed clean format
 
 deps:
 	@scripts/install-deps.sh $(APT_PACKAGES)
@@ -55,6 +55,10 @@ bench: build
 # The Google Benchmark micro-benchmarks (kernels, whole-render throughput).
 bench-micro: build
 	@scripts/bench-micro.sh $(BUILD_DIR)
+
+# Distributed rendering on this machine: chunk processes vs one process, merge time (docs/distributed.md).
+bench-distributed: build
+	@bench/distributed_bench.sh $(BUILD_DIR)
 
 format:
 	clang-format -i $$(git ls-files '*.cpp' '*.h')
