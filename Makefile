@@ -3,12 +3,13 @@ BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 # Debian packages the build and tests need (python3-matplotlib and chromium: the benchmark report, its
 # plots and the headless check of its HTML page, exercised by the bench_harness test; python3-pybind11,
-# python3-numpy, python3-pytest: the Python module and its tests). Keep in sync with CMakeLists.txt.
+# python3-numpy, python3-pytest: the Python module and its tests; slurm-wlm and munge: the single-node Slurm
+# cluster of the slurm_array test, docs/distributed.md). Keep in sync with CMakeLists.txt.
 APT_PACKAGES := build-essential cmake pkg-config libembree-dev libtbb-dev libopenexr-dev \
   libpugixml-dev libtinyobjloader-dev libfmt-dev libcli11-dev nlohmann-json3-dev libstb-dev \
   libgtest-dev libgmock-dev libbenchmark-dev libopenvdb-dev \
   libboost-iostreams-dev python3 python3-matplotlib chromium \
-  python3-dev python3-pybind11 python3-numpy python3-pytest
+  python3-dev python3-pybind11 python3-numpy python3-pytest slurm-wlm munge
 # make bench QUICK=1: the reduced budget; TIME=seconds per render; BENCH_ARGS: any run_bench.py option.
 QUICK ?=
 TIME ?=
@@ -16,7 +17,7 @@ BENCH_ARGS ?=
 # CTest label expression for `make test`; CI runs everything.
 TEST_ARGS ?=
 
-.PHONY: deps build python test install demo bench bench-micro clean format
+.PHONY: deps build python test install demo bench bench-micro bench-distributed clean format
 
 deps:
 	@scripts/install-deps.sh $(APT_PACKAGES)
@@ -54,6 +55,10 @@ bench: build
 # The Google Benchmark micro-benchmarks (kernels, whole-render throughput).
 bench-micro: build
 	@scripts/bench-micro.sh $(BUILD_DIR)
+
+# Distributed rendering on this machine: chunk processes vs one process, merge time (docs/distributed.md).
+bench-distributed: build
+	@bench/distributed_bench.sh $(BUILD_DIR)
 
 format:
 	clang-format -i $$(git ls-files '*.cpp' '*.h')

@@ -3,7 +3,11 @@
 
 #include "cli_util.h"
 #include "commands.h"
+#include <fstream>
+
 #include "volguide/guiding/field_io.h"
+#include "volguide/integrators/guided_prepass.h"
+#include "volguide/integrators/training_file.h"
 #include "volguide/integrators/integrator.h"
 #include "volguide/render/scene.h"
 #include "volguide/scene/loader.h"
@@ -12,13 +16,36 @@ namespace volguide::cli {
 
 namespace {
 
-int run_field_info(const std::string& path) {
-    GuidingField field;
+bool is_training_file(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    char magic[8] = {};
+    in.read(magic, 8);
+    return in.gcount() == 8 && std::string(magic, 7) == "VGTRAIN";
+}
+
+// A guiding field file (save_field), or a training file of `volguide train` (its metadata first).
+GuidingField read_field_or_training(const std::string& path) {
     try {
-        field = load_field(path);
+        if (!is_training_file(path)) return load_field(path);
+        const TrainingFile training = load_training(path);
+        fmt::print("training file: {}\n", path);
+        fmt::print("trained for: {} (scene fingerprint {}, seed {})\n", training.scene_file, training.scene,
+                   training.seed);
+        fmt::print("integrator: {}\n", training.integrator);
+        fmt::print("field fingerprint: {}\n", prepass_fingerprint(training.prepass));
+        const GuidedPrepass prepass = deserialize_guided_prepass(training.prepass);
+        if (!prepass.pixel_estimate.pixels.empty())
+            fmt::print("pixel estimate: {} x {}\n", prepass.pixel_estimate.width, prepass.pixel_estimate.height);
+        return prepass.field;
     } catch (const FieldFormatError& e) {
         throw FileError(path, e.what());
+    } catch (const TrainingFileError& e) {
+        throw FileError(path, e.what());
     }
+}
+
+int run_field_info(const std::string& path) {
+    const GuidingField field = read_field_or_training(path);
     size_t valid = 0, samples = 0, lobes = 0, max_samples = 0;
     for (const GuidingLeaf& leaf : field.leaves()) {
         samples += leaf.samples;

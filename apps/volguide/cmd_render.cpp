@@ -1,4 +1,6 @@
-// `volguide render`: load, render (progressive, interruptible), then write the image atomically.
+// `volguide render`: load, render (progressive, interruptible by Ctrl-C or SIGTERM), then write the image
+// atomically; an EXR is a part of a distributed render (render_part.h): with `--field` the pre-pass
+// comes from a training file, with `--samples FIRST:COUNT` only those sample indices are rendered.
 #include <fmt/format.h>
 
 #include <chrono>
@@ -12,13 +14,16 @@
 #include "commands.h"
 #include "interrupt.h"
 #include "progress_display.h"
+#include "scene_identity.h"
 #include "volguide/core/log.h"
 #include "volguide/integrators/integrator.h"
 #include "volguide/integrators/render_loop.h"
 #include "volguide/render/image_compare.h"
 #include "volguide/render/image_io.h"
+#include "volguide/render/render_part.h"
 #include "volguide/render/scene.h"
 #include "volguide/scene/loader.h"
+#include "volguide/scene/scene_fingerprint.h"
 
 namespace volguide::cli {
 
@@ -39,6 +44,37 @@ void validate(const RenderArgs& a, const std::vector<std::string>& outputs) {
         throw UsageError(fmt::format("--stats file '{}' must end in .json", a.stats));
     if (!a.reference.empty() && extension_of(a.reference) != ".exr")
         throw UsageError(fmt::format("--reference '{}' must be an .exr image", a.reference));
+    if (!a.samples.empty() && a.spp) throw UsageError("--samples FIRST:COUNT and --spp exclude each other");
+}
+
+// --samples FIRST:COUNT: one range with COUNT > 0.
+std::optional<SampleRange> sample_range(const std::string& text) {
+    if (text.empty()) return std::nullopt;
+    SampleRanges ranges;
+    try {
+        ranges = parse_ranges(text);
+    } catch (const std::invalid_argument& e) {
+        throw UsageError(fmt::format("--samples: {}", e.what()));
+    }
+    if (ranges.size() != 1 || ranges[0].count == 0 || ranges[0].count > uint64_t(1) << 30)
+        throw UsageError(fmt::format("--samples expects one FIRST:COUNT with 0 < COUNT <= 2^30, got '{}'", text));
+    return ranges[0];
+}
+
+// The EXR of a render: a part of the render of its seed, field and integrator (render_part.h).
+RenderPart make_part(const RenderResult& r, const Integrator& integrator, const std::string& scene_file,
+                     const std::string& scene_fingerprint) {
+    RenderPart part;
+    part.mean = r.mean;
+    part.variance = r.variance;
+    part.weight = r.weight;
+    part.info.scene = scene_fingerprint;
+    part.info.scene_file = scene_file;
+    part.info.seed = r.stats.seed;
+    part.info.field = field_fingerprint(integrator);
+    part.info.integrator = integrator.configuration();
+    part.info.samples = normalized({SampleRange{r.first_sample, uint64_t(r.spp)}});
+    return part;
 }
 
 // One point of the convergence curve against --reference.
@@ -80,6 +116,8 @@ void write_stats(const std::string& path, const RenderArgs& args, const std::vec
     j["width"] = r.mean.width;
     j["height"] = r.mean.height;
     j["spp"] = r.spp;
+    j["sample_range"] = {{"first", r.first_sample}, {"count", r.spp}};
+    if (!args.field.empty()) j["field"] = args.field;
     j["spp_requested"] = args.spp ? *args.spp : 0;
     j["time_budget"] = args.time ? *args.time : 0.0;
     j["seed"] = s.seed;
@@ -124,6 +162,7 @@ int run_render(const RenderArgs& args) {
     const std::vector<std::string> outputs =
         args.outputs.empty() ? std::vector<std::string>{default_output(args.scene)} : args.outputs;
     validate(args, outputs);
+    const std::optional<SampleRange> samples = sample_range(args.samples);
     for (const std::string& output : outputs) check_directory(output);
     if (!args.stats.empty()) check_directory(args.stats);
     LoadOptions load;
@@ -131,6 +170,10 @@ int run_render(const RenderArgs& args) {
 
     auto t0 = std::chrono::steady_clock::now();
     std::unique_ptr<Scene> scene = load_scene(args.scene, load);
+    const std::string scene_id = scene_fingerprint(args.scene, load.defines);
+    // The scene owns its integrator; a given pre-pass replaces its training.
+    Integrator& integrator = const_cast<Integrator&>(scene->integrator());
+    if (!args.field.empty()) use_training_file(args.field, scene_id, integrator);
     const double load_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
     std::optional<Image> reference;
@@ -147,6 +190,10 @@ int run_render(const RenderArgs& args) {
     ProgressDisplay display(args.quiet);
     RenderOptions options;
     if (args.spp) options.spp = *args.spp;
+    if (samples) {
+        options.first_sample = samples->first;
+        options.spp = int(samples->count);
+    }
     if (args.time) options.time_budget = *args.time;
     options.seed = args.seed;
     if (args.threads) options.threads = *args.threads;
@@ -170,7 +217,12 @@ int run_render(const RenderArgs& args) {
 
     if (result.spp == 0)
         throw FileError(outputs.front(), "interrupted before the first pass completed; nothing was written");
-    for (const std::string& output : outputs) write_image(output, result.mean);
+    const RenderPart part = make_part(result, integrator, args.scene, scene_id);
+    for (const std::string& output : outputs)
+        if (extension_of(output) == ".exr")
+            write_part(output, part);
+        else
+            write_image(output, result.mean);
     std::string var_output;
     if (scene->integrator().writes_variance() || args.variance) {
         var_output = variance_path(outputs.front());
@@ -184,6 +236,7 @@ int run_render(const RenderArgs& args) {
     fmt::print("time: {:.3f} s (load {:.3f} s, preprocess {:.3f} s, render {:.3f} s)\n",
                load_seconds + s.total_seconds, load_seconds, s.preprocess_seconds, s.render_seconds);
     fmt::print("spp: {}\n", result.spp);
+    fmt::print("samples: {}:{}\n", result.first_sample, result.spp);
     if (s.nonfinite_samples > 0) {
         fmt::print("non-finite samples dropped: {}\n", s.nonfinite_samples);
         const SampleLocation& at = *s.first_nonfinite;

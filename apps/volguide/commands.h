@@ -37,8 +37,26 @@ struct RenderArgs {
     std::string reference;
     bool quiet = false;
     bool variance = false;  // also write the per-sample variance image (as the moment integrator does)
+    std::string field;      // --field: a training file of `volguide train`; the render trains nothing
+    std::string samples;    // --samples FIRST:COUNT: only these sample indices of every pixel
 };
 int run_render(const RenderArgs& args);
+
+struct TrainArgs {
+    std::string scene, output;
+    std::vector<std::string> defines;
+    std::optional<double> time;
+    std::optional<uint64_t> seed;
+    std::optional<int> threads;
+    bool quiet = false;
+};
+int run_train(const TrainArgs& args);
+
+struct MergeArgs {
+    std::vector<std::string> parts;
+    std::string output;
+};
+int run_merge(const MergeArgs& args);
 
 struct DiffArgs {
     std::string image, reference, error_image;

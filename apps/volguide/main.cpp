@@ -1,4 +1,4 @@
-// volguide command line: render | diff | convert | info (docs/interface.md). Exit codes: 0 success, 1 input or
+// volguide command line: render | train | merge | diff | convert | info (docs/interface.md). Exit codes: 0 success, 1 input or
 // I/O error (one line `volguide: FILE:LINE: message` on stderr), 2 usage error.
 #include <CLI/CLI.hpp>
 #include <cstdio>
@@ -58,6 +58,32 @@ int main(int argc, char** argv) {
     render_cmd->add_flag("-q,--quiet", render.quiet, "no progress output");
     render_cmd->add_flag("--variance", render.variance,
                          "also write the per-sample variance of every pixel to <output>_var.exr (any integrator)");
+    render_cmd->add_option("--field", render.field,
+                           "render with this training file of `volguide train` (guided_volpath); trains nothing");
+    render_cmd->add_option("--samples", render.samples,
+                           "FIRST:COUNT: render sample indices [FIRST, FIRST+COUNT) of every pixel, a chunk for "
+                           "`volguide merge` (excludes --spp)");
+
+    TrainArgs train;
+    CLI::App* train_cmd = app.add_subcommand(
+        "train", "run the integrator's pre-pass once (guided_volpath: field, pixel estimate) and save it");
+    train_cmd->add_option("scene", train.scene, "Mitsuba 3 XML scene")->required();
+    train_cmd->add_option("-o,--output", train.output, "training file to write (for render --field)")->required();
+    train_cmd->add_option("-D,--define", train.defines, "set a scene <default> (name=value); repeatable")
+        ->allow_extra_args(false);
+    train_cmd->add_option("--time", train.time,
+                          "the render job's budget in seconds, as in render --time (training gets its share)");
+    train_cmd->add_option("--seed", train.seed, "random seed of the training");
+    train_cmd->add_option("--threads", train.threads, "worker threads (default: all)");
+    train_cmd->add_flag("-q,--quiet", train.quiet, "no progress output");
+
+    MergeArgs merge;
+    CLI::App* merge_cmd = app.add_subcommand(
+        "merge", "combine the parts of one render (--samples chunks) into the image of all their samples");
+    merge_cmd->add_option("parts", merge.parts, "part images (.exr written by volguide render or merge)")
+        ->required();
+    merge_cmd->add_option("-o,--output", merge.output, "merged image (.exr; variance to <output>_var.exr)")
+        ->required();
 
     DiffArgs diff;
     CLI::App* diff_cmd = app.add_subcommand("diff", "compare an image with a reference");
@@ -79,7 +105,8 @@ int main(int argc, char** argv) {
     InfoArgs info;
     CLI::App* info_cmd = app.add_subcommand("info", "summarise a scene, or a saved guiding field (--field)");
     info_cmd->add_option("scene", info.scene, "Mitsuba 3 XML scene");
-    info_cmd->add_option("--field", info.field, "a guiding field written by guided_volpath's save_field");
+    info_cmd->add_option("--field", info.field,
+                         "a guiding field written by guided_volpath's save_field, or a training file of `volguide train`");
     info_cmd->add_option("-D,--define", info.defines, "set a scene <default> (name=value); repeatable")
         ->allow_extra_args(false);
 
@@ -101,6 +128,14 @@ int main(int argc, char** argv) {
         if (render_cmd->parsed()) {
             context = render.scene;
             return run_render(render);
+        }
+        if (train_cmd->parsed()) {
+            context = train.scene;
+            return run_train(train);
+        }
+        if (merge_cmd->parsed()) {
+            context = merge.output;
+            return run_merge(merge);
         }
         if (diff_cmd->parsed()) {
             context = diff.image;

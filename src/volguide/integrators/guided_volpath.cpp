@@ -39,7 +39,12 @@ void GuidedVolPathIntegrator::preprocess(const Scene& scene, const PreprocessCon
     if (settings_.guide.distance != DistanceGuiding::Standard ||
         settings_.guide.direction != DirectionGuiding::Phase || settings_.roulette.mode != RouletteMode::Standard)
         guide_ = std::make_unique<WalkGuide>(scene, field_, settings_.guide);
-    if (settings_.roulette.mode != RouletteMode::Standard && !estimator_) make_pixel_estimate(scene, context);
+    if (settings_.roulette.mode != RouletteMode::Standard && !estimator_) {
+        if (given_prepass_)
+            use_given_pixel_estimate();
+        else
+            make_pixel_estimate(scene, context);
+    }
     if (!settings_.save_field.empty()) {
         try {
             save_field(settings_.save_field, field_);
@@ -51,7 +56,9 @@ void GuidedVolPathIntegrator::preprocess(const Scene& scene, const PreprocessCon
 
 void GuidedVolPathIntegrator::load_or_train_field(const Scene& scene, const PreprocessContext& context) {
     bool photon_fluence = false;  // a photon-trained fluence still counts collisions per leaf volume
-    if (!settings_.load_field.empty()) {
+    if (given_prepass_) {
+        field_ = given_prepass_->field;
+    } else if (!settings_.load_field.empty()) {
         try {
             field_ = load_field(settings_.load_field);
         } catch (const FieldFormatError& e) {
@@ -123,6 +130,22 @@ void GuidedVolPathIntegrator::make_pixel_estimate(const Scene& scene, const Prep
     }
     rrs_ = std::make_unique<RouletteSplitting>(settings_.roulette);
     rrs_->set_pixel_estimate_seconds(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+}
+
+std::string GuidedVolPathIntegrator::prepass_state() const {
+    return serialize_guided_prepass(field_, pixel_estimate_.image());
+}
+
+void GuidedVolPathIntegrator::use_prepass_state(const std::string& bytes) {
+    given_prepass_ = std::make_unique<GuidedPrepass>(deserialize_guided_prepass(bytes));
+}
+
+// The pixel estimate of a given pre-pass: exactly the one the training computed.
+void GuidedVolPathIntegrator::use_given_pixel_estimate() {
+    if (given_prepass_->pixel_estimate.pixels.empty())
+        throw std::runtime_error("the given guided_volpath pre-pass has no pixel estimate (it was trained with rrs=standard)");
+    pixel_estimate_ = PixelEstimate::from_image(given_prepass_->pixel_estimate, settings_.pixel.floor_fraction);
+    rrs_ = std::make_unique<RouletteSplitting>(settings_.roulette);
 }
 
 Color3 GuidedVolPathIntegrator::guided_walk(const Scene& scene, Sampler& sampler, const Ray& ray, float pixel) const {

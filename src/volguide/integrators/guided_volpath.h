@@ -17,6 +17,7 @@
 #include "volguide/guiding/guiding_field.h"
 #include "volguide/guiding/roulette_splitting.h"
 #include "volguide/integrators/cache_estimate.h"
+#include "volguide/integrators/guided_prepass.h"
 #include "volguide/integrators/guided_volpath_settings.h"
 #include "volguide/integrators/pixel_estimate.h"
 #include "volguide/integrators/volpath.h"
@@ -32,6 +33,11 @@ public:
     void preprocess(const Scene& scene, const PreprocessContext& context) override;
     std::vector<std::pair<std::string, double>> statistics() const override;
     std::string to_string() const override;
+    // The field and the pixel estimate (guided_prepass.h); use_prepass_state() makes preprocess()
+    // take them instead of training (and of load_field).
+    bool has_prepass_state() const override { return true; }
+    std::string prepass_state() const override;
+    void use_prepass_state(const std::string& bytes) override;
 
     const GuidedVolPathSettings& settings() const { return settings_; }
     // The trained (or loaded) field; empty before preprocess().
@@ -47,6 +53,7 @@ private:
     std::unique_ptr<WalkGuide> guide_;           // a guided distance, direction or RR decision
     std::unique_ptr<RouletteSplitting> rrs_;     // rrs != standard
     PixelEstimate pixel_estimate_;
+    std::unique_ptr<GuidedPrepass> given_prepass_;  // use_prepass_state(): no training
     // The guided walk along ray, with guided RR/splitting (when rrs_) against the pixel value I.
     Color3 guided_walk(const Scene& scene, Sampler& sampler, const Ray& ray, float pixel) const;
     // preprocess()'s steps: the field (loaded or trained) with its leaves' medium fractions, then
@@ -54,6 +61,7 @@ private:
     void load_or_train_field(const Scene& scene, const PreprocessContext& context);
     GuidingField train_by_photons(const Scene& scene, const PreprocessContext& context);
     void make_pixel_estimate(const Scene& scene, const PreprocessContext& context);
+    void use_given_pixel_estimate();
     std::vector<std::pair<std::string, double>> training_stats_;  // of the last preprocess()
 };
 

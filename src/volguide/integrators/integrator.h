@@ -51,6 +51,24 @@ public:
     virtual void end_pass(int spp_done, double seconds) {}
     // Named counters of the last render (e.g. guided decisions), for --stats. Default: none.
     virtual std::vector<std::pair<std::string, double>> statistics() const { return {}; }
+
+    // The pre-pass as data (`volguide train` / `render --field`, docs/distributed.md). An integrator
+    // whose preprocess() computes something worth sharing (guided_volpath: the guiding field and
+    // the pixel estimate) returns true from has_prepass_state(); prepass_state() is then the bytes
+    // of what the last preprocess() computed, and after use_prepass_state(bytes) the next
+    // preprocess() takes them instead of training (throws std::runtime_error for bytes it cannot
+    // read). The bytes are deterministic: equal bytes, equal renders.
+    virtual bool has_prepass_state() const { return false; }
+    virtual std::string prepass_state() const;
+    virtual void use_prepass_state(const std::string& bytes);
+
+    // The integrator's plugin type and parameters, canonical (integrator_configuration.h), set by
+    // the factory: what a trained pre-pass and the parts of a distributed render are checked against.
+    const std::string& configuration() const { return configuration_; }
+    void set_configuration(std::string configuration) { configuration_ = std::move(configuration); }
+
+private:
+    std::string configuration_;
 };
 
 }  // namespace volguide

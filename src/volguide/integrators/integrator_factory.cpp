@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "volguide/integrators/guided_volpath.h"
+#include "volguide/integrators/integrator_configuration.h"
 #include "volguide/integrators/moment.h"
 #include "volguide/integrators/path.h"
 #include "volguide/integrators/simple_volpath.h"
@@ -15,7 +16,9 @@
 
 namespace volguide {
 
-ObjectPtr create_integrator(const Properties& props) {
+namespace {
+
+std::shared_ptr<Integrator> make_integrator(const Properties& props) {
     const std::string& type = props.type();
     if (type == "path") return std::make_shared<PathIntegrator>(props);
     // volpathmis (Mitsuba's spectral-MIS variant) renders the same image as volpath; volguide's
@@ -35,6 +38,14 @@ ObjectPtr create_integrator(const Properties& props) {
 #endif
     }
     props.fail_here("unsupported integrator plugin '{}' (supported: path, volpath, volpathmis, simple_volpath, guided_volpath, openpgl_volpath, moment)", type);
+}
+
+}  // namespace
+
+ObjectPtr create_integrator(const Properties& props) {
+    std::shared_ptr<Integrator> integrator = make_integrator(props);
+    integrator->set_configuration(integrator_configuration(props));
+    return integrator;
 }
 
 }  // namespace volguide

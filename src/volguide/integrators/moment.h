@@ -19,6 +19,10 @@ public:
     void preprocess(const Scene& scene, const PreprocessContext& context) override {
         nested_->preprocess(scene, context);
     }
+    // The nested integrator's pre-pass (volguide train / render --field).
+    bool has_prepass_state() const override { return nested_->has_prepass_state(); }
+    std::string prepass_state() const override { return nested_->prepass_state(); }
+    void use_prepass_state(const std::string& bytes) override { nested_->use_prepass_state(bytes); }
     const Integrator& nested() const { return *nested_; }
     void end_pass(int spp_done, double seconds) override { nested_->end_pass(spp_done, seconds); }
     std::vector<std::pair<std::string, double>> statistics() const override { return nested_->statistics(); }

@@ -160,7 +160,9 @@ class FrameRenderer {
             if (options_.on_pass) options_.on_pass(spp_done, seconds_since(job_start_), film_.mean());
         }
         result.spp = spp_done;
+        result.first_sample = options_.first_sample;
         result.mean = film_.mean();
+        result.weight = film_.weights();
         if (setup_.variance) result.variance = film_.variance();
         stats.render_seconds = seconds_since(render_start);
         stats.total_seconds = seconds_since(job_start_);
@@ -230,8 +232,9 @@ class FrameRenderer {
                 return;
             }
             for (int x = rect.x0; x < rect.x1; ++x)
-                for (int s = spp_done; s < spp_done + n; ++s) {
-                    FilmSample fs = film_sample(grid_, seed_, x, y, uint64_t(s));
+                for (int k = spp_done; k < spp_done + n; ++k) {
+                    const uint64_t s = options_.first_sample + uint64_t(k);
+                    FilmSample fs = film_sample(grid_, seed_, x, y, s);
                     const Color3 L = radiance_(fs.film_uv, fs.sampler);
                     if (!L.is_finite()) {
                         if (bad++ == 0) out.first_bad[t] = SampleLocation{x, y, s};
@@ -286,10 +289,9 @@ RenderResult render(Scene& scene, const RenderOptions& options) {
     return render(scene, const_cast<Integrator&>(scene.integrator()), options);
 }
 
-RenderResult render(const Scene& scene, Integrator& integrator, const RenderOptions& options) {
-    const auto job_start = Clock::now();
-    auto limit = thread_limit(options.threads);
-    tbb::task_arena arena(arena_threads(options.threads));
+namespace {
+
+void preprocess_in(tbb::task_arena& arena, const Scene& scene, Integrator& integrator, const RenderOptions& options) {
     if (options.progress) {
         Progress p;
         p.phase = "preprocess";
@@ -302,6 +304,23 @@ RenderResult render(const Scene& scene, Integrator& integrator, const RenderOpti
     context.progress = options.progress;
     context.cancel = options.cancel;
     arena.execute([&] { integrator.preprocess(scene, context); });
+}
+
+}  // namespace
+
+double run_preprocess(const Scene& scene, Integrator& integrator, const RenderOptions& options) {
+    const auto start = Clock::now();
+    auto limit = thread_limit(options.threads);
+    tbb::task_arena arena(arena_threads(options.threads));
+    preprocess_in(arena, scene, integrator, options);
+    return seconds_since(start);
+}
+
+RenderResult render(const Scene& scene, Integrator& integrator, const RenderOptions& options) {
+    const auto job_start = Clock::now();
+    auto limit = thread_limit(options.threads);
+    tbb::task_arena arena(arena_threads(options.threads));
+    preprocess_in(arena, scene, integrator, options);
     const double preprocess_seconds = seconds_since(job_start);
 
     const Sensor& sensor = scene.sensor();

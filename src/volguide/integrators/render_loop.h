@@ -22,6 +22,10 @@ class Integrator;
 
 struct RenderOptions {
     int spp = 0;                   // > 0 overrides the sensor's sample_count
+    // The first sample index of every pixel (`--samples FIRST:COUNT`): the render draws samples
+    // [first_sample, first_sample + spp) with the same streams a render from 0 would, so chunks of
+    // one render merge into it (docs/distributed.md).
+    uint64_t first_sample = 0;
     double time_budget = 0;        // seconds (> 0): stop at the end of the last pass that fits
     std::optional<uint64_t> seed;  // default: the sampler's seed
     int threads = 0;               // 0 = all hardware threads
@@ -42,7 +46,7 @@ struct RenderOptions {
 // sample) of camera_sample.h draws it again.
 struct SampleLocation {
     int x = 0, y = 0;  // film pixel (may be outside the film with sample_border)
-    int sample = 0;
+    uint64_t sample = 0;  // the absolute sample index (FIRST + k with --samples FIRST:COUNT)
 };
 
 struct RenderStats {
@@ -61,7 +65,10 @@ struct RenderStats {
 struct RenderResult {
     Image mean;
     Image variance;  // per-sample variance; empty unless requested
-    int spp = 0;     // samples per pixel in the image
+    // Per pixel sum(w) of the filter weights (row-major), what merging parts weights them by.
+    std::vector<double> weight;
+    int spp = 0;     // samples per pixel in the image: indices [first_sample, first_sample + spp)
+    uint64_t first_sample = 0;
     RenderStats stats;
 };
 
@@ -70,6 +77,10 @@ struct RenderResult {
 int pass_size(int index);
 // The passes of a render with `spp` samples per pixel (the last one truncated).
 std::vector<int> pass_schedule(int spp);
+
+// The integrator's pre-pass alone, as render() runs it (seed, time budget, threads, progress,
+// cancellation from `options`): what `volguide train` saves. Returns its seconds.
+double run_preprocess(const Scene& scene, Integrator& integrator, const RenderOptions& options);
 
 // Renders the scene's sensor with its integrator (after integrator preprocessing, which counts
 // toward the time budget). The variance image is filled when the integrator writes_variance().

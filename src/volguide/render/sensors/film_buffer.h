@@ -65,6 +65,8 @@ class FilmBuffer {
     Image mean() const;
     // Per-sample variance sum(w L^2) / sum(w) - mean^2 (clamped at 0); empty without second moments.
     Image variance() const;
+    // sum(w) per pixel, row-major.
+    const std::vector<double>& weights() const { return weight_; }
     int width() const { return width_; }
     int height() const { return height_; }
 
