@@ -60,7 +60,9 @@ bool VolumeWalk::russian_roulette() {
     WalkState& s = state_;
     if (s.depth <= settings_.rr_depth || s.depth == s.rr_depth_done) return true;
     s.rr_depth_done = s.depth;
-    const float q = std::min(s.throughput.max_value() * s.eta * s.eta, 0.95f);
+    const float q = roulette_survival(settings_.rr_rule, s.throughput.max_value() * s.eta * s.eta);
+    // The sample is drawn even when q = 1 (the bounded rule above weight 1), so that both rules
+    // spend the same random numbers per depth.
     if (!(rng_->next_1d() < q)) return false;
     s.throughput *= 1.f / q;
     return true;
