@@ -27,7 +27,7 @@ SCENES = ["shafts", "backlit", "thin", "sss", "aniso", "cloud", "fogbox", "dense
 BASELINE = "volpath"
 # The best unguided method of a scene (issue 21): the lowest relMSE at this budget among these; every
 # method's speed-up is also quoted against it ("vs best unguided").
-UNGUIDED = ["volpath", "volpath rr_rule=bounded", "volpath+equiangular"]
+UNGUIDED_METHODS = ["volpath", "volpath rr_rule=bounded", "volpath+equiangular"]
 
 # Methods, named by their integrator parameters (docs/interface.md). `None` = the scenes' default
 # integrator file with the given -D values; a dict = a generated guided_volpath integrator file.
@@ -192,11 +192,11 @@ def run_method(volguide, scene, method, spec, args, out):
 
 def add_speedups(rows):
     """Speed-ups at equal time = relMSE(baseline) / relMSE(method), against volpath and against the
-    scene's best unguided method (the lowest relMSE among UNGUIDED rows that ran)."""
+    scene's best unguided method (the lowest relMSE among UNGUIDED_METHODS rows that ran)."""
     base = {r["scene"]: r for r in rows if r["method"] == BASELINE and r["status"] == "ok"}
     best = {}
     for r in rows:
-        if r["method"] in UNGUIDED and r["status"] == "ok":
+        if r["method"] in UNGUIDED_METHODS and r["status"] == "ok":
             b = best.get(r["scene"])
             if b is None or r["relmse_1e-2"] < b["relmse_1e-2"]:
                 best[r["scene"]] = r
@@ -259,7 +259,7 @@ def table_markdown(rows, scenes, machine, args, checks):
            f"- command: `{args.command_line}`",
            "- relMSE = mean over pixels and channels of (I - R)^2 / (R^2 + eps) against bench/references/; "
            "speed-up = relMSE(volpath) / relMSE(method) at equal time (eps 1e-2); "
-           f"vs best unguided: relMSE(best of {', '.join(UNGUIDED)}) / relMSE(method).", ""]
+           f"vs best unguided: relMSE(best of {', '.join(UNGUIDED_METHODS)}) / relMSE(method).", ""]
     for scene in scenes:
         out += [f"## {scene}", "", "| method | spp | seconds | relMSE (1e-2) | relMSE (1e-3) | "
                 "relMSE (1e-3, trimmed) | MSE | speed-up vs volpath | vs best unguided | branches mean / p99.9 / max |",
