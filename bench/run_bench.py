@@ -73,6 +73,9 @@ EXTRA_METHODS = {
         "guided": {"distance": "incremental", "direction": "product", "rrs": "grrs", "rrs_window": 1.0}},
     "guided_volpath distance=incremental direction=product rrs=grr rrs_window=1": {
         "guided": {"distance": "incremental", "direction": "product", "rrs": "grr", "rrs_window": 1.0}},
+    # Issue 21: the branch budget (a quarter of the cap), branches bounded by construction.
+    "guided_volpath distance=incremental direction=product rrs=grrs rrs_branch_budget=16": {
+        "guided": {"distance": "incremental", "direction": "product", "rrs": "grrs", "rrs_branch_budget": 16.0}},
 }
 
 # Zoomed crops shown in the HTML report: (x, y, width, height) in pixels of the 160x120 image.
