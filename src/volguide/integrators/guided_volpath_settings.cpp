@@ -205,15 +205,15 @@ GuidedVolPathSettings GuidedVolPathSettings::from(const Properties& props) {
 
 std::string GuidedVolPathSettings::to_string() const {
     return fmt::format(
-        "max_depth={}, rr_depth={}, training={}, photons={}, training_iterations={}, leaf_samples={}, "
+        "max_depth={}, rr_depth={}, rr_rule={}, training={}, photons={}, training_iterations={}, leaf_samples={}, "
         "lobes={}, distance={}, hetero_distance={}, direction={}, surface_guiding={}, rrs={}, rrs_window={}, "
-        "pixel_estimate={}, equiangular={}, estimate={}",
-        walk.max_depth, walk.rr_depth, choice_name<TrainingMethod>(kTraining, training), photons,
+        "rrs_branch_budget={}, pixel_estimate={}, equiangular={}, estimate={}",
+        walk.max_depth, walk.rr_depth, roulette_rule_name(walk.rr_rule), choice_name<TrainingMethod>(kTraining, training), photons,
         training_iterations, field.tree.max_samples, field.lobes,
         choice_name<DistanceGuiding>(kDistance, guide.distance),
         choice_name<bool>(kHeteroDistance, guide.guided_tracking),
         choice_name<DirectionGuiding>(kDirection, guide.direction), guide.surface,
-        choice_name<RouletteMode>(kRrs, roulette.mode), roulette.window,
+        choice_name<RouletteMode>(kRrs, roulette.mode), roulette.window, roulette.branch_budget,
         choice_name<PixelEstimateMethod>(kPixelEstimate, pixel_estimate), walk.equiangular,
         choice_name<FieldEstimate>(kEstimate, estimate));
 }

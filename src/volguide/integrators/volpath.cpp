@@ -30,7 +30,7 @@ RouletteRule read_roulette_rule(const Properties& props) {
     const std::string name = props.get_string("rr_rule", "mitsuba");
     if (name == "mitsuba") return RouletteRule::Mitsuba;
     if (name == "bounded") return RouletteRule::Bounded;
-    props.fail_at("rr_rule", "invalid rr_rule '{}' (one of: mitsuba, bounded)", name);
+    props.fail_at("rr_rule", "volpath: invalid rr_rule '{}' (one of: mitsuba, bounded)", name);
 }
 
 }  // namespace
