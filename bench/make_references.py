@@ -35,6 +35,10 @@ REFERENCES = {
     "aniso": (["integrator=volpath", "equiangular=true"], 7000, 4),
     "cloud": (["integrator=volpath"], 26500, 8),
     "fogbox": (["integrator=volpath"], 8064, 3),
+    # Issue 21's dense back-lit sphere: volpath with the bounded roulette (unbiased like Mitsuba's rule,
+    # and of finite variance here). Sized to ~10 minutes of 2 shared cores (2026-11-24), not by the
+    # 1/16 rule: see bench/references/README.md for its quality.
+    "densesphere": (["integrator=volpath", "rr_rule=bounded"], 512, 12),
 }
 
 

@@ -55,6 +55,8 @@ def main():
             r[key] = d[key]
         r.pop("speedup_1e-2", None)
         r.pop("speedup_1e-3", None)
+        for key in ("best_unguided", "speedup_best_unguided_1e-2", "speedup_best_unguided_1e-3"):
+            r.pop(key, None)
     run_bench.add_speedups(rows)
     checks = run_bench.check_references(rows, scenes, args.references)
     refs = {s: run_bench.reference_record(args.references, s) for s in scenes}

@@ -1,9 +1,10 @@
 // The equal-time benchmark's scenes (bench/scenes, issue 5) load and render with the baseline
-// methods (volpath, volpath + equiangular), and their images are finite and not black (a mistake in a scene shows up here, not an
+// methods (volpath, volpath + equiangular, volpath with the bounded roulette), and their images are finite and not black (a mistake in a scene shows up here, not an
 // hour into a benchmark run).
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <utility>
 
 #include "support/cli.h"
 #include "support/test_support.h"
@@ -17,11 +18,12 @@ class BenchScene : public ::testing::TestWithParam<const char*> {};
 TEST_P(BenchScene, RendersWithTheBaselines) {
     TempDir dir(std::string("bench-scene-") + GetParam());
     const std::string scene = source_dir() + "/bench/scenes/" + GetParam() + ".xml";
-    for (const char* equiangular : {"false", "true"}) {
-        const std::string out = dir.file(std::string("out-") + equiangular + ".exr");
-        CliResult r = run_cli({"render", scene, "-D", "width=24", "-D", "height=18", "-D",
-                               std::string("equiangular=") + equiangular, "--spp", "16", "--seed", "1", "--quiet",
-                               "-o", out});
+    const std::pair<const char*, const char*> baselines[] = {
+        {"equiangular=false", "rr_rule=mitsuba"}, {"equiangular=true", "rr_rule=mitsuba"}, {"equiangular=false", "rr_rule=bounded"}};
+    for (const auto& [equiangular, rr_rule] : baselines) {
+        const std::string out = dir.file(std::string("out-") + equiangular + "-" + rr_rule + ".exr");
+        CliResult r = run_cli({"render", scene, "-D", "width=24", "-D", "height=18", "-D", equiangular, "-D", rr_rule,
+                               "--spp", "16", "--seed", "1", "--quiet", "-o", out});
         ASSERT_EQ(r.exit_code, 0) << r.err;
         Image img = read_image(out);
         double sum = 0;
@@ -34,4 +36,4 @@ TEST_P(BenchScene, RendersWithTheBaselines) {
 }
 
 INSTANTIATE_TEST_SUITE_P(AllScenes, BenchScene,
-                         ::testing::Values("shafts", "backlit", "thin", "sss", "aniso", "cloud", "fogbox"));
+                         ::testing::Values("shafts", "backlit", "thin", "sss", "aniso", "cloud", "fogbox", "densesphere"));

@@ -332,6 +332,19 @@ TEST(GuidedVolPathUnbiased, PointLitFogWithRouletteSplittingMatchesVolpath) {
     }
 }
 
+// The branch budget lowers q only: the image mean is volpath's.
+TEST(GuidedVolPathUnbiased, BranchBudgetIsUnbiased) {
+    TempDir dir("guided-rrs-budget");
+    const std::string grid = write_furnace_grid(dir);
+    Rendered ref = render_scene_xml(lit_fog_xml(false, grid, R"(<integrator type="volpath"/>)"), 1024, 7, false);
+    Rendered g = render_scene_xml(
+        lit_fog_xml(false, grid,
+                    guided("incremental", "product", 200000, -1.f, "",
+                           rrs_xml("grrs", 1.f) + R"(<float name="rrs_branch_budget" value="3"/>)")),
+        1024, 9, false);
+    expect_same_means(g, ref);
+}
+
 TEST(GuidedVolPathUnbiased, RouletteSplittingStatistics) {
     TempDir dir("guided-rrs-stats");
     const std::string grid = write_furnace_grid(dir);
@@ -360,6 +373,16 @@ TEST(GuidedVolPathUnbiased, RouletteSplittingStatistics) {
         lit_fog_xml(false, grid, guided("incremental", "product", 200000, -1.f, "", rrs_xml("grrs", 1.f, "raymarch", 2))));
     EXPECT_LE(cap.at("rrs_branches_max"), 2.0);
     EXPECT_GT(cap.at("rrs_cap_limited"), 0.0);
+    // The branch budget (issue 21): 3 branches per camera sample by construction, from a window that
+    // splits freely; the cap (64) is not what limits it.
+    const auto budget = guide_stats(lit_fog_xml(
+        false, grid,
+        guided("incremental", "product", 200000, -1.f, "",
+               rrs_xml("grrs", 1.f) + R"(<float name="rrs_branch_budget" value="3"/>)")));
+    EXPECT_LE(budget.at("rrs_branches_max"), 3.0);
+    EXPECT_GT(budget.at("rrs_budget_limited"), 0.0);
+    EXPECT_EQ(budget.at("rrs_cap_limited"), 0.0);
+    EXPECT_GT(budget.at("rrs_splits"), 0.0);
     // rrs=standard reports no RR/splitting statistics.
     const auto none = guide_stats(lit_fog_xml(false, grid, guided("incremental", "product", 200000)));
     EXPECT_EQ(none.count("rrs_decisions"), 0u);

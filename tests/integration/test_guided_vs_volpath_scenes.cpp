@@ -1,7 +1,9 @@
 // Issues 7 and 8: guided_volpath's full system (its defaults: distance=incremental
 // direction=product with surface guiding, rrs=grrs with the ray-marched pixel estimate and the
 // ADRRS window s = 5) against volpath on the benchmark scenes `shafts`, `cloud`, `sss` and `fogbox`
-// (bench/scenes), and guided RR alone and the paper's window (s = 1) on `shafts`, per pixel:
+// (bench/scenes), guided RR alone and the paper's window (s = 1) on `shafts`, and on issue 21's
+// `densesphere` the full system with and without the branch budget (against volpath with the
+// bounded roulette), per pixel:
 // two independent renders at a small resolution, each with its own per-sample variance (--variance),
 // z = (a - b) / sqrt(var_a / n_a + var_b / n_b) per pixel and channel, two-sided, Šidák-corrected at
 // alpha = 0.01 over the pixel-channels; at least 99.5 % must pass (own variances are noisy estimates
@@ -37,10 +39,12 @@ Render render(const TempDir& dir, const std::string& scene, const std::string& n
     return {read_image(dir.file(name + ".exr")), read_image(dir.file(name + "_var.exr")), spp};
 }
 
-// `guided_xml`: an integrator file for the guided render (empty: guided_volpath's defaults).
-void compare(const std::string& scene, int spp_volpath, int spp_guided, const std::string& guided_xml = "") {
+// `guided_xml`: an integrator file for the guided render (empty: guided_volpath's defaults);
+// `rr_rule`: volpath's roulette.
+void compare(const std::string& scene, int spp_volpath, int spp_guided, const std::string& guided_xml = "",
+             const std::string& rr_rule = "mitsuba") {
     TempDir dir("guided-vs-volpath-" + scene);
-    const Render v = render(dir, scene, "volpath", spp_volpath, 11, {"integrator=volpath"});
+    const Render v = render(dir, scene, "volpath", spp_volpath, 11, {"integrator=volpath", "rr_rule=" + rr_rule});
     std::vector<std::string> defines = {"integrator=guided_volpath"};
     if (!guided_xml.empty()) defines.push_back("integrator_xml=" + dir.write("guided.xml", guided_xml));
     const Render g = render(dir, scene, "guided", spp_guided, 12, defines);
@@ -96,3 +100,15 @@ std::string rrs_integrator(const std::string& rrs, float window) {
 }
 TEST(GuidedVsVolpathScenes, ShaftsGuidedRussianRoulette) { compare("shafts", 1024, 512, rrs_integrator("grr", 1.f)); }
 TEST(GuidedVsVolpathScenes, ShaftsPapersWindow) { compare("shafts", 1024, 512, rrs_integrator("grrs", 1.f)); }
+
+// Issue 21's dense back-lit sphere (sigma_t 8, albedo 0.995, g 0.6): the full system, and with the
+// branch budget of a quarter of the cap, against volpath with the bounded roulette (finite variance
+// there; Mitsuba's rule is unbiased too but its per-pixel variances are heavy-tailed).
+std::string budget_integrator(float budget) {
+    return R"(<scene version="3.0.0"><integrator type="guided_volpath"><integer name="max_depth" value="$max_depth"/>)"
+           R"(<float name="rrs_branch_budget" value=")" + std::to_string(budget) + R"("/></integrator></scene>)";
+}
+TEST(GuidedVsVolpathScenes, DenseSphere) { compare("densesphere", 1024, 256, "", "bounded"); }
+TEST(GuidedVsVolpathScenes, DenseSphereBranchBudget) {
+    compare("densesphere", 1024, 256, budget_integrator(16.f), "bounded");
+}

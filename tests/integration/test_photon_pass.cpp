@@ -325,6 +325,7 @@ TEST(GuidedVolPath, BadRouletteSplittingParametersAreErrorsNamingTheLine) {
              {R"(<float name="rrs_q_min" value="0"/>)", "rrs_q_min must be"},
              {R"(<float name="rrs_q_max" value="0.5"/>)", "rrs_q_max must be"},
              {R"(<integer name="rrs_max_branches" value="0"/>)", "rrs_max_branches must be"},
+             {R"(<float name="rrs_branch_budget" value="0.5"/>)", "rrs_branch_budget must be"},
              {R"(<string name="pixel_estimate" value="guess"/>)", "invalid pixel_estimate"},
              {R"(<string name="rrs" value="standard"/><float name="rrs_window" value="5"/>)",
               "only applies to rrs=grr or rrs=grrs"}}) {

@@ -24,7 +24,9 @@
 //    a mu0 H(mu) H(mu0) / (4 (mu + mu0)) for §3. The camera never sees the delta beam: the
 //    unscattered part is excluded automatically.
 //  - max_depth is unbounded (-1): truncation would bias. Russian roulette (rr_depth 5, Mitsuba's
-//    rule) for a = 0.9; disabled for a >= 0.99 (see the DISORT tests for why).
+//    rule) for a = 0.9; disabled for a >= 0.99 (see the DISORT tests for why). The BoundedRoulette*
+//    tests run the bounded rule (rr_rule="bounded") with RR on everywhere, the a >= 0.99 cases
+//    included (VOLGUIDE_ORACLE_INTEGRATOR must then be an integrator that reads rr_rule).
 //
 // Tolerance (oracles.md): |mean - ref| <= 4 se + eps_ref, se from the per-sample variance and the
 // sample count, fixed seeds. Each check prints value ± se, z and the error size it resolves (4 se).
@@ -197,34 +199,39 @@ std::string sun_xml(double mu0) {
 // Unbounded depth; `rr_depth` as Mitsuba's (default 5). kNoRR puts Russian roulette beyond any path
 // that occurs (see the high-albedo tests for why).
 constexpr int kDefaultRR = 5, kNoRR = 1000000000;
-std::string scene(const std::string& body, int rr_depth = kDefaultRR) {
+// `rr_rule` (volpath's roulette, volpath.h): "" keeps the integrator's default (Mitsuba's rule).
+std::string scene(const std::string& body, int rr_depth = kDefaultRR, const std::string& rr_rule = "") {
     const char* integrator = std::getenv("VOLGUIDE_ORACLE_INTEGRATOR");
+    const std::string rule = rr_rule.empty() ? "" : fmt::format(R"(<string name="rr_rule" value="{}"/>)", rr_rule);
     return fmt::format(R"(<scene version="3.0.0"><integrator type="moment"><integrator type="{}">
-        <integer name="max_depth" value="-1"/><integer name="rr_depth" value="{}"/></integrator></integrator>
+        <integer name="max_depth" value="-1"/><integer name="rr_depth" value="{}"/>{}</integrator></integrator>
         {}</scene>)",
                        integrator && *integrator ? integrator : "volpath",
-                       int(env_number("VOLGUIDE_ORACLE_RR_DEPTH", rr_depth)), body);
+                       int(env_number("VOLGUIDE_ORACLE_RR_DEPTH", rr_depth)), rule, body);
 }
 
 // §2 slab, sky on the upper hemisphere, camera straight down (UR1) or straight up from below (UT1).
-std::string slab_sky_xml(double a, double g, double b, bool transmission, int rr_depth = kDefaultRR) {
+std::string slab_sky_xml(double a, double g, double b, bool transmission, int rr_depth = kDefaultRR,
+                         const std::string& rr_rule = "") {
     const double W = 200;
     return scene(medium_xml(a, g, false) + slab_shape_xml(b, 0.0, W) + kSky + occluder_xml(-b - 20) +
                  camera_xml(0, 0, transmission ? -b : 0, 1.0, transmission),
-                 rr_depth);
+                 rr_depth, rr_rule);
 }
 
 // §2 slab, directional light at normal incidence (E⊥ = pi), camera from above at cosine mu.
-std::string slab_sun_xml(double a, double g, double b, double mu, int rr_depth = kDefaultRR) {
+std::string slab_sun_xml(double a, double g, double b, double mu, int rr_depth = kDefaultRR,
+                         const std::string& rr_rule = "") {
     return scene(medium_xml(a, g, false) + slab_shape_xml(b, 0.0, 200) + sun_xml(1.0) + camera_xml(0, 0, 0, mu, false),
-                 rr_depth);
+                 rr_depth, rr_rule);
 }
 
 // §3 half-space (60 mfp deep, half-width 1000), isotropic, top at z = 0.
-std::string halfspace_xml(double a, const std::string& light, double mu, int rr_depth = kDefaultRR) {
+std::string halfspace_xml(double a, const std::string& light, double mu, int rr_depth = kDefaultRR,
+                          const std::string& rr_rule = "") {
     return scene(medium_xml(a, 0, true) + slab_shape_xml(60, 0.0, 1000) + light + occluder_xml(-80) +
                  camera_xml(0, 0, 0, mu, false),
-                 rr_depth);
+                 rr_depth, rr_rule);
 }
 
 }  // namespace
@@ -343,6 +350,32 @@ TEST(VolPathOracles, HalfSpaceSun) {
                "half-space a=0.9 sun mu0=1, mu=1");
     expect_ref(render_value(halfspace_xml(0.9, sun_xml(0.5), 0.7), SPP_HS, 45), ref(0.7, 0.5), 1e-6,
                "half-space a=0.9 sun mu0=0.5, mu=0.7");
+}
+
+// ---------------------------------------------------------------------------------------------
+// The bounded roulette (rr_rule="bounded", volpath.h) with the default rr_depth, where Mitsuba's rule
+// needs RR off: the weight never exceeds max(1, the weight at rr_depth), so the variance stays finite
+// in a conservative thick slab and a deep a = 0.99 half-space. Plus one a = 0.9 case of each light.
+TEST(VolPathOracles, BoundedRouletteSlabTable35) {
+    expect_ref(render_value(slab_sky_xml(0.9, 0.75, 2, false, kDefaultRR, "bounded"), SPP_UR1_T35, 111), 0.09739,
+               1e-5, "bounded RR: Table35 UR1");
+    expect_ref(render_value(slab_sun_xml(0.9, 0.75, 2, 0.5, kDefaultRR, "bounded"), SPP_R_T35, 112), 0.11956, 1e-5,
+               "bounded RR: Table35 R(mu=0.5, 1)");
+}
+
+TEST(VolPathOracles, BoundedRouletteSlabDisort3Thick) {
+    expect_ref(render_value(slab_sky_xml(1.0, 0.75, 8, false, kDefaultRR, "bounded"), SPP_DISORT8, 133), 0.506416,
+               1e-6, "bounded RR: DISORT3 b=8 UR1");
+}
+
+TEST(VolPathOracles, BoundedRouletteHalfSpace) {
+    expect_ref(render_value(halfspace_xml(0.99, kSky, 1.0, kDefaultRR, "bounded"), SPP_HS99, 143),
+               1 - chandrasekhar_H(0.99, 1.0) * 0.1, 1e-6, "bounded RR: half-space a=0.99 sky, mu=1");
+    auto ref = [](double mu, double mu0) {
+        return 0.9 * mu0 * chandrasekhar_H(0.9, mu) * chandrasekhar_H(0.9, mu0) / (4 * (mu + mu0));
+    };
+    expect_ref(render_value(halfspace_xml(0.9, sun_xml(0.5), 0.7, kDefaultRR, "bounded"), SPP_HS, 145), ref(0.7, 0.5),
+               1e-6, "bounded RR: half-space a=0.9 sun mu0=0.5, mu=0.7");
 }
 
 // ---------------------------------------------------------------------------------------------

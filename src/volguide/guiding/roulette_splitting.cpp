@@ -21,6 +21,7 @@ RouletteSplittingStats& RouletteSplittingStats::operator+=(const RouletteSplitti
     splits += o.splits;
     extra_branches += o.extra_branches;
     cap_limited += o.cap_limited;
+    budget_limited += o.budget_limited;
     camera_samples += o.camera_samples;
     if (branch_histogram.size() < o.branch_histogram.size()) branch_histogram.resize(o.branch_histogram.size(), 0);
     for (size_t k = 0; k < o.branch_histogram.size(); ++k) branch_histogram[k] += o.branch_histogram[k];
@@ -55,6 +56,7 @@ std::vector<std::pair<std::string, double>> RouletteSplittingStats::named() cons
             {"rrs_splits", double(splits)},
             {"rrs_extra_branches", double(extra_branches)},
             {"rrs_cap_limited", double(cap_limited)},
+            {"rrs_budget_limited", double(budget_limited)},
             {"rrs_branches_per_camera_sample", ratio(branches, camera_samples)},
             {"rrs_branches_p999", double(branches_quantile(0.999))},
             {"rrs_branches_max", double(max_branches)},
@@ -63,7 +65,8 @@ std::vector<std::pair<std::string, double>> RouletteSplittingStats::named() cons
 
 RouletteSplitting::RouletteSplitting(const RouletteSplittingSettings& settings) : settings_(settings) {}
 
-float RouletteSplitting::factor(const Color3& weight, const Color3& estimate, float pixel, int branches) const {
+float RouletteSplitting::factor(const Color3& weight, const Color3& estimate, float pixel, int branches,
+                                float allowance) const {
     RouletteSplittingStats& st = stats_.local();
     ++st.decisions;
     const float expected = (weight * estimate).average();
@@ -79,6 +82,12 @@ float RouletteSplitting::factor(const Color3& weight, const Color3& estimate, fl
     if (q > allowed) {
         q = allowed;
         ++st.cap_limited;
+    }
+    // n = floor(q + xi) <= ceil(q) <= floor(allowance): every copy keeps an allowance >= 1.
+    const float budget = std::max(1.f, std::floor(allowance));
+    if (q > budget) {
+        q = budget;
+        ++st.budget_limited;
     }
     return q;
 }

@@ -8,11 +8,20 @@
 // continuations is n = floor(q + xi) (E[n] = q) and each carries the weight 1/q, so any q gives an
 // unbiased estimator (§9.4, §9.6). Only grr: q <= 1 (no splitting).
 //
+// Branch budget (issue 21, off by default): the camera sample starts with an allowance of B
+// branches; a decision may split into at most floor(allowance) copies (q <= floor(allowance)), and
+// the n copies of a split share their path's allowance, a / n each (the walk divides it). The
+// allowances of the live branches always sum to at most B and each is >= 1, so a camera sample can
+// never make more than B branches, wherever the estimates are wrong — bounded by construction,
+// spread over the path tree, instead of the first branches spending the cap. Only q is limited:
+// every decision stays unbiased.
+//
 // Statistics (kills, splits, branches per camera sample with its distribution) are counted per
 // thread and summed on request.
 #include <tbb/enumerable_thread_specific.h>
 
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -32,6 +41,7 @@ struct RouletteSplittingSettings {
     float window = 5.f;
     float q_min = 0.1f, q_max = 20.f;
     int max_branches = 64;  // path branches per camera sample, the original included
+    float branch_budget = 0.f;  // B >= 1: the allowance of a camera sample; 0: off
 };
 
 // The weight-window factor q(r) of eq. 9.1 before clamping (r >= 0).
@@ -47,6 +57,7 @@ struct RouletteSplittingStats {
     uint64_t splits = 0;             // decisions that continued with n > 1
     uint64_t extra_branches = 0;     // sum of n - 1 over the splits
     uint64_t cap_limited = 0;        // decisions whose q was lowered by the branch cap
+    uint64_t budget_limited = 0;     // decisions whose q was lowered by the branch's allowance
     uint64_t camera_samples = 0;
     // branch_histogram[k]: camera samples that made k branches (k = 0 unused; the last bin is the cap)
     std::vector<uint64_t> branch_histogram;
@@ -65,9 +76,14 @@ class RouletteSplitting {
 
     // The expected number of continuations of a path of weight `weight` whose continuation is
     // estimated at `estimate`, in a pixel estimated at `pixel` (> 0), when the camera sample has
-    // `branches` branches so far: 1 when the estimate is unusable (zero, not finite). Counts the
-    // decision.
-    float factor(const Color3& weight, const Color3& estimate, float pixel, int branches) const;
+    // `branches` branches so far and this branch has the allowance `allowance` (branch budget; +inf
+    // when off): 1 when the estimate is unusable (zero, not finite). Counts the decision.
+    float factor(const Color3& weight, const Color3& estimate, float pixel, int branches,
+                 float allowance = std::numeric_limits<float>::infinity()) const;
+    // A camera sample's allowance (the branch budget B, or +inf when off).
+    float initial_allowance() const {
+        return settings_.branch_budget >= 1.f ? settings_.branch_budget : std::numeric_limits<float>::infinity();
+    }
     // Counts a decision's outcome: n continuations.
     void count_outcome(int n) const;
     // Counts a finished camera sample that made `branches` branches.

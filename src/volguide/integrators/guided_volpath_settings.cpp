@@ -134,7 +134,7 @@ void read_direction(const Properties& props, WalkGuideSettings& g) {
     g.bsdf_prob = unit_interval(props, "bsdf_prob", g.bsdf_prob);
 }
 
-// rrs and its parameters (rrs_window, rrs_q_min, rrs_q_max, rrs_max_branches).
+// rrs and its parameters (rrs_window, rrs_q_min, rrs_q_max, rrs_max_branches, rrs_branch_budget).
 void read_roulette(const Properties& props, RouletteSplittingSettings& r) {
     r.mode = read_choice<RouletteMode>(props, "rrs", RouletteMode::GuidedSplitting, kRrs);
     r.window = finite_at_least(props, "rrs_window", r.window, 1.f);
@@ -143,6 +143,10 @@ void read_roulette(const Properties& props, RouletteSplittingSettings& r) {
         props.fail_at("rrs_q_min", "guided_volpath: rrs_q_min must be in (0, 1], got {}", r.q_min);
     r.q_max = finite_at_least(props, "rrs_q_max", r.q_max, 1.f);
     r.max_branches = int_in(props, "rrs_max_branches", r.max_branches, 1, 4096);
+    r.branch_budget = props.get_float("rrs_branch_budget", r.branch_budget);
+    if (!(r.branch_budget == 0.f || (r.branch_budget >= 1.f && std::isfinite(r.branch_budget))))
+        props.fail_at("rrs_branch_budget", "guided_volpath: rrs_branch_budget must be 0 (off) or a finite value >= 1, got {}",
+                      r.branch_budget);
 }
 
 // Guided RR/splitting's pixel estimate: pixel_estimate, pixel_estimate_rays, pixel_estimate_spp,
@@ -161,7 +165,7 @@ void read_pixel_estimate(const Properties& props, GuidedVolPathSettings& s) {
     s.pixel.volume_only = s.walk.volume_only;
     s.pixel.hide_emitters = s.walk.hide_emitters;
     if (s.roulette.mode != RouletteMode::Standard) return;
-    for (const char* name : {"rrs_window", "rrs_q_min", "rrs_q_max", "rrs_max_branches", "pixel_estimate",
+    for (const char* name : {"rrs_window", "rrs_q_min", "rrs_q_max", "rrs_max_branches", "rrs_branch_budget", "pixel_estimate",
                              "pixel_estimate_rays", "pixel_estimate_spp", "pixel_estimate_floor",
                              "save_pixel_estimate"})
         if (props.has(name))
@@ -201,15 +205,15 @@ GuidedVolPathSettings GuidedVolPathSettings::from(const Properties& props) {
 
 std::string GuidedVolPathSettings::to_string() const {
     return fmt::format(
-        "max_depth={}, rr_depth={}, training={}, photons={}, training_iterations={}, leaf_samples={}, "
+        "max_depth={}, rr_depth={}, rr_rule={}, training={}, photons={}, training_iterations={}, leaf_samples={}, "
         "lobes={}, distance={}, hetero_distance={}, direction={}, surface_guiding={}, rrs={}, rrs_window={}, "
-        "pixel_estimate={}, equiangular={}, estimate={}",
-        walk.max_depth, walk.rr_depth, choice_name<TrainingMethod>(kTraining, training), photons,
+        "rrs_branch_budget={}, pixel_estimate={}, equiangular={}, estimate={}",
+        walk.max_depth, walk.rr_depth, roulette_rule_name(walk.rr_rule), choice_name<TrainingMethod>(kTraining, training), photons,
         training_iterations, field.tree.max_samples, field.lobes,
         choice_name<DistanceGuiding>(kDistance, guide.distance),
         choice_name<bool>(kHeteroDistance, guide.guided_tracking),
         choice_name<DirectionGuiding>(kDirection, guide.direction), guide.surface,
-        choice_name<RouletteMode>(kRrs, roulette.mode), roulette.window,
+        choice_name<RouletteMode>(kRrs, roulette.mode), roulette.window, roulette.branch_budget,
         choice_name<PixelEstimateMethod>(kPixelEstimate, pixel_estimate), walk.equiangular,
         choice_name<FieldEstimate>(kEstimate, estimate));
 }

@@ -53,18 +53,22 @@ std::pair<BSDFSample, Color3> GuidedWalkPolicy::sample_surface_direction(const B
 }
 
 Continuation GuidedWalkPolicy::continuation(ContinuationStage stage, const MediumInteraction& mi, const Vec3f& w,
-                                            const Color3& throughput, int branches, Sampler& sampler,
-                                            GuideRegion& region) {
+                                            const Color3& throughput, int branches, float allowance,
+                                            Sampler& sampler, GuideRegion& region) {
     Continuation c;
     if (!rrs_) return c;
     const Color3 estimate = stage == ContinuationStage::Distance ? guide_.inscattered_estimate(mi, w, region)
                                                                  : guide_.incident_estimate(mi, w, region);
     c.guided = estimate.max_value() > 0.f;
-    c.q = rrs_->factor(throughput, estimate, pixel_, branches);
+    c.q = rrs_->factor(throughput, estimate, pixel_, branches, allowance);
     if (c.q == 1.f) return c;
     c.n = stochastic_round(c.q, sampler.next_1d());
     rrs_->count_outcome(c.n);
     return c;
+}
+
+float GuidedWalkPolicy::branch_budget() const {
+    return rrs_ ? rrs_->initial_allowance() : std::numeric_limits<float>::infinity();
 }
 
 void GuidedWalkPolicy::end_camera_sample(int branches) {

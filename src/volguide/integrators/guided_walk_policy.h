@@ -37,8 +37,9 @@ class GuidedWalkPolicy final : public WalkPolicy {
                                                            const BSDF& bsdf, float u1, Point2f u2,
                                                            Sampler& sampler) override;
 
+    float branch_budget() const override;
     Continuation continuation(ContinuationStage stage, const MediumInteraction& mi, const Vec3f& w,
-                              const Color3& throughput, int branches, Sampler& sampler,
+                              const Color3& throughput, int branches, float allowance, Sampler& sampler,
                               GuideRegion& region) override;
     void end_camera_sample(int branches) override;
 

@@ -4,6 +4,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+
 #include "volguide/core/log.h"
 #include "volguide/integrators/path.h"
 #include "volguide/integrators/volpath_walk.h"
@@ -11,6 +13,27 @@
 #include "volguide/render/scene.h"
 
 namespace volguide {
+
+float roulette_survival(RouletteRule rule, float beta_max_eta2) {
+    // Mitsuba caps the survival at 0.95 so that every path ends eventually, at the price of weights
+    // growing by 1/0.95 per event while beta stays near 1. The bounded rule does not cap: a path of
+    // weight >= 1 always continues, and the absorption (albedo < 1) or leaving the medium ends it.
+    const float cap = rule == RouletteRule::Mitsuba ? 0.95f : 1.f;
+    return std::min(beta_max_eta2, cap);
+}
+
+const char* roulette_rule_name(RouletteRule rule) { return rule == RouletteRule::Mitsuba ? "mitsuba" : "bounded"; }
+
+namespace {
+
+RouletteRule read_roulette_rule(const Properties& props) {
+    const std::string name = props.get_string("rr_rule", "mitsuba");
+    if (name == "mitsuba") return RouletteRule::Mitsuba;
+    if (name == "bounded") return RouletteRule::Bounded;
+    props.fail_at("rr_rule", "volpath: invalid rr_rule '{}' (one of: mitsuba, bounded)", name);
+}
+
+}  // namespace
 
 VolPathSettings VolPathSettings::from(const Properties& props) {
     VolPathSettings s;
@@ -21,6 +44,7 @@ VolPathSettings VolPathSettings::from(const Properties& props) {
     s.equiangular = props.get_bool("equiangular", false);
     s.volume_only = props.get_bool("volume_only", false);
     s.forward_first_scatter = props.get_bool("forward_first_scatter", false);
+    s.rr_rule = read_roulette_rule(props);
     if (s.forward_first_scatter && s.equiangular)
         props.fail_at("forward_first_scatter", "volpath: forward_first_scatter cannot be combined with equiangular");
     return s;
@@ -29,9 +53,9 @@ VolPathSettings VolPathSettings::from(const Properties& props) {
 std::string VolPathIntegrator::to_string() const {
     return fmt::format(
         "volpath[max_depth={}, rr_depth={}, hide_emitters={}, equiangular={}, volume_only={}, "
-        "forward_first_scatter={}]",
+        "forward_first_scatter={}, rr_rule={}]",
         settings_.max_depth, settings_.rr_depth, settings_.hide_emitters, settings_.equiangular, settings_.volume_only,
-        settings_.forward_first_scatter);
+        settings_.forward_first_scatter, roulette_rule_name(settings_.rr_rule));
 }
 
 void VolPathIntegrator::preprocess(const Scene& scene, const PreprocessContext&) {

@@ -21,12 +21,25 @@
 //    medium scattering keeps its direction (a forward delta phase function, weight 1, no NEE there).
 //    With volume_only the image is the integral of T sigma_s L(x, d), the radiance from straight
 //    ahead — the reference of the field's incident estimate.
+//  - `rr_rule` (default "mitsuba", a volguide extension): the Russian roulette played once per
+//    depth from rr_depth on. "mitsuba" is Mitsuba 3's rule, survival q = min(max(beta) eta^2, 0.95):
+//    the same noise as Mitsuba, but once max(beta) > 0.95 every event multiplies the weight by
+//    albedo / 0.95, unbounded (infinite variance) for albedo > 0.95 in deep media. "bounded" survives
+//    with q = min(1, max(beta) eta^2) (pbrt-v4's rule): a weight below 1 is brought back to 1 and
+//    never above it, so a path's weight stays bounded in high-albedo media.
 #include "volguide/core/properties.h"
 #include "volguide/integrators/integrator.h"
 
 namespace volguide {
 
 class WalkPolicy;
+
+// The Russian roulette rule (see `rr_rule` above).
+enum class RouletteRule { Mitsuba, Bounded };
+
+// The survival probability of the throughput Russian roulette for `beta_max_eta2` = max(beta) eta^2.
+float roulette_survival(RouletteRule rule, float beta_max_eta2);
+const char* roulette_rule_name(RouletteRule rule);
 
 struct VolPathSettings {
     int max_depth = -1;
@@ -35,6 +48,7 @@ struct VolPathSettings {
     bool equiangular = false;
     bool volume_only = false;
     bool forward_first_scatter = false;
+    RouletteRule rr_rule = RouletteRule::Mitsuba;
     static VolPathSettings from(const Properties& props);
 };
 

@@ -21,6 +21,7 @@ VolumeWalk::VolumeWalk(const Scene& scene, const VolPathSettings& settings, Samp
 Color3 VolumeWalk::run(const Ray& camera_ray) {
     state_.ray = camera_ray;
     state_.medium = scene_.sensor().medium();
+    if (policy_) state_.split_allowance = policy_->branch_budget();
     walk_branch();
     // The waiting branches of this camera sample, last made first.
     while (!stack_.empty()) {
@@ -60,7 +61,9 @@ bool VolumeWalk::russian_roulette() {
     WalkState& s = state_;
     if (s.depth <= settings_.rr_depth || s.depth == s.rr_depth_done) return true;
     s.rr_depth_done = s.depth;
-    const float q = std::min(s.throughput.max_value() * s.eta * s.eta, 0.95f);
+    const float q = roulette_survival(settings_.rr_rule, s.throughput.max_value() * s.eta * s.eta);
+    // The sample is drawn even when q = 1 (the bounded rule above weight 1), so that both rules
+    // spend the same random numbers per depth.
     if (!(rng_->next_1d() < q)) return false;
     s.throughput *= 1.f / q;
     return true;
@@ -229,11 +232,15 @@ void VolumeWalk::sample_nee_surface(const BSDF& bsdf) {
 bool VolumeWalk::continue_path(ContinuationStage stage, const MediumInteraction& mi, const Vec3f& w,
                                const MediumVertex* at_vertex) {
     const Continuation c =
-        policy_->continuation(stage, mi, w, state_.throughput, branches_, *rng_, state_.region);
+        policy_->continuation(stage, mi, w, state_.throughput, branches_, state_.split_allowance, *rng_,
+                              state_.region);
     if (c.guided) state_.rr_depth_done = state_.depth;  // replaces throughput RR at this depth
     if (c.q == 1.f) return true;
     if (c.n == 0) return false;
     state_.throughput *= 1.f / c.q;
+    // The n copies share the path's allowance, so the live branches' allowances never sum to more
+    // than the camera sample's budget.
+    if (c.n > 1) state_.split_allowance /= float(c.n);
     for (int k = 1; k < c.n; ++k) {
         PendingBranch b{state_, rng_->fork(uint64_t(k)), at_vertex != nullptr, at_vertex ? *at_vertex : MediumVertex()};
         // A copy finds its own region: with the one it was made at, a copy's first distance

@@ -6,6 +6,7 @@
 // walk). Split copies of the path (guided splitting) wait on the walk's own stack and draw from
 // streams forked off the camera sample's; the first branch draws from the caller's sampler, so
 // that without splitting the walk is volpath's number for number.
+#include <limits>
 #include <vector>
 
 #include "volguide/core/color.h"
@@ -35,6 +36,8 @@ struct WalkState {
     float last_pdf = 1.f;
     EquiVertex last_equi;      // equiangular bookkeeping of the last medium vertex (MIS of hits)
     GuideRegion region;        // the policy's region of the vertex the ray leaves from
+    // The branches this path may still become (the policy's branch budget, shared by a split's copies).
+    float split_allowance = std::numeric_limits<float>::infinity();
 };
 
 // A medium scattering vertex before its NEE and direction decision.

@@ -18,6 +18,7 @@
 // What one decision hands to the next at the same vertex (the guiding structure's region of the
 // vertex, which the distance decision finds and the direction and continuation decisions reuse)
 // travels in a GuideRegion that the walk keeps with the vertex and clears when the path leaves it.
+#include <limits>
 #include <utility>
 
 #include "volguide/core/sampler.h"
@@ -83,12 +84,16 @@ class WalkPolicy {
     }
 
     // The continuation decision at the medium vertex mi of a path of weight `throughput` (w: see
-    // ContinuationStage), when the camera sample has `branches` branches so far.
+    // ContinuationStage), when the camera sample has `branches` branches so far and this branch
+    // the allowance `allowance` (see branch_budget): n must not exceed floor(allowance).
     virtual Continuation continuation(ContinuationStage stage, const MediumInteraction& mi, const Vec3f& w,
-                                      const Color3& throughput, int branches, Sampler& sampler,
+                                      const Color3& throughput, int branches, float allowance, Sampler& sampler,
                                       GuideRegion& region) {
         return {};
     }
+    // A camera sample's branch allowance: the walk gives each of a split's n copies 1/n of their
+    // path's (roulette_splitting.h). +inf: no budget.
+    virtual float branch_budget() const { return std::numeric_limits<float>::infinity(); }
     // The camera sample ended with `branches` branches.
     virtual void end_camera_sample(int branches) {}
 
