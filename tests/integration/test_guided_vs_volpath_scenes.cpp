@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "support/bench_two_sample.h"
 #include "support/cli.h"
 #include "support/test_support.h"
 #include "volguide/render/image_io.h"
@@ -23,63 +24,17 @@ using namespace volguide::test;
 
 namespace {
 
-struct Render {
-    Image mean, var;
-    int spp;
-};
-
-Render render(const TempDir& dir, const std::string& scene, const std::string& name, int spp, int seed,
-              const std::vector<std::string>& defines) {
-    std::vector<std::string> cmd = {"render", source_dir() + "/bench/scenes/" + scene + ".xml", "-D", "width=32",
-                                    "-D", "height=24", "--spp", std::to_string(spp), "--seed", std::to_string(seed),
-                                    "--variance", "--quiet", "-o", dir.file(name + ".exr")};
-    for (const std::string& d : defines) cmd.insert(cmd.end(), {"-D", d});
-    CliResult r = run_cli(cmd);
-    EXPECT_EQ(r.exit_code, 0) << r.err;
-    return {read_image(dir.file(name + ".exr")), read_image(dir.file(name + "_var.exr")), spp};
-}
-
 // `guided_xml`: an integrator file for the guided render (empty: guided_volpath's defaults);
 // `rr_rule`: volpath's roulette.
 void compare(const std::string& scene, int spp_volpath, int spp_guided, const std::string& guided_xml = "",
              const std::string& rr_rule = "mitsuba") {
     TempDir dir("guided-vs-volpath-" + scene);
-    const Render v = render(dir, scene, "volpath", spp_volpath, 11, {"integrator=volpath", "rr_rule=" + rr_rule});
-    std::vector<std::string> defines = {"integrator=guided_volpath"};
-    if (!guided_xml.empty()) defines.push_back("integrator_xml=" + dir.write("guided.xml", guided_xml));
-    const Render g = render(dir, scene, "guided", spp_guided, 12, defines);
-    ASSERT_EQ(v.mean.pixels.size(), g.mean.pixels.size());
-    const double n = 3.0 * double(v.mean.pixels.size());
-    const double level = 1.0 - std::pow(1.0 - 0.01, 1.0 / n);
-    const double z_crit = [&] {
-        // Inverse of the two-sided normal tail by bisection: P(|Z| > z) = level.
-        double lo = 0.0, hi = 20.0;
-        for (int i = 0; i < 200; ++i) {
-            const double mid = 0.5 * (lo + hi);
-            (std::erfc(mid / std::sqrt(2.0)) > level ? lo : hi) = mid;
-        }
-        return 0.5 * (lo + hi);
-    }();
-    long failed = 0;
-    double sum_v = 0, sum_g = 0, var_v = 0, var_g = 0;
-    for (size_t i = 0; i < v.mean.pixels.size(); ++i)
-        for (int c = 0; c < 3; ++c) {
-            const double a = v.mean.pixels[i][c], b = g.mean.pixels[i][c];
-            const double va = v.var.pixels[i][c] / v.spp, vb = g.var.pixels[i][c] / g.spp;
-            sum_v += a;
-            sum_g += b;
-            var_v += va;
-            var_g += vb;
-            // Float floor: sky pixels seen through an empty stretch of the cloud's grid are exact for
-            // volpath (variance 0) and carry rounding of the guided tracking weights (~1e-5 relative).
-            const double se = std::sqrt(va + vb) + 1e-5 * std::max(std::abs(a), std::abs(b));
-            if (se > 0.0 ? std::abs(a - b) / se > z_crit : a != b) ++failed;
-        }
-    EXPECT_LE(double(failed), 0.005 * n) << scene << ": " << failed << " of " << n
-                                         << " pixel-channels differ beyond z = " << z_crit;
-    const double se_mean = std::sqrt(var_v + var_g) / n;
-    EXPECT_LT(std::abs(sum_v - sum_g) / n, 4.0 * se_mean)
-        << scene << ": image means " << sum_v / n << " (volpath) vs " << sum_g / n << " (guided) ± " << se_mean;
+    const BenchRender v =
+        render_bench_scene(dir, scene, "volpath", spp_volpath, 11, {"-D", "integrator=volpath", "-D", "rr_rule=" + rr_rule});
+    std::vector<std::string> defines = {"-D", "integrator=guided_volpath"};
+    if (!guided_xml.empty()) defines.insert(defines.end(), {"-D", "integrator_xml=" + dir.write("guided.xml", guided_xml)});
+    const BenchRender g = render_bench_scene(dir, scene, "guided", spp_guided, 12, defines);
+    expect_same_expectation(v, g, scene, "volpath", "guided");
 }
 
 }  // namespace

@@ -17,6 +17,7 @@
 
 #include <cmath>
 
+#include "support/bench_two_sample.h"
 #include "support/cli.h"
 #include "support/furnace_grid.h"
 #include "support/test_support.h"
@@ -34,64 +35,19 @@ namespace {
 #define REQUIRE_OPENPGL() GTEST_SKIP() << "volguide was built without Intel Open PGL: openpgl_volpath is not available"
 #endif
 
-struct Render {
-    Image mean, var;
-    int spp;
-};
-
-Render render_bench(const TempDir& dir, const std::string& scene, const std::string& name, int spp, int seed,
-                    const std::vector<std::string>& extra) {
-    std::vector<std::string> cmd = {"render", source_dir() + "/bench/scenes/" + scene + ".xml", "-D", "width=32",
-                                    "-D", "height=24", "--spp", std::to_string(spp), "--seed", std::to_string(seed),
-                                    "--variance", "--quiet", "-o", dir.file(name + ".exr")};
-    cmd.insert(cmd.end(), extra.begin(), extra.end());
-    CliResult r = run_cli(cmd);
-    EXPECT_EQ(r.exit_code, 0) << r.err;
-    return {read_image(dir.file(name + ".exr")), read_image(dir.file(name + "_var.exr")), spp};
-}
-
-double two_sided_z(double level) {
-    double lo = 0.0, hi = 20.0;
-    for (int i = 0; i < 200; ++i) {
-        const double mid = 0.5 * (lo + hi);
-        (std::erfc(mid / std::sqrt(2.0)) > level ? lo : hi) = mid;
-    }
-    return 0.5 * (lo + hi);
-}
-
 // openpgl_volpath (training_spp below the render's spp, so both trained and training passes are
 // in the image) against volpath, per pixel-channel and in the image mean.
 void compare_with_volpath(const std::string& scene, int spp_volpath, int spp_openpgl, int training_spp) {
     TempDir dir("openpgl-vs-volpath-" + scene);
-    const Render v = render_bench(dir, scene, "volpath", spp_volpath, 11, {"-D", "integrator=volpath"});
+    const BenchRender v = render_bench_scene(dir, scene, "volpath", spp_volpath, 11, {"-D", "integrator=volpath"});
     const std::string xml = dir.write(
         "openpgl.xml",
         fmt::format(R"(<scene version="3.0.0"><integrator type="openpgl_volpath">)"
                     R"(<integer name="max_depth" value="$max_depth"/><integer name="training_spp" value="{}"/>)"
                     R"(</integrator></scene>)",
                     training_spp));
-    const Render g = render_bench(dir, scene, "openpgl", spp_openpgl, 12, {"-D", "integrator_xml=" + xml});
-    ASSERT_EQ(v.mean.pixels.size(), g.mean.pixels.size());
-    const double n = 3.0 * double(v.mean.pixels.size());
-    const double z_crit = two_sided_z(1.0 - std::pow(1.0 - 0.01, 1.0 / n));
-    long failed = 0;
-    double sum_v = 0, sum_g = 0, var_v = 0, var_g = 0;
-    for (size_t i = 0; i < v.mean.pixels.size(); ++i)
-        for (int c = 0; c < 3; ++c) {
-            const double a = v.mean.pixels[i][c], b = g.mean.pixels[i][c];
-            const double va = v.var.pixels[i][c] / v.spp, vb = g.var.pixels[i][c] / g.spp;
-            sum_v += a;
-            sum_g += b;
-            var_v += va;
-            var_g += vb;
-            const double se = std::sqrt(va + vb) + 1e-5 * std::max(std::abs(a), std::abs(b));
-            if (se > 0.0 ? std::abs(a - b) / se > z_crit : a != b) ++failed;
-        }
-    EXPECT_LE(double(failed), 0.005 * n) << scene << ": " << failed << " of " << n
-                                         << " pixel-channels differ beyond z = " << z_crit;
-    const double se_mean = std::sqrt(var_v + var_g) / n;
-    EXPECT_LT(std::abs(sum_v - sum_g) / n, 4.0 * se_mean)
-        << scene << ": image means " << sum_v / n << " (volpath) vs " << sum_g / n << " (openpgl) ± " << se_mean;
+    const BenchRender g = render_bench_scene(dir, scene, "openpgl", spp_openpgl, 12, {"-D", "integrator_xml=" + xml});
+    expect_same_expectation(v, g, scene, "volpath", "openpgl");
 }
 
 }  // namespace
@@ -162,8 +118,8 @@ TEST(OpenPglVolpath, SameSeedSameImageForAnyThreadCount) {
     std::vector<std::string> one = opgl, two = opgl;
     one.insert(one.end(), {"--threads", "1"});
     two.insert(two.end(), {"--threads", "2"});
-    const Render a = render_bench(dir, "shafts", "one", 32, 5, one);
-    const Render b = render_bench(dir, "shafts", "two", 32, 5, two);
+    const BenchRender a = render_bench_scene(dir, "shafts", "one", 32, 5, one);
+    const BenchRender b = render_bench_scene(dir, "shafts", "two", 32, 5, two);
     ASSERT_EQ(a.mean.pixels.size(), b.mean.pixels.size());
     long differ = 0;
     for (size_t i = 0; i < a.mean.pixels.size(); ++i)
@@ -180,8 +136,8 @@ TEST(OpenPglVolpath, UntrainedIsVolpathBitForBit) {
         "openpgl.xml", R"(<scene version="3.0.0"><integrator type="openpgl_volpath">)"
                        R"(<integer name="max_depth" value="$max_depth"/><integer name="training_spp" value="0"/>)"
                        R"(</integrator></scene>)");
-    const Render a = render_bench(dir, "shafts", "volpath", 16, 3, {"-D", "integrator=volpath"});
-    const Render b = render_bench(dir, "shafts", "openpgl", 16, 3, {"-D", "integrator_xml=" + xml});
+    const BenchRender a = render_bench_scene(dir, "shafts", "volpath", 16, 3, {"-D", "integrator=volpath"});
+    const BenchRender b = render_bench_scene(dir, "shafts", "openpgl", 16, 3, {"-D", "integrator_xml=" + xml});
     ASSERT_EQ(a.mean.pixels.size(), b.mean.pixels.size());
     long differ = 0;
     for (size_t i = 0; i < a.mean.pixels.size(); ++i)
