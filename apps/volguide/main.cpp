@@ -10,6 +10,8 @@
 
 namespace {
 
+using namespace volguide::cli;
+
 // One line, whatever the message contains.
 std::string one_line(std::string s) {
     for (char& c : s)
@@ -24,22 +26,8 @@ void print_error(const std::string& where, const std::string& message) {
         std::fprintf(stderr, "volguide: %s: %s\n", one_line(where).c_str(), one_line(message).c_str());
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-    using namespace volguide::cli;
-    CLI::App app{"volguide: a physically based renderer for Mitsuba 3 scenes with volume path guiding",
-                 "volguide"};
-    app.require_subcommand(1);
-    // --version: what optional peers are built in (Open PGL: the openpgl_volpath integrator).
-#if VOLGUIDE_HAVE_OPENPGL
-    app.set_version_flag("--version", "volguide\nIntel Open PGL " VOLGUIDE_OPENPGL_VERSION
-                                      ": built in (integrator openpgl_volpath)");
-#else
-    app.set_version_flag("--version", "volguide\nIntel Open PGL: not built in (integrator openpgl_volpath unavailable)");
-#endif
-
-    RenderArgs render;
+// The `render` subcommand and its options, parsed into `render`.
+CLI::App* add_render_command(CLI::App& app, RenderArgs& render) {
     CLI::App* render_cmd = app.add_subcommand("render", "render a scene to an image");
     render_cmd->add_option("scene", render.scene, "Mitsuba 3 XML scene")->required();
     render_cmd
@@ -63,8 +51,11 @@ int main(int argc, char** argv) {
     render_cmd->add_option("--samples", render.samples,
                            "FIRST:COUNT: render sample indices [FIRST, FIRST+COUNT) of every pixel, a chunk for "
                            "`volguide merge` (excludes --spp)");
+    return render_cmd;
+}
 
-    TrainArgs train;
+// The `train` subcommand and its options, parsed into `train`.
+CLI::App* add_train_command(CLI::App& app, TrainArgs& train) {
     CLI::App* train_cmd = app.add_subcommand(
         "train", "run the integrator's pre-pass once (guided_volpath: field, pixel estimate) and save it");
     train_cmd->add_option("scene", train.scene, "Mitsuba 3 XML scene")->required();
@@ -76,16 +67,22 @@ int main(int argc, char** argv) {
     train_cmd->add_option("--seed", train.seed, "random seed of the training");
     train_cmd->add_option("--threads", train.threads, "worker threads (default: all)");
     train_cmd->add_flag("-q,--quiet", train.quiet, "no progress output");
+    return train_cmd;
+}
 
-    MergeArgs merge;
+// The `merge` subcommand and its options, parsed into `merge`.
+CLI::App* add_merge_command(CLI::App& app, MergeArgs& merge) {
     CLI::App* merge_cmd = app.add_subcommand(
         "merge", "combine the parts of one render (--samples chunks) into the image of all their samples");
     merge_cmd->add_option("parts", merge.parts, "part images (.exr written by volguide render or merge)")
         ->required();
     merge_cmd->add_option("-o,--output", merge.output, "merged image (.exr; variance to <output>_var.exr)")
         ->required();
+    return merge_cmd;
+}
 
-    DiffArgs diff;
+// The `diff` subcommand and its options, parsed into `diff`.
+CLI::App* add_diff_command(CLI::App& app, DiffArgs& diff) {
     CLI::App* diff_cmd = app.add_subcommand("diff", "compare an image with a reference");
     diff_cmd->add_option("image", diff.image, "image (.exr)")->required();
     diff_cmd->add_option("reference", diff.reference, "reference image (.exr)")->required();
@@ -95,20 +92,56 @@ int main(int argc, char** argv) {
 
     diff_cmd->add_option("--min-reference", diff.min_reference,
                          "compare only the pixels whose reference (mean of channels) exceeds this value");
+    return diff_cmd;
+}
 
-    ConvertArgs convert;
+// The `convert` subcommand and its options, parsed into `convert`.
+CLI::App* add_convert_command(CLI::App& app, ConvertArgs& convert) {
     CLI::App* convert_cmd = app.add_subcommand("convert", "convert an image (EXR <-> PNG), optionally rescaled");
     convert_cmd->add_option("input", convert.input, "input image (.exr, .png)")->required();
     convert_cmd->add_option("output", convert.output, "output image (.exr, .png)")->required();
     convert_cmd->add_option("--exposure", convert.exposure, "scale by 2^EXPOSURE (stops)");
+    return convert_cmd;
+}
 
-    InfoArgs info;
+// The `info` subcommand and its options, parsed into `info`.
+CLI::App* add_info_command(CLI::App& app, InfoArgs& info) {
     CLI::App* info_cmd = app.add_subcommand("info", "summarise a scene, or a saved guiding field (--field)");
     info_cmd->add_option("scene", info.scene, "Mitsuba 3 XML scene");
     info_cmd->add_option("--field", info.field,
                          "a guiding field written by guided_volpath's save_field, or a training file of `volguide train`");
     info_cmd->add_option("-D,--define", info.defines, "set a scene <default> (name=value); repeatable")
         ->allow_extra_args(false);
+    return info_cmd;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    using namespace volguide::cli;
+    CLI::App app{"volguide: a physically based renderer for Mitsuba 3 scenes with volume path guiding",
+                 "volguide"};
+    app.require_subcommand(1);
+    // --version: what optional peers are built in (Open PGL: the openpgl_volpath integrator).
+#if VOLGUIDE_HAVE_OPENPGL
+    app.set_version_flag("--version", "volguide\nIntel Open PGL " VOLGUIDE_OPENPGL_VERSION
+                                      ": built in (integrator openpgl_volpath)");
+#else
+    app.set_version_flag("--version", "volguide\nIntel Open PGL: not built in (integrator openpgl_volpath unavailable)");
+#endif
+
+    RenderArgs render;
+    TrainArgs train;
+    MergeArgs merge;
+    DiffArgs diff;
+    ConvertArgs convert;
+    InfoArgs info;
+    CLI::App* render_cmd = add_render_command(app, render);
+    CLI::App* train_cmd = add_train_command(app, train);
+    CLI::App* merge_cmd = add_merge_command(app, merge);
+    CLI::App* diff_cmd = add_diff_command(app, diff);
+    CLI::App* convert_cmd = add_convert_command(app, convert);
+    add_info_command(app, info);
 
     try {
         app.parse(argc, argv);
