@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "volguide/core/atomic_write.h"
+#include "volguide/core/fnv1a.h"
 #include "volguide/vmm/vmm_io.h"
 
 namespace volguide {
@@ -18,12 +19,6 @@ constexpr size_t kNodeBytes = 9;
 constexpr uint32_t kOldestReadableVersion = 2;
 // The smallest leaf record (an invalid leaf) of a format version.
 size_t min_leaf_bytes(uint32_t version) { return version >= 3 ? 22 : 18; }
-
-uint64_t fnv1a64(const char* p, size_t n) {
-    uint64_t h = 14695981039346656037ull;
-    for (size_t i = 0; i < n; ++i) h = (h ^ uint64_t(uint8_t(p[i]))) * 1099511628211ull;
-    return h;
-}
 
 void put_u32(std::string& s, uint32_t v) {
     for (int i = 0; i < 4; ++i) s.push_back(char(uint8_t(v >> (8 * i))));
@@ -85,7 +80,7 @@ std::string serialize_field(const GuidingField& field) {
             s += vmm.str();
         }
     }
-    const uint64_t sum = fnv1a64(s.data() + sizeof(kMagic), s.size() - sizeof(kMagic));
+    const uint64_t sum = fnv1a64(std::string_view(s).substr(sizeof(kMagic)));
     put_u32(s, uint32_t(sum));
     put_u32(s, uint32_t(sum >> 32));
     return s;
@@ -103,7 +98,7 @@ GuidingField deserialize_field(const std::string& bytes) {
     const size_t body_end = bytes.size() - 8;
     Reader tail{bytes, body_end, bytes.size()};
     const uint64_t stored = uint64_t(tail.u32("checksum")) | uint64_t(tail.u32("checksum")) << 32;
-    if (stored != fnv1a64(bytes.data() + sizeof(kMagic), body_end - sizeof(kMagic)))
+    if (stored != fnv1a64(std::string_view(bytes).substr(sizeof(kMagic), body_end - sizeof(kMagic))))
         throw FieldFormatError("guiding field checksum mismatch (corrupt or truncated file)");
 
     Reader r{bytes, header.pos, body_end};
