@@ -40,6 +40,8 @@ METHODS = {
     "guided_volpath distance=incremental": {"guided": {"distance": "incremental"}},
     "guided_volpath direction=incident": {"guided": {"direction": "incident"}},
     "guided_volpath direction=product": {"guided": {"direction": "product"}},
+    # Guided RR and splitting alone (unguided distances and directions): the third decision by itself.
+    "guided_volpath rrs=grrs": {"guided": {"rrs": "grrs"}},
     "guided_volpath distance=incremental direction=product": {
         "guided": {"distance": "incremental", "direction": "product"}},
     "guided_volpath distance=tabulated direction=product": {
