@@ -183,6 +183,29 @@ TEST(GuidedVolPathUnbiased, PointLitFogMatchesVolpath) {
     }
 }
 
+// Issue 20: the distance walk over merged regions of leaves (distance_merge) instead of single
+// leaves: the furnace stays 1 (incremental and tabulated), and the point-lit fog matches volpath
+// (homogeneous; heterogeneous with the bins, H1, which the regions serve).
+TEST(GuidedVolPathUnbiased, DistanceRegionsAreUnbiased) {
+    TempDir dir("guided-regions");
+    const std::string grid = write_furnace_grid(dir);
+    const std::string merge = R"(<float name="distance_merge" value="0.5"/>)";
+    for (const std::string distance : {"incremental", "tabulated"}) {
+        SCOPED_TRACE("furnace " + distance);
+        Rendered r = render_scene_xml(furnace_xml(false, grid, guided(distance, "product", 100000, -1.f, merge)),
+                                      1024, 19, false);
+        expect_constant_image(r, 1.0);
+    }
+    for (bool het : {false, true}) {
+        SCOPED_TRACE(het ? "heterogeneous lit fog" : "homogeneous lit fog");
+        Rendered ref = render_scene_xml(lit_fog_xml(het, grid, R"(<integrator type="volpath"/>)"), 1024, 5, false);
+        Rendered g = render_scene_xml(
+            lit_fog_xml(het, grid, guided(het ? "incremental-bins" : "incremental", "product", 200000, -1.f, merge)),
+            1024, 7, false);
+        expect_same_means(g, ref);
+    }
+}
+
 TEST(GuidedVolPathUnbiased, TheGuideIsUsed) {
     TempDir dir("guided-used");
     const std::string grid = write_furnace_grid(dir);

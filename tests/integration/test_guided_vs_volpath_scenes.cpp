@@ -56,6 +56,13 @@ std::string rrs_integrator(const std::string& rrs, float window) {
 TEST(GuidedVsVolpathScenes, ShaftsGuidedRussianRoulette) { compare("shafts", 1024, 512, rrs_integrator("grr", 1.f)); }
 TEST(GuidedVsVolpathScenes, ShaftsPapersWindow) { compare("shafts", 1024, 512, rrs_integrator("grrs", 1.f)); }
 
+// Issue 20: the full system with the distance walk over merged regions (distance_merge).
+TEST(GuidedVsVolpathScenes, ShaftsDistanceRegions) {
+    compare("shafts", 1024, 512,
+            R"(<scene version="3.0.0"><integrator type="guided_volpath"><integer name="max_depth" value="$max_depth"/>)"
+            R"(<float name="distance_merge" value="0.3"/></integrator></scene>)");
+}
+
 // Issue 21's dense back-lit sphere (sigma_t 8, albedo 0.995, g 0.6): the full system, and with the
 // branch budget of a quarter of the cap, against volpath with the bounded roulette (finite variance
 // there; Mitsuba's rule is unbiased too but its per-pixel variances are heavy-tailed).

@@ -101,6 +101,21 @@ void LeafEstimates::prefetch(int leaf, const Direction& d) const {
     __builtin_prefetch(t + d.offset[2]);
 }
 
+bool LeafEstimates::texel_averages(int leaf, float* Li, float* L) const {
+    const size_t n = size_t(resolution_ * resolution_);
+    std::fill(Li, Li + n, 0.f);
+    std::fill(L, L + n, 0.f);
+    if (resolution_ == 0 || leaf < 0 || !headers_[size_t(leaf)].valid) return false;
+    const Header& h = headers_[size_t(leaf)];
+    const float phi = h.fluence.average();
+    const Texel* t = &texels_[size_t(leaf) * n];
+    for (size_t k = 0; k < n; ++k) {
+        Li[k] = phi * h.scale_inscattered * float(t[k].inscattered);
+        L[k] = phi * h.scale_incident * float(t[k].incident);
+    }
+    return true;
+}
+
 bool LeafEstimates::lookup(int leaf, const Direction& d, Color3& Li, Color3& L) const {
     if (leaf < 0) return false;
     if (resolution_ == 0) {

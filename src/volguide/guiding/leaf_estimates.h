@@ -39,6 +39,9 @@ class LeafEstimates {
     bool lookup(int leaf, const Vec3f& w, Color3& Li, Color3& L) const {
         return lookup(leaf, prepare(w), Li, L);
     }
+    // Channel averages of L~_i and L~ of `leaf` at each texel centre (resolution^2 values each, as
+    // lookups read them); false (zeros written) for an invalid leaf or without tables.
+    bool texel_averages(int leaf, float* Li, float* L) const;
     // Hints the cache that `leaf` will be looked up soon.
     void prefetch(int leaf, const Direction& d) const;
 

@@ -174,12 +174,7 @@ bool SpatialTree::RayCursor::next(int& leaf, float& t_enter, float& t_exit) {
 
 int SpatialTree::leaf_at(const Point3f& p) const {
     if (!bounds_.contains(p)) return -1;
-    uint32_t node = 0;
-    while (!nodes_[node].is_leaf()) {
-        const Node& n = nodes_[node];
-        node = n.child + (p[n.axis] >= n.split ? 1u : 0u);
-    }
-    return int(nodes_[node].child);
+    return leaf_below(0u, p);
 }
 
 void SpatialTree::compute_leaf_bounds() {

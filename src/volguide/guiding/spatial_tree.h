@@ -48,6 +48,14 @@ public:
 
     // The leaf containing p, or -1 outside the bounds. Points on a split plane go to the upper side.
     int leaf_at(const Point3f& p) const;
+    // The leaf below `node` holding p (leaf_at's descent from a node whose region holds p).
+    int leaf_below(uint32_t node, const Point3f& p) const {
+        while (!nodes_[node].is_leaf()) {
+            const Node& n = nodes_[node];
+            node = n.child + (p[n.axis] >= n.split ? 1u : 0u);
+        }
+        return int(nodes_[node].child);
+    }
     // A cheap check of a guess: true only if leaf_at(p) == leaf (p in [lo, hi) of the leaf's box on
     // every axis: those are its ancestors' splits, and the descent goes up iff p >= split). False
     // for an invalid index and for points on the bounds' upper faces, which leaf_at still finds.

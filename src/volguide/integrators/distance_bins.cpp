@@ -16,16 +16,17 @@ std::vector<float> leaf_extents(const SpatialTree& tree) {
 
 BinSource::BinSource(const Ray& ray, float t_end, const Medium& medium, const GuidingField& field,
                      const LeafEstimates* estimates, std::vector<ProxySegment>& proxies, float max_tau,
-                     const std::vector<float>& leaf_extent, float leaf_tau_max)
+                     const std::vector<float>& leaf_extent, float leaf_tau_max, const DistanceRegions* regions)
     : leaf_extent_(leaf_extent),
       leaf_tau_max_(leaf_tau_max),
       ray_(ray),
       t_end_(t_end),
       medium_(medium),
       estimates_(estimates),
+      regions_(estimates ? regions : nullptr),
       proxies_(proxies),
       max_tau_(max_tau),
-      cursor_(field.tree(), ray, 0.f, t_end) {
+      cursor_(regions_ ? regions_->tree() : field.tree(), ray, 0.f, t_end) {
     proxies_.clear();  // scratch of the previous query: nothing may be read before the first span
     if (estimates_) direction_ = estimates_->prepare(ray.d);
 }
@@ -51,7 +52,10 @@ bool BinSource::next_span() {
         // with 2000 leaves). thin, 256 spp, distance=incremental: render 5.0 -> 4.8 s.
         if (estimates_ && pull_leaf(ahead_)) {
             has_ahead_ = true;
-            estimates_->prefetch(ahead_.leaf, direction_);
+            if (regions_)
+                regions_->prefetch(ahead_.leaf, direction_);
+            else
+                estimates_->prefetch(ahead_.leaf, direction_);
         }
         if (s.t0 > reached_) {  // the ray enters the field's bounds at s.t0
             pending_ = s;
@@ -84,6 +88,11 @@ void BinSource::enter(int leaf_index, float t0, float t1) {
     pieces_ = piece_ = 0;
     Li_ = L_ = 0.f;
     leaf_ = leaf_index;
+    if (regions_) {
+        valid_ = leaf_index >= 0 && regions_->lookup(leaf_index, direction_, Li_, L_);
+        if (!valid_) Li_ = L_ = 0.f;
+        return;
+    }
     Color3 Li, L;
     valid_ = estimates_ && estimates_->lookup(leaf_index, direction_, Li, L);
     if (valid_) {

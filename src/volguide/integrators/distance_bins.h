@@ -6,7 +6,8 @@
 // `max_tau`. Each bin carries its proxy coefficients and its leaf's L~_i and L~ looking along the
 // ray (channel averages, §7.8), and a confidence min(1, leaf_tau_max / tau_leaf) with tau_leaf the
 // bin's proxy extinction (channel average) times the leaf's extent (WalkGuide's rule for leaves
-// many mean free paths across; leaf_tau_max = 0: off).
+// many mean free paths across; leaf_tau_max = 0: off). With `regions` (distance_regions.h, built on
+// the same estimates) the bins are the regions the ray crosses instead of the leaves.
 //
 // A source pulls the bins lazily (the incremental sampler stops at the collision): field values,
 // the expensive part, are read once per leaf, on entering it. Usage:
@@ -20,6 +21,7 @@
 #include <vector>
 
 #include "volguide/core/ray.h"
+#include "volguide/guiding/distance_regions.h"
 #include "volguide/guiding/guided_distance.h"
 #include "volguide/guiding/guiding_field.h"
 #include "volguide/guiding/leaf_estimates.h"
@@ -34,10 +36,11 @@ std::vector<float> leaf_extents(const SpatialTree& tree);
 class BinSource {
   public:
     // The ray, medium, field, estimates (null: every bin invalid), `proxies` (caller-owned scratch,
-    // cleared here) and `leaf_extent` must outlive the source.
+    // cleared here), `leaf_extent` and `regions` (null: the field's leaves; else built on
+    // `estimates`) must outlive the source.
     BinSource(const Ray& ray, float t_end, const Medium& medium, const GuidingField& field,
               const LeafEstimates* estimates, std::vector<ProxySegment>& proxies, float max_tau,
-              const std::vector<float>& leaf_extent, float leaf_tau_max);
+              const std::vector<float>& leaf_extent, float leaf_tau_max, const DistanceRegions* regions = nullptr);
 
     // The next bin; false after the last one (at t_end).
     bool operator()(DistanceBin& bin) {
@@ -59,7 +62,7 @@ class BinSource {
     }
     uint64_t invalid() const { return invalid_; }  // bins without a valid leaf so far
     uint64_t damped() const { return damped_; }    // bins with confidence < 1 (leaf_tau_max)
-    // The kd leaf of the bin returned last (-1 outside the field).
+    // The kd leaf (with regions: the region) of the bin returned last (-1 outside the field).
     int leaf() const { return leaf_; }
 
   private:
@@ -80,7 +83,8 @@ class BinSource {
         bin.valid = valid_;
         bin.confidence = 1.f;
         if (leaf_ >= 0 && valid_ && leaf_tau_max_ > 0.f) {
-            const float tau = leaf_extent_[size_t(leaf_)] * p.sigma_t.average();
+            const float extent = regions_ ? regions_->extent(leaf_) : leaf_extent_[size_t(leaf_)];
+            const float tau = extent * p.sigma_t.average();
             if (tau > leaf_tau_max_) {
                 bin.confidence = leaf_tau_max_ / tau;
                 ++damped_;
@@ -100,6 +104,7 @@ class BinSource {
     float t_end_;
     const Medium& medium_;
     const LeafEstimates* estimates_;
+    const DistanceRegions* regions_;
     std::vector<ProxySegment>& proxies_;
     float max_tau_;
     SpatialTree::RayCursor cursor_;

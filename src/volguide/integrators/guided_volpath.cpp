@@ -168,6 +168,7 @@ std::vector<std::pair<std::string, double>> GuidedVolPathIntegrator::statistics(
     if (guide_) {
         const auto walk = guide_->stats().named();
         stats.insert(stats.end(), walk.begin(), walk.end());
+        stats.emplace_back("distance_regions", double(guide_->distance_region_count()));
     }
     if (rrs_) {
         const auto rr = rrs_->stats().named();

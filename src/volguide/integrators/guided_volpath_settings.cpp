@@ -107,7 +107,7 @@ void read_training(const Properties& props, GuidedVolPathSettings& s) {
 }
 
 // distance and its parameters (c_T, p_max, filter_A, distance_denominator, leaf_tau_max,
-// estimate_table, hetero_distance).
+// estimate_table, distance_merge, hetero_distance).
 void read_distance(const Properties& props, const VolPathSettings& walk, WalkGuideSettings& g) {
     g.distance = read_choice<DistanceGuiding>(props, "distance", DistanceGuiding::Incremental, kDistance);
     GuidedDistanceSettings& d = g.distance_settings;
@@ -119,6 +119,9 @@ void read_distance(const Properties& props, const VolPathSettings& walk, WalkGui
     d.denominator = read_choice<DistanceDenominator>(props, "distance_denominator", d.denominator, kDenominator);
     g.leaf_tau_max = finite_at_least(props, "leaf_tau_max", g.leaf_tau_max, 0.f, " (0: off)");
     g.estimate_table = int_in(props, "estimate_table", g.estimate_table, 0, 256, " (0: exact)");
+    g.distance_merge = finite_at_least(props, "distance_merge", g.distance_merge, 0.f, " (0: off)");
+    if (g.distance_merge > 0.f && g.estimate_table == 0)
+        props.fail_at("distance_merge", "guided_volpath: distance_merge needs the estimate tables (estimate_table > 0)");
     if (g.distance != DistanceGuiding::Standard && walk.equiangular)
         props.fail_at("equiangular", "guided_volpath: equiangular sampling cannot be combined with distance={}",
                       choice_name<DistanceGuiding>(kDistance, g.distance));
@@ -206,11 +209,11 @@ GuidedVolPathSettings GuidedVolPathSettings::from(const Properties& props) {
 std::string GuidedVolPathSettings::to_string() const {
     return fmt::format(
         "max_depth={}, rr_depth={}, rr_rule={}, training={}, photons={}, training_iterations={}, leaf_samples={}, "
-        "lobes={}, distance={}, hetero_distance={}, direction={}, surface_guiding={}, rrs={}, rrs_window={}, "
+        "lobes={}, distance={}, distance_merge={}, hetero_distance={}, direction={}, surface_guiding={}, rrs={}, rrs_window={}, "
         "rrs_branch_budget={}, pixel_estimate={}, equiangular={}, estimate={}",
         walk.max_depth, walk.rr_depth, roulette_rule_name(walk.rr_rule), choice_name<TrainingMethod>(kTraining, training), photons,
         training_iterations, field.tree.max_samples, field.lobes,
-        choice_name<DistanceGuiding>(kDistance, guide.distance),
+        choice_name<DistanceGuiding>(kDistance, guide.distance), guide.distance_merge,
         choice_name<bool>(kHeteroDistance, guide.guided_tracking),
         choice_name<DirectionGuiding>(kDirection, guide.direction), guide.surface,
         choice_name<RouletteMode>(kRrs, roulette.mode), roulette.window, roulette.branch_budget,

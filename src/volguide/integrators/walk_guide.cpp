@@ -66,7 +66,7 @@ WalkGuide::WalkGuide(const Scene& scene, const GuidingField& field, const WalkGu
         }
     }
     surface_offset_ = 1e-4f * norm(field.tree().bounds().extents());
-    leaf_extent_ = leaf_extents(field.tree());
+    leaf_extent_ = leaf_extents(field.tree());  // before the regions, which read it
     auto add = [&](const Medium* m) {
         if (!m) return;
         const float g = m->phase().mean_cosine();
@@ -75,6 +75,10 @@ WalkGuide::WalkGuide(const Scene& scene, const GuidingField& field, const WalkGu
         if (!estimates_.count(g) && settings_.distance != DistanceGuiding::Standard)
             estimates_.emplace(std::piecewise_construct, std::forward_as_tuple(g),
                                std::forward_as_tuple(field, inscatter_.at(g), settings_.estimate_table));
+        if (!regions_.count(g) && estimates_.count(g) && settings_.distance_merge > 0.f && settings_.estimate_table > 0)
+            regions_.emplace(std::piecewise_construct, std::forward_as_tuple(g),
+                             std::forward_as_tuple(field.tree(), estimates_.at(g), leaf_extent_,
+                                                   settings_.distance_merge));
     };
     add(scene.sensor().medium());
     for (const auto& shape : scene.shapes()) {
@@ -92,6 +96,17 @@ float WalkGuide::leaf_confidence(int leaf, const Color3& sigma_t) const {
 const LeafEstimates* WalkGuide::estimates_for(const PhaseFunction& phase) const {
     const auto it = estimates_.find(phase.mean_cosine());
     return it == estimates_.end() ? nullptr : &it->second;
+}
+
+const DistanceRegions* WalkGuide::regions_for(const PhaseFunction& phase) const {
+    const auto it = regions_.find(phase.mean_cosine());
+    return it == regions_.end() ? nullptr : &it->second;
+}
+
+size_t WalkGuide::distance_region_count() const {
+    size_t n = 0;
+    for (const auto& [g, r] : regions_) n += size_t(r.region_count());
+    return n;
 }
 
 FreeFlightSample WalkGuide::sample_distance(const Medium& medium, const Ray& ray, float tmax,
@@ -144,8 +159,9 @@ FreeFlightSample WalkGuide::binned_distance(const Medium& medium, const Ray& ray
     DistanceScratch& s = scratch;
     GuidedDistanceSettings distance_settings = settings_.distance_settings;
     distance_settings.channel_split = channel_probabilities(throughput);  // spectral MIS (§2.6)
+    const DistanceRegions* regions = regions_for(medium.phase());
     BinSource source(ray, t_end, medium, field_, estimates, s.proxies, settings_.max_bin_optical_depth,
-                     leaf_extent_, settings_.leaf_tau_max);
+                     leaf_extent_, settings_.leaf_tau_max, regions);
     DistanceSample ds;
     if (settings_.distance == DistanceGuiding::Incremental) {
         ds = sample_incremental_distance(source, sampler, distance_settings);
@@ -165,7 +181,8 @@ FreeFlightSample WalkGuide::binned_distance(const Medium& medium, const Ray& ray
     st.invalid_bins += source.invalid();
     st.damped_bins += source.damped();
     st.nan_fallbacks += uint64_t(ds.nan_fallbacks);
-    if (ds.event == DistanceEvent::Medium && ds.pdf > 0.f) region.leaf = source.leaf();
+    if (ds.event == DistanceEvent::Medium && ds.pdf > 0.f)
+        region.leaf = regions && source.leaf() >= 0 ? regions->fine_leaf(source.leaf(), ray(ds.t)) : source.leaf();
     return binned_flight(medium, ray, tmax, t_end, ds, throughput, sampler);
 }
 

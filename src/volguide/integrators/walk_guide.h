@@ -28,6 +28,7 @@
 #include <utility>
 #include <vector>
 
+#include "volguide/guiding/distance_regions.h"
 #include "volguide/guiding/guided_direction.h"
 #include "volguide/guiding/guided_distance.h"
 #include "volguide/guiding/guiding_field.h"
@@ -53,6 +54,10 @@ struct WalkGuideSettings {
     // Per-leaf octahedral tables of L~_i and L~ for the distance decisions (leaf_estimates.h):
     // resolution per side, 0 = exact VMM evaluation per leaf crossed.
     int estimate_table = 16;
+    // The distance walk steps regions of leaves whose tables agree within this relative tolerance
+    // (guiding/distance_regions.h) instead of single leaves: fewer bins per decision. 0: leaves.
+    // Needs the tables (estimate_table > 0).
+    float distance_merge = 0.f;
     // Guiding confidence of a leaf: min(1, leaf_tau_max / tau_leaf), tau_leaf = sigma_t (channel
     // average, at the vertex / of the bin's proxy) x the cube root of the leaf's volume. A leaf many
     // mean free paths across holds one estimate for radiance that varies on the scale of a free path
@@ -153,9 +158,12 @@ class WalkGuide {
     Color3 incident_estimate(const MediumInteraction& mi, const Vec3f& w, GuideRegion& region) const;
 
     WalkGuideStats stats() const;
+    // The distance walk's regions per phase mean cosine and their total (0 without merging).
+    size_t distance_region_count() const;
 
   private:
     const LeafEstimates* estimates_for(const PhaseFunction& phase) const;
+    const DistanceRegions* regions_for(const PhaseFunction& phase) const;
     // sample_distance's decision on the bins of (0, t_end) (distance_bins.h; t_end: where the ray
     // leaves the field or reaches tmax), weighted by binned_flight.
     FreeFlightSample binned_distance(const Medium& medium, const Ray& ray, float tmax, float t_end,
@@ -179,6 +187,7 @@ class WalkGuide {
     WalkGuideSettings settings_;
     std::map<float, InscatterCache> inscatter_;  // by phase mean cosine
     std::map<float, LeafEstimates> estimates_;   // by phase mean cosine (reads inscatter_)
+    std::map<float, DistanceRegions> regions_;   // by phase mean cosine (built on estimates_), if merging
     std::map<float, PhaseVmm> phase_vmms_;
     std::vector<float> leaf_extent_;  // cube root of each leaf's volume
     float surface_offset_ = 0.f;      // how far off a surface its leaf is looked up
