@@ -13,6 +13,11 @@
 //    incremental sampler pulled (the tabulated one always reads 20).
 //  - GuidedDirection{Construct,Sample,Pdf}: the directional sampler per vertex (8-lobe leaf x HG
 //    g = 0.6, 3 phase lobes, prepared phase VMM; "/unprepared" looks the phase VMM up per vertex).
+//  - DistanceQuery/{0,30,50}: one whole guided distance decision as the renderer makes it (BinSource
+//    over the demo field's leaves, its 16x16 estimate tables, a homogeneous grey medium of the demo's
+//    fog density, the incremental sampler, default settings) from a random point in a random
+//    direction; the argument is distance_merge x 100 (0: leaves; else DistanceRegions). Counters:
+//    `bins` per query and `regions` (0: leaves).
 //  - LeafWalk{Cursor,Traverse}: the leaves crossed by a random ray through a kd-tree of the demo's
 //    photon positions split to ~2000 leaves (the size of a benchmark scene's field), by the rope
 //    cursor the distance sampler uses and by the stack traversal; time per ray, `time_per_leaf`
@@ -26,12 +31,16 @@
 
 #include "volguide/core/sampler.h"
 #include "volguide/core/warp.h"
+#include "volguide/guiding/distance_regions.h"
 #include "volguide/guiding/guided_distance.h"
 #include "volguide/guiding/guided_direction.h"
 #include "volguide/guiding/inscatter_cache.h"
+#include "volguide/integrators/distance_bins.h"
 #include "volguide/integrators/guided_volpath.h"
 #include "volguide/integrators/photon_pass.h"
+#include "volguide/media/homogeneous.h"
 #include "volguide/media/phase_hg.h"
+#include "volguide/media/phase_isotropic.h"
 #include "volguide/render/scene.h"
 #include "volguide/scene/loader.h"
 
@@ -218,6 +227,47 @@ void BM_Distance(benchmark::State& state) {
     state.SetLabel(state.range(0) == 2 ? "late chromatic" : state.range(0) == 1 ? "late" : "early");
 }
 
+void BM_DistanceQuery(benchmark::State& state) {
+    const GuidingField& field = demo_field();
+    const InscatterCache cache(field, hg_phase_vmm(0.f));
+    const LeafEstimates estimates(field, cache, 16);
+    const std::vector<float> extents = leaf_extents(field.tree());
+    const float merge = float(state.range(0)) / 100.f;
+    std::optional<DistanceRegions> regions;
+    if (merge > 0.f) regions.emplace(field.tree(), estimates, extents, merge);
+    // The demo's fog: sigma_t 0.1 per unit over a room ~10 units across (a few tenths of an optical depth).
+    const HomogeneousMedium medium(Color3(0.1f), std::make_shared<Volume>(VoxelGrid(Color3(0.8f)), Transform()),
+                                   std::make_shared<IsotropicPhase>());
+    const BBox3f b = field.tree().bounds();
+    std::vector<Ray> rays;
+    std::vector<float> ends;
+    for (int i = 0; i < 4096; ++i) {
+        Sampler s(7, 0, uint64_t(i));
+        const Vec3f e = b.extents();
+        Ray ray(b.lo + Vec3f(e.x * s.next_1d(), e.y * s.next_1d(), e.z * s.next_1d()),
+                warp::square_to_uniform_sphere(s.next_2d()));
+        float t0, t1;
+        b.ray_intersect(ray, t0, t1);
+        rays.push_back(ray);
+        ends.push_back(t1);
+    }
+    const GuidedDistanceSettings settings;
+    std::vector<ProxySegment> proxies;
+    uint64_t i = 0, bins = 0;
+    for (auto _ : state) {
+        const size_t k = i & 4095;
+        Sampler rng(3, 0, i++);
+        BinSource source(rays[k], ends[k], medium, field, &estimates, proxies, 20.f, extents, 1.f,
+                         regions ? &*regions : nullptr);
+        const DistanceSample d = sample_incremental_distance(source, rng, settings);
+        bins += uint64_t(d.steps);
+        benchmark::DoNotOptimize(d);
+    }
+    state.counters["bins"] = double(bins) / double(std::max<uint64_t>(i, 1));
+    state.counters["regions"] = regions ? double(regions->region_count()) : 0.0;
+    state.counters["leaves"] = double(field.tree().leaf_count());
+}
+
 // An 8-lobe leaf with concentrations between 1 and 50 in random directions.
 GuidingLeaf bench_leaf() {
     GuidingLeaf leaf;
@@ -273,6 +323,7 @@ BENCHMARK(BM_GuidedDirection<DirectionGuiding::Incident, Sample>)->Name("BM_Guid
 BENCHMARK(BM_GuidedDirection<DirectionGuiding::Phase, Sample>)->Name("BM_GuidedDirectionSample/phase");
 BENCHMARK(BM_GuidedDirection<DirectionGuiding::Product, Pdf>)->Name("BM_GuidedDirectionPdf/product");
 BENCHMARK(BM_GuidedDirection<DirectionGuiding::Incident, Pdf>)->Name("BM_GuidedDirectionPdf/incident");
+BENCHMARK(BM_DistanceQuery)->Arg(0)->Arg(30)->Arg(50);
 BENCHMARK(BM_LeafWalk<true>)->Name("BM_LeafWalkCursor");
 BENCHMARK(BM_LeafWalk<false>)->Name("BM_LeafWalkTraverse");
 BENCHMARK(BM_PhotonPass)->Unit(benchmark::kMillisecond)->UseRealTime();
