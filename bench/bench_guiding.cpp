@@ -18,6 +18,10 @@
 //    fog density, the incremental sampler, default settings) from a random point in a random
 //    direction; the argument is distance_merge x 100 (0: leaves; else DistanceRegions). Counters:
 //    `bins` per query and `regions` (0: leaves).
+//  - LeafTableLookup: one bin's read of L~_i and L~ from a leaf's 16x16 table (LeafEstimates::lookup,
+//    the ray's direction prepared once), random leaves of the demo field;
+//  - RouletteEstimate: the E[X] lookup of guided RR / splitting at a medium vertex (WalkGuide::
+//    inscattered_estimate: leaf descent + table lookup) at random points of the demo's fog;
 //  - LeafWalk{Cursor,Traverse}: the leaves crossed by a random ray through a kd-tree of the demo's
 //    photon positions split to ~2000 leaves (the size of a benchmark scene's field), by the rope
 //    cursor the distance sampler uses and by the stack traversal; time per ray, `time_per_leaf`
@@ -37,6 +41,7 @@
 #include "volguide/guiding/inscatter_cache.h"
 #include "volguide/integrators/distance_bins.h"
 #include "volguide/integrators/guided_volpath.h"
+#include "volguide/integrators/walk_guide.h"
 #include "volguide/integrators/photon_pass.h"
 #include "volguide/media/homogeneous.h"
 #include "volguide/media/phase_hg.h"
@@ -268,6 +273,62 @@ void BM_DistanceQuery(benchmark::State& state) {
     state.counters["leaves"] = double(field.tree().leaf_count());
 }
 
+void BM_LeafTableLookup(benchmark::State& state) {
+    const GuidingField& field = demo_field();
+    const InscatterCache cache(field, hg_phase_vmm(0.f));
+    const LeafEstimates estimates(field, cache, 16);
+    std::vector<std::pair<int, LeafEstimates::Direction>> queries;
+    for (int i = 0; i < 4096; ++i) {
+        Sampler s(8, 0, uint64_t(i));
+        const int leaf = std::min(int(s.next_1d() * float(field.tree().leaf_count())), field.tree().leaf_count() - 1);
+        queries.push_back({leaf, estimates.prepare(warp::square_to_uniform_sphere(s.next_2d()))});
+    }
+    size_t i = 0;
+    for (auto _ : state) {
+        const auto& [leaf, d] = queries[i++ & 4095];
+        Color3 Li, L;
+        benchmark::DoNotOptimize(estimates.lookup(leaf, d, Li, L));
+        benchmark::DoNotOptimize(Li);
+        benchmark::DoNotOptimize(L);
+    }
+}
+
+void BM_RouletteEstimate(benchmark::State& state) {
+    const Scene& scene = demo_scene();
+    const GuidingField& field = demo_field();
+    const Medium* medium = nullptr;
+    for (const auto& shape : scene.shapes())
+        if (!medium) medium = shape->interior_medium();
+    if (!medium) medium = scene.sensor().medium();
+    if (!medium) {
+        state.SkipWithError("the demo scene has no medium");
+        return;
+    }
+    WalkGuideSettings settings;
+    settings.distance = DistanceGuiding::Incremental;  // the tables the estimates read
+    settings.direction = DirectionGuiding::Product;
+    const WalkGuide guide(scene, field, settings);
+    const BBox3f b = field.tree().bounds();
+    std::vector<std::pair<MediumInteraction, Vec3f>> queries;
+    for (int i = 0; i < 4096; ++i) {
+        Sampler s(6, 0, uint64_t(i));
+        const Vec3f e = b.extents();
+        MediumInteraction mi;
+        mi.p = b.lo + Vec3f(e.x * s.next_1d(), e.y * s.next_1d(), e.z * s.next_1d());
+        mi.medium = medium;
+        mi.coeffs = medium->eval(mi.p);
+        const Vec3f d = warp::square_to_uniform_sphere(s.next_2d());
+        mi.wi = -d;
+        queries.push_back({mi, d});
+    }
+    size_t i = 0;
+    for (auto _ : state) {
+        const auto& [mi, d] = queries[i++ & 4095];
+        GuideRegion region;  // not known: a descent, as after an unguided distance decision
+        benchmark::DoNotOptimize(guide.inscattered_estimate(mi, d, region));
+    }
+}
+
 // An 8-lobe leaf with concentrations between 1 and 50 in random directions.
 GuidingLeaf bench_leaf() {
     GuidingLeaf leaf;
@@ -324,6 +385,8 @@ BENCHMARK(BM_GuidedDirection<DirectionGuiding::Phase, Sample>)->Name("BM_GuidedD
 BENCHMARK(BM_GuidedDirection<DirectionGuiding::Product, Pdf>)->Name("BM_GuidedDirectionPdf/product");
 BENCHMARK(BM_GuidedDirection<DirectionGuiding::Incident, Pdf>)->Name("BM_GuidedDirectionPdf/incident");
 BENCHMARK(BM_DistanceQuery)->Arg(0)->Arg(30)->Arg(50);
+BENCHMARK(BM_LeafTableLookup);
+BENCHMARK(BM_RouletteEstimate);
 BENCHMARK(BM_LeafWalk<true>)->Name("BM_LeafWalkCursor");
 BENCHMARK(BM_LeafWalk<false>)->Name("BM_LeafWalkTraverse");
 BENCHMARK(BM_PhotonPass)->Unit(benchmark::kMillisecond)->UseRealTime();
