@@ -9,6 +9,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <cmath>
 #include <optional>
 
 #include "arrays.h"
@@ -62,10 +63,12 @@ py::dict bins_dict(const std::vector<DistanceBin>& bins) {
 
 py::dict distance_pdf(const FieldHandle& h, const FloatArray& origin, const FloatArray& direction, float t_max,
                       std::shared_ptr<SceneHandle> scene, const std::optional<FloatArray>& t, int n,
-                      const std::string& sampler, float c_T, float p_max, float filter_A) {
+                      const std::string& sampler, float c_T, float p_max, float filter_A, float distance_merge) {
     if (!scene) scene = h.scene;
     if (!scene) throw py::value_error("distance_pdf needs the scene (the field was not trained on one here)");
     if (!(t_max > 0.f)) throw py::value_error("t_max must be positive");
+    if (!(distance_merge >= 0.f) || !std::isfinite(distance_merge))
+        throw py::value_error("distance_merge must be finite and >= 0 (0: leaves)");
     if (sampler != "tabulated" && sampler != "incremental")
         throw py::value_error("sampler must be 'tabulated' or 'incremental', got '" + sampler + "'");
     const Scene& s = *scene->scene;
@@ -84,8 +87,11 @@ py::dict distance_pdf(const FieldHandle& h, const FloatArray& origin, const Floa
     const std::vector<float> extents = leaf_extents(h.field->tree());
     std::vector<ProxySegment> proxies;
     std::vector<DistanceBin> bins;
+    // distance_merge > 0: the walk steps regions of leaves (guiding/distance_regions.h), as the renderer does.
+    std::optional<DistanceRegions> regions;
+    if (distance_merge > 0.f) regions.emplace(h.field->tree(), estimates, extents, distance_merge);
     BinSource source(ray, t_end, *medium, *h.field, &estimates, proxies, defaults.max_bin_optical_depth, extents,
-                     defaults.leaf_tau_max);
+                     defaults.leaf_tau_max, regions ? &*regions : nullptr);
     DistanceBin bin;
     while (source(bin)) bins.push_back(bin);
 
@@ -130,10 +136,13 @@ void bind_distance(py::module_& m) {
               py::kw_only(), py::arg("scene") = py::none(), py::arg("t") = py::none(), py::arg("n") = 256,
               py::arg("sampler") = "tabulated", py::arg("c_T") = GuidedDistanceSettings{}.c_T,
               py::arg("p_max") = GuidedDistanceSettings{}.p_max, py::arg("filter_A") = GuidedDistanceSettings{}.filter_A,
+              py::arg("distance_merge") = WalkGuideSettings{}.distance_merge,
               "The guided distance pdf along the ray's first segment (up to the first surface or t_max) in the "
               "medium the ray starts in: a dict with t, pdf (at t, default n midpoints of (0, t_end)), "
               "surface_probability (the mass of reaching t_end), t_end, g (the medium's mean cosine) and the bins "
-              "(t0, t1, sigma_t, albedo, Li, L, valid, confidence). sampler: tabulated or incremental.");
+              "(t0, t1, sigma_t, albedo, Li, L, valid, confidence). sampler: tabulated or incremental. "
+              "distance_merge > 0: the bins are regions of leaves whose estimates agree (the renderer's "
+              "distance_merge parameter).");
 }
 
 }  // namespace volguide::python

@@ -52,3 +52,14 @@ def test_distance_pdf_needs_a_medium_and_a_scene(trained, tmp_path):
     a = loaded.distance_pdf(ORIGIN, DIRECTION, 10.0)
     b = trained.distance_pdf(ORIGIN, DIRECTION, 10.0)
     assert np.array_equal(a["pdf"], b["pdf"])
+
+
+def test_distance_regions_are_a_distribution_over_fewer_bins(trained):
+    leaves = trained.distance_pdf(ORIGIN, DIRECTION, 10.0, sampler="incremental", n=4000)
+    merged = trained.distance_pdf(ORIGIN, DIRECTION, 10.0, sampler="incremental", n=4000, distance_merge=1.0)
+    assert len(leaves["bins"]["t0"]) > 1
+    assert len(merged["bins"]["t0"]) < len(leaves["bins"]["t0"])  # tolerance 1: one region crossed
+    integral = merged["pdf"].mean() * merged["t_end"]
+    assert integral + merged["surface_probability"] == pytest.approx(1.0, abs=1e-2)
+    with pytest.raises(ValueError, match="distance_merge"):
+        trained.distance_pdf(ORIGIN, DIRECTION, 10.0, distance_merge=-1.0)
