@@ -5,6 +5,7 @@
 # the mean bins per distance decision.
 #   scripts/distance_variants.sh BUILD_DIR FIELD_DIR "shafts:128 fogbox:128 thin:512 backlit:256"
 # A missing FIELD_DIR/<scene>.field is trained first (photons 50000000, as the benchmark asks).
+# SEED (environment, default 1): the renders' seed.
 set -euo pipefail
 B=$1 F=$2
 cd "$(dirname "$0")/.."
@@ -20,7 +21,7 @@ for ss in $3; do
     [ $v = merge ] && extra='<float name="distance_merge" value="0.5"/>'
     [ $v = nodist ] && extra='<string name="distance" value="standard"/>'
     printf '<scene version="3.0.0"><integrator type="guided_volpath"><integer name="max_depth" value="$max_depth"/><string name="load_field" value="%s"/>%s</integrator></scene>\n' "$F/$sc.field" "$extra" > "$F/v_${sc}_$v.xml"
-    "$B/volguide" render "bench/scenes/$sc.xml" -o "$F/out.exr" --spp "$spp" --quiet -D integrator=guided_volpath \
+    "$B/volguide" render "bench/scenes/$sc.xml" -o "$F/out.exr" --spp "$spp" --seed "${SEED:-1}" --quiet -D integrator=guided_volpath \
       -D "integrator_xml=$F/v_${sc}_$v.xml" --reference "bench/references/$sc.exr" --stats "$F/stats.json" > /dev/null
     /usr/bin/python3 - "$F/stats.json" "$sc" "$v" "$spp" <<'PY'
 import json, sys
