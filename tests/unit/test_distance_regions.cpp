@@ -8,6 +8,7 @@
 #include <iostream>
 
 #include "support/guiding_leaf_fixtures.h"
+#include "support/turning_light_field.h"
 #include "volguide/core/sampler.h"
 #include "volguide/core/warp.h"
 #include "volguide/guiding/distance_regions.h"
@@ -18,7 +19,7 @@ using namespace volguide::test;
 
 namespace {
 
-const BBox3f kBox(Point3f(0.f), Point3f(2.f, 1.f, 1.f));
+const BBox3f kBox = kTurningLightBox;
 
 SpatialTree test_tree(int max_samples) {
     std::vector<Point3f> points;
@@ -42,20 +43,9 @@ GuidingField field_of(const SpatialTree& tree, Kind&& kind) {
     return GuidingField(tree, std::move(leaves));
 }
 
-// Radiance from a direction that turns with x (a fitted field: every leaf differs a little).
+// A fitted field: every leaf differs a little from its neighbours.
 GuidingField fitted_field() {
-    std::vector<RadianceSample> out;
-    for (int i = 0; i < 20000; ++i) {
-        Sampler s(11, 0, uint64_t(i));
-        const Point3f p(2.f * s.next_1d(), s.next_1d(), s.next_1d());
-        const VmfLobe lobe(normalize(Vec3f(std::cos(0.5f * p.x), std::sin(0.5f * p.x), 0.3f)), 5.f);
-        const Vec3f d = s.next_1d() < 0.7f ? lobe.sample(s.next_2d()) : warp::square_to_uniform_sphere(s.next_2d());
-        out.push_back({p, d, Color3(2.f, 1.f, 0.5f)});
-    }
-    GuidingFieldSettings settings;
-    settings.tree.max_samples = 500;
-    settings.lobes = 4;
-    return GuidingField::build(kBox, out, settings);
+    return turning_light_field(5.f, 0.5f, 500, 4);
 }
 
 // The fine leaf's channel-average estimates against its region's, at a point and a direction.
@@ -75,6 +65,21 @@ Pair lookup_both(const GuidingField& field, const LeafEstimates& est, const Dist
     return r;
 }
 
+// At `count` random points and directions, each region reads what its leaf reads, within `rel` of
+// max(value, floor) (16-bit rounding of merged tables of identical leaves).
+void expect_regions_read_their_leaves(const GuidingField& field, const LeafEstimates& est,
+                                      const DistanceRegions& regions, int count, uint64_t seed, float rel,
+                                      float floor) {
+    for (int i = 0; i < count; ++i) {
+        Sampler s(seed, 0, uint64_t(i));
+        const Point3f p(2.f * s.next_1d(), s.next_1d(), s.next_1d());
+        const Pair r = lookup_both(field, est, regions, p, warp::square_to_uniform_sphere(s.next_2d()));
+        ASSERT_TRUE(r.valid_leaf && r.valid_region);
+        EXPECT_NEAR(r.Li_region, r.Li_leaf, rel * std::max(r.Li_leaf, floor));
+        EXPECT_NEAR(r.L_region, r.L_leaf, rel * std::max(r.L_leaf, floor));
+    }
+}
+
 }  // namespace
 
 TEST(DistanceRegions, IdenticalLeavesBecomeOneRegion) {
@@ -85,14 +90,7 @@ TEST(DistanceRegions, IdenticalLeavesBecomeOneRegion) {
     const LeafEstimates est(field, cache, 16);
     const DistanceRegions regions(tree, est, leaf_extents(tree), 0.f);
     EXPECT_EQ(regions.region_count(), 1);
-    for (int i = 0; i < 200; ++i) {
-        Sampler s(2, 0, uint64_t(i));
-        const Point3f p(2.f * s.next_1d(), s.next_1d(), s.next_1d());
-        const Pair r = lookup_both(field, est, regions, p, warp::square_to_uniform_sphere(s.next_2d()));
-        ASSERT_TRUE(r.valid_leaf && r.valid_region);
-        EXPECT_NEAR(r.Li_region, r.Li_leaf, 1e-4f * std::max(r.Li_leaf, 1e-3f));
-        EXPECT_NEAR(r.L_region, r.L_leaf, 1e-4f * std::max(r.L_leaf, 1e-3f));
-    }
+    expect_regions_read_their_leaves(field, est, regions, 200, 2, 1e-4f, 1e-3f);
 }
 
 // Two shapes, split by a plane that is not a kd split: no region mixes them (every point reads its
@@ -105,14 +103,7 @@ TEST(DistanceRegions, DifferentLeavesStayApart) {
     const DistanceRegions regions(tree, est, leaf_extents(tree), 0.05f);
     EXPECT_GE(regions.region_count(), 2);
     EXPECT_LT(regions.region_count(), tree.leaf_count() / 2);
-    for (int i = 0; i < 2000; ++i) {
-        Sampler s(3, 0, uint64_t(i));
-        const Point3f p(2.f * s.next_1d(), s.next_1d(), s.next_1d());
-        const Pair r = lookup_both(field, est, regions, p, warp::square_to_uniform_sphere(s.next_2d()));
-        ASSERT_TRUE(r.valid_leaf && r.valid_region);
-        EXPECT_NEAR(r.Li_region, r.Li_leaf, 1e-3f * std::max(r.Li_leaf, 1e-2f));
-        EXPECT_NEAR(r.L_region, r.L_leaf, 1e-3f * std::max(r.L_leaf, 1e-2f));
-    }
+    expect_regions_read_their_leaves(field, est, regions, 2000, 3, 1e-3f, 1e-2f);
 }
 
 // A fitted field: regions merge leaves, more of them as the tolerance grows (tolerance 0 keeps

@@ -9,28 +9,16 @@
 
 #include "volguide/core/sampler.h"
 #include "volguide/core/warp.h"
+#include "support/turning_light_field.h"
 #include "volguide/guiding/leaf_estimates.h"
 
 using namespace volguide;
 
 namespace {
 
-const BBox3f kBox(Point3f(0.f), Point3f(2.f, 1.f, 1.f));
-
 // Radiance from a direction that turns with x, a moderately sharp lobe plus a uniform part.
 GuidingField test_field(float kappa) {
-    std::vector<RadianceSample> out;
-    for (int i = 0; i < 20000; ++i) {
-        Sampler s(11, 0, uint64_t(i));
-        const Point3f p(2.f * s.next_1d(), s.next_1d(), s.next_1d());
-        const VmfLobe lobe(normalize(Vec3f(std::cos(p.x), std::sin(p.x), 0.3f)), kappa);
-        const Vec3f d = s.next_1d() < 0.7f ? lobe.sample(s.next_2d()) : warp::square_to_uniform_sphere(s.next_2d());
-        out.push_back({p, d, Color3(2.f, 1.f, 0.5f)});
-    }
-    GuidingFieldSettings settings;
-    settings.tree.max_samples = 1500;
-    settings.lobes = 6;
-    return GuidingField::build(kBox, out, settings);
+    return test::turning_light_field(kappa, 1.f, 1500, 6);
 }
 
 }  // namespace
