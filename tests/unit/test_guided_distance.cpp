@@ -90,6 +90,28 @@ TEST(GuidedDistance, StrategyChoice) {
               DistanceStrategy::TransmittanceG);
 }
 
+// A bin's transmittance probabilities: 1 - T and T within one float ulp of libm's expm1 / exp over
+// the whole range of optical depths, across the switch at tau = 0.5 between the thin-bin series
+// and exp (the walk's decisions and its pdf must agree to rounding: a coarse approximation here
+// would bias the transmittance strategies' weights).
+TEST(GuidedDistance, BinTransmittanceMatchesLibm) {
+    IncrementalDistanceWalk walk(GuidedDistanceSettings{}, DistanceStrategy::Guided);
+    int checked = 0;
+    for (int i = 0; i <= 200000; ++i) {
+        const float tau = i < 100000 ? 0.5f * float(i) / 100000.f : 0.5f + 20.f * float(i - 100000) / 100000.f;
+        DistanceBin bin;
+        bin.t0 = 0.f;
+        bin.t1 = 1.f;
+        bin.sigma_t = Color3(tau);
+        const IncrementalDistanceWalk::Bin p = walk.evaluate(bin);
+        const float P = -std::expm1(-tau), T = std::exp(-tau);
+        ASSERT_LE(std::abs(p.P_T_bar - P), std::nextafter(P, 2.f) - P) << "tau " << tau;
+        ASSERT_LE(std::abs(p.T_bar - T), 2.f * (std::nextafter(T, 2.f) - T) + 1e-30f) << "tau " << tau;
+        ++checked;
+    }
+    EXPECT_EQ(checked, 200001);
+}
+
 TEST(GuidedDistance, TruncatedExponentialIsNormalisedAndInverts) {
     for (float sigma : {1e-9f, 0.3f, 5.f, 40.f}) {
         const float length = 0.7f;
