@@ -19,7 +19,7 @@ BENCH_ARGS ?=
 # CTest label expression for `make test`; CI runs everything.
 TEST_ARGS ?=
 
-.PHONY: deps build python test install demo bench bench-micro bench-distributed clean format fuzz
+.PHONY: deps build python test install demo bench bench-micro bench-distributed clean format fuzz test-sanitize
 
 deps:
 	@scripts/install-deps.sh $(APT_PACKAGES)
@@ -68,6 +68,11 @@ FUZZ_SECONDS ?= 60
 FUZZ_BUILD_DIR ?= build-fuzz
 fuzz: deps
 	@JOBS=$(JOBS) scripts/fuzz.sh $(FUZZ_SECONDS) $(FUZZ_BUILD_DIR)
+
+# The unit, stat and fast integration tests under ASan + UBSan (build-asan), the render loop, photon
+# pass and determinism tests under TSan (build-tsan); docs/reliability.md. CPU heavy: two more builds.
+test-sanitize: deps
+	@JOBS=$(JOBS) scripts/test-sanitize.sh build-asan build-tsan
 
 format:
 	clang-format -i $$(git ls-files '*.cpp' '*.h')

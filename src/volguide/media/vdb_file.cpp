@@ -19,6 +19,7 @@
 #include <system_error>
 
 #include "volguide/core/error.h"
+#include "volguide/core/memory.h"
 #include "volguide/media/grid_data.h"
 
 namespace volguide {
@@ -81,6 +82,14 @@ GridData densify(const std::string& path, const GridT& grid, int channels) {
     if (dim[0] > INT_MAX || dim[1] > INT_MAX || dim[2] > INT_MAX || count > max_values)
         vdb_fail(path, fmt::format("grid \"{}\" is too large to densify ({}x{}x{} active voxel bounding box)",
                                    grid.getName(), dim[0], dim[1], dim[2]));
+
+    // A sparse grid's active box can be far larger than the file (background fills it), so the
+    // dense copy is bounded by the machine's memory instead of the file's size.
+    const uint64_t have = physical_memory_bytes();
+    if (have > 0 && count * sizeof(float) > have)
+        vdb_fail(path, fmt::format("grid \"{}\" densifies to {}x{}x{} voxels ({}), more than this machine's {}",
+                                   grid.getName(), dim[0], dim[1], dim[2], format_bytes(count * sizeof(float)),
+                                   format_bytes(have)));
 
     const AxisMap map = axis_aligned_map(path, grid.getName(), grid.transform());
     GridData g;

@@ -8,9 +8,11 @@
 #include <ImfStringAttribute.h>
 
 #include <fstream>
+#include <iterator>
 
 #include "volguide/core/atomic_write.h"
 #include "volguide/core/error.h"
+#include "volguide/render/exr_header_check.h"
 
 namespace volguide {
 
@@ -45,13 +47,17 @@ void write_exr_layers(const std::string& path, const ExrLayers& layers) {
 
 ExrLayers read_exr_layers(const std::string& path) {
     if (!std::ifstream(path, std::ios::binary)) fail_file(path, "cannot open image file");
+    check_exr_header(path);
     try {
         Imf::InputFile file(path.c_str());
         const Imf::Header& header = file.header();
         const Imath::Box2i dw = header.dataWindow();
         ExrLayers layers;
-        layers.width = dw.max.x - dw.min.x + 1;
-        layers.height = dw.max.y - dw.min.y + 1;
+        const ExrSize size =
+            checked_exr_size(path, dw.min.x, dw.min.y, dw.max.x, dw.max.y,
+                             size_t(std::distance(header.channels().begin(), header.channels().end())));
+        layers.width = size.width;
+        layers.height = size.height;
         const size_t n = size_t(layers.width) * size_t(layers.height);
         for (auto it = header.begin(); it != header.end(); ++it)
             if (const auto* s = dynamic_cast<const Imf::StringAttribute*>(&it.attribute()))
