@@ -11,6 +11,7 @@
 #include "volguide/geometry/shapes/mesh_files.h"
 #include "volguide/media/grid_data.h"
 #include "volguide/render/sensors/hdrfilm.h"
+#include "volguide/scene/xml_file.h"
 
 using namespace volguide;
 using namespace volguide::test;

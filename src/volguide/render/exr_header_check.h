@@ -11,8 +11,8 @@ namespace volguide {
 void check_exr_header(const std::string& path);
 
 // The size of an EXR's data window [min, max] (inclusive, as OpenEXR gives it), checked: positive,
-// within int, and the float buffers of `channels` channels within the machine's memory (compressed
-// pixels can be far smaller than the image, so the file's size is no bound). InputError otherwise.
+// within int, and the float buffers of `channels` channels no larger than the file could hold at
+// the best compression ratio EXR has, nor than the machine's memory. InputError otherwise.
 struct ExrSize {
     int width = 0, height = 0;
 };

@@ -8,7 +8,6 @@
 #include <ImfStringAttribute.h>
 
 #include <fstream>
-#include <iterator>
 
 #include "volguide/core/atomic_write.h"
 #include "volguide/core/error.h"
@@ -53,9 +52,9 @@ ExrLayers read_exr_layers(const std::string& path) {
         const Imf::Header& header = file.header();
         const Imath::Box2i dw = header.dataWindow();
         ExrLayers layers;
-        const ExrSize size =
-            checked_exr_size(path, dw.min.x, dw.min.y, dw.max.x, dw.max.y,
-                             size_t(std::distance(header.channels().begin(), header.channels().end())));
+        size_t channel_count = 0;  // OpenEXR's channel iterators are not standard iterators
+        for (auto it = header.channels().begin(); it != header.channels().end(); ++it) ++channel_count;
+        const ExrSize size = checked_exr_size(path, dw.min.x, dw.min.y, dw.max.x, dw.max.y, channel_count);
         layers.width = size.width;
         layers.height = size.height;
         const size_t n = size_t(layers.width) * size_t(layers.height);
