@@ -29,13 +29,13 @@ const char* kScene = R"(<scene version="3.0.0">
 </scene>
 )";
 
-struct Run {
+struct LimitedRun {
     int exit_code = -1;
     std::string err;
 };
 
 // volguide ARGS in `dir`, with files limited to `max_bytes`.
-Run run_with_file_limit(const fs::path& dir, rlim_t max_bytes, const std::vector<std::string>& args) {
+LimitedRun run_with_file_limit(const fs::path& dir, rlim_t max_bytes, const std::vector<std::string>& args) {
     const pid_t pid = fork();
     if (pid == 0) {
         if (chdir(dir.c_str()) != 0 || !freopen("stderr.txt", "w", stderr)) _exit(99);
@@ -51,7 +51,7 @@ Run run_with_file_limit(const fs::path& dir, rlim_t max_bytes, const std::vector
     }
     int status = 0;
     waitpid(pid, &status, 0);
-    Run r;
+    LimitedRun r;
     r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
     r.err = read_file((dir / "stderr.txt").string());
     return r;
@@ -77,12 +77,12 @@ TEST_P(FullOutput, ExitsOneAndLeavesNothingBehind) {
     // 2 KiB: the scene (a few hundred bytes) is read, not written; every output is larger.
     std::vector<std::string> args = {"render", "s.xml", "--quiet", "--threads", "1"};
     for (const std::string& a : GetParam()) args.push_back(a);
-    const Run r = run_with_file_limit(dir.path(), 2048, args);
+    const LimitedRun r = run_with_file_limit(dir.path(), 2048, args);
     EXPECT_EQ(r.exit_code, 1) << r.err;
     EXPECT_NE(r.err.find("volguide: "), std::string::npos) << r.err;
     EXPECT_EQ(leftovers(dir.path()), std::vector<std::string>{}) << r.err;
     // Without the limit the same command succeeds: the failure above is the full disk's.
-    const Run ok = run_with_file_limit(dir.path(), RLIM_INFINITY, args);
+    const LimitedRun ok = run_with_file_limit(dir.path(), RLIM_INFINITY, args);
     EXPECT_EQ(ok.exit_code, 0) << ok.err;
     EXPECT_FALSE(leftovers(dir.path()).empty());
 }
