@@ -64,10 +64,12 @@ bench-distributed: build
 
 # make fuzz FUZZ_SECONDS=N: every reader's libFuzzer target for N seconds each, built with clang into
 # FUZZ_BUILD_DIR (docs/reliability.md). Exit 1 when a target finds a crash, hang or sanitizer report.
+# FUZZ_TARGETS: a subset (default all: scene vol vdb field obj ply exr_part).
 FUZZ_SECONDS ?= 60
 FUZZ_BUILD_DIR ?= build-fuzz
+FUZZ_TARGETS ?=
 fuzz: deps
-	@JOBS=$(JOBS) scripts/fuzz.sh $(FUZZ_SECONDS) $(FUZZ_BUILD_DIR)
+	@JOBS=$(JOBS) scripts/fuzz.sh $(FUZZ_SECONDS) $(FUZZ_BUILD_DIR) $(FUZZ_TARGETS)
 
 # The unit, stat and fast integration tests under ASan + UBSan (build-asan), the render loop, photon
 # pass and determinism tests under TSan (build-tsan); docs/reliability.md. CPU heavy: two more builds.
