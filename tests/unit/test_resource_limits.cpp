@@ -5,6 +5,7 @@
 
 #include <cstring>
 #include <fstream>
+#include <iterator>
 
 #include "test_loader_util.h"
 #include "volguide/core/memory.h"
@@ -135,4 +136,21 @@ TEST(ResourceLimits, FilmMemoryEstimate) {
     EXPECT_EQ(film_memory_bytes(1920, 1080), 1920u * 1080u * kFilmBytesPerPixel);
     EXPECT_EQ(format_bytes(512), "512 B");
     EXPECT_EQ(format_bytes(3u << 20), "3.0 MiB");
+}
+
+TEST(ResourceLimits, VdbMetadataLengthsAreBoundedByTheFileSize) {
+    // The seed of the vdb fuzzer with its grid's first metadata name declared 2^31 - 1 bytes long
+    // (grid offset 0x7c, then uint32 compression and uint32 entry count): OpenVDB would allocate
+    // that string before reading it.
+    std::ifstream in(std::string(VOLGUIDE_SOURCE_DIR) + "/tests/fuzz/corpus/vdb/density_2x2x2.vdb", std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    ASSERT_GT(bytes.size(), 0x88u);
+    ScratchDir dir;
+    const std::string valid = dir.write("valid.vdb", bytes);
+    EXPECT_EQ(read_vdb_file(valid, "density").nx, 2);
+    const int32_t huge = 0x7fffffff;
+    std::memcpy(&bytes[0x84], &huge, 4);
+    std::ofstream(dir.path("long.vdb"), std::ios::binary) << bytes;
+    expect_error_containing([&] { read_vdb_file(dir.path("long.vdb"), "density"); },
+                            "metadata name (2147483647 bytes at offset 136) runs past the end of the file");
 }

@@ -21,6 +21,7 @@
 #include "volguide/core/error.h"
 #include "volguide/core/memory.h"
 #include "volguide/media/grid_data.h"
+#include "volguide/media/vdb_header_check.h"
 
 namespace volguide {
 
@@ -143,6 +144,8 @@ GridData read_vdb_file(const std::string& path, const std::string& grid_name) {
     if (!std::filesystem::exists(path, ec)) vdb_fail(path, "cannot open the .vdb file (no such file)");
     if (std::filesystem::is_directory(path, ec))
         vdb_fail(path, "cannot open the .vdb file (it is a directory)");
+
+    check_vdb_header(path);
 
     openvdb::GridBase::Ptr base;
     std::vector<std::string> names;
