@@ -22,6 +22,9 @@ if [[ ! -f $build/CMakeCache.txt ]]; then
 fi
 cmake --build "$build" -j "$jobs" --target "${targets[@]/#/fuzz_}"
 
+# Allocations sized by input are bounded by this budget (core/memory.h), so a size the readers accept
+# stays inside -rss_limit_mb below instead of being reported as out-of-memory.
+export VOLGUIDE_MEMORY_LIMIT_MB=1024
 failed=()
 for t in "${targets[@]}"; do
   corpus=$build/fuzz-corpus/$t

@@ -95,8 +95,8 @@ int run_info(const InfoArgs& args) {
     fmt::print("spp: {} (seed {})\n", sensor.sample_count(), sensor.seed());
     // The film's share of a render's memory (accumulators, result images, EXR channels); meshes,
     // grids and the guiding field come on top.
-    fmt::print("film memory: {} (this machine has {})\n", format_bytes(film_memory_bytes(film.width(), film.height())),
-               format_bytes(physical_memory_bytes()));
+    fmt::print("film memory: {} (the limit is {})\n", format_bytes(film_memory_bytes(film.width(), film.height())),
+               memory_budget_description());
     fmt::print("sensor: {}\n", sensor.to_string());
     fmt::print("filter: {}{}\n", film.filter().to_string(), film.sample_border() ? " (sample_border)" : "");
     fmt::print("integrator: {}\n", scene->integrator().to_string());

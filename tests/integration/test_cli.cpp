@@ -352,7 +352,7 @@ TEST_F(Cli, InfoPrintsTheFilmMemory) {
     CliResult r = run("info s.xml");
     ASSERT_EQ(r.code, 0) << r.err;
     // 16 x 12 pixels at 128 bytes each.
-    EXPECT_NE(r.out.find("film memory: 24.0 KiB (this machine has "), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("film memory: 24.0 KiB (the limit is "), std::string::npos) << r.out;
 }
 
 TEST_F(Cli, InfoSummarisesTheScene) {

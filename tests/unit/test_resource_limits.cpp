@@ -120,7 +120,7 @@ TEST(ResourceLimits, IncludeDepthIsBounded) {
 
 TEST(ResourceLimits, FilmSizeIsBoundedByTheMachinesMemory) {
     const uint64_t need = film_memory_bytes(65536, 65536);
-    if (physical_memory_bytes() >= need) GTEST_SKIP() << "this machine could hold a 65536^2 film";
+    if (memory_budget_bytes() >= need) GTEST_SKIP() << "this machine could hold a 65536^2 film";
     ScratchDir dir;
     const std::string path = dir.write("film.xml", scene(R"(<sensor type="perspective">
 <film type="hdrfilm">
@@ -130,6 +130,26 @@ TEST(ResourceLimits, FilmSizeIsBoundedByTheMachinesMemory) {
 </sensor>
 )"));
     expect_input_error([&] { load_scene_properties(path); }, path, 4, "film needs about 512.0 GiB of memory");
+}
+
+TEST(ResourceLimits, MemoryBudgetFollowsTheEnvironment) {
+    ScratchDir dir;
+    const std::string path = dir.write("film.xml", scene(R"(<sensor type="perspective">
+<film type="hdrfilm">
+<integer name="width" value="4096"/>
+<integer name="height" value="4096"/>
+</film>
+</sensor>
+)"));
+    // 4096^2 pixels need 2 GiB: refused under a 1 GiB budget, with the budget named.
+    setenv("VOLGUIDE_MEMORY_LIMIT_MB", "1024", 1);
+    EXPECT_EQ(memory_budget_bytes(), std::min<uint64_t>(physical_memory_bytes(), uint64_t(1) << 30));
+    expect_input_error([&] { load_scene_properties(path); }, path, 4,
+                       "needs about 2.0 GiB of memory, more than the VOLGUIDE_MEMORY_LIMIT_MB budget of 1.0 GiB");
+    setenv("VOLGUIDE_MEMORY_LIMIT_MB", "lots", 1);
+    EXPECT_THROW(memory_budget_bytes(), std::invalid_argument);
+    unsetenv("VOLGUIDE_MEMORY_LIMIT_MB");
+    EXPECT_EQ(memory_budget_bytes(), physical_memory_bytes());
 }
 
 TEST(ResourceLimits, FilmMemoryEstimate) {

@@ -86,11 +86,11 @@ GridData densify(const std::string& path, const GridT& grid, int channels) {
 
     // A sparse grid's active box can be far larger than the file (background fills it), so the
     // dense copy is bounded by the machine's memory instead of the file's size.
-    const uint64_t have = physical_memory_bytes();
+    const uint64_t have = memory_budget_bytes();
     if (have > 0 && count * sizeof(float) > have)
-        vdb_fail(path, fmt::format("grid \"{}\" densifies to {}x{}x{} voxels ({}), more than this machine's {}",
-                                   grid.getName(), dim[0], dim[1], dim[2], format_bytes(count * sizeof(float)),
-                                   format_bytes(have)));
+        vdb_fail(path, fmt::format("grid \"{}\" densifies to {}x{}x{} voxels ({}), more than {}", grid.getName(),
+                                   dim[0], dim[1], dim[2], format_bytes(count * sizeof(float)),
+                                   memory_budget_description()));
 
     const AxisMap map = axis_aligned_map(path, grid.getName(), grid.transform());
     GridData g;

@@ -192,11 +192,11 @@ ExrSize checked_exr_size(const std::string& path, int min_x, int min_y, int max_
         throw InputError(SourceLocation{path, 0},
                          fmt::format("a {} x {} EXR with {} channels cannot fit in {} bytes, even compressed", width,
                                      height, channels, file_size));
-    const uint64_t have = physical_memory_bytes();
+    const uint64_t have = memory_budget_bytes();
     if (have > 0 && bytes > have)
-        throw InputError(SourceLocation{path, 0},
-                         fmt::format("a {} x {} EXR with {} channels needs {}, more than this machine's {}", width,
-                                     height, channels, format_bytes(bytes), format_bytes(have)));
+        throw InputError(SourceLocation{path, 0}, fmt::format("a {} x {} EXR with {} channels needs {}, more than {}", width,
+                                                              height, channels, format_bytes(bytes),
+                                                              memory_budget_description()));
     return {int(width), int(height)};
 }
 
