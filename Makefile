@@ -4,12 +4,14 @@ JOBS ?= $(shell nproc)
 # Debian packages the build and tests need (python3-matplotlib and chromium: the benchmark report, its
 # plots and the headless check of its HTML page, exercised by the bench_harness test; python3-pybind11,
 # python3-numpy, python3-pytest: the Python module and its tests; slurm-wlm and munge: the single-node Slurm
-# cluster of the slurm_array test, docs/distributed.md). Keep in sync with CMakeLists.txt.
+# cluster of the slurm_array test, docs/distributed.md; clang and libclang-rt-14-dev: libFuzzer and the
+# sanitizers of `make fuzz`, docs/reliability.md). Keep in sync with CMakeLists.txt.
 APT_PACKAGES := build-essential cmake pkg-config libembree-dev libtbb-dev libopenexr-dev \
   libpugixml-dev libtinyobjloader-dev libfmt-dev libcli11-dev nlohmann-json3-dev libstb-dev \
   libgtest-dev libgmock-dev libbenchmark-dev libopenvdb-dev \
   libboost-iostreams-dev python3 python3-matplotlib chromium \
-  python3-dev python3-pybind11 python3-numpy python3-pytest slurm-wlm munge
+  python3-dev python3-pybind11 python3-numpy python3-pytest slurm-wlm munge \
+  clang libclang-rt-14-dev
 # make bench QUICK=1: the reduced budget; TIME=seconds per render; BENCH_ARGS: any run_bench.py option.
 QUICK ?=
 TIME ?=
@@ -17,7 +19,7 @@ BENCH_ARGS ?=
 # CTest label expression for `make test`; CI runs everything.
 TEST_ARGS ?=
 
-.PHONY: deps build python test install demo bench bench-micro bench-distributed clean format
+.PHONY: deps build python test install demo bench bench-micro bench-distributed clean format fuzz test-sanitize
 
 deps:
 	@scripts/install-deps.sh $(APT_PACKAGES)
@@ -59,6 +61,20 @@ bench-micro: build
 # Distributed rendering on this machine: chunk processes vs one process, merge time (docs/distributed.md).
 bench-distributed: build
 	@bench/distributed_bench.sh $(BUILD_DIR)
+
+# make fuzz FUZZ_SECONDS=N: every reader's libFuzzer target for N seconds each, built with clang into
+# FUZZ_BUILD_DIR (docs/reliability.md). Exit 1 when a target finds a crash, hang or sanitizer report.
+# FUZZ_TARGETS: a subset (default all: scene vol vdb field obj ply exr_part).
+FUZZ_SECONDS ?= 60
+FUZZ_BUILD_DIR ?= build-fuzz
+FUZZ_TARGETS ?=
+fuzz: deps
+	@JOBS=$(JOBS) scripts/fuzz.sh $(FUZZ_SECONDS) $(FUZZ_BUILD_DIR) $(FUZZ_TARGETS)
+
+# The unit, stat and fast integration tests under ASan + UBSan (build-asan), the render loop, photon
+# pass and determinism tests under TSan (build-tsan); docs/reliability.md. CPU heavy: two more builds.
+test-sanitize: deps
+	@JOBS=$(JOBS) scripts/test-sanitize.sh build-asan build-tsan
 
 format:
 	clang-format -i $$(git ls-files '*.cpp' '*.h')

@@ -5,6 +5,8 @@
 #include "commands.h"
 #include <fstream>
 
+#include "volguide/core/memory.h"
+#include "volguide/render/sensors/hdrfilm.h"
 #include "volguide/guiding/field_io.h"
 #include "volguide/integrators/guided_prepass.h"
 #include "volguide/integrators/training_file.h"
@@ -91,6 +93,10 @@ int run_info(const InfoArgs& args) {
     fmt::print("scene: {}\n", args.scene);
     fmt::print("resolution: {} x {}\n", film.width(), film.height());
     fmt::print("spp: {} (seed {})\n", sensor.sample_count(), sensor.seed());
+    // The film's share of a render's memory (accumulators, result images, EXR channels); meshes,
+    // grids and the guiding field come on top.
+    fmt::print("film memory: {} (the limit is {})\n", format_bytes(film_memory_bytes(film.width(), film.height())),
+               memory_budget_description());
     fmt::print("sensor: {}\n", sensor.to_string());
     fmt::print("filter: {}{}\n", film.filter().to_string(), film.sample_border() ? " (sample_border)" : "");
     fmt::print("integrator: {}\n", scene->integrator().to_string());

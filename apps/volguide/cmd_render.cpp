@@ -15,6 +15,7 @@
 #include "interrupt.h"
 #include "progress_display.h"
 #include "scene_identity.h"
+#include "volguide/core/atomic_write.h"
 #include "volguide/core/log.h"
 #include "volguide/integrators/integrator.h"
 #include "volguide/integrators/render_loop.h"
@@ -151,9 +152,15 @@ void write_stats(const std::string& path, const RenderArgs& args, const std::vec
     nlohmann::json counters = nlohmann::json::object();
     for (const auto& [name, value] : integrator.statistics()) counters[name] = value;
     j["integrator"] = counters;
-    std::ofstream f(path);
-    f << j.dump(2) << "\n";
-    if (!f) throw FileError(path, "cannot write the statistics file");
+    // Atomic and checked after close like the images: a full disk must not leave half a JSON file.
+    const std::string text = j.dump(2) + "\n";
+    const std::string error = write_atomically(path, [&](const std::string& tmp) {
+        std::ofstream f(tmp);
+        f << text;
+        f.close();
+        if (!f) throw std::runtime_error("write failed");
+    });
+    if (!error.empty()) throw FileError(path, "cannot write the statistics file: " + error);
 }
 
 }  // namespace

@@ -347,6 +347,14 @@ TEST_F(Cli, InputErrorsAreOneLineWithExitOne) {
     EXPECT_EQ(count_lines(missing.err), 1);
 }
 
+TEST_F(Cli, InfoPrintsTheFilmMemory) {
+    write("s.xml", kScene);
+    CliResult r = run("info s.xml");
+    ASSERT_EQ(r.code, 0) << r.err;
+    // 16 x 12 pixels at 128 bytes each.
+    EXPECT_NE(r.out.find("film memory: 24.0 KiB (the limit is "), std::string::npos) << r.out;
+}
+
 TEST_F(Cli, InfoSummarisesTheScene) {
     write("s.xml", kScene);
     CliResult r = run("info s.xml");

@@ -19,7 +19,9 @@
 #include <system_error>
 
 #include "volguide/core/error.h"
+#include "volguide/core/memory.h"
 #include "volguide/media/grid_data.h"
+#include "volguide/media/vdb_header_check.h"
 
 namespace volguide {
 
@@ -82,6 +84,14 @@ GridData densify(const std::string& path, const GridT& grid, int channels) {
         vdb_fail(path, fmt::format("grid \"{}\" is too large to densify ({}x{}x{} active voxel bounding box)",
                                    grid.getName(), dim[0], dim[1], dim[2]));
 
+    // A sparse grid's active box can be far larger than the file (background fills it), so the
+    // dense copy is bounded by the machine's memory instead of the file's size.
+    const uint64_t have = memory_budget_bytes();
+    if (have > 0 && count * sizeof(float) > have)
+        vdb_fail(path, fmt::format("grid \"{}\" densifies to {}x{}x{} voxels ({}), more than {}", grid.getName(),
+                                   dim[0], dim[1], dim[2], format_bytes(count * sizeof(float)),
+                                   memory_budget_description()));
+
     const AxisMap map = axis_aligned_map(path, grid.getName(), grid.transform());
     GridData g;
     g.nx = int(dim[0]);
@@ -134,6 +144,8 @@ GridData read_vdb_file(const std::string& path, const std::string& grid_name) {
     if (!std::filesystem::exists(path, ec)) vdb_fail(path, "cannot open the .vdb file (no such file)");
     if (std::filesystem::is_directory(path, ec))
         vdb_fail(path, "cannot open the .vdb file (it is a directory)");
+
+    check_vdb_header(path);
 
     openvdb::GridBase::Ptr base;
     std::vector<std::string> names;

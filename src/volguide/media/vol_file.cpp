@@ -53,11 +53,17 @@ GridData read_vol_file(const std::string& path) {
     std::memcpy(box, header + 24, sizeof(box));
     g.bbox = BBox3f(Point3f(box[0], box[1], box[2]), Point3f(box[3], box[4], box[5]));
 
-    const uint64_t count = uint64_t(g.nx) * uint64_t(g.ny) * uint64_t(g.nz) * uint64_t(g.channels);
-    const uint64_t expected = uint64_t(header_size) + 4 * count;
-    if (uint64_t(size) < expected)
-        vol_fail(path, fmt::format("truncated .vol data ({} bytes, {}x{}x{}x{} floats need {})", size, g.nx, g.ny,
-                                   g.nz, g.channels, expected));
+    // The resolution is bounded by the file's size before anything is allocated. Dimensions up to
+    // 2^31 each would overflow a 64-bit product, so each factor is checked against what the file
+    // can still hold before it is multiplied in.
+    const uint64_t capacity = uint64_t(size - header_size) / 4;
+    uint64_t count = uint64_t(g.channels);
+    for (int32_t n : {g.nx, g.ny, g.nz}) {
+        if (uint64_t(n) > capacity / count)  // count * n > capacity, tested without overflowing
+            vol_fail(path, fmt::format("truncated .vol data ({} bytes hold {} floats, but {}x{}x{}x{} are declared)",
+                                       size, capacity, g.nx, g.ny, g.nz, g.channels));
+        count *= uint64_t(n);
+    }
     g.values.resize(count);
     in.read(reinterpret_cast<char*>(g.values.data()), std::streamsize(4 * count));
     if (!in) vol_fail(path, "read error in the .vol data");

@@ -11,6 +11,7 @@
 
 #include "volguide/core/atomic_write.h"
 #include "volguide/core/error.h"
+#include "volguide/render/exr_header_check.h"
 
 namespace volguide {
 
@@ -45,13 +46,17 @@ void write_exr_layers(const std::string& path, const ExrLayers& layers) {
 
 ExrLayers read_exr_layers(const std::string& path) {
     if (!std::ifstream(path, std::ios::binary)) fail_file(path, "cannot open image file");
+    check_exr_header(path);
     try {
         Imf::InputFile file(path.c_str());
         const Imf::Header& header = file.header();
         const Imath::Box2i dw = header.dataWindow();
         ExrLayers layers;
-        layers.width = dw.max.x - dw.min.x + 1;
-        layers.height = dw.max.y - dw.min.y + 1;
+        size_t channel_count = 0;  // OpenEXR's channel iterators are not standard iterators
+        for (auto it = header.channels().begin(); it != header.channels().end(); ++it) ++channel_count;
+        const ExrSize size = checked_exr_size(path, dw.min.x, dw.min.y, dw.max.x, dw.max.y, channel_count);
+        layers.width = size.width;
+        layers.height = size.height;
         const size_t n = size_t(layers.width) * size_t(layers.height);
         for (auto it = header.begin(); it != header.end(); ++it)
             if (const auto* s = dynamic_cast<const Imf::StringAttribute*>(&it.attribute()))

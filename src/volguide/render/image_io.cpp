@@ -21,6 +21,7 @@
 
 #include "volguide/core/atomic_write.h"
 #include "volguide/core/error.h"
+#include "volguide/render/exr_header_check.h"
 
 namespace volguide {
 namespace {
@@ -45,11 +46,13 @@ bool has_exr_magic(const std::string& path) {
 }
 
 Image read_exr(const std::string& path) {
+    check_exr_header(path);
     try {
         Imf::InputFile file(path.c_str());
         const Imf::Header& header = file.header();
         const Imath::Box2i dw = header.dataWindow();
-        const int w = dw.max.x - dw.min.x + 1, h = dw.max.y - dw.min.y + 1;
+        const ExrSize size = checked_exr_size(path, dw.min.x, dw.min.y, dw.max.x, dw.max.y, 3);
+        const int w = size.width, h = size.height;
         const Imf::ChannelList& channels = header.channels();
         const bool rgb = channels.findChannel("R") && channels.findChannel("G") && channels.findChannel("B");
         const bool gray = !rgb && channels.findChannel("Y");
@@ -160,9 +163,19 @@ void write_png(const std::string& path, const Image& image) {
             v = std::isnan(v) ? 0.f : std::clamp(v, 0.f, 1.f);
             bytes[3 * i + c] = static_cast<unsigned char>(std::lround(linear_to_srgb(v) * 255.f));
         }
+    // Encoded in memory and written here: stbi_write_png ignores fwrite's errors, so a full disk left
+    // a truncated PNG in place and the render reported success.
+    std::string png;
+    const auto append = [](void* context, void* data, int size) {
+        static_cast<std::string*>(context)->append(static_cast<const char*>(data), size_t(size));
+    };
+    if (!stbi_write_png_to_func(append, &png, image.width, image.height, 3, bytes.data(), image.width * 3))
+        fail_file(path, "cannot write image: PNG encoder failed");
     write_image_atomically(path, [&](const std::string& tmp) {
-        if (!stbi_write_png(tmp.c_str(), image.width, image.height, 3, bytes.data(), image.width * 3))
-            throw std::runtime_error("PNG encoder failed");
+        std::ofstream out(tmp, std::ios::binary);
+        out.write(png.data(), std::streamsize(png.size()));
+        out.close();
+        if (!out) throw std::runtime_error(std::string("write failed: ") + std::strerror(errno));
     });
 }
 

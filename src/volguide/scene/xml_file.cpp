@@ -35,6 +35,21 @@ XmlFile::XmlFile(std::filesystem::path real_path, std::string display_path,
              result.description());
     }
     if (!doc_.document_element()) fail(SourceLocation{display_, 1}, "malformed XML: no root element");
+    check_nesting_depth();
+}
+
+// The reader walks elements recursively, so a file nested deeper than any scene needs (a fuzzer
+// found 10^5 levels in a few kilobytes) would overflow the stack. This walk is iterative.
+void XmlFile::check_nesting_depth() const {
+    std::vector<std::pair<pugi::xml_node, int>> stack{{doc_.document_element(), 1}};
+    while (!stack.empty()) {
+        const auto [node, depth] = stack.back();
+        stack.pop_back();
+        if (depth > kMaxXmlDepth)
+            fail(location(node), "elements nested more than {} levels deep", kMaxXmlDepth);
+        for (pugi::xml_node child : node.children())
+            if (child.type() == pugi::node_element) stack.push_back({child, depth + 1});
+    }
 }
 
 std::string XmlFile::display_directory() const {

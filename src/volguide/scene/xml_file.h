@@ -10,6 +10,10 @@
 
 namespace volguide {
 
+// Deepest element nesting accepted in one file (a Mitsuba scene needs about 6: scene, shape, bsdf,
+// texture, transform, operation).
+inline constexpr int kMaxXmlDepth = 64;
+
 class XmlFile {
   public:
     // Reads and parses `real_path`; errors are reported as `display_path:line` (the path as the
@@ -31,6 +35,8 @@ class XmlFile {
     SourceLocation location_at(std::ptrdiff_t offset) const { return {display_, line_of_offset(offset)}; }
 
   private:
+    void check_nesting_depth() const;
+
     std::filesystem::path path_;
     std::string display_;
     std::string text_;

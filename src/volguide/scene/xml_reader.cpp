@@ -21,6 +21,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// Longest chain of <include>s (the main file counts as the first); scenes use two or three levels.
+constexpr size_t kMaxIncludeDepth = 32;
+
 // XML tags that create plugin objects; the tag is the factory category.
 bool is_object_tag(std::string_view tag) {
     static constexpr std::array<std::string_view, 12> tags = {"bsdf",       "texture", "emitter", "shape",
@@ -135,6 +138,9 @@ class Reader {
                 const std::string& name = el.get("filename");
                 auto target = resolver_.resolve(name, dir_of(f));
                 if (!target) el.fail_here("included file \"{}\" not found", name);
+                // Cycles are caught below; a long acyclic chain is bounded too (each level recurses).
+                if (include_stack_.size() >= kMaxIncludeDepth)
+                    el.fail_here("includes nested more than {} files deep", kMaxIncludeDepth);
                 fs::path key = key_of(target->path);
                 for (size_t i = 0; i < include_stack_.size(); ++i)
                     if (include_stack_[i].first == key) {

@@ -4,6 +4,7 @@
 #include <bit>
 #include <cctype>
 #include <charconv>
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -59,6 +60,16 @@ class BodyReader {
     BodyReader(const std::string& data, size_t pos, Format fmt) : data_(data), pos_(pos), fmt_(fmt) {}
 
     double read(Type t) { return fmt_ == Format::Ascii ? read_ascii(t) : read_binary(t); }
+
+    // A list's length. Every entry takes at least one byte in any format, so a length beyond the
+    // bytes left is rejected before anything loops over or stores it (the count may be a float or
+    // negative in a malformed file, and converting those to size_t is undefined).
+    size_t read_count(const Property& p) {
+        const double n = read(p.count_type);
+        if (!(n >= 0.0) || n != std::floor(n) || n > double(data_.size() - pos_))
+            ply_fail(fmt::format("invalid length {} of the list property '{}'", n, p.name));
+        return size_t(n);
+    }
 
     void finish() {
         if (fmt_ != Format::Ascii) return;
@@ -193,6 +204,15 @@ std::vector<Element> parse_header(const std::string& data, Format& fmt, size_t& 
     return elements;
 }
 
+// Element counts come from the header; each entry of an element with properties takes at least one
+// byte, so a count beyond the body's size is a malformed file, reported before any allocation.
+void check_counts_fit(const std::vector<Element>& elements, size_t body_bytes) {
+    for (const Element& e : elements)
+        if (!e.props.empty() && e.count > body_bytes)
+            ply_fail(fmt::format("element '{}' declares {} entries but only {} bytes follow the header", e.name,
+                                 e.count, body_bytes));
+}
+
 int find_prop(const Element& e, std::initializer_list<const char*> names) {
     for (const char* n : names)
         for (size_t i = 0; i < e.props.size(); ++i)
@@ -212,6 +232,7 @@ TriangleMesh read_ply(const std::string& path, const SourceLocation& loc) {
         Format fmt = Format::Ascii;
         size_t body = 0;
         std::vector<Element> elements = parse_header(data, fmt, body);
+        check_counts_fit(elements, data.size() - body);
         BodyReader reader(data, body, fmt);
         bool have_vertices = false, have_faces = false;
         std::vector<double> values;
@@ -236,7 +257,7 @@ TriangleMesh read_ply(const std::string& path, const SourceLocation& loc) {
                     for (size_t k = 0; k < e.props.size(); ++k) {
                         const Property& p = e.props[k];
                         if (p.is_list) {
-                            size_t n = size_t(reader.read(p.count_type));
+                            size_t n = reader.read_count(p);
                             for (size_t j = 0; j < n; ++j) reader.read(p.type);
                         } else {
                             values[k] = reader.read(p.type);
@@ -263,7 +284,7 @@ TriangleMesh read_ply(const std::string& path, const SourceLocation& loc) {
                             reader.read(p.type);
                             continue;
                         }
-                        size_t n = size_t(reader.read(p.count_type));
+                        size_t n = reader.read_count(p);
                         if (int(k) != list) {
                             for (size_t j = 0; j < n; ++j) reader.read(p.type);
                             continue;
@@ -285,7 +306,7 @@ TriangleMesh read_ply(const std::string& path, const SourceLocation& loc) {
             } else {
                 for (size_t i = 0; i < e.count; ++i)
                     for (const Property& p : e.props) {
-                        size_t n = p.is_list ? size_t(reader.read(p.count_type)) : 1;
+                        size_t n = p.is_list ? reader.read_count(p) : 1;
                         for (size_t j = 0; j < n; ++j) reader.read(p.type);
                     }
             }

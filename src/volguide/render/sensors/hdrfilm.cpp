@@ -1,6 +1,7 @@
 #include "volguide/render/sensors/hdrfilm.h"
 
 #include "volguide/core/log.h"
+#include "volguide/core/memory.h"
 #include "volguide/render/sensors/rfilters.h"
 
 namespace volguide {
@@ -26,6 +27,10 @@ std::shared_ptr<Film> make_hdrfilm(const Properties& props) {
         props.fail_at("width", "film width must be in [1, 65536], got {}", width);
     if (height <= 0 || height > 65536)
         props.fail_at("height", "film height must be in [1, 65536], got {}", height);
+    const uint64_t need = film_memory_bytes(width, height), have = memory_budget_bytes();
+    if (have > 0 && need > have)
+        props.fail_at("width", "a {}x{} film needs about {} of memory, more than {}", width, height,
+                      format_bytes(need), memory_budget_description());
 
     // A crop window equal to the full film is harmless; anything else is not supported.
     int64_t cx = props.get_int("crop_offset_x", 0), cy = props.get_int("crop_offset_y", 0);

@@ -1,0 +1,50 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer targets with clang (ASan + UBSan, tests/fuzz) and runs each for N seconds.
+#   scripts/fuzz.sh SECONDS [BUILD_DIR] [TARGET...]      (make fuzz FUZZ_SECONDS=N)
+# Seeds: tests/fuzz/corpus/<target>/ (read-only); what the fuzzer adds goes to BUILD_DIR/fuzz-corpus/,
+# crashes, hangs and sanitizer reports to BUILD_DIR/fuzz-artifacts/<target>/. Exit 1 when any target
+# found something: keep the input in tests/fuzz/regression/<target>/ and fix the reader
+# (docs/reliability.md).
+set -euo pipefail
+seconds=${1:?usage: fuzz.sh SECONDS [BUILD_DIR] [TARGET...]}
+build=${2:-build-fuzz}
+shift $(( $# >= 2 ? 2 : 1 ))
+root=$(cd "$(dirname "$0")/.." && pwd)
+all_targets=(scene vol vdb field obj ply exr_part)
+if (($#)); then targets=("$@"); else targets=("${all_targets[@]}"); fi
+jobs=${JOBS:-$(nproc)}
+
+if [[ ! -f $build/CMakeCache.txt ]]; then
+  # Only the readers and what they need: no tests, benchmarks, Python module or Open PGL build.
+  CC=clang CXX=clang++ cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DVOLGUIDE_FUZZ=ON \
+    -DVOLGUIDE_BUILD_TESTS=OFF -DVOLGUIDE_BUILD_BENCH=OFF -DVOLGUIDE_BUILD_PYTHON=OFF \
+    -DVOLGUIDE_WITH_OPENPGL=OFF
+fi
+cmake --build "$build" -j "$jobs" --target "${targets[@]/#/fuzz_}"
+
+# Allocations sized by input are bounded by this budget (core/memory.h), so a size the readers accept
+# stays inside -rss_limit_mb below instead of being reported as out-of-memory.
+export VOLGUIDE_MEMORY_LIMIT_MB=1024
+failed=()
+for t in "${targets[@]}"; do
+  corpus=$build/fuzz-corpus/$t
+  artifacts=$build/fuzz-artifacts/$t
+  mkdir -p "$corpus" "$artifacts"
+  dict=()
+  [[ -f $root/tests/fuzz/$t.dict ]] && dict=(-dict="$root/tests/fuzz/$t.dict")
+  echo "== fuzz_$t: $seconds s"
+  # -timeout: an input taking 10 s is a hang; -rss_limit_mb: a reader allocating > 2 GB for a small
+  # file is a finding (resources must be bounded before allocation).
+  if ! "$build/fuzz_$t" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=2048 \
+      -print_final_stats=1 -artifact_prefix="$artifacts/" "${dict[@]}" "$corpus" "$root/tests/fuzz/corpus/$t" \
+      2>"$build/fuzz-$t.log"; then
+    failed+=("$t")
+    grep -E "ERROR|SUMMARY|Test unit written" "$build/fuzz-$t.log" | head -5 || true
+  fi
+  grep -E "stat::number_of_executed_units|cov:" "$build/fuzz-$t.log" | tail -2 || true
+done
+if ((${#failed[@]})); then
+  echo "fuzz: findings in ${failed[*]} (inputs under $build/fuzz-artifacts/, logs $build/fuzz-<target>.log)" >&2
+  exit 1
+fi
+echo "fuzz: no findings in ${targets[*]}"

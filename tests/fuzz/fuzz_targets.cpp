@@ -1,0 +1,13 @@
+#include "fuzz_targets.h"
+
+namespace volguide::fuzz {
+
+const std::vector<FuzzTarget>& fuzz_targets() {
+    static const std::vector<FuzzTarget> targets = {
+        {"scene", fuzz_scene}, {"vol", fuzz_vol}, {"vdb", fuzz_vdb},           {"field", fuzz_field},
+        {"obj", fuzz_obj},     {"ply", fuzz_ply}, {"exr_part", fuzz_exr_part},
+    };
+    return targets;
+}
+
+}  // namespace volguide::fuzz

@@ -1,0 +1,90 @@
+// Writes the binary seeds of tests/fuzz/corpus/ (small valid files of each binary format), so the seed
+// corpus can be regenerated when a format changes:  gen_fuzz_seeds tests/fuzz/corpus
+// (target gen_fuzz_seeds, not built by default). Text seeds (XML, OBJ, PLY ascii) are kept as written.
+#include <openvdb/io/File.h>
+#include <openvdb/openvdb.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "volguide/core/sampler.h"
+#include "volguide/core/warp.h"
+#include "volguide/guiding/field_io.h"
+#include "volguide/media/grid_data.h"
+#include "volguide/render/render_part.h"
+
+using namespace volguide;
+namespace fs = std::filesystem;
+
+namespace {
+
+void write_vol_seeds(const fs::path& dir) {
+    GridData g;
+    g.nx = 2, g.ny = 3, g.nz = 2, g.channels = 1;
+    g.bbox = BBox3f(Point3f(0.f), Point3f(1.f));
+    for (int i = 0; i < 12; ++i) g.values.push_back(0.1f * float(i));
+    write_vol_file((dir / "grid_2x3x2.vol").string(), g);
+    g.nx = 1, g.ny = 1, g.nz = 2, g.channels = 3;
+    g.values = {1.f, 0.5f, 0.25f, 0.f, 2.f, 4.f};
+    write_vol_file((dir / "rgb_1x1x2.vol").string(), g);
+}
+
+void write_vdb_seed(const fs::path& dir) {
+    openvdb::initialize();
+    auto grid = openvdb::FloatGrid::create(0.f);
+    grid->setName("density");
+    grid->setTransform(openvdb::math::Transform::createLinearTransform(0.5));
+    for (int z = 0; z < 2; ++z)
+        for (int y = 0; y < 2; ++y)
+            for (int x = 0; x < 2; ++x) grid->tree().setValue(openvdb::Coord(x, y, z), float(x + y + z));
+    openvdb::io::File file((dir / "density_2x2x2.vdb").string());
+    file.setCompression(openvdb::io::COMPRESS_ACTIVE_MASK);  // no ZIP, and a small file: fast fuzzing
+    file.write({grid});
+    file.close();
+}
+
+void write_field_seed(const fs::path& dir) {
+    std::vector<RadianceSample> s;
+    for (int i = 0; i < 400; ++i) {
+        Sampler r(3, 0, uint64_t(i));
+        const Point3f p(r.next_1d(), r.next_1d(), r.next_1d());
+        s.push_back({p, warp::square_to_uniform_sphere(r.next_2d()), Color3(1.f, 0.5f, 0.25f), 1.f, i % 4 == 0});
+    }
+    GuidingFieldSettings settings;
+    settings.tree.max_samples = 150;
+    settings.lobes = 2;
+    settings.min_samples = 100;
+    save_field((dir / "small.field").string(),
+               GuidingField::build(BBox3f(Point3f(0.f), Point3f(1.f)), s, settings));
+}
+
+void write_part_seed(const fs::path& dir) {
+    RenderPart part;
+    part.mean = Image(2, 2);
+    part.variance = Image(2, 2);
+    part.weight.assign(4, 1.0);
+    part.info.scene = "0123456789abcdef";
+    part.info.scene_file = "scene.xml";
+    part.info.seed = 7;
+    part.info.field = "none";
+    part.info.integrator = "volpath max_depth=4";
+    part.info.samples = parse_ranges("0:4");
+    write_part((dir / "part_2x2.exr").string(), part);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    if (argc != 2) {
+        std::fprintf(stderr, "usage: gen_fuzz_seeds CORPUS_DIR\n");
+        return 2;
+    }
+    const fs::path root = argv[1];
+    for (const char* t : {"vol", "vdb", "field", "exr_part"}) fs::create_directories(root / t);
+    write_vol_seeds(root / "vol");
+    write_vdb_seed(root / "vdb");
+    write_field_seed(root / "field");
+    write_part_seed(root / "exr_part");
+    return 0;
+}
