@@ -1,6 +1,7 @@
 // Resources are bounded before allocation (issue 24): sizes read from a file are checked against the
 // file's size or the machine's memory, and each violation is an InputError naming the file (and the
 // line, for scenes). Each case here allocated or recursed without bound before its check existed.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -118,29 +119,33 @@ TEST(ResourceLimits, IncludeDepthIsBounded) {
     EXPECT_NO_THROW(load_fake(dir.path(("inc" + std::to_string(n - 30) + ".xml"))));
 }
 
+namespace {
+
+// A scene whose film is n x n pixels (the film's element on line 4 of the file).
+std::string film_scene(int n) {
+    return scene(fmt::format(R"(<sensor type="perspective">
+<film type="hdrfilm">
+<integer name="width" value="{0}"/>
+<integer name="height" value="{0}"/>
+</film>
+</sensor>
+)",
+                             n));
+}
+
+}  // namespace
+
 TEST(ResourceLimits, FilmSizeIsBoundedByTheMachinesMemory) {
     const uint64_t need = film_memory_bytes(65536, 65536);
     if (memory_budget_bytes() >= need) GTEST_SKIP() << "this machine could hold a 65536^2 film";
     ScratchDir dir;
-    const std::string path = dir.write("film.xml", scene(R"(<sensor type="perspective">
-<film type="hdrfilm">
-<integer name="width" value="65536"/>
-<integer name="height" value="65536"/>
-</film>
-</sensor>
-)"));
+    const std::string path = dir.write("film.xml", film_scene(65536));
     expect_input_error([&] { load_scene_properties(path); }, path, 4, "film needs about 512.0 GiB of memory");
 }
 
 TEST(ResourceLimits, MemoryBudgetFollowsTheEnvironment) {
     ScratchDir dir;
-    const std::string path = dir.write("film.xml", scene(R"(<sensor type="perspective">
-<film type="hdrfilm">
-<integer name="width" value="4096"/>
-<integer name="height" value="4096"/>
-</film>
-</sensor>
-)"));
+    const std::string path = dir.write("film.xml", film_scene(4096));
     // 4096^2 pixels need 2 GiB: refused under a 1 GiB budget, with the budget named.
     setenv("VOLGUIDE_MEMORY_LIMIT_MB", "1024", 1);
     EXPECT_EQ(memory_budget_bytes(), std::min<uint64_t>(physical_memory_bytes(), uint64_t(1) << 30));
