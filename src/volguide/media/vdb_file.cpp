@@ -112,27 +112,43 @@ GridData densify(const std::string& path, const GridT& grid, int channels) {
     g.bbox = BBox3f(Point3f(world_lo[0], world_lo[1], world_lo[2]),
                     Point3f(world_hi[0], world_hi[1], world_hi[2]));
 
+    // The background everywhere, then the active voxels and tiles: O(active) beyond the fill (a
+    // probe per dense voxel took > 10 s under ASan for a sparse grid near the memory budget, a fuzz
+    // finding). Inactive voxels read as the background, as a probe of them did.
+    auto store = [&](const openvdb::Coord& ijk, const ValueT& v) {
+        const int64_t x = int64_t(ijk.x()) - lo.x(), y = int64_t(ijk.y()) - lo.y(), z = int64_t(ijk.z()) - lo.z();
+        const int64_t ix = flip[0] ? g.nx - 1 - x : x, iy = flip[1] ? g.ny - 1 - y : y, iz = flip[2] ? g.nz - 1 - z : z;
+        float* out = &g.values[((size_t(iz) * size_t(g.ny) + size_t(iy)) * size_t(g.nx) + size_t(ix)) * channels];
+        if constexpr (std::is_same_v<ValueT, float>) {
+            out[0] = v;
+        } else {
+            for (int c = 0; c < 3; ++c) out[c] = float(v[c]);
+        }
+    };
     const ValueT background = grid.background();
-    tbb::parallel_for(tbb::blocked_range<int>(0, g.nz), [&](const tbb::blocked_range<int>& r) {
-        auto acc = grid.getConstAccessor();
-        for (int z = r.begin(); z != r.end(); ++z) {
-            for (int y = 0; y < g.ny; ++y) {
-                for (int x = 0; x < g.nx; ++x) {
-                    const openvdb::Coord ijk(lo.x() + (flip[0] ? g.nx - 1 - x : x),
-                                             lo.y() + (flip[1] ? g.ny - 1 - y : y),
-                                             lo.z() + (flip[2] ? g.nz - 1 - z : z));
-                    ValueT v;
-                    if (!acc.probeValue(ijk, v)) v = background;
-                    float* out = &g.values[((size_t(z) * g.ny + y) * g.nx + x) * channels];
-                    if constexpr (std::is_same_v<ValueT, float>) {
-                        out[0] = v;
-                    } else {
-                        for (int c = 0; c < 3; ++c) out[c] = float(v[c]);
-                    }
-                }
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, size_t(g.nx) * g.ny * g.nz), [&](const tbb::blocked_range<size_t>& r) {
+        for (size_t i = r.begin(); i != r.end(); ++i) {
+            float* out = &g.values[i * channels];
+            if constexpr (std::is_same_v<ValueT, float>) {
+                out[0] = background;
+            } else {
+                for (int c = 0; c < 3; ++c) out[c] = float(background[c]);
             }
         }
     });
+    for (auto it = grid.cbeginValueOn(); it; ++it) {
+        const ValueT v = *it;
+        if (it.isVoxelValue()) {
+            store(it.getCoord(), v);
+            continue;
+        }
+        openvdb::CoordBBox tile;
+        it.getBoundingBox(tile);
+        tile.intersect(box);  // inside the active box by construction; clipped all the same
+        for (int z = tile.min().z(); z <= tile.max().z(); ++z)
+            for (int y = tile.min().y(); y <= tile.max().y(); ++y)
+                for (int x = tile.min().x(); x <= tile.max().x(); ++x) store(openvdb::Coord(x, y, z), v);
+    }
     return g;
 }
 
