@@ -119,12 +119,9 @@ DistanceRegions::DistanceRegions(const SpatialTree& fine, const LeafEstimates& e
             h.scale_inscattered = max_i / 65535.f;
             h.scale_incident = max_l / 65535.f;
             headers_.push_back(h);
-            auto quantise = [](float x, float max) {
-                return max > 0.f && std::isfinite(x) ? uint16_t(std::lround(std::clamp(x / max, 0.f, 1.f) * 65535.f))
-                                                     : uint16_t(0);
-            };
             for (size_t k = 0; k < texels_per_table_; ++k)
-                texels_.push_back(c.valid ? Texel{quantise(c.Li[k], max_i), quantise(c.L[k], max_l)} : Texel{0, 0});
+                texels_.push_back(c.valid ? EstimateTexel{quantise_texel(c.Li[k], max_i), quantise_texel(c.L[k], max_l)}
+                                     : EstimateTexel{0, 0});
             return;
         }
         const SpatialTree::Node& n = nodes[node];

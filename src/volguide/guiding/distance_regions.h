@@ -46,23 +46,16 @@ class DistanceRegions {
     bool lookup(int region, const LeafEstimates::Direction& d, float& Li, float& L) const {
         const Header& h = headers_[size_t(region)];
         if (!h.valid) return false;
-        const Texel* t = &texels_[size_t(region) * texels_per_table_];
-        float inscattered = 0.f, incident = 0.f;
-        for (int k = 0; k < 4; ++k) {
-            const Texel& e = t[d.offset[k]];
-            inscattered += d.weight[k] * float(e.inscattered);
-            incident += d.weight[k] * float(e.incident);
-        }
+        float inscattered, incident;
+        d.interpolate(&texels_[size_t(region) * texels_per_table_], inscattered, incident);
         Li = h.scale_inscattered * inscattered;
         L = h.scale_incident * incident;
         return true;
     }
     void prefetch(int region, const LeafEstimates::Direction& d) const {
         if (region < 0) return;
-        const Texel* t = &texels_[size_t(region) * texels_per_table_];
         __builtin_prefetch(&headers_[size_t(region)]);
-        __builtin_prefetch(t + d.offset[0]);
-        __builtin_prefetch(t + d.offset[2]);
+        d.prefetch(&texels_[size_t(region) * texels_per_table_]);
     }
     // The largest extent of the region's leaves (the confidence length).
     float extent(int region) const { return headers_[size_t(region)].extent; }
@@ -78,14 +71,11 @@ class DistanceRegions {
         uint32_t fine_node = 0;
         bool valid = false;
     };
-    struct Texel {
-        uint16_t inscattered, incident;
-    };
     const SpatialTree* fine_;
     SpatialTree tree_;
     size_t texels_per_table_ = 0;
     std::vector<Header> headers_;
-    std::vector<Texel> texels_;
+    std::vector<EstimateTexel> texels_;
 };
 
 }  // namespace volguide

@@ -31,13 +31,18 @@ Vec3f octahedral_decode(Point2f uv) {
     return normalize(Vec3f(x, y, z));
 }
 
+uint16_t quantise_texel(float x, float max) {
+    return max > 0.f && std::isfinite(x) ? uint16_t(std::lround(std::clamp(x / max, 0.f, 1.f) * 65535.f))
+                                         : uint16_t(0);
+}
+
 LeafEstimates::LeafEstimates(const GuidingField& field, const InscatterCache& inscatter, int resolution)
     : field_(field), inscatter_(inscatter), resolution_(std::max(resolution, 0)) {
     if (resolution_ == 0) return;
     const int R = resolution_;
     const std::vector<GuidingLeaf>& leaves = field.leaves();
     headers_.assign(leaves.size(), Header{});
-    texels_.assign(leaves.size() * size_t(R * R), Texel{0, 0});
+    texels_.assign(leaves.size() * size_t(R * R), EstimateTexel{0, 0});
     tbb::parallel_for(size_t(0), leaves.size(), [&](size_t l) {
         const GuidingLeaf& leaf = leaves[l];
         Header& h = headers_[l];
@@ -59,14 +64,9 @@ LeafEstimates::LeafEstimates(const GuidingField& field, const InscatterCache& in
             }
         h.scale_inscattered = max_i / 65535.f;
         h.scale_incident = max_l / 65535.f;
-        auto quantise = [](float x, float max) {
-            return max > 0.f && std::isfinite(x)
-                       ? uint16_t(std::lround(std::clamp(x / max, 0.f, 1.f) * 65535.f))
-                       : uint16_t(0);
-        };
-        Texel* t = &texels_[l * size_t(R * R)];
+        EstimateTexel* t = &texels_[l * size_t(R * R)];
         for (size_t k = 0; k < size_t(R * R); ++k)
-            t[k] = {quantise(inscattered[k], max_i), quantise(incident[k], max_l)};
+            t[k] = {quantise_texel(inscattered[k], max_i), quantise_texel(incident[k], max_l)};
     });
 }
 
@@ -95,10 +95,8 @@ LeafEstimates::Direction LeafEstimates::prepare(const Vec3f& w) const {
 
 void LeafEstimates::prefetch(int leaf, const Direction& d) const {
     if (leaf < 0 || resolution_ == 0) return;
-    const Texel* t = &texels_[size_t(leaf) * size_t(resolution_ * resolution_)];
     __builtin_prefetch(&headers_[size_t(leaf)]);
-    __builtin_prefetch(t + d.offset[0]);
-    __builtin_prefetch(t + d.offset[2]);
+    d.prefetch(&texels_[size_t(leaf) * size_t(resolution_ * resolution_)]);
 }
 
 bool LeafEstimates::texel_averages(int leaf, float* Li, float* L) const {
@@ -108,7 +106,7 @@ bool LeafEstimates::texel_averages(int leaf, float* Li, float* L) const {
     if (resolution_ == 0 || leaf < 0 || !headers_[size_t(leaf)].valid) return false;
     const Header& h = headers_[size_t(leaf)];
     const float phi = h.fluence.average();
-    const Texel* t = &texels_[size_t(leaf) * n];
+    const EstimateTexel* t = &texels_[size_t(leaf) * n];
     for (size_t k = 0; k < n; ++k) {
         Li[k] = phi * h.scale_inscattered * float(t[k].inscattered);
         L[k] = phi * h.scale_incident * float(t[k].incident);
@@ -127,13 +125,8 @@ bool LeafEstimates::lookup(int leaf, const Direction& d, Color3& Li, Color3& L) 
     }
     const Header& h = headers_[size_t(leaf)];
     if (!h.valid) return false;
-    const Texel* t = &texels_[size_t(leaf) * size_t(resolution_ * resolution_)];
-    float inscattered = 0.f, incident = 0.f;
-    for (int k = 0; k < 4; ++k) {
-        const Texel& e = t[d.offset[k]];
-        inscattered += d.weight[k] * float(e.inscattered);
-        incident += d.weight[k] * float(e.incident);
-    }
+    float inscattered, incident;
+    d.interpolate(&texels_[size_t(leaf) * size_t(resolution_ * resolution_)], inscattered, incident);
     Li = h.fluence * (h.scale_inscattered * inscattered);
     L = h.fluence * (h.scale_incident * incident);
     return true;

@@ -20,6 +20,12 @@
 
 namespace volguide {
 
+// One texel of the 16-bit estimate tables (the leaves' here, the regions' in distance_regions.h):
+// L~_i and L~ relative to the table's maxima.
+struct EstimateTexel {
+    uint16_t inscattered, incident;
+};
+
 class LeafEstimates {
   public:
     // resolution 0: exact evaluation. Both must outlive this object.
@@ -31,6 +37,21 @@ class LeafEstimates {
         Vec3f w;
         int offset[4] = {0, 0, 0, 0};  // texel indices within a leaf's table
         float weight[4] = {0.f, 0.f, 0.f, 0.f};
+
+        // The bilinear read of one table at this direction, in texel units (times the table's scales).
+        void interpolate(const EstimateTexel* table, float& inscattered, float& incident) const {
+            inscattered = incident = 0.f;
+            for (int k = 0; k < 4; ++k) {
+                const EstimateTexel& e = table[offset[k]];
+                inscattered += weight[k] * float(e.inscattered);
+                incident += weight[k] * float(e.incident);
+            }
+        }
+        // Hints the cache that `table` will be read at this direction soon.
+        void prefetch(const EstimateTexel* table) const {
+            __builtin_prefetch(table + offset[0]);
+            __builtin_prefetch(table + offset[2]);
+        }
     };
     Direction prepare(const Vec3f& w) const;
 
@@ -47,7 +68,7 @@ class LeafEstimates {
 
     int resolution() const { return resolution_; }
     size_t memory_bytes() const {
-        return headers_.capacity() * sizeof(Header) + texels_.capacity() * sizeof(Texel);
+        return headers_.capacity() * sizeof(Header) + texels_.capacity() * sizeof(EstimateTexel);
     }
 
   private:
@@ -58,15 +79,15 @@ class LeafEstimates {
         float scale_inscattered = 0.f, scale_incident = 0.f;  // value = scale * texel / 65535
         bool valid = false;
     };
-    struct Texel {
-        uint16_t inscattered, incident;  // relative to the leaf's maxima, for unit fluence
-    };
     const GuidingField& field_;
     const InscatterCache& inscatter_;
     int resolution_;
     std::vector<Header> headers_;
-    std::vector<Texel> texels_;  // leaf l: [l * R * R, (l + 1) * R * R), row-major over (u, v)
+    std::vector<EstimateTexel> texels_;  // leaf l: [l * R * R, (l + 1) * R * R), row-major over (u, v)
 };
+
+// x / max as a 16-bit texel (0 for a non-finite x or a table whose maximum is not positive).
+uint16_t quantise_texel(float x, float max);
 
 // The octahedral map of the unit sphere onto [0, 1]^2 (continuous, area-distorting) and its inverse.
 Point2f octahedral_encode(const Vec3f& w);
