@@ -151,6 +151,12 @@ float IncrementalDistanceWalk::sample_in_bin(const DistanceBin& bin, const Bin& 
 }
 
 float IncrementalDistanceWalk::pdf_in_bin(const DistanceBin& bin, const Bin& p, float t) const {
+    const auto [transmittance_part, guided_part] = pdf_parts_in_bin(bin, p, t);
+    return settings_.c_T * transmittance_part + (1.f - settings_.c_T) * guided_part;
+}
+
+std::pair<float, float> IncrementalDistanceWalk::pdf_parts_in_bin(const DistanceBin& bin, const Bin& p,
+                                                                  float t) const {
     const float x = t - bin.t0;
     const Color3 R_T = transmittance(tau_, 1.f), &q = settings_.channel_split;
     float transmittance_part;
@@ -165,7 +171,7 @@ float IncrementalDistanceWalk::pdf_in_bin(const DistanceBin& bin, const Bin& p, 
                 q[c] * R_T[c] * P_T[c] * truncated_exponential_pdf(bin.sigma_t[c], p.length, x);
     }
     const float guided_part = R_G_ * p.P_G * truncated_exponential_pdf(p.sigma_bar, p.length, x);
-    return settings_.c_T * transmittance_part + (1.f - settings_.c_T) * guided_part;
+    return {transmittance_part, guided_part};
 }
 
 void IncrementalDistanceWalk::advance(const DistanceBin& bin, const Bin& p) {
@@ -181,8 +187,13 @@ void IncrementalDistanceWalk::advance(const DistanceBin& bin, const Bin& p) {
 }
 
 float IncrementalDistanceWalk::surface_probability() const {
+    const auto [transmittance_part, guided_part] = surface_parts();
+    return settings_.c_T * transmittance_part + (1.f - settings_.c_T) * guided_part;
+}
+
+std::pair<float, float> IncrementalDistanceWalk::surface_parts() const {
     const Color3 R_T = transmittance(tau_, 1.f), &q = settings_.channel_split;
-    return settings_.c_T * (q.r * R_T.r + q.g * R_T.g + q.b * R_T.b) + (1.f - settings_.c_T) * R_G_;
+    return {q.r * R_T.r + q.g * R_T.g + q.b * R_T.b, R_G_};
 }
 
 float incremental_distance_pdf(std::span<const DistanceBin> bins, float t,

@@ -35,6 +35,8 @@
 #include <cstdint>
 #include <optional>
 #include <span>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 #include "volguide/core/color.h"
@@ -95,6 +97,10 @@ struct DistanceSample {
     DistanceEvent event = DistanceEvent::Surface;
     float t = 0.f;    // medium: the scattering distance; surface: t1 of the last bin (0 without bins)
     float pdf = 1.f;  // medium: mixture density p(t) [1/length] (7.5); surface: P_surf (probability)
+    // The mixture's two parts at the sample, pdf = c_T pdf_transmittance + (1 - c_T) pdf_guided
+    // (transmittance: the channel split's mixture of T_R, T_G, T_B); learned selection
+    // (guiding/selection.h) evaluates other mixtures of them. Negative: not known (tabulated).
+    float pdf_transmittance = -1.f, pdf_guided = -1.f;
     int steps = 0;    // bins pulled from the source (zero-length bins included)
     DistanceStrategy strategy = DistanceStrategy::Guided;
     int nan_fallbacks = 0;  // bins whose guided probability was NaN and fell back to P^T (§7.6)
@@ -132,10 +138,13 @@ class IncrementalDistanceWalk {
     float sample_in_bin(const DistanceBin& bin, const Bin& p, float u) const;
     // Mixture density (7.5) at t inside `bin` (the walk has passed the bins before it).
     float pdf_in_bin(const DistanceBin& bin, const Bin& p, float t) const;
+    // Its transmittance and guided parts (pdf_in_bin = c_T first + (1 - c_T) second).
+    std::pair<float, float> pdf_parts_in_bin(const DistanceBin& bin, const Bin& p, float t) const;
     // Passes over `bin` without scattering: updates R^T, R^G and the filter state.
     void advance(const DistanceBin& bin, const Bin& p);
-    // Mixture probability of passing every bin advanced so far.
+    // Mixture probability of passing every bin advanced so far, and its two parts.
     float surface_probability() const;
+    std::pair<float, float> surface_parts() const;
 
     DistanceStrategy strategy() const { return strategy_; }
 
@@ -173,13 +182,15 @@ DistanceSample sample_incremental_distance(NextBin&& next_bin, Rng& rng,
         if (rng.next_1d() < walk.decision_probability(p)) {
             out.event = DistanceEvent::Medium;
             out.t = walk.sample_in_bin(bin, p, rng.next_1d());
-            out.pdf = walk.pdf_in_bin(bin, p, out.t);
+            std::tie(out.pdf_transmittance, out.pdf_guided) = walk.pdf_parts_in_bin(bin, p, out.t);
+            out.pdf = settings.c_T * out.pdf_transmittance + (1.f - settings.c_T) * out.pdf_guided;
             return out;
         }
         walk.advance(bin, p);
     }
     out.event = DistanceEvent::Surface;
-    out.pdf = walk.surface_probability();
+    std::tie(out.pdf_transmittance, out.pdf_guided) = walk.surface_parts();
+    out.pdf = settings.c_T * out.pdf_transmittance + (1.f - settings.c_T) * out.pdf_guided;
     return out;
 }
 

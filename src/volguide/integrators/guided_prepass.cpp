@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "volguide/guiding/field_io.h"
+#include "volguide/guiding/selection.h"
 
 namespace volguide {
 
@@ -31,7 +32,8 @@ struct Reader {
 
 }  // namespace
 
-std::string serialize_guided_prepass(const GuidingField& field, const Image& pixel_estimate) {
+std::string serialize_guided_prepass(const GuidingField& field, const Image& pixel_estimate,
+                                     const std::string& selection) {
     const std::string field_bytes = serialize_field(field);
     std::string s;
     put_u64(s, field_bytes.size());
@@ -40,6 +42,10 @@ std::string serialize_guided_prepass(const GuidingField& field, const Image& pix
     put_u32(s, uint32_t(pixel_estimate.height));
     for (const Color3& c : pixel_estimate.pixels)
         for (int k = 0; k < 3; ++k) put_u32(s, std::bit_cast<uint32_t>(c[k]));
+    if (!selection.empty()) {
+        put_u64(s, selection.size());
+        s += selection;
+    }
     return s;
 }
 
@@ -51,15 +57,25 @@ GuidedPrepass deserialize_guided_prepass(const std::string& bytes) {
     prepass.field = deserialize_field(bytes.substr(r.pos, field_size));
     r.pos += field_size;
     const uint64_t w = r.uint(4, "pixel estimate size"), h = r.uint(4, "pixel estimate size");
-    if ((w == 0) != (h == 0) || w > 65536 || h > 65536 || (bytes.size() - r.pos) != w * h * 12)
+    if ((w == 0) != (h == 0) || w > 65536 || h > 65536 || (bytes.size() - r.pos) < w * h * 12)
         throw FieldFormatError("guided_volpath pre-pass: the pixel estimate's size does not match its data");
-    if (w == 0) return prepass;
-    prepass.pixel_estimate = Image(int(w), int(h));
-    for (Color3& c : prepass.pixel_estimate.pixels)
-        for (int k = 0; k < 3; ++k) {
-            c[k] = std::bit_cast<float>(uint32_t(r.uint(4, "pixel estimate")));
-            if (!std::isfinite(c[k])) throw FieldFormatError("guided_volpath pre-pass: a non-finite pixel estimate");
-        }
+    if (w > 0) {
+        prepass.pixel_estimate = Image(int(w), int(h));
+        for (Color3& c : prepass.pixel_estimate.pixels)
+            for (int k = 0; k < 3; ++k) {
+                c[k] = std::bit_cast<float>(uint32_t(r.uint(4, "pixel estimate")));
+                if (!std::isfinite(c[k])) throw FieldFormatError("guided_volpath pre-pass: a non-finite pixel estimate");
+            }
+    }
+    if (r.pos == bytes.size()) return prepass;
+    const uint64_t n = r.uint(8, "selection size");
+    if (bytes.size() - r.pos != n) throw FieldFormatError("guided_volpath pre-pass: the selection's size does not match its data");
+    prepass.selection = bytes.substr(r.pos);
+    try {
+        (void)LearnedSelection::deserialize(prepass.selection);  // checked here, used by the integrator
+    } catch (const std::runtime_error& e) {
+        throw FieldFormatError(std::string("guided_volpath pre-pass: ") + e.what());
+    }
     return prepass;
 }
 

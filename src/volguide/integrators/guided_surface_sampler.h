@@ -36,6 +36,8 @@ class GuidedSurfaceSampler {
     // The mixture pdf of a local direction (BSDF::pdf when not guided).
     float pdf(const BSDFContext& ctx, const Vec3f& wo_local) const;
 
+    // The guide's density of a local direction (0 when not guided).
+    float guide_pdf(const Vec3f& wo_local) const { return guide_ ? guide_->pdf(si_->to_world(wo_local)) : 0.f; }
     bool guided() const { return guide_ != nullptr; }
     float bsdf_probability() const { return alpha_; }
 

@@ -11,6 +11,7 @@
 #include "volguide/integrators/medium_occupancy.h"
 #include "volguide/integrators/photon_pass.h"
 #include "volguide/integrators/progressive_training.h"
+#include "volguide/integrators/selection_pilot.h"
 #include "volguide/render/image_io.h"
 #include "volguide/render/scene.h"
 
@@ -36,14 +37,27 @@ void GuidedVolPathIntegrator::preprocess(const Scene& scene, const PreprocessCon
     guide_.reset();
     rrs_.reset();
     pixel_estimate_ = PixelEstimate();
+    pixel_estimate_seconds_ = 0;
     if (settings_.guide.distance != DistanceGuiding::Standard ||
         settings_.guide.direction != DirectionGuiding::Phase || settings_.roulette.mode != RouletteMode::Standard)
         guide_ = std::make_unique<WalkGuide>(scene, field_, settings_.guide);
-    if (settings_.roulette.mode != RouletteMode::Standard && !estimator_) {
+    // Learned selection's pilot compares with the pixel estimate too.
+    const bool learn = guide_ && !estimator_ && settings_.selection.pilot_spp > 0;
+    if ((settings_.roulette.mode != RouletteMode::Standard || learn) && !estimator_) {
         if (given_prepass_)
             use_given_pixel_estimate();
         else
             make_pixel_estimate(scene, context);
+    }
+    if (settings_.roulette.mode != RouletteMode::Standard && !estimator_) {
+        rrs_ = std::make_unique<RouletteSplitting>(settings_.roulette);
+        rrs_->set_pixel_estimate_seconds(pixel_estimate_seconds_);
+    }
+    if (learn) {
+        if (given_prepass_ && !given_prepass_->selection.empty())
+            guide_->set_selection(LearnedSelection::deserialize(given_prepass_->selection));
+        else
+            learn_selection(scene, context);
     }
     if (!settings_.save_field.empty()) {
         try {
@@ -128,12 +142,42 @@ void GuidedVolPathIntegrator::make_pixel_estimate(const Scene& scene, const Prep
                              fmt::format("guided_volpath: cannot write the pixel estimate: {}", e.what()));
         }
     }
-    rrs_ = std::make_unique<RouletteSplitting>(settings_.roulette);
-    rrs_->set_pixel_estimate_seconds(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    pixel_estimate_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// The learned selection's pilot (selection_pilot.h) with the configured mixtures, then its fit.
+void GuidedVolPathIntegrator::learn_selection(const Scene& scene, const PreprocessContext& context) {
+    const auto start = std::chrono::steady_clock::now();
+    if (context.progress) {
+        Progress p;
+        p.phase = "selection pilot";
+        context.progress(p);
+    }
+    const SelectionStatistics stats = run_selection_pilot(
+        scene, settings_.selection.pilot_spp, guide_->selection_regions(),
+        [&](Point2f film_uv) { return pixel_estimate_.at(film_uv); },
+        [&](Sampler& sampler, const Ray& ray, SelectionRecorder& recorder) {
+            GuidedWalkPolicy policy(*guide_, nullptr, 0.f, &recorder);
+            return walk_.walk(scene, sampler, ray, &policy);
+        },
+        context);
+    guide_->set_selection(LearnedSelection::fit(stats, settings_.selection, guide_->configured_shares()));
+    const LearnedSelection::Summary sum = guide_->selection().summary();
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    training_stats_.insert(training_stats_.end(),
+                           {{"selection_seconds", seconds},
+                            {"selection_distance_regions_guided", double(sum.guided[0])},
+                            {"selection_distance_regions_unguided", double(sum.unguided[0])},
+                            {"selection_direction_regions_guided", double(sum.guided[1])},
+                            {"selection_direction_regions_unguided", double(sum.unguided[1])},
+                            {"selection_surface_regions_guided", double(sum.guided[2])},
+                            {"selection_surface_regions_unguided", double(sum.unguided[2])},
+                            {"selection_rrs_regions_off", double(sum.rrs_off)}});
 }
 
 std::string GuidedVolPathIntegrator::prepass_state() const {
-    return serialize_guided_prepass(field_, pixel_estimate_.image());
+    return serialize_guided_prepass(field_, pixel_estimate_.image(),
+                                    guide_ && !guide_->selection().empty() ? guide_->selection().serialize() : "");
 }
 
 void GuidedVolPathIntegrator::use_prepass_state(const std::string& bytes) {
@@ -145,7 +189,6 @@ void GuidedVolPathIntegrator::use_given_pixel_estimate() {
     if (given_prepass_->pixel_estimate.pixels.empty())
         throw std::runtime_error("the given guided_volpath pre-pass has no pixel estimate (it was trained with rrs=standard)");
     pixel_estimate_ = PixelEstimate::from_image(given_prepass_->pixel_estimate, settings_.pixel.floor_fraction);
-    rrs_ = std::make_unique<RouletteSplitting>(settings_.roulette);
 }
 
 Color3 GuidedVolPathIntegrator::guided_walk(const Scene& scene, Sampler& sampler, const Ray& ray, float pixel) const {

@@ -62,6 +62,8 @@ private:
     GuidingField train_by_photons(const Scene& scene, const PreprocessContext& context);
     void make_pixel_estimate(const Scene& scene, const PreprocessContext& context);
     void use_given_pixel_estimate();
+    void learn_selection(const Scene& scene, const PreprocessContext& context);
+    double pixel_estimate_seconds_ = 0;
     std::vector<std::pair<std::string, double>> training_stats_;  // of the last preprocess()
 };
 

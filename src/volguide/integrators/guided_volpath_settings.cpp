@@ -152,7 +152,23 @@ void read_roulette(const Properties& props, RouletteSplittingSettings& r) {
                       r.branch_budget);
 }
 
-// Guided RR/splitting's pixel estimate: pixel_estimate, pixel_estimate_rays, pixel_estimate_spp,
+// Learned selection (guiding/selection.h): selection_spp (0: off), selection_min_samples,
+// selection_cost_distance / _direction / _surface (kappa), selection_rrs_ratio.
+void read_selection(const Properties& props, SelectionSettings& s) {
+    s.pilot_spp = int_in(props, "selection_spp", s.pilot_spp, 0, 64, " (0: off)");
+    s.min_samples = int_in(props, "selection_min_samples", s.min_samples, 1, 1 << 30);
+    s.kappa[0] = finite_at_least(props, "selection_cost_distance", s.kappa[0], 0.f);
+    s.kappa[1] = finite_at_least(props, "selection_cost_direction", s.kappa[1], 0.f);
+    s.kappa[2] = finite_at_least(props, "selection_cost_surface", s.kappa[2], 0.f);
+    s.rrs_ratio = finite_at_least(props, "selection_rrs_ratio", s.rrs_ratio, 1.f);
+    if (s.pilot_spp > 0) return;
+    for (const char* name : {"selection_min_samples", "selection_cost_distance", "selection_cost_direction",
+                             "selection_cost_surface", "selection_rrs_ratio"})
+        if (props.has(name))
+            props.fail_at(name, "guided_volpath: {} only applies to a learned selection (selection_spp > 0)", name);
+}
+
+// Guided RR/splitting's pixel estimate (learned selection's pilot uses it too): pixel_estimate, pixel_estimate_rays, pixel_estimate_spp,
 // pixel_estimate_floor, save_pixel_estimate; all of them, and the rrs_* parameters, are errors
 // with rrs=standard (they would silently do nothing).
 void read_pixel_estimate(const Properties& props, GuidedVolPathSettings& s) {
@@ -168,11 +184,16 @@ void read_pixel_estimate(const Properties& props, GuidedVolPathSettings& s) {
     s.pixel.volume_only = s.walk.volume_only;
     s.pixel.hide_emitters = s.walk.hide_emitters;
     if (s.roulette.mode != RouletteMode::Standard) return;
-    for (const char* name : {"rrs_window", "rrs_q_min", "rrs_q_max", "rrs_max_branches", "rrs_branch_budget", "pixel_estimate",
-                             "pixel_estimate_rays", "pixel_estimate_spp", "pixel_estimate_floor",
-                             "save_pixel_estimate"})
+    for (const char* name : {"rrs_window", "rrs_q_min", "rrs_q_max", "rrs_max_branches", "rrs_branch_budget",
+                             "selection_rrs_ratio"})
         if (props.has(name))
             props.fail_at(name, "guided_volpath: {} only applies to rrs=grr or rrs=grrs (rrs=standard)", name);
+    if (s.selection.pilot_spp > 0) return;
+    for (const char* name : {"pixel_estimate", "pixel_estimate_rays", "pixel_estimate_spp", "pixel_estimate_floor",
+                             "save_pixel_estimate"})
+        if (props.has(name))
+            props.fail_at(name, "guided_volpath: {} only applies to rrs=grr or rrs=grrs or a learned selection "
+                                "(selection_spp > 0)", name);
 }
 
 // load_field, resolved like Mitsuba's file resolver: a relative path that does not exist here is
@@ -199,6 +220,7 @@ GuidedVolPathSettings GuidedVolPathSettings::from(const Properties& props) {
     read_distance(props, s.walk, s.guide);
     read_direction(props, s.guide);
     read_roulette(props, s.roulette);
+    read_selection(props, s.selection);
     read_pixel_estimate(props, s);
     s.estimate = read_choice<FieldEstimate>(props, "estimate", s.estimate, kEstimate);
     if (props.has("save_field")) s.save_field = props.get_string("save_field");
@@ -210,14 +232,14 @@ std::string GuidedVolPathSettings::to_string() const {
     return fmt::format(
         "max_depth={}, rr_depth={}, rr_rule={}, training={}, photons={}, training_iterations={}, leaf_samples={}, "
         "lobes={}, distance={}, distance_merge={}, hetero_distance={}, direction={}, surface_guiding={}, rrs={}, rrs_window={}, "
-        "rrs_branch_budget={}, pixel_estimate={}, equiangular={}, estimate={}",
+        "rrs_branch_budget={}, selection_spp={}, pixel_estimate={}, equiangular={}, estimate={}",
         walk.max_depth, walk.rr_depth, roulette_rule_name(walk.rr_rule), choice_name<TrainingMethod>(kTraining, training), photons,
         training_iterations, field.tree.max_samples, field.lobes,
         choice_name<DistanceGuiding>(kDistance, guide.distance), guide.distance_merge,
         choice_name<bool>(kHeteroDistance, guide.guided_tracking),
         choice_name<DirectionGuiding>(kDirection, guide.direction), guide.surface,
         choice_name<RouletteMode>(kRrs, roulette.mode), roulette.window, roulette.branch_budget,
-        choice_name<PixelEstimateMethod>(kPixelEstimate, pixel_estimate), walk.equiangular,
+        selection.pilot_spp, choice_name<PixelEstimateMethod>(kPixelEstimate, pixel_estimate), walk.equiangular,
         choice_name<FieldEstimate>(kEstimate, estimate));
 }
 

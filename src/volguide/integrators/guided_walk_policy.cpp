@@ -4,15 +4,26 @@ namespace volguide {
 
 FreeFlightSample GuidedWalkPolicy::sample_distance(const Medium& medium, const Ray& ray, float tmax,
                                                    const Color3& throughput, Sampler& sampler, GuideRegion& region) {
-    if (guide_.guides_distance())
-        return guide_.sample_distance(medium, ray, tmax, throughput, sampler, region, scratch_);
-    region = GuideRegion();  // the scattering vertex's is not known
-    return medium.sample_free_flight(ray, tmax, throughput, sampler);
+    if (!guide_.guides_distance()) {
+        if (recorder_) recorder_->unrecorded_decision();
+        region = GuideRegion();  // the scattering vertex's is not known
+        return medium.sample_free_flight(ray, tmax, throughput, sampler);
+    }
+    FreeFlightSample fs = guide_.sample_distance(medium, ray, tmax, throughput, sampler, region, scratch_);
+    if (recorder_) {
+        const DistanceScratch::Decision& d = scratch_.decision;
+        if (d.mixture)
+            recorder_->decision(SelectionDecision::Distance, d.leaf, d.pdf, d.p_u, d.p_g);
+        else
+            recorder_->unrecorded_decision();
+    }
+    return fs;
 }
 
 void GuidedWalkPolicy::prepare_direction(const MediumInteraction& mi, GuideRegion& region, Sampler&) {
     direction_.reset();
     if (guide_.guides_direction()) guide_.direction_sampler(mi, mi.medium->phase(), region, direction_);
+    direction_leaf_ = region.leaf;
 }
 
 float GuidedWalkPolicy::direction_pdf(const MediumInteraction& mi, const Vec3f& wo) const {
@@ -20,10 +31,20 @@ float GuidedWalkPolicy::direction_pdf(const MediumInteraction& mi, const Vec3f& 
 }
 
 PhaseSample GuidedWalkPolicy::sample_direction(const MediumInteraction& mi, Sampler& sampler) {
-    if (!direction_) return mi.medium->phase().sample(mi.wi, sampler.next_2d());
+    if (!direction_) {
+        if (recorder_) recorder_->unrecorded_decision();
+        return mi.medium->phase().sample(mi.wi, sampler.next_2d());
+    }
     const float u_strategy = sampler.next_1d();
     const GuidedDirectionSampler::Sample g = direction_->sample(sampler.next_2d(), u_strategy);
     guide_.count_direction(g.guided);
+    if (recorder_) {
+        if (direction_->guided() && g.pdf > 0.f)
+            recorder_->decision(SelectionDecision::Direction, direction_leaf_, g.pdf,
+                                mi.medium->phase().pdf(mi.wi, g.wo), direction_->guide_pdf(g.wo));
+        else
+            recorder_->unrecorded_decision();
+    }
     PhaseSample ps;
     ps.wo = g.wo;
     ps.pdf = g.pdf;
@@ -34,7 +55,9 @@ PhaseSample GuidedWalkPolicy::sample_direction(const MediumInteraction& mi, Samp
 void GuidedWalkPolicy::prepare_surface_direction(const SurfaceInteraction& si, const BSDF& bsdf,
                                                  const Medium* medium, Sampler&) {
     surface_.reset();
-    if (guide_.guides_surfaces() && !bsdf.is_null()) guide_.surface_sampler(si, bsdf, medium, surface_guide_, surface_);
+    surface_leaf_ = -1;
+    if (guide_.guides_surfaces() && !bsdf.is_null())
+        surface_leaf_ = guide_.surface_sampler(si, bsdf, medium, surface_guide_, surface_);
 }
 
 float GuidedWalkPolicy::surface_direction_pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const BSDF& bsdf,
@@ -46,9 +69,19 @@ std::pair<BSDFSample, Color3> GuidedWalkPolicy::sample_surface_direction(const B
                                                                          const SurfaceInteraction& si,
                                                                          const BSDF& bsdf, float u1, Point2f u2,
                                                                          Sampler& sampler) {
-    if (!surface_ || !surface_->guided()) return bsdf.sample(ctx, si, u1, u2);
+    if (!surface_ || !surface_->guided()) {
+        if (recorder_) recorder_->unrecorded_decision();
+        return bsdf.sample(ctx, si, u1, u2);
+    }
     const GuidedSurfaceSampler::Sample g = surface_->sample(ctx, sampler.next_1d(), u1, u2);
     guide_.count_surface_direction(g.guided);
+    if (recorder_) {
+        if (g.bs.pdf > 0.f)
+            recorder_->decision(SelectionDecision::Surface, surface_leaf_, g.bs.pdf, bsdf.pdf(ctx, si, g.bs.wo),
+                                surface_->guide_pdf(g.bs.wo));
+        else
+            recorder_->unrecorded_decision();
+    }
     return {g.bs, g.weight};
 }
 
@@ -56,9 +89,13 @@ Continuation GuidedWalkPolicy::continuation(ContinuationStage stage, const Mediu
                                             const Color3& throughput, int branches, float allowance,
                                             Sampler& sampler, GuideRegion& region) {
     Continuation c;
-    if (!rrs_) return c;
+    if (!rrs_ && !recorder_) return c;
     const Color3 estimate = stage == ContinuationStage::Distance ? guide_.inscattered_estimate(mi, w, region)
                                                                  : guide_.incident_estimate(mi, w, region);
+    if (recorder_ && estimate.max_value() > 0.f)
+        recorder_->continuation(int(stage), region.leaf, estimate.average(), throughput.average());
+    if (!rrs_) return c;
+    if (estimate.max_value() > 0.f && !guide_.rrs_acts(stage, region.leaf)) return c;  // learned: throughput RR
     c.guided = estimate.max_value() > 0.f;
     c.q = rrs_->factor(throughput, estimate, pixel_, branches, allowance);
     if (c.q == 1.f) return c;
@@ -73,6 +110,10 @@ float GuidedWalkPolicy::branch_budget() const {
 
 void GuidedWalkPolicy::end_camera_sample(int branches) {
     if (rrs_) rrs_->count_camera_sample(branches);
+}
+
+void GuidedWalkPolicy::record_contribution(const Color3& value) {
+    if (recorder_) recorder_->contribution(value);
 }
 
 }  // namespace volguide

@@ -4,11 +4,14 @@
 // splitting against the pixel estimate I of the camera sample's pixel (roulette_splitting.h).
 // Decisions the guide does not make are the analog ones, with the same random numbers. One object
 // per camera sample (it holds the vertex's prepared samplers and the distance decisions' scratch).
+// With a SelectionRecorder (the learned selection's pilot, selection_pilot.h) it also records every
+// decision's mixture densities, the continuation points and the contributions.
 #include <optional>
 
 #include "volguide/guiding/guided_direction.h"
 #include "volguide/integrators/guided_surface_sampler.h"
 #include "volguide/guiding/roulette_splitting.h"
+#include "volguide/integrators/selection_pilot.h"
 #include "volguide/integrators/walk_guide.h"
 #include "volguide/integrators/walk_policy.h"
 #include "volguide/vmm/vmm.h"
@@ -18,8 +21,12 @@ namespace volguide {
 class GuidedWalkPolicy final : public WalkPolicy {
   public:
     // `rrs` null: no guided RR/splitting; `pixel`: I of the camera sample's pixel (> 0 with rrs).
-    GuidedWalkPolicy(const WalkGuide& guide, const RouletteSplitting* rrs, float pixel)
-        : guide_(guide), rrs_(rrs), pixel_(pixel) {}
+    // `recorder`: the selection pilot's (null: none).
+    GuidedWalkPolicy(const WalkGuide& guide, const RouletteSplitting* rrs, float pixel,
+                     SelectionRecorder* recorder = nullptr)
+        : guide_(guide), rrs_(rrs), pixel_(pixel), recorder_(recorder) {
+        scratch_.record = recorder != nullptr;
+    }
 
     bool guides_distance() const override { return guide_.guides_distance(); }
     FreeFlightSample sample_distance(const Medium& medium, const Ray& ray, float tmax, const Color3& throughput,
@@ -42,12 +49,16 @@ class GuidedWalkPolicy final : public WalkPolicy {
                               const Color3& throughput, int branches, float allowance, Sampler& sampler,
                               GuideRegion& region) override;
     void end_camera_sample(int branches) override;
+    void record_contribution(const Color3& value) override;
 
   private:
     const WalkGuide& guide_;
     const RouletteSplitting* rrs_;
     float pixel_;
+    SelectionRecorder* recorder_;
     DistanceScratch scratch_;
+    int direction_leaf_ = -1;  // the current medium vertex's leaf (-1: none), for the recorder
+    int surface_leaf_ = -1;    // the leaf beside the current surface vertex
     std::optional<GuidedDirectionSampler> direction_;  // of the current medium vertex
     std::optional<GuidedSurfaceSampler> surface_;      // of the current surface vertex
     Vmm surface_guide_{Vmm::Uninitialized{}};          // the product guide surface_ reads

@@ -30,6 +30,10 @@ WalkGuideStats& WalkGuideStats::operator+=(const WalkGuideStats& o) {
     surface_vertices += o.surface_vertices;
     surface_guided_vertices += o.surface_guided_vertices;
     surface_guided_samples += o.surface_guided_samples;
+    distance_unselected += o.distance_unselected;
+    direction_unselected += o.direction_unselected;
+    surface_unselected += o.surface_unselected;
+    rrs_unselected += o.rrs_unselected;
     return *this;
 }
 
@@ -50,7 +54,11 @@ std::vector<std::pair<std::string, double>> WalkGuideStats::named() const {
             {"direction_damped_vertex_fraction", ratio(direction_damped_vertices, direction_samples)},
             {"surface_vertices", double(surface_vertices)},
             {"surface_guided_vertex_fraction", ratio(surface_guided_vertices, surface_vertices)},
-            {"surface_guided_sample_fraction", ratio(surface_guided_samples, surface_vertices)}};
+            {"surface_guided_sample_fraction", ratio(surface_guided_samples, surface_vertices)},
+            {"selection_distance_unguided", double(distance_unselected)},
+            {"selection_direction_unguided", double(direction_unselected)},
+            {"selection_surface_unguided", double(surface_unselected)},
+            {"selection_rrs_off", double(rrs_unselected)}};
 }
 
 WalkGuide::WalkGuide(const Scene& scene, const GuidingField& field, const WalkGuideSettings& settings)
@@ -118,13 +126,30 @@ FreeFlightSample WalkGuide::sample_distance(const Medium& medium, const Ray& ray
     // estimates.
     const int origin_leaf = region.leaf;
     region.leaf = -1;
+    scratch.decision = DistanceScratch::Decision();
+    // The origin's leaf, kept on the free-flight paths below where the scattering vertex is in it
+    // (deep in a dense medium it usually is): the direction decision there needs no descent.
+    auto free_flight_from = [&](int origin) {
+        FreeFlightSample fs = medium.sample_free_flight(ray, tmax, throughput, sampler);
+        if (origin >= 0 && fs.scattered && field_.tree().holds_point(origin, fs.mi.p)) region.leaf = origin;
+        return fs;
+    };
     if (origin_leaf >= 0 && leaf_confidence(origin_leaf, medium.eval(ray.o).sigma_t) < kSkipConfidence) {
         ++stats_.local().distance_skipped;
-        FreeFlightSample fs = medium.sample_free_flight(ray, tmax, throughput, sampler);
-        // Deep in a dense medium the next vertex is usually in the same leaf: hand it on, so that
-        // its direction decision needs no descent either.
-        if (fs.scattered && field_.tree().holds_point(origin_leaf, fs.mi.p)) region.leaf = origin_leaf;
-        return fs;
+        return free_flight_from(origin_leaf);
+    }
+    // Learned selection: the guided share of the origin's region (found by a descent when no
+    // decision before found it); 0: free flight, nothing guided is paid for.
+    int origin = origin_leaf;
+    float c_T = settings_.distance_settings.c_T;
+    if (!selection_.empty() || scratch.record) {
+        if (origin < 0) origin = vertex_leaf(ray.o, GuideRegion());
+        const float share = selection_.share(SelectionDecision::Distance, selection_region(origin));
+        if (share == 0.f) {
+            ++stats_.local().distance_unselected;
+            return free_flight_from(origin);
+        }
+        if (share != LearnedSelection::kDefault) c_T = 1.f - share;
     }
     float b0, b1;
     const bool crosses = !field_.empty() && field_.tree().bounds().ray_intersect(ray, b0, b1) && b1 > 0.f;
@@ -139,7 +164,7 @@ FreeFlightSample WalkGuide::sample_distance(const Medium& medium, const Ray& ray
     if (settings_.distance == DistanceGuiding::Incremental && settings_.guided_tracking &&
         medium.tracks_null_collisions()) {
         // The whole segment: beyond the field the tracking falls back to the analog probability.
-        GuidedCollisionProbability guide(field_, estimates, ray, t_end, settings_.distance_settings.c_T);
+        GuidedCollisionProbability guide(field_, estimates, ray, t_end, c_T);
         FreeFlightSample fs = medium.sample_free_flight(ray, tmax, throughput, sampler, &guide);
         WalkGuideStats& st = stats_.local();
         ++st.distance_queries;
@@ -150,14 +175,17 @@ FreeFlightSample WalkGuide::sample_distance(const Medium& medium, const Ray& ray
         return fs;
     }
 
-    return binned_distance(medium, ray, tmax, t_end, estimates, throughput, sampler, region, scratch);
+    FreeFlightSample fs = binned_distance(medium, ray, tmax, t_end, estimates, c_T, throughput, sampler, region, scratch);
+    scratch.decision.leaf = origin;
+    return fs;
 }
 
 FreeFlightSample WalkGuide::binned_distance(const Medium& medium, const Ray& ray, float tmax, float t_end,
-                                            const LeafEstimates* estimates, const Color3& throughput,
+                                            const LeafEstimates* estimates, float c_T, const Color3& throughput,
                                             Sampler& sampler, GuideRegion& region, DistanceScratch& scratch) const {
     DistanceScratch& s = scratch;
     GuidedDistanceSettings distance_settings = settings_.distance_settings;
+    distance_settings.c_T = c_T;
     distance_settings.channel_split = channel_probabilities(throughput);  // spectral MIS (§2.6)
     const DistanceRegions* regions = regions_for(medium.phase());
     BinSource source(ray, t_end, medium, field_, estimates, s.proxies, settings_.max_bin_optical_depth,
@@ -183,6 +211,12 @@ FreeFlightSample WalkGuide::binned_distance(const Medium& medium, const Ray& ray
     st.nan_fallbacks += uint64_t(ds.nan_fallbacks);
     if (ds.event == DistanceEvent::Medium && ds.pdf > 0.f)
         region.leaf = regions && source.leaf() >= 0 ? regions->fine_leaf(source.leaf(), ray(ds.t)) : source.leaf();
+    if (ds.pdf > 0.f && ds.pdf_transmittance >= 0.f && ds.pdf_guided >= 0.f) {
+        s.decision.mixture = true;
+        s.decision.pdf = ds.pdf;
+        s.decision.p_u = ds.pdf_transmittance;
+        s.decision.p_g = ds.pdf_guided;
+    }
     return binned_flight(medium, ray, tmax, t_end, ds, throughput, sampler);
 }
 
@@ -238,12 +272,19 @@ void WalkGuide::direction_sampler(const MediumInteraction& mi, const PhaseFuncti
     const auto it = phase_vmms_.find(phase.mean_cosine());
     float phase_prob = settings_.phase_prob;
     if (leaf) {
-        const GuidingLeaf* base =
-            settings_.direction_indirect ? direction_leaves_.data() : field_.leaves().data();
-        const float confidence = leaf_confidence(int(leaf - base), mi.coeffs.sigma_t);
-        if (confidence < 1.f) {
-            // Below kSkipConfidence the product is not worth building: the phase function alone.
-            phase_prob = confidence < kSkipConfidence ? 1.f : 1.f - (1.f - phase_prob) * confidence;
+        const float confidence = leaf_confidence(region.leaf, mi.coeffs.sigma_t);
+        const float share = selection_.share(SelectionDecision::Direction, size_t(region.leaf));
+        if (confidence < kSkipConfidence) {
+            // The product is not worth building: the phase function alone.
+            phase_prob = 1.f;
+            ++stats_.local().direction_damped_vertices;
+        } else if (share != LearnedSelection::kDefault) {
+            // Learned: the share replaces the configured mixture and its damping (the pilot
+            // measured the damped mixture's samples).
+            phase_prob = 1.f - share;
+            if (share == 0.f) ++stats_.local().direction_unselected;
+        } else if (confidence < 1.f) {
+            phase_prob = 1.f - (1.f - phase_prob) * confidence;
             ++stats_.local().direction_damped_vertices;
         }
     }
@@ -252,22 +293,27 @@ void WalkGuide::direction_sampler(const MediumInteraction& mi, const PhaseFuncti
     if (!s.guided()) ++stats_.local().direction_unguided_vertices;
 }
 
-void WalkGuide::surface_sampler(const SurfaceInteraction& si, const BSDF& bsdf, const Medium* medium,
-                                Vmm& guide_storage, std::optional<GuidedSurfaceSampler>& out) const {
+int WalkGuide::surface_sampler(const SurfaceInteraction& si, const BSDF& bsdf, const Medium* medium,
+                               Vmm& guide_storage, std::optional<GuidedSurfaceSampler>& out) const {
     const Vmm* guide = nullptr;
     float bsdf_prob = settings_.bsdf_prob;
+    int index = -1;
     if (guides_surfaces() && !field_.empty() && bsdf.flags() == bsdf_flags::DiffuseReflection) {
         ++stats_.local().surface_vertices;
         // The side the path arrives from (wi above the shading frame: its normal, else the back).
         const Vec3f n = si.wi.z >= 0.f ? Vec3f(si.sh_frame.n) : -Vec3f(si.sh_frame.n);
-        const int index = field_.tree().leaf_at(si.p + n * surface_offset_);
+        index = field_.tree().leaf_at(si.p + n * surface_offset_);
+        const float share = index >= 0 ? selection_.share(SelectionDecision::Surface, size_t(index))
+                                       : LearnedSelection::kDefault;
         const GuidingLeaf* leaf = nullptr;
         if (index >= 0)
             leaf = settings_.direction_indirect ? &direction_leaves_[size_t(index)] : &field_.leaves()[size_t(index)];
         const float confidence = leaf && medium ? leaf_confidence(index, medium->eval(si.p).sigma_t) : 1.f;
-        if (leaf && leaf->valid && leaf->vmm.count > 0 && confidence >= kSkipConfidence &&
-            field_.leaves()[size_t(index)].mostly_medium()) {
-            bsdf_prob = 1.f - (1.f - bsdf_prob) * confidence;
+        if (share == 0.f) {
+            ++stats_.local().surface_unselected;
+        } else if (leaf && leaf->valid && leaf->vmm.count > 0 && confidence >= kSkipConfidence &&
+                   field_.leaves()[size_t(index)].mostly_medium()) {
+            bsdf_prob = share != LearnedSelection::kDefault ? 1.f - share : 1.f - (1.f - bsdf_prob) * confidence;
             if (settings_.direction == DirectionGuiding::Incident)
                 guide = &leaf->vmm;
             else if (cosine_product(leaf->vmm, n, guide_storage))
@@ -276,6 +322,17 @@ void WalkGuide::surface_sampler(const SurfaceInteraction& si, const BSDF& bsdf, 
     }
     out.emplace(bsdf, si, guide, bsdf_prob);
     if (out->guided()) ++stats_.local().surface_guided_vertices;
+    return index;
+}
+
+bool WalkGuide::rrs_acts(ContinuationStage stage, int leaf) const {
+    if (selection_.rrs_acts(int(stage), selection_region(leaf))) return true;
+    ++stats_.local().rrs_unselected;
+    return false;
+}
+
+std::array<float, kSelectionDecisions> WalkGuide::configured_shares() const {
+    return {1.f - settings_.distance_settings.c_T, 1.f - settings_.phase_prob, 1.f - settings_.bsdf_prob};
 }
 
 int WalkGuide::vertex_leaf(const Point3f& x, const GuideRegion& region) const {

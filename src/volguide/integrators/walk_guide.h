@@ -21,6 +21,7 @@
 // Statistics are counted per thread and summed on request.
 #include <tbb/enumerable_thread_specific.h>
 
+#include <array>
 #include <cstdint>
 #include <map>
 #include <optional>
@@ -34,6 +35,7 @@
 #include "volguide/guiding/guiding_field.h"
 #include "volguide/guiding/inscatter_cache.h"
 #include "volguide/guiding/leaf_estimates.h"
+#include "volguide/guiding/selection.h"
 #include "volguide/integrators/guided_surface_sampler.h"
 #include "volguide/integrators/walk_policy.h"
 #include "volguide/media/medium.h"
@@ -97,6 +99,12 @@ struct WalkGuideStats {
     uint64_t surface_vertices = 0;         // diffuse surface vertices offered to surface guiding
     uint64_t surface_guided_vertices = 0;  // ... that found a valid leaf (mixture sampling)
     uint64_t surface_guided_samples = 0;   // directions drawn from the surface guide
+    // Learned selection (guiding/selection.h): decisions made unguided because their region's
+    // learned guided share is 0, and continuation points where it switched guided RR/splitting off.
+    uint64_t distance_unselected = 0;
+    uint64_t direction_unselected = 0;
+    uint64_t surface_unselected = 0;
+    uint64_t rrs_unselected = 0;
     WalkGuideStats& operator+=(const WalkGuideStats& o);
     // Named values for --stats.
     std::vector<std::pair<std::string, double>> named() const;
@@ -107,6 +115,16 @@ struct WalkGuideStats {
 struct DistanceScratch {
     std::vector<ProxySegment> proxies;
     std::vector<DistanceBin> bins;  // tabulated only
+    // For the selection pilot (selection_pilot.h). In: find the origin's leaf also where no
+    // decision before found it. Out: whether the last decision drew from a guided mixture whose
+    // parts are known, the leaf it was made from (-1: outside the field), the mixture's density
+    // at the sample and its unguided and guided parts.
+    bool record = false;
+    struct Decision {
+        bool mixture = false;
+        int leaf = -1;
+        float pdf = 0.f, p_u = 0.f, p_g = 0.f;
+    } decision;
 };
 
 // The decisions take the GuideRegion of the vertex they are made at (walk_policy.h): its kd leaf
@@ -129,6 +147,18 @@ class WalkGuide {
     FreeFlightSample sample_distance(const Medium& medium, const Ray& ray, float tmax, const Color3& throughput,
                                      Sampler& sampler, GuideRegion& region, DistanceScratch& scratch) const;
 
+    // Learned selection (guiding/selection.h): per region, the guided share of each decision and
+    // whether guided RR/splitting acts; empty (the default) keeps the configured mixtures.
+    void set_selection(LearnedSelection selection) { selection_ = std::move(selection); }
+    const LearnedSelection& selection() const { return selection_; }
+    // The selection's region of a leaf (-1: outside the field) and how many there are.
+    size_t selection_region(int leaf) const { return leaf >= 0 ? size_t(leaf) : field_.leaves().size(); }
+    size_t selection_regions() const { return field_.leaves().size() + 1; }
+    // Whether guided RR/splitting acts at `stage` in the region of `leaf`; counts the ones it does not.
+    bool rrs_acts(ContinuationStage stage, int leaf) const;
+    // The guided shares the configuration sets (what the pilot samples with): distance, direction, surface.
+    std::array<float, kSelectionDecisions> configured_shares() const;
+
     // Builds the direction sampler of a medium vertex in `out` (in place: it holds a ~3 KB product
     // mixture); phase only where the field has no valid leaf.
     void direction_sampler(const MediumInteraction& mi, const PhaseFunction& phase, GuideRegion& region,
@@ -141,8 +171,9 @@ class WalkGuide {
     // null for none; its extinction sets the leaf's confidence as in the medium). `guide_storage`
     // holds the product guide and must outlive `out`. Leaves `out` a pure BSDF sampler where
     // there is nothing to guide with (not diffuse, no valid leaf, surfaces not guided).
-    void surface_sampler(const SurfaceInteraction& si, const BSDF& bsdf, const Medium* medium, Vmm& guide_storage,
-                         std::optional<GuidedSurfaceSampler>& out) const;
+    // Returns the leaf beside the surface (-1: none), the region of learned selection.
+    int surface_sampler(const SurfaceInteraction& si, const BSDF& bsdf, const Medium* medium, Vmm& guide_storage,
+                        std::optional<GuidedSurfaceSampler>& out) const;
     void count_surface_direction(bool guided) const;
 
     // The field's estimates for guided RR and splitting (theory.md §9.3) at the medium vertex mi:
@@ -167,8 +198,8 @@ class WalkGuide {
     // sample_distance's decision on the bins of (0, t_end) (distance_bins.h; t_end: where the ray
     // leaves the field or reaches tmax), weighted by binned_flight.
     FreeFlightSample binned_distance(const Medium& medium, const Ray& ray, float tmax, float t_end,
-                                     const LeafEstimates* estimates, const Color3& throughput, Sampler& sampler,
-                                     GuideRegion& region, DistanceScratch& scratch) const;
+                                     const LeafEstimates* estimates, float c_T, const Color3& throughput,
+                                     Sampler& sampler, GuideRegion& region, DistanceScratch& scratch) const;
     // The weights of the bins' decision `ds` (the caller contract of guided_distance.h), and beyond
     // the field (t_end < tmax) the medium's own free flight.
     FreeFlightSample binned_flight(const Medium& medium, const Ray& ray, float tmax, float t_end,
@@ -194,6 +225,7 @@ class WalkGuide {
     // With direction_indirect: per leaf, vmm/valid replaced by vmm_indirect/valid_indirect (the
     // direction sampler reads a GuidingLeaf).
     std::vector<GuidingLeaf> direction_leaves_;
+    LearnedSelection selection_;
     mutable tbb::enumerable_thread_specific<WalkGuideStats> stats_;
 };
 

@@ -1,0 +1,283 @@
+#include "volguide/guiding/selection.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <limits>
+#include <stdexcept>
+
+namespace volguide {
+
+namespace {
+
+constexpr double kFixedScale = 4294967296.0;  // 2^32
+constexpr double kMaxTerm = 1e15;
+constexpr double kTwo64 = 18446744073709551616.0;
+constexpr uint32_t kMagic = 0x4c534756;  // "VGSL"
+constexpr uint32_t kVersion = 1;
+
+size_t nearest_share(float share) {
+    size_t best = 0;
+    for (size_t k = 1; k < kSelectionShares.size(); ++k)
+        if (std::abs(kSelectionShares[k] - share) < std::abs(kSelectionShares[best] - share)) best = k;
+    return best;
+}
+
+template <class T>
+void put(std::string& out, const T& v) {
+    char b[sizeof(T)];
+    std::memcpy(b, &v, sizeof(T));
+    out.append(b, sizeof(T));
+}
+
+template <class T>
+T get(const std::string& in, size_t& at) {
+    if (in.size() - at < sizeof(T) || at > in.size()) throw std::runtime_error("learned selection: truncated");
+    T v;
+    std::memcpy(&v, in.data() + at, sizeof(T));
+    at += sizeof(T);
+    return v;
+}
+
+}  // namespace
+
+void ExactSum::add_words(uint64_t hi, uint64_t lo) {
+    lo_ += lo;
+    hi_ += hi + (lo_ < lo ? 1 : 0);
+}
+
+void ExactSum::add(double term) {
+    if (!(term > 0.0)) return;  // zero, negative rounding noise, NaN
+    const double t = std::floor(std::min(term, kMaxTerm) * kFixedScale);  // < 2^82
+    const double hi = std::floor(t / kTwo64);
+    add_words(uint64_t(hi), uint64_t(t - hi * kTwo64));  // both parts exact in double
+}
+
+ExactSum& ExactSum::operator+=(const ExactSum& o) {
+    add_words(o.hi_, o.lo_);
+    return *this;
+}
+
+double ExactSum::value() const { return (double(hi_) * kTwo64 + double(lo_)) / kFixedScale; }
+
+SelectionStatistics::SelectionStatistics(size_t regions) : moments_(regions), calibration_(regions) {}
+
+void SelectionStatistics::add_decision(SelectionDecision d, size_t region, double s2, float q_cur, float p_u,
+                                       float p_g) {
+    if (region >= moments_.size() || !(q_cur > 0.f) || !std::isfinite(s2)) return;
+    Moments& m = moments_[region][size_t(d)];
+    ++m.count;
+    if (!(s2 > 0.0)) return;
+    m.current.add(s2);
+    for (size_t k = 0; k < kSelectionShares.size(); ++k) {
+        const double a = kSelectionShares[k];
+        const double q = (1.0 - a) * double(p_u) + a * double(p_g);
+        // A share whose mixture cannot sample what was sampled: infinite second moment (clamped).
+        m.m[k].add(q > 0.0 ? s2 * double(q_cur) / q : kMaxTerm);
+    }
+}
+
+void SelectionStatistics::add_camera_sample(double s2) {
+    ++camera_samples_;
+    if (std::isfinite(s2)) camera_moment_.add(s2);
+}
+
+void SelectionStatistics::add_continuation(int stage, size_t region, double estimate, double measured) {
+    if (region >= calibration_.size() || stage < 0 || stage >= kSelectionStages) return;
+    if (!std::isfinite(estimate) || !std::isfinite(measured)) return;
+    Calibration& c = calibration_[region][size_t(stage)];
+    ++c.count;
+    c.estimate.add(estimate);
+    c.measured.add(measured);
+}
+
+SelectionStatistics& SelectionStatistics::operator+=(const SelectionStatistics& o) {
+    if (moments_.empty()) {
+        moments_.resize(o.moments_.size());
+        calibration_.resize(o.calibration_.size());
+    }
+    if (o.moments_.size() != moments_.size()) throw std::logic_error("SelectionStatistics: different region counts");
+    for (size_t r = 0; r < moments_.size(); ++r) {
+        for (int d = 0; d < kSelectionDecisions; ++d) {
+            Moments& a = moments_[r][size_t(d)];
+            const Moments& b = o.moments_[r][size_t(d)];
+            for (size_t k = 0; k < kSelectionShares.size(); ++k) a.m[k] += b.m[k];
+            a.current += b.current;
+            a.count += b.count;
+        }
+        for (int s = 0; s < kSelectionStages; ++s) {
+            Calibration& a = calibration_[r][size_t(s)];
+            const Calibration& b = o.calibration_[r][size_t(s)];
+            a.estimate += b.estimate;
+            a.measured += b.measured;
+            a.count += b.count;
+        }
+    }
+    unrecorded_ += o.unrecorded_;
+    camera_samples_ += o.camera_samples_;
+    camera_moment_ += o.camera_moment_;
+    return *this;
+}
+
+LearnedSelection LearnedSelection::fit(const SelectionStatistics& stats, const SelectionSettings& settings,
+                                       const std::array<float, kSelectionDecisions>& default_share) {
+    LearnedSelection out;
+    const size_t R = stats.regions();
+    out.regions_.resize(R);
+    constexpr size_t K = kSelectionShares.size();
+    std::array<size_t, kSelectionDecisions> default_index{};
+    for (int d = 0; d < kSelectionDecisions; ++d) default_index[size_t(d)] = nearest_share(default_share[size_t(d)]);
+
+    // Second moments in double (from exact sums: the same for any order of the samples).
+    struct Entry {
+        std::array<double, K> m{};
+        double current = 0.0;
+        double count = 0.0;
+        bool learned = false;
+        size_t chosen = 0;
+    };
+    std::vector<std::array<Entry, kSelectionDecisions>> entries(R);
+    std::array<std::array<double, K>, kSelectionDecisions> pooled{};  // sum over regions of M(share k)
+    std::array<double, kSelectionDecisions> pooled_current{};
+    for (size_t r = 0; r < R; ++r)
+        for (int d = 0; d < kSelectionDecisions; ++d) {
+            const SelectionStatistics::Moments& mo = stats.moments(SelectionDecision(d), r);
+            Entry& e = entries[r][size_t(d)];
+            for (size_t k = 0; k < K; ++k) e.m[k] = mo.m[k].value();
+            e.current = mo.current.value();
+            e.count = double(mo.count);
+            e.learned = mo.count >= uint64_t(std::max(1, settings.min_samples));
+            e.chosen = default_index[size_t(d)];
+            for (size_t k = 0; k < K; ++k) pooled[size_t(d)][k] += e.m[k];
+            pooled_current[size_t(d)] += e.current;
+        }
+    // Shrinkage: a region's ratio M(k) / M(pilot) is a heavy-tailed estimate from few samples, and
+    // the argmin over noisy values favours whichever happens to be low (at 2 spp, most regions
+    // looked cheaper unguided than they were: thin's distance decisions were switched off in 207
+    // of 217 regions and relMSE doubled). Each region's ratio is pulled towards the ratio pooled
+    // over all regions, with the weight of prior_samples pilot decisions.
+    const double n0 = std::max(0.f, settings.prior_samples);
+    for (size_t r = 0; r < R; ++r)
+        for (int d = 0; d < kSelectionDecisions; ++d) {
+            Entry& e = entries[r][size_t(d)];
+            if (!(pooled_current[size_t(d)] > 0.0) || !(e.current > 0.0)) continue;
+            for (size_t k = 0; k < K; ++k) {
+                const double ratio = e.m[k] / e.current, prior = pooled[size_t(d)][k] / pooled_current[size_t(d)];
+                e.m[k] = e.current * (e.count * ratio + n0 * prior) / (e.count + n0);
+            }
+        }
+    for (size_t r = 0; r < R; ++r)
+        for (int d = 0; d < kSelectionDecisions; ++d) {
+            Entry& e = entries[r][size_t(d)];
+            if (e.learned) e.chosen = size_t(std::min_element(e.m.begin(), e.m.end()) - e.m.begin());
+        }
+
+    auto cost_of = [&](int d, size_t k, double count) {
+        return count * (kSelectionShares[k] > 0.f ? double(settings.kappa[size_t(d)]) : 0.0);
+    };
+    for (int iteration = 0; iteration < 3; ++iteration) {
+        const double V = stats.camera_moment();
+        double T = double(stats.unrecorded_decisions());
+        for (size_t r = 0; r < R; ++r)
+            for (int d = 0; d < kSelectionDecisions; ++d) {
+                const Entry& e = entries[r][size_t(d)];
+                T += e.count + cost_of(d, e.chosen, e.count);
+            }
+        if (!(V > 0.0) || !(T > 0.0)) break;
+        if (std::getenv("VOLGUIDE_SELECTION_DEBUG")) {
+            std::fprintf(stderr, "selection iteration %d: V %.6g (camera %.6g, %llu samples) T %.6g (unrecorded %llu)\n", iteration, V,
+                         stats.camera_moment(), (unsigned long long)stats.camera_samples(), T,
+                         (unsigned long long)stats.unrecorded_decisions());
+            for (int d = 0; d < kSelectionDecisions; ++d) {
+                double n = 0, cur = 0, best = 0, zero = 0; size_t learned = 0;
+                for (size_t r = 0; r < R; ++r) { const Entry& e = entries[r][size_t(d)]; n += e.count; if (!e.learned) continue; ++learned; cur += e.current; best += *std::min_element(e.m.begin(), e.m.end()); zero += e.m[0]; }
+                std::fprintf(stderr, "  decision %d: count %.0f learned regions %zu  M current %.6g best %.6g share0 %.6g\n", d, n, learned, cur, best, zero);
+                if (iteration == 0 && d == 0) for (size_t r = 0; r < R; ++r) { const Entry& e = entries[r][0]; if (e.count > 2000 || r + 1 == R) std::fprintf(stderr, "    region %zu n %.0f cur %.4g m0 %.4g m.5 %.4g chosen %zu  benefit %.4g cost %.4g\n", r, e.count, e.current, e.m[0], e.m[3], e.chosen, (e.m[0]-e.m[3])/V, e.count*settings.kappa[0]/T); }
+            }
+        }
+        for (size_t r = 0; r < R; ++r)
+            for (int d = 0; d < kSelectionDecisions; ++d) {
+                Entry& e = entries[r][size_t(d)];
+                if (!e.learned) continue;
+                double best = std::numeric_limits<double>::infinity();
+                for (size_t k = 0; k < K; ++k) {
+                    const double value = e.m[k] / V + cost_of(d, k, e.count) / T;
+                    if (value < best) {
+                        best = value;
+                        e.chosen = k;
+                    }
+                }
+            }
+    }
+    const double ratio = std::max(1.0, double(settings.rrs_ratio));
+    for (size_t r = 0; r < R; ++r) {
+        Region& region = out.regions_[r];
+        for (int d = 0; d < kSelectionDecisions; ++d) {
+            const Entry& e = entries[r][size_t(d)];
+            if (e.learned) region.share[size_t(d)] = kSelectionShares[e.chosen];
+        }
+        for (int s = 0; s < kSelectionStages; ++s) {
+            const SelectionStatistics::Calibration& c = stats.calibration(s, r);
+            if (c.count < uint64_t(std::max(1, settings.min_samples))) continue;
+            const double est = c.estimate.value(), meas = c.measured.value();
+            const bool agrees = est > 0.0 && meas >= est / ratio && meas <= est * ratio;
+            region.rrs[size_t(s)] = agrees ? 1 : 0;
+        }
+    }
+    return out;
+}
+
+LearnedSelection::Summary LearnedSelection::summary() const {
+    Summary s;
+    for (const Region& r : regions_) {
+        for (int d = 0; d < kSelectionDecisions; ++d) {
+            if (r.share[size_t(d)] == kDefault) continue;
+            if (r.share[size_t(d)] > 0.f)
+                ++s.guided[size_t(d)];
+            else
+                ++s.unguided[size_t(d)];
+        }
+        if (!r.rrs[0] || !r.rrs[1]) ++s.rrs_off;
+    }
+    return s;
+}
+
+std::string LearnedSelection::serialize() const {
+    std::string out;
+    put(out, kMagic);
+    put(out, kVersion);
+    put(out, uint64_t(regions_.size()));
+    for (const Region& r : regions_) {
+        for (float s : r.share) put(out, s);
+        for (uint8_t b : r.rrs) put(out, b);
+    }
+    return out;
+}
+
+LearnedSelection LearnedSelection::deserialize(const std::string& bytes) {
+    size_t at = 0;
+    if (get<uint32_t>(bytes, at) != kMagic) throw std::runtime_error("learned selection: not a selection table");
+    if (get<uint32_t>(bytes, at) != kVersion) throw std::runtime_error("learned selection: unknown version");
+    const uint64_t n = get<uint64_t>(bytes, at);
+    constexpr size_t kRegionBytes = kSelectionDecisions * sizeof(float) + kSelectionStages;
+    if (n > (bytes.size() - at) / kRegionBytes) throw std::runtime_error("learned selection: truncated");
+    LearnedSelection out;
+    out.regions_.resize(size_t(n));
+    for (Region& r : out.regions_) {
+        for (float& s : r.share) {
+            s = get<float>(bytes, at);
+            if (!(s == kDefault || (s >= 0.f && s <= 1.f)))
+                throw std::runtime_error("learned selection: share out of range");
+        }
+        for (uint8_t& b : r.rrs) {
+            b = get<uint8_t>(bytes, at);
+            if (b > 1) throw std::runtime_error("learned selection: bad flag");
+        }
+    }
+    if (at != bytes.size()) throw std::runtime_error("learned selection: trailing bytes");
+    return out;
+}
+
+}  // namespace volguide

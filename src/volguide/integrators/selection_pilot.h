@@ -1,0 +1,68 @@
+#pragma once
+// The pilot of learned selection (guiding/selection.h): a few camera samples per pixel of the
+// guided walk with the configured mixtures and without guided RR/splitting, on their own random
+// stream, recording per decision what guiding/selection.h needs. Not part of the image.
+//
+// SelectionRecorder follows one camera sample: every decision with its mixture densities at the
+// sample, every continuation point with the field's estimate there and the path weight, and the
+// contributions as they are added; at the end of the camera sample each decision's S (the sum of
+// the contributions after it) is known and its terms go to the thread's SelectionStatistics. The
+// pilot walks one branch per camera sample (no splitting), so S is a suffix sum.
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "volguide/core/color.h"
+#include "volguide/core/ray.h"
+#include "volguide/core/sampler.h"
+#include "volguide/guiding/selection.h"
+
+namespace volguide {
+
+class Scene;
+struct PreprocessContext;
+
+class SelectionRecorder {
+  public:
+    // `regions`: the field's leaves + 1 (leaf -1 maps to the last, outside the field).
+    SelectionRecorder(SelectionStatistics& stats, size_t regions) : stats_(stats), regions_(regions) {}
+
+    // A new camera sample in a pixel of estimate `pixel` (> 0).
+    void begin(float pixel);
+    // A decision in the region of `leaf` sampled with density q_cur, unguided/guided densities p_u, p_g.
+    void decision(SelectionDecision d, int leaf, float q_cur, float p_u, float p_g);
+    // A decision the walk made without a guided mixture (the cost model counts it).
+    void unrecorded_decision() { ++unrecorded_; }
+    // A continuation point of `stage` in the region of `leaf`: the field's estimate of what the
+    // path collects from here on per unit weight, and the path weight `beta` (channel averages).
+    void continuation(int stage, int leaf, float estimate, float beta);
+    void contribution(const Color3& c) { total_ += double(c.average()); }
+    // Adds the camera sample's terms to the statistics.
+    void end();
+
+  private:
+    size_t region(int leaf) const { return leaf >= 0 && size_t(leaf) + 1 < regions_ ? size_t(leaf) : regions_ - 1; }
+    struct Pending {
+        bool is_decision = true;
+        uint8_t kind = 0;  // SelectionDecision or stage
+        size_t region = 0;
+        float q = 0.f, p_u = 0.f, p_g = 0.f;  // decision
+        float estimate = 0.f, beta = 0.f;     // continuation
+        double before = 0.0;                  // contributions before it
+    };
+    SelectionStatistics& stats_;
+    size_t regions_;
+    float pixel_ = 1.f;
+    double total_ = 0.0;
+    uint64_t unrecorded_ = 0;
+    std::vector<Pending> pending_;
+};
+
+// `spp` camera samples per pixel of `walk` (the guided walk with a recorder as its policy's), each
+// on Sampler(seed, pixel, k, stream of the pilot), `pixel(film_uv)` the pixel estimate; the sums of
+// every recorder. Deterministic for any thread count (exact sums).
+SelectionStatistics run_selection_pilot(
+    const Scene& scene, int spp, size_t regions, const std::function<float(Point2f)>& pixel,
+    const std::function<Color3(Sampler&, const Ray&, SelectionRecorder&)>& walk, const PreprocessContext& context);
+
+}  // namespace volguide
