@@ -57,3 +57,19 @@ TEST(Determinism, GuidedSameImageForOneAndTwoThreads) {
     expect_deterministic(render_three(scene, {"width=32", "height=24", "integrator=guided_volpath"}, "determinism-guided"),
                          "guided fogbox");
 }
+
+// Learned selection's pilot and fit (exact sums) on the same scene: the same image for any thread count.
+TEST(Determinism, LearnedSelectionSameImageForOneAndTwoThreads) {
+    TempDir dir("determinism-selection");
+    const std::string integrator = dir.write(
+        "selection.xml",
+        R"(<scene version="3.0.0"><integrator type="guided_volpath"><integer name="max_depth" value="$max_depth"/>)"
+        R"(<integer name="photons" value="200000"/><integer name="selection_spp" value="2"/>)"
+        R"(<integer name="selection_min_samples" value="8"/></integrator></scene>)");
+    const std::string scene = source_dir() + "/bench/scenes/fogbox.xml";
+    expect_deterministic(render_three(scene, {"width=32", "height=24", "integrator=guided_volpath",
+                                              "integrator_xml=" + integrator},
+                                      "determinism-selection-render"),
+                         "guided fogbox, learned selection");
+}
+

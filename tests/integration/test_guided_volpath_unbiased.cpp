@@ -410,3 +410,49 @@ TEST(GuidedVolPathUnbiased, RouletteSplittingStatistics) {
     const auto none = guide_stats(lit_fog_xml(false, grid, guided("incremental", "product", 200000)));
     EXPECT_EQ(none.count("rrs_decisions"), 0u);
 }
+
+// Learned selection (guiding/selection.h, issue 21) changes the mixtures' probabilities per leaf
+// and where guided RR/splitting acts, from a pilot (16 spp: the film is 12 x 12): the image mean stays volpath's, with guided
+// RR/splitting and without, homogeneous and heterogeneous; and it really selects.
+TEST(GuidedVolPathUnbiased, LearnedSelectionIsUnbiased) {
+    TempDir dir("guided-selection");
+    const std::string grid = write_furnace_grid(dir);
+    const std::string selection = R"(<integer name="selection_spp" value="16"/>)"
+                                  R"(<integer name="selection_min_samples" value="16"/>)";
+    for (bool het : {false, true}) {
+        SCOPED_TRACE(het ? "heterogeneous" : "homogeneous");
+        Rendered ref = render_scene_xml(lit_fog_xml(het, grid, R"(<integrator type="volpath"/>)"), 1024, 7, false);
+        Rendered plain = render_scene_xml(
+            lit_fog_xml(het, grid, guided("incremental", "product", 200000, -1.f, selection)), 1024, 8, false);
+        expect_same_means(plain, ref);
+        Rendered rrs = render_scene_xml(
+            lit_fog_xml(het, grid, guided("incremental", "product", 200000, -1.f, selection, rrs_xml("grrs", 5.f))),
+            1024, 9, false);
+        expect_same_means(rrs, ref);
+    }
+    // A selection that switches most learned decisions off (enormous guided costs) makes volpath's
+    // decisions there: still unbiased, and the statistics show it.
+    const std::string off = selection + R"(<float name="selection_cost_distance" value="1e6"/>)"
+                                        R"(<float name="selection_cost_direction" value="1e6"/>)"
+                                        R"(<float name="selection_cost_surface" value="1e6"/>)";
+    Rendered ref = render_scene_xml(lit_fog_xml(false, grid, R"(<integrator type="volpath"/>)"), 1024, 7, false);
+    Rendered unguided = render_scene_xml(
+        lit_fog_xml(false, grid, guided("incremental", "product", 200000, -1.f, off)), 1024, 10, false);
+    expect_same_means(unguided, ref);
+
+    const auto s = guide_stats(lit_fog_xml(false, grid, guided("incremental", "product", 200000, -1.f, selection)));
+    ASSERT_TRUE(s.count("selection_distance_regions_guided"));
+    EXPECT_GT(s.at("selection_distance_regions_guided") + s.at("selection_distance_regions_unguided"), 0.0);
+    EXPECT_GT(s.at("selection_direction_regions_guided") + s.at("selection_direction_regions_unguided"), 0.0);
+    EXPECT_GT(s.at("selection_seconds"), 0.0);
+    const auto o = guide_stats(lit_fog_xml(false, grid, guided("incremental", "product", 200000, -1.f, off)));
+    // (A region whose guiding more than halves the variance keeps it even then: its share of the
+    // time cannot exceed 1.)
+    EXPECT_GT(o.at("selection_distance_regions_unguided"), o.at("selection_distance_regions_guided"));
+    EXPECT_GT(o.at("selection_distance_unguided"), 0.0);   // queries made by free flight
+    EXPECT_GT(o.at("selection_direction_unguided"), 0.0);  // vertices sampled by the phase function
+    // Without a selection nothing is counted as selected.
+    const auto none = guide_stats(lit_fog_xml(false, grid, guided("incremental", "product", 200000)));
+    EXPECT_EQ(none.count("selection_seconds"), 0u);
+    EXPECT_EQ(none.at("selection_distance_unguided"), 0.0);
+}

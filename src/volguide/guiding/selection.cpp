@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <cstring>
 #include <limits>
 #include <stdexcept>
@@ -186,17 +184,6 @@ LearnedSelection LearnedSelection::fit(const SelectionStatistics& stats, const S
                 T += e.count + cost_of(d, e.chosen, e.count);
             }
         if (!(V > 0.0) || !(T > 0.0)) break;
-        if (std::getenv("VOLGUIDE_SELECTION_DEBUG")) {
-            std::fprintf(stderr, "selection iteration %d: V %.6g (camera %.6g, %llu samples) T %.6g (unrecorded %llu)\n", iteration, V,
-                         stats.camera_moment(), (unsigned long long)stats.camera_samples(), T,
-                         (unsigned long long)stats.unrecorded_decisions());
-            for (int d = 0; d < kSelectionDecisions; ++d) {
-                double n = 0, cur = 0, best = 0, zero = 0; size_t learned = 0;
-                for (size_t r = 0; r < R; ++r) { const Entry& e = entries[r][size_t(d)]; n += e.count; if (!e.learned) continue; ++learned; cur += e.current; best += *std::min_element(e.m.begin(), e.m.end()); zero += e.m[0]; }
-                std::fprintf(stderr, "  decision %d: count %.0f learned regions %zu  M current %.6g best %.6g share0 %.6g\n", d, n, learned, cur, best, zero);
-                if (iteration == 0 && d == 0) for (size_t r = 0; r < R; ++r) { const Entry& e = entries[r][0]; if (e.count > 2000 || r + 1 == R) std::fprintf(stderr, "    region %zu n %.0f cur %.4g m0 %.4g m.5 %.4g chosen %zu  benefit %.4g cost %.4g\n", r, e.count, e.current, e.m[0], e.m[3], e.chosen, (e.m[0]-e.m[3])/V, e.count*settings.kappa[0]/T); }
-            }
-        }
         for (size_t r = 0; r < R; ++r)
             for (int d = 0; d < kSelectionDecisions; ++d) {
                 Entry& e = entries[r][size_t(d)];
@@ -234,12 +221,17 @@ LearnedSelection::Summary LearnedSelection::summary() const {
     for (const Region& r : regions_) {
         for (int d = 0; d < kSelectionDecisions; ++d) {
             if (r.share[size_t(d)] == kDefault) continue;
+            s.mean_share[size_t(d)] += r.share[size_t(d)];
             if (r.share[size_t(d)] > 0.f)
                 ++s.guided[size_t(d)];
             else
                 ++s.unguided[size_t(d)];
         }
         if (!r.rrs[0] || !r.rrs[1]) ++s.rrs_off;
+    }
+    for (int d = 0; d < kSelectionDecisions; ++d) {
+        const uint64_t n = s.guided[size_t(d)] + s.unguided[size_t(d)];
+        if (n > 0) s.mean_share[size_t(d)] /= double(n);
     }
     return s;
 }

@@ -139,6 +139,7 @@ class LearnedSelection {
     // Regions per decision with a learned share of 0 / > 0, and with guided RR/splitting switched off.
     struct Summary {
         std::array<uint64_t, kSelectionDecisions> unguided{}, guided{};
+        std::array<double, kSelectionDecisions> mean_share{};  // over the learned regions
         uint64_t rrs_off = 0;
     };
     Summary summary() const;

@@ -172,6 +172,9 @@ void GuidedVolPathIntegrator::learn_selection(const Scene& scene, const Preproce
                             {"selection_direction_regions_unguided", double(sum.unguided[1])},
                             {"selection_surface_regions_guided", double(sum.guided[2])},
                             {"selection_surface_regions_unguided", double(sum.unguided[2])},
+                            {"selection_distance_mean_share", sum.mean_share[0]},
+                            {"selection_direction_mean_share", sum.mean_share[1]},
+                            {"selection_surface_mean_share", sum.mean_share[2]},
                             {"selection_rrs_regions_off", double(sum.rrs_off)}});
 }
 
