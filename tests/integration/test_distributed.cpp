@@ -43,12 +43,14 @@ std::string slurp(const fs::path& p) {
 const char* kScene = R"(<scene version="3.0.0">
     <default name="photons" value="20000"/>
     <default name="albedo" value="0.9"/>
+    <default name="selection" value="0"/>
     <integrator type="moment">
         <integrator type="guided_volpath">
             <integer name="photons" value="$photons"/>
             <integer name="leaf_samples" value="400"/>
             <string name="rrs" value="grrs"/>
             <integer name="max_depth" value="8"/>
+            <integer name="selection_spp" value="$selection"/>
         </integrator>
     </integrator>
     <medium type="homogeneous" id="fog">
@@ -137,6 +139,19 @@ double strict_relmse(const Image& a, const Image& b) {
             ++n;
         }
     return sum / double(n);
+}
+
+// With a learned selection (issue 21) the training file carries it: the same image again.
+TEST_F(Distributed, TrainThenRenderWithFieldKeepsTheLearnedSelection) {
+    ok("render s.xml -D selection=8 --seed 5 --spp 4 --threads 2 -o full.exr --quiet");
+    ok("train s.xml -D selection=8 -o f.vgt --seed 5 --threads 1 --quiet");
+    const CliRun r =
+        run("render s.xml -D selection=8 --field f.vgt --seed 5 --spp 4 --threads 2 -o with_field.exr --quiet");
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_TRUE(identical(image("full.exr"), image("with_field.exr")));
+    // The selection changes the image (the comparison above could fail).
+    ok("render s.xml --seed 5 --spp 4 --threads 2 -o no_selection.exr --quiet");
+    EXPECT_FALSE(identical(image("full.exr"), image("no_selection.exr")));
 }
 
 TEST_F(Distributed, TrainThenRenderWithFieldGivesTheRendersImage) {

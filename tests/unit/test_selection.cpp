@@ -14,7 +14,9 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "volguide/guiding/field_io.h"
 #include "volguide/guiding/selection.h"
+#include "volguide/integrators/guided_prepass.h"
 
 using namespace volguide;
 
@@ -169,4 +171,32 @@ TEST(Selection, BytesRoundTripAndMalformedOnesAreRejected) {
     const uint64_t n = uint64_t(1) << 60;
     std::memcpy(huge.data() + 8, &n, sizeof n);
     EXPECT_THROW(LearnedSelection::deserialize(huge), std::runtime_error);
+}
+
+// The pre-pass state carries the selection (train once, render --field everywhere with the same
+// selection); pre-passes without one still read.
+TEST(Selection, PrepassStateCarriesTheSelection) {
+    SelectionStatistics stats(3);
+    add_toy(stats, 0, 0.f, 500);
+    add_toy(stats, 1, 0.5f, 500);
+    const std::string sel = LearnedSelection::fit(stats, plain_settings(), {0.5f, 0.5f, 0.5f}).serialize();
+    Image estimate(2, 1);
+    estimate.at(0, 0) = Color3(1.f, 2.f, 3.f);
+    std::vector<RadianceSample> samples;
+    for (int i = 0; i < 64; ++i)
+        samples.push_back({Point3f(float(i % 4) / 4.f + 0.1f, float(i / 16) / 4.f + 0.1f, 0.5f), Vec3f(0.f, 0.f, 1.f),
+                           Color3(1.f)});
+    const GuidingField field = GuidingField::build(BBox3f(Point3f(0.f), Point3f(1.f)), samples, GuidingFieldSettings());
+    const GuidedPrepass with = deserialize_guided_prepass(serialize_guided_prepass(field, estimate, sel));
+    EXPECT_EQ(with.selection, sel);
+    EXPECT_EQ(with.pixel_estimate.at(0, 0).g, 2.f);
+    const GuidedPrepass without = deserialize_guided_prepass(serialize_guided_prepass(field, estimate));
+    EXPECT_TRUE(without.selection.empty());
+    const GuidedPrepass no_estimate = deserialize_guided_prepass(serialize_guided_prepass(field, Image(), sel));
+    EXPECT_EQ(no_estimate.selection, sel);
+    const std::string bytes = serialize_guided_prepass(field, estimate, sel);
+    EXPECT_THROW(deserialize_guided_prepass(bytes.substr(0, bytes.size() - 3)), FieldFormatError);
+    std::string corrupt = bytes;
+    corrupt[bytes.size() - sel.size()] ^= 1;  // the selection's magic
+    EXPECT_THROW(deserialize_guided_prepass(corrupt), FieldFormatError);
 }
