@@ -412,8 +412,9 @@ TEST(GuidedVolPathUnbiased, RouletteSplittingStatistics) {
 }
 
 // Learned selection (guiding/selection.h, issue 21) changes the mixtures' probabilities per leaf
-// and where guided RR/splitting acts, from a pilot (16 spp: the film is 12 x 12): the image mean stays volpath's, with guided
-// RR/splitting and without, homogeneous and heterogeneous; and it really selects.
+// and where guided RR/splitting acts, from a pilot (16 spp: the film is 12 x 12): the image mean
+// stays volpath's, with guided RR/splitting (and its gate) and without, homogeneous and
+// heterogeneous; and it really selects.
 TEST(GuidedVolPathUnbiased, LearnedSelectionIsUnbiased) {
     TempDir dir("guided-selection");
     const std::string grid = write_furnace_grid(dir);
@@ -426,7 +427,9 @@ TEST(GuidedVolPathUnbiased, LearnedSelectionIsUnbiased) {
             lit_fog_xml(het, grid, guided("incremental", "product", 200000, -1.f, selection)), 1024, 8, false);
         expect_same_means(plain, ref);
         Rendered rrs = render_scene_xml(
-            lit_fog_xml(het, grid, guided("incremental", "product", 200000, -1.f, selection, rrs_xml("grrs", 5.f))),
+            lit_fog_xml(het, grid,
+                        guided("incremental", "product", 200000, -1.f, selection,
+                               rrs_xml("grrs", 5.f) + R"(<float name="selection_rrs_ratio" value="3"/>)")),
             1024, 9, false);
         expect_same_means(rrs, ref);
     }
@@ -452,7 +455,8 @@ TEST(GuidedVolPathUnbiased, LearnedSelectionIsUnbiased) {
     EXPECT_GT(o.at("selection_distance_unguided"), 0.0);   // queries made by free flight
     EXPECT_GT(o.at("selection_direction_unguided"), 0.0);  // vertices sampled by the phase function
     // Without a selection nothing is counted as selected.
-    const auto none = guide_stats(lit_fog_xml(false, grid, guided("incremental", "product", 200000)));
+    const auto none = guide_stats(lit_fog_xml(
+        false, grid, guided("incremental", "product", 200000, -1.f, R"(<integer name="selection_spp" value="0"/>)")));
     EXPECT_EQ(none.count("selection_seconds"), 0u);
     EXPECT_EQ(none.at("selection_distance_unguided"), 0.0);
 }

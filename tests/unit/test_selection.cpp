@@ -133,7 +133,11 @@ TEST(Selection, RouletteActsWhereTheEstimateAgreesWithThePaths) {
         stats.add_continuation(0, 2, 1.0, 0.1);  // 10x too bright
     }
     for (int i = 0; i < 5; ++i) stats.add_continuation(0, 3, 1.0, 100.0);  // too few to judge
-    const LearnedSelection sel = LearnedSelection::fit(stats, plain_settings(), {0.5f, 0.5f, 0.5f});
+    SelectionSettings gated = plain_settings();
+    EXPECT_EQ(gated.rrs_ratio, 0.f);  // off by default: acts everywhere
+    EXPECT_FALSE(LearnedSelection::fit(stats, gated, {0.5f, 0.5f, 0.5f}).summary().rrs_off);
+    gated.rrs_ratio = 3.f;
+    const LearnedSelection sel = LearnedSelection::fit(stats, gated, {0.5f, 0.5f, 0.5f});
     EXPECT_TRUE(sel.rrs_acts(0, 0));
     EXPECT_FALSE(sel.rrs_acts(0, 1));
     EXPECT_TRUE(sel.rrs_acts(1, 1));
@@ -148,7 +152,9 @@ TEST(Selection, BytesRoundTripAndMalformedOnesAreRejected) {
     add_toy(stats, 0, 0.f, 500);
     add_toy(stats, 1, 0.5f, 500);
     for (int i = 0; i < 100; ++i) stats.add_continuation(1, 1, 1.0, 10.0);
-    const LearnedSelection sel = LearnedSelection::fit(stats, plain_settings(), {0.5f, 0.5f, 0.5f});
+    SelectionSettings gated = plain_settings();
+    gated.rrs_ratio = 3.f;
+    const LearnedSelection sel = LearnedSelection::fit(stats, gated, {0.5f, 0.5f, 0.5f});
     const std::string bytes = sel.serialize();
     const LearnedSelection back = LearnedSelection::deserialize(bytes);
     ASSERT_EQ(back.regions(), sel.regions());

@@ -138,7 +138,6 @@ LearnedSelection LearnedSelection::fit(const SelectionStatistics& stats, const S
     };
     std::vector<std::array<Entry, kSelectionDecisions>> entries(R);
     std::array<std::array<double, K>, kSelectionDecisions> pooled{};  // sum over regions of M(share k)
-    std::array<double, kSelectionDecisions> pooled_current{};
     for (size_t r = 0; r < R; ++r)
         for (int d = 0; d < kSelectionDecisions; ++d) {
             const SelectionStatistics::Moments& mo = stats.moments(SelectionDecision(d), r);
@@ -149,21 +148,25 @@ LearnedSelection LearnedSelection::fit(const SelectionStatistics& stats, const S
             e.learned = mo.count >= uint64_t(std::max(1, settings.min_samples));
             e.chosen = default_index[size_t(d)];
             for (size_t k = 0; k < K; ++k) pooled[size_t(d)][k] += e.m[k];
-            pooled_current[size_t(d)] += e.current;
         }
-    // Shrinkage: a region's ratio M(k) / M(pilot) is a heavy-tailed estimate from few samples, and
-    // the argmin over noisy values favours whichever happens to be low (at 2 spp, most regions
-    // looked cheaper unguided than they were: thin's distance decisions were switched off in 207
-    // of 217 regions and relMSE doubled). Each region's ratio is pulled towards the ratio pooled
-    // over all regions, with the weight of prior_samples pilot decisions.
+    // Shrinkage: a region's second moments come from few samples of a heavy-tailed quantity, so
+    // which regions look important is largely which ones happened to catch the rare large
+    // contributions (at 2 spp, thin's distance decisions were switched off in 207 of 217 regions
+    // against their cost, and relMSE doubled, while the model's prediction for all regions
+    // together was right). Each region's mean per decision is pulled towards the mean pooled over
+    // all regions, with the weight of prior_samples pilot decisions: few samples follow the scene's
+    // overall verdict, many follow their own.
     const double n0 = std::max(0.f, settings.prior_samples);
+    std::array<double, kSelectionDecisions> pooled_count{};
+    for (size_t r = 0; r < R; ++r)
+        for (int d = 0; d < kSelectionDecisions; ++d) pooled_count[size_t(d)] += entries[r][size_t(d)].count;
     for (size_t r = 0; r < R; ++r)
         for (int d = 0; d < kSelectionDecisions; ++d) {
             Entry& e = entries[r][size_t(d)];
-            if (!(pooled_current[size_t(d)] > 0.0) || !(e.current > 0.0)) continue;
+            if (!(pooled_count[size_t(d)] > 0.0) || !(e.count > 0.0)) continue;
             for (size_t k = 0; k < K; ++k) {
-                const double ratio = e.m[k] / e.current, prior = pooled[size_t(d)][k] / pooled_current[size_t(d)];
-                e.m[k] = e.current * (e.count * ratio + n0 * prior) / (e.count + n0);
+                const double prior = pooled[size_t(d)][k] / pooled_count[size_t(d)];
+                e.m[k] = e.count * (e.m[k] + n0 * prior) / (e.count + n0);
             }
         }
     for (size_t r = 0; r < R; ++r)
@@ -198,14 +201,14 @@ LearnedSelection LearnedSelection::fit(const SelectionStatistics& stats, const S
                 }
             }
     }
-    const double ratio = std::max(1.0, double(settings.rrs_ratio));
+    const double ratio = double(settings.rrs_ratio);
     for (size_t r = 0; r < R; ++r) {
         Region& region = out.regions_[r];
         for (int d = 0; d < kSelectionDecisions; ++d) {
             const Entry& e = entries[r][size_t(d)];
             if (e.learned) region.share[size_t(d)] = kSelectionShares[e.chosen];
         }
-        for (int s = 0; s < kSelectionStages; ++s) {
+        for (int s = 0; s < kSelectionStages && ratio >= 1.0; ++s) {
             const SelectionStatistics::Calibration& c = stats.calibration(s, r);
             if (c.count < uint64_t(std::max(1, settings.min_samples))) continue;
             const double est = c.estimate.value(), meas = c.measured.value();

@@ -23,10 +23,11 @@
 // the walk then makes volpath's decision there and pays nothing for guiding (no walk over bins, no
 // product built).
 //
-// Guided RR/splitting acts in a region only where the field's estimate E of what a vertex collects
-// agrees with what the pilot's paths collected there, (sum S / beta) / (sum E) within
-// [1 / rrs_ratio, rrs_ratio]: a leaf estimated too dark kills the paths that carry its light (heavy
-// weights), one too bright splits for nothing.
+// With rrs_ratio > 0 (off by default), guided RR/splitting acts in a region only where the field's
+// estimate E of what a vertex collects agrees with what the pilot's paths collected there,
+// (sum S / beta) / (sum E) within [1 / rrs_ratio, rrs_ratio]: meant for leaves estimated too dark
+// (they kill the paths that carry their light) or too bright (splitting for nothing); measured, it
+// does more harm than good (SelectionSettings::rrs_ratio).
 //
 // Only probabilities change: any learned value gives an unbiased estimator. Sums are exact
 // (fixed point, 128-bit integers), so the result is independent of the order the pilot's samples
@@ -47,18 +48,20 @@ inline constexpr int kSelectionStages = 2;
 inline constexpr std::array<float, 6> kSelectionShares = {0.f, 0.1f, 0.25f, 0.5f, 0.75f, 0.9f};
 
 struct SelectionSettings {
-    int pilot_spp = 2;  // camera samples per pixel of the pilot (0: no learned selection)
+    int pilot_spp = 2;  // camera samples per pixel of the pilot (0: no learned selection; guided_volpath defaults to 0)
     int min_samples = 32;  // pilot decisions a region needs before its choice is learned
-    // Weight, in pilot decisions, of the ratio pooled over all regions in each region's estimate of
-    // M(share) / M(pilot's share) (shrinkage of noisy per-region estimates, fit()).
-    float prior_samples = 64.f;
-    // Extra cost of a guided decision, in units of an unguided one (distance, direction, surface).
-    // 0 by default: variance alone decides. With the profile's costs (~3, ~1, ~0.5) the fit switched
-    // guiding off in most regions and lost (thin: relMSE x2 for 25 % less time at equal spp): from
-    // a short pilot each region's second moments are too noisy to weigh against a cost
-    // (bench/RESULTS.md, 2026-11-25).
-    std::array<float, kSelectionDecisions> kappa = {0.f, 0.f, 0.f};
-    float rrs_ratio = 3.f;  // guided RR/splitting acts where measured / estimated is within [1/r, r]
+    // Weight, in pilot decisions, of the mean pooled over all regions in each region's mean second
+    // moment per decision (shrinkage of noisy per-region estimates, fit()).
+    float prior_samples = 256.f;
+    // Extra cost of a guided decision, in units of an unguided one (distance, direction, surface):
+    // guided distance decisions switched off almost everywhere in thin fog saved 25 % of the render
+    // time at equal spp, which these units reproduce (bench/RESULTS.md, 2026-11-25). Without the
+    // shrinkage of fit() a short pilot's per-region moments are too noisy to weigh against a cost.
+    std::array<float, kSelectionDecisions> kappa = {1.f, 0.25f, 0.25f};
+    // Guided RR/splitting acts where measured / estimated is within [1/r, r]; 0: always (the
+    // default: with r = 3 the gate switched it off in 768 of aniso's leaves and relMSE rose 4.5x at
+    // equal spp — a leaf's estimate can be off by a factor and still split well).
+    float rrs_ratio = 0.f;
 };
 
 // An exact sum of non-negative terms: fixed point with 2^-32 resolution in 128 bits (two words),

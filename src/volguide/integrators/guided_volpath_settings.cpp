@@ -160,7 +160,10 @@ void read_selection(const Properties& props, SelectionSettings& s) {
     s.kappa[0] = finite_at_least(props, "selection_cost_distance", s.kappa[0], 0.f);
     s.kappa[1] = finite_at_least(props, "selection_cost_direction", s.kappa[1], 0.f);
     s.kappa[2] = finite_at_least(props, "selection_cost_surface", s.kappa[2], 0.f);
-    s.rrs_ratio = finite_at_least(props, "selection_rrs_ratio", s.rrs_ratio, 1.f);
+    s.rrs_ratio = finite_at_least(props, "selection_rrs_ratio", s.rrs_ratio, 0.f, " (0: off)");
+    if (s.rrs_ratio > 0.f && s.rrs_ratio < 1.f)
+        props.fail_at("selection_rrs_ratio", "guided_volpath: selection_rrs_ratio must be 0 (off) or >= 1, got {}",
+                      s.rrs_ratio);
     if (s.pilot_spp > 0) return;
     for (const char* name : {"selection_min_samples", "selection_cost_distance", "selection_cost_direction",
                              "selection_cost_surface", "selection_rrs_ratio"})
