@@ -82,9 +82,9 @@ EXTRA_METHODS = {
     # Issue 21: the branch budget (a quarter of the cap), branches bounded by construction.
     "guided_volpath distance=incremental direction=product rrs=grrs rrs_branch_budget=16": {
         "guided": {"distance": "incremental", "direction": "product", "rrs": "grrs", "rrs_branch_budget": 16.0}},
-    # Issue 21: the full system with learned selection (a 2-spp pilot after training).
-    "guided_volpath distance=incremental direction=product rrs=grrs selection_spp=2": {
-        "guided": {"distance": "incremental", "direction": "product", "rrs": "grrs", "selection_spp": 2}},
+    # Issue 21: the full system without learned selection (its default since 2026-11-25: a 2-spp pilot).
+    "guided_volpath distance=incremental direction=product rrs=grrs selection_spp=0": {
+        "guided": {"distance": "incremental", "direction": "product", "rrs": "grrs", "selection_spp": 0}},
 }
 
 # Zoomed crops shown in the HTML report: (x, y, width, height) in pixels of the 160x120 image.

@@ -48,7 +48,7 @@ inline constexpr int kSelectionStages = 2;
 inline constexpr std::array<float, 6> kSelectionShares = {0.f, 0.1f, 0.25f, 0.5f, 0.75f, 0.9f};
 
 struct SelectionSettings {
-    int pilot_spp = 2;  // camera samples per pixel of the pilot (0: no learned selection; guided_volpath defaults to 0)
+    int pilot_spp = 2;  // camera samples per pixel of the pilot (0: no learned selection)
     int min_samples = 32;  // pilot decisions a region needs before its choice is learned
     // Weight, in pilot decisions, of the mean pooled over all regions in each region's mean second
     // moment per decision (shrinkage of noisy per-region estimates, fit()).

@@ -44,8 +44,8 @@ struct GuidedVolPathSettings {
     WalkGuideSettings guide;
     // The RR/splitting decision (roulette.mode) and rrs_window, rrs_q_min, rrs_q_max, rrs_max_branches.
     RouletteSplittingSettings roulette;
-    // Learned selection (guiding/selection.h): the pilot's spp (0: off) and the fit's parameters.
-    SelectionSettings selection{.pilot_spp = 0};
+    // Learned selection (guiding/selection.h): the pilot's spp (default 2; 0: off) and the fit's parameters.
+    SelectionSettings selection;
     PixelEstimateMethod pixel_estimate = PixelEstimateMethod::Raymarch;
     PixelEstimateSettings pixel;      // pixel_estimate_rays, pixel_estimate_floor
     int pixel_estimate_spp = 4;       // pixel_estimate=render
