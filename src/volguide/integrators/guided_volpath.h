@@ -4,9 +4,10 @@
 // preprocess() trains the guiding field, by the photon pre-pass (training=photons, theory.md §5.2,
 // §10.1) or PPG-style from camera paths (training=progressive, §10.2, progressive_training.h:
 // training_iterations iterations of 2^k spp with volpath's walk, field rebuilt after each), or
-// loads it (`load_field`), then prepares the guided decisions and, for guided RR/splitting, the
-// pixel estimate I (pixel_estimate.h: raymarch through the field, or render a few guided spp and
-// filter them). The render is volpath's walk with a WalkGuide (walk_guide.h) making the distance
+// loads it (`load_field`), then prepares the guided decisions and, for guided RR/splitting and the
+// learned selection, the pixel estimate I (pixel_estimate.h: raymarch through the field, or render
+// a few guided spp and filter them), then learns the selection from a pilot (selection_pilot.h,
+// guiding/selection.h: per leaf the guided share of each decision; `selection_spp`, default 2). The render is volpath's walk with a WalkGuide (walk_guide.h) making the distance
 // (incremental / tabulated) and direction (incident / product) decisions and RouletteSplitting
 // (roulette_splitting.h) the RR/splitting decisions after them (rrs=grr/grrs). `estimate` renders
 // the field's own inspection images instead. With distance=standard direction=phase rrs=standard
