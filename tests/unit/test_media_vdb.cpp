@@ -8,12 +8,16 @@
 #include <openvdb/openvdb.h>
 
 #include <cmath>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 
 #include "support/vol_writer.h"
 #include "media_loading_util.h"
 #include "volguide/media/grid_data.h"
 #include "volguide/media/heterogeneous.h"
+#include "volguide/media/vdb_header_check.h"
 #include "volguide/media/volume.h"
 
 using namespace volguide;
@@ -284,4 +288,88 @@ TEST(MediaVdb, BadFilesGridsAndTypesAreInputErrorsNamingTheFile) {
         dir.write("g.xml", scene("<volume type=\"gridvolume\">\n<string name=\"filename\" "
                                  "value=\"a.vol\"/>\n<string name=\"grid\" value=\"x\"/>\n</volume>\n"));
     expect_input_error([&] { load_scene_properties(xml); }, xml, 4, "grid");
+}
+
+// check_vdb_header holds a table of the sizes OpenVDB reads for its fixed-size metadata types,
+// whatever size the file declares (a wrong entry rejects good files or lets a reader fall out of step).
+// Every type OpenVDB 10 registers is compared with the library's own size; the names come from
+// openvdb::initialize() (metadata, point index and point data index types, delayed-load metadata).
+TEST(MediaVdb, MetadataLayoutTableMatchesOpenVdb) {
+    openvdb::initialize();
+    const char* fixed[] = {"bool",  "int32", "int64", "float", "double", "vec2i",   "vec2s",
+                           "vec2d", "vec3i", "vec3s", "vec3d", "vec4i",  "vec4s",   "vec4d",
+                           "mat4s", "mat4d", "ptidx32", "ptidx64", "ptdataidx32", "ptdataidx64"};
+    for (const char* type : fixed) {
+        SCOPED_TRACE(type);
+        ASSERT_TRUE(openvdb::Metadata::isRegisteredType(type));
+        ASSERT_TRUE(vdb_metadata_layout_bytes(type).has_value());
+        EXPECT_EQ(*vdb_metadata_layout_bytes(type), openvdb::Metadata::createMetadata(type)->size());
+    }
+    // Read by their declared size: strings, delayed-load metadata (walked separately) and types
+    // OpenVDB does not register (kept as UnknownMetadata).
+    for (const char* type : {"string", "__delayedload", "mat3s", "uint32", "half"}) {
+        SCOPED_TRACE(type);
+        EXPECT_FALSE(vdb_metadata_layout_bytes(type).has_value());
+        if (std::string(type) == "string" || std::string(type) == "__delayedload")
+            EXPECT_TRUE(openvdb::Metadata::isRegisteredType(type));
+        else
+            EXPECT_FALSE(openvdb::Metadata::isRegisteredType(type));
+    }
+}
+
+// What OpenVDB writes passes the header check: grid metadata of every registered type and the
+// delayed-load metadata io::File adds, with its leaf mask and compressed sizes Blosc-compressed
+// (a grid of 1000 leaves: the arrays compress).
+TEST(MediaVdb, FilesWithMetadataOfEveryTypeAndBloscDelayedLoadPassTheHeaderCheck) {
+    ScratchDir dir;
+    auto grid = float_grid("density", 80, 80, 80, openvdb::Vec3d(0.1), openvdb::Vec3d(0.0),
+                           [](int x, int y, int z) { return float((x + y + z) % 7); });
+    ASSERT_EQ(grid->tree().leafCount(), 1000u);
+    grid->insertMeta("b", openvdb::BoolMetadata(true));
+    grid->insertMeta("i", openvdb::Int32Metadata(3));
+    grid->insertMeta("l", openvdb::Int64Metadata(4));
+    grid->insertMeta("f", openvdb::FloatMetadata(5.f));
+    grid->insertMeta("d", openvdb::DoubleMetadata(6.0));
+    grid->insertMeta("s", openvdb::StringMetadata("a string"));
+    grid->insertMeta("v2i", openvdb::Vec2IMetadata(openvdb::Vec2i(1, 2)));
+    grid->insertMeta("v2s", openvdb::Vec2SMetadata(openvdb::Vec2s(1, 2)));
+    grid->insertMeta("v2d", openvdb::Vec2DMetadata(openvdb::Vec2d(1, 2)));
+    grid->insertMeta("v3i", openvdb::Vec3IMetadata(openvdb::Vec3i(1, 2, 3)));
+    grid->insertMeta("v3s", openvdb::Vec3SMetadata(openvdb::Vec3s(1, 2, 3)));
+    grid->insertMeta("v3d", openvdb::Vec3DMetadata(openvdb::Vec3d(1, 2, 3)));
+    grid->insertMeta("v4i", openvdb::Vec4IMetadata(openvdb::Vec4i(1, 2, 3, 4)));
+    grid->insertMeta("v4s", openvdb::Vec4SMetadata(openvdb::Vec4s(1, 2, 3, 4)));
+    grid->insertMeta("v4d", openvdb::Vec4DMetadata(openvdb::Vec4d(1, 2, 3, 4)));
+    grid->insertMeta("m4s", openvdb::Mat4SMetadata(openvdb::math::Mat4s::identity()));
+    grid->insertMeta("m4d", openvdb::Mat4DMetadata(openvdb::math::Mat4d::identity()));
+    const std::string path = dir.path("meta.vdb");
+    write_vdb(path, {grid});
+    std::ifstream in(path, std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    // io::File wrote the delayed-load metadata, and Blosc compressed the mask (its 1000 bytes are not
+    // stored raw: the byte count after the leaf count is not 0).
+    const size_t type = bytes.find("__delayedload");
+    ASSERT_NE(type, std::string::npos);
+    uint32_t size = 0, count = 0, mask_bytes = 0;
+    std::memcpy(&size, &bytes[type + 13], 4);
+    std::memcpy(&count, &bytes[type + 17], 4);
+    std::memcpy(&mask_bytes, &bytes[type + 21], 4);
+    EXPECT_EQ(count, 1000u);
+    EXPECT_GT(mask_bytes, 0u);
+    EXPECT_LT(size, 1000u);
+    EXPECT_NO_THROW(check_vdb_header(path));
+    EXPECT_EQ(read_vdb_file(path, "density").nx, 80);
+    // The same file with the mask's Blosc header declaring 2^30 uncompressed bytes (OpenVDB reserves
+    // them) is refused.
+    std::string bad = bytes;
+    const uint32_t huge = 1u << 30;
+    std::memcpy(&bad[type + 25 + 4], &huge, 4);
+    const std::string bad_path = dir.write("bad.vdb", bad);
+    try {
+        check_vdb_header(bad_path);
+        ADD_FAILURE() << "accepted a Blosc header declaring 2^30 bytes";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("leaf mask's Blosc header declares 1073741824 bytes"), std::string::npos)
+            << e.what();
+    }
 }

@@ -4,6 +4,8 @@
 #include <cstdint>
 #include <cstring>
 #include <fstream>
+#include <map>
+#include <optional>
 #include <vector>
 
 #include "volguide/core/error.h"
@@ -16,9 +18,25 @@ namespace {
 // char has-grid-offsets, 36-char UUID, the file's metadata map, int32 grid count, then per grid a
 // descriptor (name, type and instance-parent strings, int64 grid, block and end offsets) followed by
 // the grid, the next descriptor starting at the end offset; at each grid offset: uint32
-// compression, then the grid's metadata map. Strings are uint32 length + bytes;
-// a metadata map is uint32 count, then per entry name and type strings and uint32 size + value.
+// compression, then the grid's metadata map, then its transform (a map type string and the map's
+// fixed-size values). Strings are uint32 length + bytes; a metadata map is uint32 count, then per entry
+// name and type strings and uint32 size + value.
+//
+// OpenVDB reads a value of a type it registers by that type's layout, not by the declared size: a
+// "vec4i" declared 12 bytes long is read as 16, and every later length comes from the wrong bytes (a
+// fuzzed file made it allocate a 1.7 GB string from the characters of the next name). So a
+// registered fixed-size type must declare exactly its size; "string" and unregistered types are read
+// by the declared size; "__delayedload" (io::DelayedLoadMetadata) is walked inside its declared size.
 constexpr uint32_t kMinFormat = 222;  // OPENVDB_FILE_VERSION_NODE_MASK_COMPRESSION
+
+// io::DelayedLoadMetadata: uint32 count, then the leaf mask (int8 per leaf) and the leaves' compressed
+// sizes (int64 per leaf), each as uint32 byte count + Blosc buffer, or 0 + the raw array; a byte count
+// of 0xffffffff for the sizes means none are stored.
+constexpr uint32_t kNoCompressedSizes = 0xffffffffu;
+constexpr uint64_t kBloscHeaderBytes = 16;
+// Every leaf costs at least its 64-byte value mask in the file's topology, so a file of N bytes holds
+// at most N / 64 leaves; the count sizes two arrays OpenVDB allocates before reading them.
+constexpr uint64_t kMinBytesPerLeaf = 64;
 
 class VdbWalker {
   public:
@@ -52,6 +70,7 @@ class VdbWalker {
             pos_ = grid;
             read_u32("grid compression");
             walk_metadata("a grid's metadata");
+            skip_string("grid transform's map type");
         }
     }
 
@@ -99,6 +118,14 @@ class VdbWalker {
         need(n, "the " + what);
         pos_ += n;
     }
+    std::string read_string(const std::string& what) {
+        const uint32_t n = read_u32("length of the " + what);
+        need(n, "the " + what);
+        std::string s(n, '\0');
+        if (n > 0) read_at(pos_, s.data(), n);
+        pos_ += n;
+        return s;
+    }
     void walk_metadata(const std::string& what) {
         const uint32_t count = read_u32("entry count of " + what);
         // An entry is at least two empty strings and an empty value: 12 bytes.
@@ -106,11 +133,44 @@ class VdbWalker {
             fail(fmt::format("{} declares {} entries in {} bytes", what, count, size_ - std::min(pos_, size_)));
         for (uint32_t i = 0; i < count; ++i) {
             skip_string("metadata name");
-            skip_string("metadata type");
+            const std::string type = read_string("metadata type");
             const uint32_t n = read_u32("metadata size");
             need(n, "a metadata value");
+            if (const std::optional<uint32_t> layout = vdb_metadata_layout_bytes(type); layout && *layout != n)
+                fail(fmt::format("a \"{}\" metadata value declares {} bytes; OpenVDB reads {}", type, n, *layout));
+            if (type == "__delayedload" && n > 0) walk_delayed_load(pos_, pos_ + n);
             pos_ += n;
         }
+    }
+    // One array of the delayed-load metadata at [at, end): uint32 byte count, then a Blosc buffer of
+    // that many bytes holding count elements, or (byte count 0) the raw elements. Returns its end.
+    uint64_t walk_delayed_load_array(uint64_t at, uint64_t end, uint32_t bytes, uint64_t count, uint64_t element,
+                                     const char* what) {
+        const uint64_t stored = bytes > 0 ? bytes : count * element;
+        if (stored > end - at)
+            fail(fmt::format("the delayed-load {} ({} bytes at offset {}) runs past its metadata value", what, stored, at));
+        if (bytes > 0) {
+            // OpenVDB takes the sizes from the Blosc header: the uncompressed one sizes its buffer, and
+            // Blosc reads as many compressed bytes as its header says.
+            if (bytes < kBloscHeaderBytes)
+                fail(fmt::format("the delayed-load {} is a {}-byte Blosc buffer (its header alone is {})", what, bytes,
+                                 kBloscHeaderBytes));
+            const uint32_t uncompressed = u32_at(at + 4), compressed = u32_at(at + 12);
+            if (uncompressed != count * element || compressed != bytes)
+                fail(fmt::format("the delayed-load {}'s Blosc header declares {} bytes from {} ({} from {} expected)",
+                                 what, uncompressed, compressed, count * element, bytes));
+        }
+        return at + stored;
+    }
+    void walk_delayed_load(uint64_t at, uint64_t end) {
+        if (end - at < 12) fail(fmt::format("delayed-load metadata of {} bytes (at least 12)", end - at));
+        const uint32_t count = u32_at(at);
+        if (count > size_ / kMinBytesPerLeaf)
+            fail(fmt::format("delayed-load metadata for {} leaves in a file of {} bytes", count, size_));
+        at = walk_delayed_load_array(at + 8, end, u32_at(at + 4), count, 1, "leaf mask");
+        if (end - at < 4) fail("the delayed-load compressed sizes run past their metadata value");
+        const uint32_t bytes = u32_at(at);
+        if (bytes != kNoCompressedSizes) walk_delayed_load_array(at + 4, end, bytes, count, 8, "compressed sizes");
     }
 
     const std::string& path_;
@@ -120,6 +180,19 @@ class VdbWalker {
 };
 
 }  // namespace
+
+std::optional<uint32_t> vdb_metadata_layout_bytes(const std::string& type) {
+    // The fixed-size metadata types openvdb::initialize() registers (OpenVDB 10; test_media_vdb checks
+    // this table against the library's own sizes), with the sizes TypedMetadata<T>::readValue reads.
+    static const std::map<std::string, uint32_t, std::less<>> layouts = {
+        {"bool", 1},   {"int32", 4},   {"int64", 8},   {"float", 4},   {"double", 8},  {"vec2i", 8},
+        {"vec2s", 8},  {"vec2d", 16},  {"vec3i", 12},  {"vec3s", 12},  {"vec3d", 24},  {"vec4i", 16},
+        {"vec4s", 16}, {"vec4d", 32},  {"mat4s", 64},  {"mat4d", 128}, {"ptidx32", 4}, {"ptidx64", 8},
+        {"ptdataidx32", 4}, {"ptdataidx64", 8}};
+    const auto it = layouts.find(type);
+    if (it == layouts.end()) return std::nullopt;
+    return it->second;
+}
 
 void check_vdb_header(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
