@@ -373,3 +373,64 @@ TEST(MediaVdb, FilesWithMetadataOfEveryTypeAndBloscDelayedLoadPassTheHeaderCheck
             << e.what();
     }
 }
+
+// Densifying writes the background once and then each active voxel and tile (tile rows are copied,
+// not probed voxel by voxel). Every dense voxel must equal what an accessor reads there (the
+// background where inactive), for float and vec3 grids, tiles clipped by the active box, and axes
+// flipped by negative scales.
+TEST(MediaVdb, DenseValuesMatchEveryVoxelOfTilesAndVoxels) {
+    ScratchDir dir;
+    openvdb::math::Mat4d m = openvdb::math::Mat4d::identity();
+    m(0, 0) = -1.0;
+    m(2, 2) = -0.5;
+    auto density = openvdb::FloatGrid::create(0.25f);
+    density->setName("density");
+    density->setTransform(openvdb::math::Transform::createLinearTransform(m));
+    density->tree().addTile(1, openvdb::Coord(8, 0, 0), 3.f, true);     // an active 8^3 tile
+    density->tree().addTile(1, openvdb::Coord(0, 8, 0), 5.f, false);    // an inactive one
+    density->tree().setValue(openvdb::Coord(2, 3, 4), 7.f);
+    density->tree().setValue(openvdb::Coord(21, 1, 9), 9.f);            // beyond the tiles
+    density->tree().setValueOff(openvdb::Coord(1, 1, 1), 11.f);
+    auto color = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.1f, 0.2f, 0.3f));
+    color->setName("albedo");
+    color->setTransform(openvdb::math::Transform::createLinearTransform(m));
+    color->tree().addTile(1, openvdb::Coord(0, 0, 8), openvdb::Vec3s(1.f, 2.f, 3.f), true);
+    color->tree().setValue(openvdb::Coord(9, 2, 3), openvdb::Vec3s(4.f, 5.f, 6.f));
+    write_vdb(dir.path("tiles.vdb"), {density, color});
+
+    auto check = [&](const auto& grid, int channels) {
+        SCOPED_TRACE(grid->getName());
+        const GridData d = read_vdb_file(dir.path("tiles.vdb"), grid->getName());
+        const openvdb::CoordBBox box = grid->evalActiveVoxelBoundingBox();
+        ASSERT_EQ(d.channels, channels);
+        ASSERT_EQ(d.nx, box.dim().x());
+        ASSERT_EQ(d.ny, box.dim().y());
+        ASSERT_EQ(d.nz, box.dim().z());
+        auto acc = grid->getConstAccessor();
+        int mismatches = 0;
+        for (int z = 0; z < d.nz; ++z)
+            for (int y = 0; y < d.ny; ++y)
+                for (int x = 0; x < d.nx; ++x) {
+                    const openvdb::Coord c = box.min() + openvdb::Coord(x, y, z);
+                    const auto v = acc.isValueOn(c) ? acc.getValue(c) : grid->background();
+                    // x and z are flipped (negative scales): dense index nx - 1 - x, nz - 1 - z.
+                    for (int ch = 0; ch < channels; ++ch) {
+                        float want;
+                        if constexpr (std::is_same_v<std::decay_t<decltype(v)>, float>)
+                            want = v;
+                        else
+                            want = v[ch];
+                        if (d.at(d.nx - 1 - x, y, d.nz - 1 - z, ch) != want && ++mismatches <= 5)
+                            ADD_FAILURE() << "voxel " << c << " channel " << ch << ": "
+                                          << d.at(d.nx - 1 - x, y, d.nz - 1 - z, ch) << ", expected " << want;
+                    }
+                }
+        EXPECT_EQ(mismatches, 0);
+    };
+    check(density, 1);
+    check(color, 3);
+    // The active box spans the voxel at x = 2, the active tile and the voxel at x = 21 (the inactive
+    // tile is outside it): 20 x 8 x 10.
+    const GridData d = read_vdb_file(dir.path("tiles.vdb"), "density");
+    EXPECT_EQ(d.nx * 100 + d.ny * 10 + d.nz, 20 * 100 + 8 * 10 + 10);
+}
