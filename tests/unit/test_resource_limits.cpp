@@ -222,3 +222,34 @@ TEST(ResourceLimits, VdbDelayedLoadMetadataIsBoundedByItsValueAndTheFile) {
     expect_error_containing([&] { read_vdb_file(with(mask_bytes_at, 1, "blosc1.vdb"), "density"); },
                             "is a 1-byte Blosc buffer");
 }
+
+TEST(ResourceLimits, VdbRootNodeCountsAreBoundedByTheFile) {
+    // The seed: grid transform "UniformScaleMap" (120 bytes) ends at offset 566, then the buffer
+    // count 1, the background, 0 tiles and 1 child. OpenVDB allocates each declared child (264 KiB)
+    // before reading it; a fuzzed file declared 1.7 G of them.
+    std::ifstream in(std::string(VOLGUIDE_SOURCE_DIR) + "/tests/fuzz/corpus/vdb/density_2x2x2.vdb", std::ios::binary);
+    const std::string seed((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    ASSERT_EQ(seed.compare(431, 15, "UniformScaleMap"), 0);
+    const size_t buffers_at = 566, tiles_at = 574, children_at = 578;
+    uint32_t v[4];
+    std::memcpy(v, &seed[buffers_at], 16);
+    ASSERT_EQ(v[0], 1u);
+    ASSERT_EQ(v[2], 0u);
+    ASSERT_EQ(v[3], 1u);
+    ScratchDir dir;
+    auto with = [&](size_t at, uint32_t value, const char* name) {
+        std::string bytes = seed;
+        std::memcpy(&bytes[at], &value, 4);
+        return dir.write(name, bytes);
+    };
+    EXPECT_EQ(read_vdb_file(with(children_at, 1, "valid.vdb"), "density").nx, 2);
+    expect_error_containing([&] { read_vdb_file(with(children_at, 1702232064, "children.vdb"), "density"); },
+                            "the tree's root declares 1702232064 child nodes");
+    // One child needs 8 KiB of masks: the 10 KB seed cannot hold two.
+    expect_error_containing([&] { read_vdb_file(with(children_at, 2, "two.vdb"), "density"); },
+                            "the tree's root declares 2 child nodes (at least 8204 bytes each)");
+    expect_error_containing([&] { read_vdb_file(with(tiles_at, 358497, "tiles.vdb"), "density"); },
+                            "the tree's root declares 358497 tiles of 17 bytes");
+    expect_error_containing([&] { read_vdb_file(with(buffers_at, 2, "buffers.vdb"), "density"); },
+                            "a tree declares 2 buffers");
+}

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "volguide/core/error.h"
+#include "volguide/core/memory.h"
 
 namespace volguide {
 
@@ -38,6 +39,37 @@ constexpr uint64_t kBloscHeaderBytes = 16;
 // at most N / 64 leaves; the count sizes two arrays OpenVDB allocates before reading them.
 constexpr uint64_t kMinBytesPerLeaf = 64;
 
+// The transform's map, read by its type's layout (math/Maps.h: Vec3d = 24 bytes, Mat4d = 128).
+// NonlinearFrustumMap is not walked: volguide reads scale-and-translate grids only, so it is refused.
+uint64_t map_bytes(const std::string& type) {
+    if (type == "AffineMap" || type == "UnitaryMap") return 128;         // Mat4d (Unitary: its AffineMap)
+    if (type == "ScaleMap" || type == "UniformScaleMap") return 5 * 24;  // scale, voxel size, 3 inverses
+    if (type == "TranslationMap") return 24;
+    if (type == "ScaleTranslateMap" || type == "UniformScaleTranslateMap") return 6 * 24;  // + translation
+    return 0;
+}
+
+// After the transform: int32 buffer count (1 since OpenVDB 3), then the root node: background value,
+// uint32 tile and child counts, each tile (int32 origin[3], value, bool active), each child (int32
+// origin[3], then its topology, which starts with the child and value masks of a 32^3 node: 8 KiB).
+// OpenVDB allocates a 32^3 internal node (264 KiB of child table and masks) per declared child
+// before reading it: a fuzzed 10 KB file declared 1.7 G of them. Value sizes of the tree types
+// openvdb::initialize() registers; a "_HalfFloat" grid still stores its root values in full.
+constexpr uint64_t kRootChildMinBytes = 12 + 2 * 4096;
+constexpr uint64_t kRootChildMemoryBytes = 32768 * 8 + 2 * 4096;
+uint64_t tree_value_bytes(std::string type) {
+    const std::string half = "_HalfFloat";
+    if (type.size() > half.size() && type.compare(type.size() - half.size(), half.size(), half) == 0)
+        type.resize(type.size() - half.size());
+    static const std::map<std::string, uint64_t, std::less<>> sizes = {
+        {"Tree_bool_5_4_3", 1},     {"Tree_mask_5_4_3", 1},    {"Tree_float_5_4_3", 4},
+        {"Tree_double_5_4_3", 8},   {"Tree_int32_5_4_3", 4},   {"Tree_int64_5_4_3", 8},
+        {"Tree_vec3i_5_4_3", 12},   {"Tree_vec3s_5_4_3", 12},  {"Tree_vec3d_5_4_3", 24},
+        {"Tree_ptidx32_5_4_3", 4},  {"Tree_ptdataidx32_5_4_3", 4}};
+    const auto it = sizes.find(type);
+    return it == sizes.end() ? 0 : it->second;
+}
+
 class VdbWalker {
   public:
     VdbWalker(const std::string& path, std::ifstream& in, uint64_t size) : path_(path), in_(in), size_(size) {}
@@ -56,25 +88,53 @@ class VdbWalker {
         if (grids < 0 || uint64_t(grids) > (size_ - pos_) / 36)
             fail(fmt::format("{} grids declared in {} bytes", grids, size_ - pos_));
         std::vector<uint64_t> offsets;
+        std::vector<std::string> types;
+        std::vector<bool> instances;
         for (int32_t g = 0; g < grids; ++g) {
             skip_string("grid name");
-            skip_string("grid type");
-            skip_string("instance parent");
+            types.push_back(read_string("grid type"));
+            instances.push_back(!read_string("instance parent").empty());
             const uint64_t grid = read_u64("grid offset"), block = read_u64("block offset"), end = read_u64("end offset");
             if (pos_ > grid || grid > block || block > end || end > size_)
                 fail(fmt::format("grid {} has offsets {}, {}, {} outside the file's {} bytes", g, grid, block, end, size_));
             offsets.push_back(grid);
             pos_ = end;  // each descriptor is followed by its grid; the next descriptor starts after it
         }
-        for (uint64_t grid : offsets) {
-            pos_ = grid;
+        for (size_t g = 0; g < offsets.size(); ++g) {
+            pos_ = offsets[g];
             read_u32("grid compression");
             walk_metadata("a grid's metadata");
-            skip_string("grid transform's map type");
+            const std::string map = read_string("grid transform's map type");
+            const uint64_t bytes = map_bytes(map);
+            if (bytes == 0)
+                fail(fmt::format("grid {} has a \"{}\" transform (volguide reads scale and translation maps)", g, map));
+            need(bytes, "the grid transform");
+            pos_ += bytes;
+            // An instance shares its parent's tree (read at the parent's offset); a tree type OpenVDB
+            // does not register is refused by OpenVDB before its topology is read.
+            const uint64_t value = tree_value_bytes(types[g]);
+            if (!instances[g] && value > 0) walk_root(value);
         }
     }
 
   private:
+    void walk_root(uint64_t value) {
+        const uint32_t buffers = read_u32("tree buffer count");
+        if (buffers != 1) fail(fmt::format("a tree declares {} buffers (OpenVDB writes 1)", buffers));
+        need(value, "the tree's background value");
+        pos_ += value;
+        const uint32_t tiles = read_u32("root tile count"), children = read_u32("root child count");
+        const uint64_t left = size_ - pos_, tile_bytes = 12 + value + 1;
+        if (tiles > left / tile_bytes)
+            fail(fmt::format("the tree's root declares {} tiles of {} bytes in {} bytes", tiles, tile_bytes, left));
+        if (children > (left - uint64_t(tiles) * tile_bytes) / kRootChildMinBytes)
+            fail(fmt::format("the tree's root declares {} child nodes (at least {} bytes each) in {} bytes", children,
+                             kRootChildMinBytes, left - uint64_t(tiles) * tile_bytes));
+        const uint64_t budget = memory_budget_bytes();
+        if (budget > 0 && uint64_t(children) * kRootChildMemoryBytes > budget)
+            fail(fmt::format("the tree's root declares {} child nodes ({} in memory), more than {}", children,
+                             format_bytes(uint64_t(children) * kRootChildMemoryBytes), memory_budget_description()));
+    }
     [[noreturn]] void fail(const std::string& what) const {
         throw InputError(SourceLocation{path_, 0}, fmt::format("\"{}\": cannot read the .vdb file: {}", path_, what));
     }
