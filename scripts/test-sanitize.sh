@@ -13,7 +13,7 @@ common=(-DCMAKE_BUILD_TYPE=RelWithDebInfo -DVOLGUIDE_BUILD_BENCH=OFF -DVOLGUIDE_
         -DVOLGUIDE_WITH_OPENPGL=OFF)
 # Integration tests too slow for an instrumented build (2-20x slower) or not about volguide's code:
 # whole benchmark scenes, the benchmark harness, the install test and the Slurm cluster.
-slow='bench_harness|install_embed|slurm_array|BenchScenes|GuidedVsVolpathScenes|MitsubaConformance'
+slow='bench_harness|install_embed|slurm_array|BenchScene\.|GuidedVsVolpathScenes|MitsubaConformance'
 
 [[ -f $asan/CMakeCache.txt ]] || cmake -S "$root" -B "$asan" "${common[@]}" -DVOLGUIDE_SANITIZE=address,undefined
 cmake --build "$asan" -j "$jobs"
