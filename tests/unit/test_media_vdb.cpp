@@ -8,12 +8,16 @@
 #include <openvdb/openvdb.h>
 
 #include <cmath>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 
 #include "support/vol_writer.h"
 #include "media_loading_util.h"
 #include "volguide/media/grid_data.h"
 #include "volguide/media/heterogeneous.h"
+#include "volguide/media/vdb_header_check.h"
 #include "volguide/media/volume.h"
 
 using namespace volguide;
@@ -284,4 +288,215 @@ TEST(MediaVdb, BadFilesGridsAndTypesAreInputErrorsNamingTheFile) {
         dir.write("g.xml", scene("<volume type=\"gridvolume\">\n<string name=\"filename\" "
                                  "value=\"a.vol\"/>\n<string name=\"grid\" value=\"x\"/>\n</volume>\n"));
     expect_input_error([&] { load_scene_properties(xml); }, xml, 4, "grid");
+}
+
+// check_vdb_header holds a table of the sizes OpenVDB reads for its fixed-size metadata types,
+// whatever size the file declares (a wrong entry rejects good files or lets a reader fall out of step).
+// Every type OpenVDB 10 registers is compared with the library's own size; the names come from
+// openvdb::initialize() (metadata, point index and point data index types, delayed-load metadata).
+TEST(MediaVdb, MetadataLayoutTableMatchesOpenVdb) {
+    openvdb::initialize();
+    const char* fixed[] = {"bool",  "int32", "int64", "float", "double", "vec2i",   "vec2s",
+                           "vec2d", "vec3i", "vec3s", "vec3d", "vec4i",  "vec4s",   "vec4d",
+                           "mat4s", "mat4d", "ptidx32", "ptidx64", "ptdataidx32", "ptdataidx64"};
+    for (const char* type : fixed) {
+        SCOPED_TRACE(type);
+        ASSERT_TRUE(openvdb::Metadata::isRegisteredType(type));
+        ASSERT_TRUE(vdb_metadata_layout_bytes(type).has_value());
+        EXPECT_EQ(*vdb_metadata_layout_bytes(type), openvdb::Metadata::createMetadata(type)->size());
+    }
+    // Read by their declared size: strings, delayed-load metadata (walked separately) and types
+    // OpenVDB does not register (kept as UnknownMetadata).
+    for (const char* type : {"string", "__delayedload", "mat3s", "uint32", "half"}) {
+        SCOPED_TRACE(type);
+        EXPECT_FALSE(vdb_metadata_layout_bytes(type).has_value());
+        if (std::string(type) == "string" || std::string(type) == "__delayedload")
+            EXPECT_TRUE(openvdb::Metadata::isRegisteredType(type));
+        else
+            EXPECT_FALSE(openvdb::Metadata::isRegisteredType(type));
+    }
+}
+
+// What OpenVDB writes passes the header check: grid metadata of every registered type and the
+// delayed-load metadata io::File adds, with its leaf mask and compressed sizes Blosc-compressed
+// (a grid of 1000 leaves: the arrays compress).
+TEST(MediaVdb, FilesWithMetadataOfEveryTypeAndBloscDelayedLoadPassTheHeaderCheck) {
+    ScratchDir dir;
+    auto grid = float_grid("density", 80, 80, 80, openvdb::Vec3d(0.1), openvdb::Vec3d(0.0),
+                           [](int x, int y, int z) { return float((x + y + z) % 7); });
+    ASSERT_EQ(grid->tree().leafCount(), 1000u);
+    grid->insertMeta("b", openvdb::BoolMetadata(true));
+    grid->insertMeta("i", openvdb::Int32Metadata(3));
+    grid->insertMeta("l", openvdb::Int64Metadata(4));
+    grid->insertMeta("f", openvdb::FloatMetadata(5.f));
+    grid->insertMeta("d", openvdb::DoubleMetadata(6.0));
+    grid->insertMeta("s", openvdb::StringMetadata("a string"));
+    grid->insertMeta("v2i", openvdb::Vec2IMetadata(openvdb::Vec2i(1, 2)));
+    grid->insertMeta("v2s", openvdb::Vec2SMetadata(openvdb::Vec2s(1, 2)));
+    grid->insertMeta("v2d", openvdb::Vec2DMetadata(openvdb::Vec2d(1, 2)));
+    grid->insertMeta("v3i", openvdb::Vec3IMetadata(openvdb::Vec3i(1, 2, 3)));
+    grid->insertMeta("v3s", openvdb::Vec3SMetadata(openvdb::Vec3s(1, 2, 3)));
+    grid->insertMeta("v3d", openvdb::Vec3DMetadata(openvdb::Vec3d(1, 2, 3)));
+    grid->insertMeta("v4i", openvdb::Vec4IMetadata(openvdb::Vec4i(1, 2, 3, 4)));
+    grid->insertMeta("v4s", openvdb::Vec4SMetadata(openvdb::Vec4s(1, 2, 3, 4)));
+    grid->insertMeta("v4d", openvdb::Vec4DMetadata(openvdb::Vec4d(1, 2, 3, 4)));
+    grid->insertMeta("m4s", openvdb::Mat4SMetadata(openvdb::math::Mat4s::identity()));
+    grid->insertMeta("m4d", openvdb::Mat4DMetadata(openvdb::math::Mat4d::identity()));
+    const std::string path = dir.path("meta.vdb");
+    write_vdb(path, {grid});
+    std::ifstream in(path, std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    // io::File wrote the delayed-load metadata, and Blosc compressed the mask (its 1000 bytes are not
+    // stored raw: the byte count after the leaf count is not 0).
+    const size_t type = bytes.find("__delayedload");
+    ASSERT_NE(type, std::string::npos);
+    uint32_t size = 0, count = 0, mask_bytes = 0;
+    std::memcpy(&size, &bytes[type + 13], 4);
+    std::memcpy(&count, &bytes[type + 17], 4);
+    std::memcpy(&mask_bytes, &bytes[type + 21], 4);
+    EXPECT_EQ(count, 1000u);
+    EXPECT_GT(mask_bytes, 0u);
+    EXPECT_LT(size, 1000u);
+    EXPECT_NO_THROW(check_vdb_header(path));
+    EXPECT_EQ(read_vdb_file(path, "density").nx, 80);
+    // The same file with the mask's Blosc header declaring 2^30 uncompressed bytes (OpenVDB reserves
+    // them) is refused.
+    std::string bad = bytes;
+    const uint32_t huge = 1u << 30;
+    std::memcpy(&bad[type + 25 + 4], &huge, 4);
+    const std::string bad_path = dir.write("bad.vdb", bad);
+    try {
+        check_vdb_header(bad_path);
+        ADD_FAILURE() << "accepted a Blosc header declaring 2^30 bytes";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("leaf mask's Blosc header declares 1073741824 bytes"), std::string::npos)
+            << e.what();
+    }
+}
+
+// Densifying writes the background once and then each active voxel and tile (tile rows are copied,
+// not probed voxel by voxel). Every dense voxel must equal what an accessor reads there (the
+// background where inactive), for float and vec3 grids, tiles clipped by the active box, and axes
+// flipped by negative scales.
+TEST(MediaVdb, DenseValuesMatchEveryVoxelOfTilesAndVoxels) {
+    ScratchDir dir;
+    openvdb::math::Mat4d m = openvdb::math::Mat4d::identity();
+    m(0, 0) = -1.0;
+    m(2, 2) = -0.5;
+    auto density = openvdb::FloatGrid::create(0.25f);
+    density->setName("density");
+    density->setTransform(openvdb::math::Transform::createLinearTransform(m));
+    density->tree().addTile(1, openvdb::Coord(8, 0, 0), 3.f, true);     // an active 8^3 tile
+    density->tree().addTile(1, openvdb::Coord(0, 8, 0), 5.f, false);    // an inactive one
+    density->tree().setValue(openvdb::Coord(2, 3, 4), 7.f);
+    density->tree().setValue(openvdb::Coord(21, 1, 9), 9.f);            // beyond the tiles
+    density->tree().setValueOff(openvdb::Coord(1, 1, 1), 11.f);
+    auto color = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.1f, 0.2f, 0.3f));
+    color->setName("albedo");
+    color->setTransform(openvdb::math::Transform::createLinearTransform(m));
+    color->tree().addTile(1, openvdb::Coord(0, 0, 8), openvdb::Vec3s(1.f, 2.f, 3.f), true);
+    color->tree().setValue(openvdb::Coord(9, 2, 3), openvdb::Vec3s(4.f, 5.f, 6.f));
+    write_vdb(dir.path("tiles.vdb"), {density, color});
+
+    auto check = [&](const auto& grid, int channels) {
+        SCOPED_TRACE(grid->getName());
+        const GridData d = read_vdb_file(dir.path("tiles.vdb"), grid->getName());
+        const openvdb::CoordBBox box = grid->evalActiveVoxelBoundingBox();
+        ASSERT_EQ(d.channels, channels);
+        ASSERT_EQ(d.nx, box.dim().x());
+        ASSERT_EQ(d.ny, box.dim().y());
+        ASSERT_EQ(d.nz, box.dim().z());
+        auto acc = grid->getConstAccessor();
+        int mismatches = 0;
+        for (int z = 0; z < d.nz; ++z)
+            for (int y = 0; y < d.ny; ++y)
+                for (int x = 0; x < d.nx; ++x) {
+                    const openvdb::Coord c = box.min() + openvdb::Coord(x, y, z);
+                    const auto v = acc.isValueOn(c) ? acc.getValue(c) : grid->background();
+                    // x and z are flipped (negative scales): dense index nx - 1 - x, nz - 1 - z.
+                    for (int ch = 0; ch < channels; ++ch) {
+                        float want;
+                        if constexpr (std::is_same_v<std::decay_t<decltype(v)>, float>)
+                            want = v;
+                        else
+                            want = v[ch];
+                        if (d.at(d.nx - 1 - x, y, d.nz - 1 - z, ch) != want && ++mismatches <= 5)
+                            ADD_FAILURE() << "voxel " << c << " channel " << ch << ": "
+                                          << d.at(d.nx - 1 - x, y, d.nz - 1 - z, ch) << ", expected " << want;
+                    }
+                }
+        EXPECT_EQ(mismatches, 0);
+    };
+    check(density, 1);
+    check(color, 3);
+    // The active box spans the voxel at x = 2, the active tile and the voxel at x = 21 (the inactive
+    // tile is outside it): 20 x 8 x 10.
+    const GridData d = read_vdb_file(dir.path("tiles.vdb"), "density");
+    EXPECT_EQ(d.nx * 100 + d.ny * 10 + d.nz, 20 * 100 + 8 * 10 + 10);
+}
+
+// The header check steps over each grid's transform by its map type's layout and then bounds the
+// root node's tile and child counts (a fuzzed 10 KB file declared 1.7 G root children, each a
+// 264 KiB node OpenVDB allocates before reading it). Files OpenVDB writes with every map type
+// volguide reads, for every value size of the registered tree types, must pass; a frustum map is
+// refused (volguide reads scale and translation only).
+TEST(MediaVdb, HeaderCheckStepsOverEveryMapTypeToTheRootNode) {
+    ScratchDir dir;
+    namespace m = openvdb::math;
+    const std::vector<std::pair<std::string, m::MapBase::Ptr>> maps = {
+        {"AffineMap", m::MapBase::Ptr(new m::AffineMap(m::Mat4d::identity()))},
+        {"UnitaryMap", m::MapBase::Ptr(new m::UnitaryMap(openvdb::Vec3d(0, 0, 1), 0.3))},
+        {"ScaleMap", m::MapBase::Ptr(new m::ScaleMap(openvdb::Vec3d(1, 2, 3)))},
+        {"UniformScaleMap", m::MapBase::Ptr(new m::UniformScaleMap(0.5))},
+        {"TranslationMap", m::MapBase::Ptr(new m::TranslationMap(openvdb::Vec3d(1, 2, 3)))},
+        {"ScaleTranslateMap",
+         m::MapBase::Ptr(new m::ScaleTranslateMap(openvdb::Vec3d(1, 2, 3), openvdb::Vec3d(4, 5, 6)))},
+        {"UniformScaleTranslateMap",
+         m::MapBase::Ptr(new m::UniformScaleTranslateMap(0.5, openvdb::Vec3d(4, 5, 6)))},
+    };
+    for (const auto& [type, map] : maps) {
+        SCOPED_TRACE(type);
+        ASSERT_EQ(map->type(), type);
+        openvdb::GridPtrVec grids;
+        auto add = [&](openvdb::GridBase::Ptr grid, const std::string& name) {
+            grid->setName(name);
+            grid->setTransform(openvdb::math::Transform::Ptr(new openvdb::math::Transform(map->copy())));
+            grids.push_back(grid);
+        };
+        auto f = openvdb::FloatGrid::create(0.5f);
+        f->tree().setValue(openvdb::Coord(1, 2, 3), 1.f);
+        f->tree().addTile(3, openvdb::Coord(8192, 0, 0), 2.f, false);  // an (inactive) root tile
+        add(f, "density");
+        auto v = openvdb::Vec3SGrid::create(openvdb::Vec3s(1.f));
+        v->tree().setValue(openvdb::Coord(-100, 5000, 3), openvdb::Vec3s(2.f));
+        add(v, "albedo");
+        auto d = openvdb::Vec3DGrid::create();
+        d->tree().setValue(openvdb::Coord(0, 0, 0), openvdb::Vec3d(2.0));
+        add(d, "vec3d");
+        auto b = openvdb::BoolGrid::create();
+        b->tree().setValue(openvdb::Coord(0, 0, 0), true);
+        add(b, "bool");
+        auto half = openvdb::FloatGrid::create(0.f);
+        half->tree().setValue(openvdb::Coord(7, 7, 7), 3.f);
+        half->setSaveFloatAsHalf(true);
+        add(half, "half");
+        const std::string path = dir.path(type + ".vdb");
+        write_vdb(path, grids);
+        EXPECT_NO_THROW(check_vdb_header(path));
+        if (type == "UnitaryMap") continue;  // a rotation: read_vdb_file refuses it after the check
+        EXPECT_EQ(read_vdb_file(path, "density").channels, 1);
+        EXPECT_EQ(read_vdb_file(path, "albedo").channels, 3);
+    }
+    auto frustum = openvdb::FloatGrid::create();
+    frustum->setName("density");
+    frustum->tree().setValue(openvdb::Coord(0, 0, 0), 1.f);
+    frustum->setTransform(openvdb::math::Transform::createFrustumTransform(
+        openvdb::BBoxd(openvdb::Vec3d(0), openvdb::Vec3d(10)), 0.5, 2.0, 1.0));
+    write_vdb(dir.path("frustum.vdb"), {frustum});
+    try {
+        check_vdb_header(dir.path("frustum.vdb"));
+        ADD_FAILURE() << "accepted a frustum transform";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("\"NonlinearFrustumMap\" transform"), std::string::npos) << e.what();
+    }
 }

@@ -179,3 +179,77 @@ TEST(ResourceLimits, VdbMetadataLengthsAreBoundedByTheFileSize) {
     expect_error_containing([&] { read_vdb_file(dir.path("long.vdb"), "density"); },
                             "metadata name (2147483647 bytes at offset 136) runs past the end of the file");
 }
+
+TEST(ResourceLimits, VdbFixedSizeMetadataMustDeclareItsLayoutsSize) {
+    // A fuzzer's input (tests/fuzz/regression/vdb): the seed with "file_bbox_max" typed "vec4i" but
+    // still declaring 12 bytes. OpenVDB reads a vec4i's 16, takes the next length from the bytes of
+    // the next name ("file" = 1.7 G) and allocated a 1.7 GB string.
+    const std::string input =
+        std::string(VOLGUIDE_SOURCE_DIR) + "/tests/fuzz/regression/vdb/oom-metamap-string-1.7gb.vdb";
+    expect_error_containing([&] { read_vdb_file(input, "density"); },
+                            "a \"vec4i\" metadata value declares 12 bytes; OpenVDB reads 16");
+    expect_error_containing([&] { read_vdb_file(input, "density"); }, "oom-metamap-string-1.7gb.vdb");
+}
+
+TEST(ResourceLimits, VdbDelayedLoadMetadataIsBoundedByItsValueAndTheFile) {
+    // The seed's delayed-load metadata: declared size 13 = leaf count 1, mask byte count 0 (raw),
+    // one mask byte, compressed-size byte count 0xffffffff (none stored).
+    std::ifstream in(std::string(VOLGUIDE_SOURCE_DIR) + "/tests/fuzz/corpus/vdb/density_2x2x2.vdb", std::ios::binary);
+    const std::string seed((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const size_t type = seed.find("__delayedload");
+    ASSERT_NE(type, std::string::npos);
+    const size_t size_at = type + 13, count_at = size_at + 4, mask_bytes_at = count_at + 4;
+    uint32_t size = 0;
+    std::memcpy(&size, &seed[size_at], 4);
+    ASSERT_EQ(size, 13u);
+    ScratchDir dir;
+    EXPECT_EQ(read_vdb_file(dir.write("valid.vdb", seed), "density").nx, 2);
+    auto with = [&](size_t at, uint32_t value, const char* name) {
+        std::string bytes = seed;
+        std::memcpy(&bytes[at], &value, 4);
+        return dir.write(name, bytes);
+    };
+    // OpenVDB sizes the leaf mask by the count before reading it: 2^31 leaves cannot be in 10 KB.
+    expect_error_containing([&] { read_vdb_file(with(count_at, 0x7fffffff, "count.vdb"), "density"); },
+                            "delayed-load metadata for 2147483647 leaves in a file of");
+    // 100 raw mask bytes do not fit in the 13-byte value (OpenVDB would read past it, out of step).
+    expect_error_containing([&] { read_vdb_file(with(count_at, 100, "mask.vdb"), "density"); },
+                            "the delayed-load leaf mask (100 bytes at offset");
+    // A compressed mask of 6 bytes does not fit in the 5 left of the value.
+    expect_error_containing([&] { read_vdb_file(with(mask_bytes_at, 6, "blosc.vdb"), "density"); },
+                            "the delayed-load leaf mask (6 bytes at offset");
+    // A 1-byte "Blosc buffer" is shorter than Blosc's header, which OpenVDB reads for the sizes.
+    expect_error_containing([&] { read_vdb_file(with(mask_bytes_at, 1, "blosc1.vdb"), "density"); },
+                            "is a 1-byte Blosc buffer");
+}
+
+TEST(ResourceLimits, VdbRootNodeCountsAreBoundedByTheFile) {
+    // The seed: grid transform "UniformScaleMap" (120 bytes) ends at offset 566, then the buffer
+    // count 1, the background, 0 tiles and 1 child. OpenVDB allocates each declared child (264 KiB)
+    // before reading it; a fuzzed file declared 1.7 G of them.
+    std::ifstream in(std::string(VOLGUIDE_SOURCE_DIR) + "/tests/fuzz/corpus/vdb/density_2x2x2.vdb", std::ios::binary);
+    const std::string seed((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    ASSERT_EQ(seed.compare(431, 15, "UniformScaleMap"), 0);
+    const size_t buffers_at = 566, tiles_at = 574, children_at = 578;
+    uint32_t v[4];
+    std::memcpy(v, &seed[buffers_at], 16);
+    ASSERT_EQ(v[0], 1u);
+    ASSERT_EQ(v[2], 0u);
+    ASSERT_EQ(v[3], 1u);
+    ScratchDir dir;
+    auto with = [&](size_t at, uint32_t value, const char* name) {
+        std::string bytes = seed;
+        std::memcpy(&bytes[at], &value, 4);
+        return dir.write(name, bytes);
+    };
+    EXPECT_EQ(read_vdb_file(with(children_at, 1, "valid.vdb"), "density").nx, 2);
+    expect_error_containing([&] { read_vdb_file(with(children_at, 1702232064, "children.vdb"), "density"); },
+                            "the tree's root declares 1702232064 child nodes");
+    // One child needs 8 KiB of masks: the 10 KB seed cannot hold two.
+    expect_error_containing([&] { read_vdb_file(with(children_at, 2, "two.vdb"), "density"); },
+                            "the tree's root declares 2 child nodes (at least 8204 bytes each)");
+    expect_error_containing([&] { read_vdb_file(with(tiles_at, 358497, "tiles.vdb"), "density"); },
+                            "the tree's root declares 358497 tiles of 17 bytes");
+    expect_error_containing([&] { read_vdb_file(with(buffers_at, 2, "buffers.vdb"), "density"); },
+                            "a tree declares 2 buffers");
+}

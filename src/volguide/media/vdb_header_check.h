@@ -2,14 +2,25 @@
 // Bounds a .vdb file's header and grid metadata by the file's size before OpenVDB reads them.
 // OpenVDB (MetaMap::readMeta, readString) allocates every string and metadata value at the length
 // the file declares before reading it: a fuzzed 98 KB file made it allocate and clear gigabytes
-// (docs/reliability.md). Only the layout of format 222 and later is walked (what OpenVDB 3 to 10
-// write); older files are refused, as are streams without grid offsets.
+// (docs/reliability.md). Values of OpenVDB's fixed-size metadata types are read by their layout,
+// whatever size the file declares, so the declared size must match it or the reader falls out of step
+// (a "vec4i" declared 12 bytes long led to a 1.7 GB string). Only the layout of format 222 and later
+// is walked (what OpenVDB 3 to 10 write); older files are refused, as are streams without grid
+// offsets. The tree topology and voxel buffers after each grid's transform are not walked.
+#include <cstdint>
+#include <optional>
 #include <string>
 
 namespace volguide {
 
 // Throws InputError ("cannot read the .vdb file: ...") naming the file when a length or offset in the header, the file's metadata, a
-// grid descriptor or a grid's metadata does not fit in the file.
+// grid descriptor, a grid's metadata or a grid's transform type does not fit in the file, when a
+// fixed-size metadata value declares another size than its type's layout, or when delayed-load
+// metadata declares arrays that do not fit in its value or more leaves than the file can hold.
 void check_vdb_header(const std::string& path);
+
+// The bytes OpenVDB reads for a value of a fixed-size metadata type it registers ("vec3i": 12), or
+// nothing for other types ("string", "__delayedload", unregistered ones are read by declared size).
+std::optional<uint32_t> vdb_metadata_layout_bytes(const std::string& type);
 
 }  // namespace volguide
