@@ -80,6 +80,9 @@ TEST(Selection, FitFollowsTheGuideWhereItIsRightAndDropsItWhereItIsWrong) {
     EXPECT_EQ(sel.share(SelectionDecision::Direction, 2), LearnedSelection::kDefault);
     EXPECT_EQ(sel.share(SelectionDecision::Direction, 3), LearnedSelection::kDefault);
     EXPECT_EQ(sel.share(SelectionDecision::Distance, 0), LearnedSelection::kDefault);  // no distance samples
+    EXPECT_FALSE(sel.learned(SelectionDecision::Distance));
+    EXPECT_TRUE(sel.learned(SelectionDecision::Direction));
+    EXPECT_TRUE(LearnedSelection::deserialize(sel.serialize()).learned(SelectionDecision::Direction));
     EXPECT_EQ(sel.share(SelectionDecision::Direction, 99), LearnedSelection::kDefault);  // beyond the table
     const LearnedSelection::Summary sum = sel.summary();
     EXPECT_EQ(sum.guided[1], 1u);

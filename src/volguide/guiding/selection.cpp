@@ -216,7 +216,15 @@ LearnedSelection LearnedSelection::fit(const SelectionStatistics& stats, const S
             region.rrs[size_t(s)] = agrees ? 1 : 0;
         }
     }
+    out.update_learned();
     return out;
+}
+
+void LearnedSelection::update_learned() {
+    learned_ = {};
+    for (const Region& r : regions_)
+        for (int d = 0; d < kSelectionDecisions; ++d)
+            if (r.share[size_t(d)] != kDefault) learned_[size_t(d)] = true;
 }
 
 LearnedSelection::Summary LearnedSelection::summary() const {
@@ -272,6 +280,7 @@ LearnedSelection LearnedSelection::deserialize(const std::string& bytes) {
         }
     }
     if (at != bytes.size()) throw std::runtime_error("learned selection: trailing bytes");
+    out.update_learned();
     return out;
 }
 

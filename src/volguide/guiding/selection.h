@@ -129,6 +129,8 @@ class LearnedSelection {
                                 const std::array<float, kSelectionDecisions>& default_share);
 
     bool empty() const { return regions_.empty(); }
+    // Whether any region has a learned share for decision d (else every share is kDefault).
+    bool learned(SelectionDecision d) const { return learned_[size_t(d)]; }
     size_t regions() const { return regions_.size(); }
     // The learned guided share in `region` (kDefault: not learned; region beyond the table: kDefault).
     float share(SelectionDecision d, size_t region) const {
@@ -159,7 +161,9 @@ class LearnedSelection {
     const std::vector<Region>& table() const { return regions_; }
 
   private:
+    void update_learned();
     std::vector<Region> regions_;
+    std::array<bool, kSelectionDecisions> learned_{};
 };
 
 }  // namespace volguide

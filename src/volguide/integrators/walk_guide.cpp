@@ -142,7 +142,9 @@ FreeFlightSample WalkGuide::sample_distance(const Medium& medium, const Ray& ray
     // decision before found it); 0: free flight, nothing guided is paid for.
     int origin = origin_leaf;
     float c_T = settings_.distance_settings.c_T;
-    if (!selection_.empty() || scratch.record) {
+    // (Only when some distance share was learned or the pilot records: heterogeneous media under
+    // guided tracking record none, and a descent per decision would then be work for nothing.)
+    if (selection_.learned(SelectionDecision::Distance) || scratch.record) {
         if (origin < 0) origin = vertex_leaf(ray.o, GuideRegion());
         const float share = selection_.share(SelectionDecision::Distance, selection_region(origin));
         if (share == 0.f) {
