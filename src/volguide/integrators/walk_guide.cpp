@@ -312,10 +312,11 @@ int WalkGuide::surface_sampler(const SurfaceInteraction& si, const BSDF& bsdf, c
         if (index >= 0)
             leaf = settings_.direction_indirect ? &direction_leaves_[size_t(index)] : &field_.leaves()[size_t(index)];
         const float confidence = leaf && medium ? leaf_confidence(index, medium->eval(si.p).sigma_t) : 1.f;
-        if (share == 0.f) {
-            ++stats_.local().surface_unselected;
-        } else if (leaf && leaf->valid && leaf->vmm.count > 0 && confidence >= kSkipConfidence &&
-                   field_.leaves()[size_t(index)].mostly_medium()) {
+        const bool guidable = leaf && leaf->valid && leaf->vmm.count > 0 && confidence >= kSkipConfidence &&
+                              field_.leaves()[size_t(index)].mostly_medium();
+        if (guidable && share == 0.f) {
+            ++stats_.local().surface_unselected;  // only vertices the configured mixture would guide
+        } else if (guidable) {
             bsdf_prob = 1.f - (share != LearnedSelection::kDefault ? share : 1.f - bsdf_prob) * confidence;
             if (settings_.direction == DirectionGuiding::Incident)
                 guide = &leaf->vmm;
