@@ -500,3 +500,156 @@ TEST(MediaVdb, HeaderCheckStepsOverEveryMapTypeToTheRootNode) {
         EXPECT_NE(std::string(e.what()).find("\"NonlinearFrustumMap\" transform"), std::string::npos) << e.what();
     }
 }
+
+// The header check walks every tree to its last voxel buffer and requires it to end where the grid's
+// descriptor says (its topology at the block offset, its buffers at the end offset): a walk that
+// misreads any node's layout fails here. Grids of every walked tree type, each compression OpenVDB
+// writes, half floats, tiles at every level, leaves with each kind of inactive values (background,
+// -background, one and two other values), several root children, in one file; the float and vec3s
+// grids must still read as OpenVDB holds them.
+TEST(MediaVdb, HeaderCheckWalksEveryTreeToTheEndTheDescriptorsGive) {
+    openvdb::initialize();
+    ScratchDir dir;
+    auto fill = [](auto& grid, auto value, auto other, auto minus) {
+        auto acc = grid.getAccessor();
+        for (int z = 0; z < 12; ++z)
+            for (int y = 0; y < 12; ++y)
+                for (int x = 0; x < 12; ++x) acc.setValue(openvdb::Coord(x, y, z), value);
+        // Inactive non-background values: one other value in one leaf, two in another, -background.
+        acc.setValueOff(openvdb::Coord(1, 1, 1), other);
+        acc.setValueOff(openvdb::Coord(9, 9, 9), other);
+        acc.setValueOff(openvdb::Coord(10, 9, 9), minus);
+        acc.setValueOff(openvdb::Coord(1, 9, 1), minus);
+        // A far root child (negative coordinates) and tiles at the leaf, 16^3 and 32^3 levels.
+        acc.setValue(openvdb::Coord(-5000, 7, -3), value);
+        grid.tree().addTile(1, openvdb::Coord(128, 0, 0), value, true);
+        grid.tree().addTile(2, openvdb::Coord(4096, 0, 0), value, true);
+        grid.tree().addTile(3, openvdb::Coord(0, 0, 8192), other, false);
+    };
+    const uint32_t compressions[] = {openvdb::io::COMPRESS_NONE,
+                                     openvdb::io::COMPRESS_ZIP,
+                                     openvdb::io::COMPRESS_ACTIVE_MASK,
+                                     openvdb::io::COMPRESS_BLOSC,
+                                     openvdb::io::COMPRESS_ZIP | openvdb::io::COMPRESS_ACTIVE_MASK,
+                                     openvdb::io::COMPRESS_BLOSC | openvdb::io::COMPRESS_ACTIVE_MASK};
+    for (const uint32_t compression : compressions)
+        for (const bool half : {false, true}) {
+            SCOPED_TRACE(::testing::Message() << "compression " << compression << ", half " << half);
+            auto density = openvdb::FloatGrid::create(0.5f);
+            density->setName("density");
+            fill(*density, 2.f, 3.f, -0.5f);
+            density->setSaveFloatAsHalf(half);
+            auto albedo = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.5f));
+            albedo->setName("albedo");
+            fill(*albedo, openvdb::Vec3s(1, 2, 3), openvdb::Vec3s(4, 5, 6), openvdb::Vec3s(-0.5f));
+            albedo->setSaveFloatAsHalf(half);
+            auto d = openvdb::DoubleGrid::create(1.0);
+            d->setName("double");
+            fill(*d, 2.0, 3.0, -1.0);
+            d->setSaveFloatAsHalf(half);
+            auto i = openvdb::Int32Grid::create(1);
+            i->setName("int");
+            fill(*i, 2, 3, -1);
+            auto v = openvdb::Vec3DGrid::create(openvdb::Vec3d(1.0));
+            v->setName("vec3d");
+            fill(*v, openvdb::Vec3d(2.0), openvdb::Vec3d(3.0), openvdb::Vec3d(-1.0));
+            auto b = openvdb::BoolGrid::create(false);
+            b->setName("bool");
+            fill(*b, true, true, false);
+            auto m = openvdb::MaskGrid::create(false);
+            m->setName("mask");
+            m->topologyUnion(*density);
+            auto empty = openvdb::FloatGrid::create(0.f);
+            empty->setName("empty");
+            // Small grids to read (the ones above span 13000 voxels).
+            auto small = float_grid("small", 3, 2, 2, openvdb::Vec3d(1.0), openvdb::Vec3d(0.0),
+                                    [](int x, int, int) { return float(x); });
+            small->setSaveFloatAsHalf(half);
+            auto small_albedo = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.f));
+            small_albedo->setName("small_albedo");
+            small_albedo->tree().setValue(openvdb::Coord(0, 0, 0), openvdb::Vec3s(1, 2, 3));
+            small_albedo->setSaveFloatAsHalf(half);
+            const std::string path = dir.path("grids.vdb");
+            openvdb::io::File file(path);
+            file.setCompression(compression);
+            file.write({density, albedo, d, i, v, b, m, empty, small, small_albedo});
+            file.close();
+            EXPECT_NO_THROW(check_vdb_header(path));
+            const GridData g = read_vdb_file(path, "small");
+            ASSERT_EQ(g.nx, 3);
+            EXPECT_EQ(g.at(2, 1, 1), 2.f);
+            const GridData a = read_vdb_file(path, "small_albedo");
+            ASSERT_EQ(a.channels, 3);
+            EXPECT_EQ(a.at(0, 0, 0, 2), 3.f);
+            // One byte more or less anywhere in a tree puts its end elsewhere: cut the file short.
+            std::ifstream in(path, std::ios::binary);
+            const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+            EXPECT_THROW(check_vdb_header(dir.write("short.vdb", bytes.substr(0, bytes.size() - 1))), InputError);
+        }
+}
+
+// A 32^3 node whose child mask says every child is there: OpenVDB would allocate 32768 16^3 nodes
+// (1.1 GB) from a small file, reading on after the stream ran dry. The walk needs each child's masks
+// in the file.
+TEST(MediaVdb, HeaderCheckRefusesInternalNodesTheFileCannotHold) {
+    ScratchDir dir;
+    auto grid = float_grid("density", 2, 2, 2, openvdb::Vec3d(1.0), openvdb::Vec3d(0.0),
+                           [](int, int, int) { return 1.f; });
+    const std::string path = dir.path("one.vdb");
+    openvdb::io::File file(path);
+    file.setCompression(openvdb::io::COMPRESS_NONE);
+    file.write({grid});
+    file.close();
+    std::ifstream in(path, std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    // The root's one child: its origin, then its 4096-byte child mask, whose first word is bit 0.
+    const size_t type = bytes.find("UniformScale");
+    ASSERT_NE(type, std::string::npos);
+    const bool translate = bytes.compare(type, 24, "UniformScaleTranslateMap") == 0;
+    const size_t map_end = translate ? type + 24 + 6 * 24 : type + 15 + 5 * 24;
+    const size_t children_at = map_end + 4 + 4 + 4;  // buffer count, background, tile count
+    uint32_t children = 0;
+    std::memcpy(&children, &bytes[children_at], 4);
+    ASSERT_EQ(children, 1u);
+    const size_t mask_at = children_at + 4 + 12;
+    uint64_t first = 0;
+    std::memcpy(&first, &bytes[mask_at], 8);
+    ASSERT_EQ(first, 1u);
+    std::memset(&bytes[mask_at], 0xff, 4096);
+    const std::string bad = dir.write("full.vdb", bytes);
+    try {
+        read_vdb_file(bad, "density");
+        ADD_FAILURE() << "accepted a full child mask";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("runs past the end of the file"), std::string::npos) << e.what();
+    }
+}
+
+// A scale map stores its scale and the values derived from it, and OpenVDB reads them all: a fuzzed
+// file whose voxel size said 0.5 while its scale was nearly zero made getAffineMap() throw past a frame
+// that cannot unwind (std::terminate). The header check refuses stored values that disagree; the
+// reader takes the matrix from where the map sends the unit vectors, not from getAffineMap().
+TEST(MediaVdb, ScaleMapsWhoseStoredValuesDisagreeAreRefused) {
+    ScratchDir dir;
+    auto grid = float_grid("density", 2, 2, 2, openvdb::Vec3d(0.5), openvdb::Vec3d(0.0),
+                           [](int, int, int) { return 1.f; });
+    const std::string path = dir.path("good.vdb");
+    write_vdb(path, {grid});
+    EXPECT_EQ(read_vdb_file(path, "density").nx, 2);
+    std::ifstream in(path, std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const size_t type = bytes.find("UniformScaleMap");
+    ASSERT_NE(type, std::string::npos);
+    double scale = 0.0;
+    std::memcpy(&scale, &bytes[type + 15], 8);
+    ASSERT_EQ(scale, 0.5);
+    const double tiny = 1e-300;
+    std::memcpy(&bytes[type + 15], &tiny, 8);
+    const std::string bad = dir.write("bad.vdb", bytes);
+    try {
+        read_vdb_file(bad, "density");
+        ADD_FAILURE() << "accepted a scale map storing scale 1e-300 and voxel size 0.5";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("(inconsistent)"), std::string::npos) << e.what();
+    }
+}

@@ -48,7 +48,19 @@ AxisMap axis_aligned_map(const std::string& path, const std::string& grid_name,
         vdb_fail(path, fmt::format("grid \"{}\" has a non-linear ({}) transform; only axis-aligned scale and "
                                    "translation are supported",
                                    grid_name, xf.mapType()));
-    const openvdb::math::Mat4d m = xf.baseMap()->getAffineMap()->getMat4();
+    // The matrix from where the map sends the origin and the unit vectors: getAffineMap() builds an
+    // AffineMap, which throws from where it cannot be caught (std::terminate) for nearly singular
+    // scales such as (1e-6, 1e-6, 1e-6) (found by fuzz_vdb).
+    const openvdb::math::MapBase& map = *xf.baseMap();
+    const openvdb::Vec3d t = map.applyMap(openvdb::Vec3d(0.0));
+    openvdb::math::Mat4d m = openvdb::math::Mat4d::identity();
+    for (int i = 0; i < 3; ++i) {
+        openvdb::Vec3d e(0.0);
+        e[i] = 1.0;
+        const openvdb::Vec3d row = map.applyMap(e) - t;
+        for (int j = 0; j < 3; ++j) m(i, j) = row[j];
+        m(3, i) = t[i];
+    }
     AxisMap a;
     double largest = 0.0;
     for (int i = 0; i < 3; ++i) largest = std::max(largest, std::abs(m(i, i)));
@@ -178,17 +190,30 @@ GridData read_vdb_file(const std::string& path, const std::string& grid_name) {
 
     openvdb::GridBase::Ptr base;
     std::vector<std::string> names;
+    std::string unsupported_type;
     try {
         openvdb::io::File file(path);
         file.open(/*delayLoad=*/false);
         for (auto it = file.beginName(); it != file.endName(); ++it) names.push_back(it.gridName());
-        if (file.hasGrid(grid_name)) base = file.readGrid(grid_name);
+        if (file.hasGrid(grid_name)) {
+            // The type first (metadata and transform only): the header check bounds the trees of the
+            // types read here, not point grids' (vdb_header_check.h).
+            const openvdb::GridBase::Ptr meta = file.readGridMetadata(grid_name);
+            if (!meta->isType<openvdb::FloatGrid>() && !meta->isType<openvdb::Vec3SGrid>())
+                unsupported_type = fmt::format("{} (value type {})", meta->type(), meta->valueType());
+            else
+                base = file.readGrid(grid_name);
+        }
         file.close();
     } catch (const openvdb::Exception& e) {
         vdb_fail(path, fmt::format("cannot read the .vdb file: {}", e.what()));
     } catch (const std::exception& e) {
         vdb_fail(path, fmt::format("cannot read the .vdb file: {}", e.what()));
     }
+    if (!unsupported_type.empty())
+        vdb_fail(path, fmt::format("grid \"{}\" has the unsupported type {}; only float (FloatGrid) and vec3s "
+                                   "(Vec3SGrid) grids are supported",
+                                   grid_name, unsupported_type));
     if (!base) {
         std::string list;
         for (const std::string& n : names) list += (list.empty() ? "\"" : ", \"") + n + "\"";

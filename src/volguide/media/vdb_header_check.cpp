@@ -1,6 +1,8 @@
 #include "volguide/media/vdb_header_check.h"
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
@@ -34,7 +36,7 @@ constexpr uint32_t kMinFormat = 222;  // OPENVDB_FILE_VERSION_NODE_MASK_COMPRESS
 // sizes (int64 per leaf), each as uint32 byte count + Blosc buffer, or 0 + the raw array; a byte count
 // of 0xffffffff for the sizes means none are stored.
 constexpr uint32_t kNoCompressedSizes = 0xffffffffu;
-constexpr uint64_t kBloscHeaderBytes = 16;
+constexpr uint64_t kBloscHeaderBytes = 16, kBloscPadBytes = 128;
 // Every leaf costs at least its 64-byte value mask in the file's topology, so a file of N bytes holds
 // at most N / 64 leaves; the count sizes two arrays OpenVDB allocates before reading them.
 constexpr uint64_t kMinBytesPerLeaf = 64;
@@ -49,25 +51,66 @@ uint64_t map_bytes(const std::string& type) {
     return 0;
 }
 
-// After the transform: int32 buffer count (1 since OpenVDB 3), then the root node: background value,
-// uint32 tile and child counts, each tile (int32 origin[3], value, bool active), each child (int32
-// origin[3], then its topology, which starts with the child and value masks of a 32^3 node: 8 KiB).
-// OpenVDB allocates a 32^3 internal node (264 KiB of child table and masks) per declared child
-// before reading it: a fuzzed 10 KB file declared 1.7 G of them. Value sizes of the tree types
-// openvdb::initialize() registers; a "_HalfFloat" grid still stores its root values in full.
-constexpr uint64_t kRootChildMinBytes = 12 + 2 * 4096;
-constexpr uint64_t kRootChildMemoryBytes = 32768 * 8 + 2 * 4096;
-uint64_t tree_value_bytes(std::string type) {
+// After the transform the tree (tree/RootNode.h, InternalNode.h, LeafNode.h): int32 buffer count (1
+// since OpenVDB 3), then the topology — the root's background value, uint32 tile and child counts, each
+// tile (int32 origin[3], value, bool active), each child (int32 origin[3], then a 32^3 internal node) —
+// and then the voxel buffers of every leaf, in the topology's order. An internal node is its child
+// and value masks, its values (compressed, below), then each child's topology in bit order: 16^3
+// internal nodes under the 32^3 ones, leaves (a 64-byte value mask) under those. OpenVDB allocates
+// every node before reading it and reads on after the stream ran dry (a failed read leaves zeroes), so
+// a 32^3 node whose child mask is full makes it allocate 32768 16^3 nodes (1.1 GB) from an 8 KB
+// file: every node must be in the file and their memory within the budget before OpenVDB starts.
+constexpr uint64_t kRootDim = 32 * 32 * 32, kInternalDim = 16 * 16 * 16, kLeafDim = 8 * 8 * 8;
+constexpr uint64_t kLeafMaskBytes = kLeafDim / 8;
+
+// io/Compression.h: the grid's compression flags and the per-node metadata byte.
+constexpr uint32_t kCompressZip = 0x1, kCompressActiveMask = 0x2, kCompressBlosc = 0x4;
+enum : uint8_t {
+    kNoMaskOrInactiveVals = 0,
+    kNoMaskAndMinusBg = 1,
+    kNoMaskAndOneInactiveVal = 2,
+    kMaskAndNoInactiveVals = 3,
+    kMaskAndOneInactiveVal = 4,
+    kMaskAndTwoInactiveVals = 5,
+    kNoMaskAndAllVals = 6,
+};
+
+// How a tree type's nodes are stored: its value size, the size of a value saved as half float (0 for
+// types that are not real), and its leaves' buffers (values compressed like a node's; bool leaves: the
+// value mask, origin and a 64-byte bit buffer; mask leaves: the mask and origin). Point grids' leaves
+// store attribute arrays that are not walked: only their root is bounded, and read_vdb_file refuses
+// their type before OpenVDB reads their tree. The tree types openvdb::initialize() registers; a
+// "_HalfFloat" suffix only marks the grid as saved as half (GridDescriptor strips it).
+enum class LeafKind { Values, Bool, Mask, Points };
+struct TreeLayout {
+    uint64_t value = 0, half = 0;
+    LeafKind leaf = LeafKind::Values;
+};
+std::optional<TreeLayout> tree_layout(std::string type) {
     const std::string half = "_HalfFloat";
     if (type.size() > half.size() && type.compare(type.size() - half.size(), half.size(), half) == 0)
         type.resize(type.size() - half.size());
-    static const std::map<std::string, uint64_t, std::less<>> sizes = {
-        {"Tree_bool_5_4_3", 1},     {"Tree_mask_5_4_3", 1},    {"Tree_float_5_4_3", 4},
-        {"Tree_double_5_4_3", 8},   {"Tree_int32_5_4_3", 4},   {"Tree_int64_5_4_3", 8},
-        {"Tree_vec3i_5_4_3", 12},   {"Tree_vec3s_5_4_3", 12},  {"Tree_vec3d_5_4_3", 24},
-        {"Tree_ptidx32_5_4_3", 4},  {"Tree_ptdataidx32_5_4_3", 4}};
-    const auto it = sizes.find(type);
-    return it == sizes.end() ? 0 : it->second;
+    static const std::map<std::string, TreeLayout, std::less<>> layouts = {
+        {"Tree_bool_5_4_3", {1, 0, LeafKind::Bool}},         {"Tree_mask_5_4_3", {1, 0, LeafKind::Mask}},
+        {"Tree_float_5_4_3", {4, 2, LeafKind::Values}},      {"Tree_double_5_4_3", {8, 2, LeafKind::Values}},
+        {"Tree_int32_5_4_3", {4, 0, LeafKind::Values}},      {"Tree_int64_5_4_3", {8, 0, LeafKind::Values}},
+        {"Tree_vec3i_5_4_3", {12, 0, LeafKind::Values}},     {"Tree_vec3s_5_4_3", {12, 6, LeafKind::Values}},
+        {"Tree_vec3d_5_4_3", {24, 6, LeafKind::Values}},     {"Tree_ptidx32_5_4_3", {4, 0, LeafKind::Points}},
+        {"Tree_ptdataidx32_5_4_3", {4, 0, LeafKind::Points}}};
+    const auto it = layouts.find(type);
+    if (it == layouts.end()) return std::nullopt;
+    return it->second;
+}
+
+// What OpenVDB holds in memory per node it creates (a table entry per child or value, the masks),
+// an upper bound: a table entry is a pointer or a value.
+uint64_t internal_node_memory(uint64_t dim, uint64_t value) { return dim * (8 + value) + 2 * dim / 8; }
+uint64_t leaf_node_memory(uint64_t value) { return kLeafDim * value + 2 * kLeafMaskBytes + 64; }
+
+uint64_t popcount(const std::vector<uint64_t>& words) {
+    uint64_t n = 0;
+    for (uint64_t w : words) n += uint64_t(__builtin_popcountll(w));
+    return n;
 }
 
 class VdbWalker {
@@ -87,7 +130,7 @@ class VdbWalker {
         // A descriptor is at least three empty strings and three offsets: 36 bytes.
         if (grids < 0 || uint64_t(grids) > (size_ - pos_) / 36)
             fail(fmt::format("{} grids declared in {} bytes", grids, size_ - pos_));
-        std::vector<uint64_t> offsets;
+        std::vector<uint64_t> offsets, blocks, ends;
         std::vector<std::string> types;
         std::vector<bool> instances;
         for (int32_t g = 0; g < grids; ++g) {
@@ -98,42 +141,211 @@ class VdbWalker {
             if (pos_ > grid || grid > block || block > end || end > size_)
                 fail(fmt::format("grid {} has offsets {}, {}, {} outside the file's {} bytes", g, grid, block, end, size_));
             offsets.push_back(grid);
+            blocks.push_back(block);
+            ends.push_back(end);
             pos_ = end;  // each descriptor is followed by its grid; the next descriptor starts after it
         }
+        bool has_instances = false, has_points = false;
         for (size_t g = 0; g < offsets.size(); ++g) {
             pos_ = offsets[g];
-            read_u32("grid compression");
-            walk_metadata("a grid's metadata");
+            const uint32_t compression = read_u32("grid compression");
+            const std::optional<bool> saved_as_half = walk_metadata("a grid's metadata");
             const std::string map = read_string("grid transform's map type");
             const uint64_t bytes = map_bytes(map);
             if (bytes == 0)
                 fail(fmt::format("grid {} has a \"{}\" transform (volguide reads scale and translation maps)", g, map));
             need(bytes, "the grid transform");
+            check_scale_map(g, map);
             pos_ += bytes;
             // An instance shares its parent's tree (read at the parent's offset); a tree type OpenVDB
             // does not register is refused by OpenVDB before its topology is read.
-            const uint64_t value = tree_value_bytes(types[g]);
-            if (!instances[g] && value > 0) walk_root(value);
+            const std::optional<TreeLayout> layout = tree_layout(types[g]);
+            has_instances = has_instances || instances[g];
+            if (instances[g] || !layout) continue;
+            has_points = has_points || layout->leaf == LeafKind::Points;
+            // Grid::readTopology/readBuffers read values as half floats when the grid's metadata says
+            // so (readMeta replaces what the descriptor's "_HalfFloat" suffix set); writers set both.
+            const bool suffix = types[g].size() > 10 && types[g].compare(types[g].size() - 10, 10, "_HalfFloat") == 0;
+            if (saved_as_half.value_or(false) != suffix)
+                fail(fmt::format("grid {}'s type \"{}\" and its is_saved_as_half_float metadata disagree", g, types[g]));
+            walk_tree(*layout, compression, suffix, blocks[g]);
+            // io::Archive writes the descriptor's offsets from where the buffers began and ended.
+            if (layout->leaf != LeafKind::Points && pos_ != ends[g])
+                fail(fmt::format("grid {}'s voxel buffers end at offset {}, its descriptor says {}", g, pos_, ends[g]));
         }
+        // Reading an instance reads its parent's tree, found by name: every tree it could be must be walked.
+        if (has_instances && has_points)
+            fail("instanced grids in a file with point grids (their trees are not checked before reading)");
     }
 
   private:
-    void walk_root(uint64_t value) {
+    // A scale map stores its scale and the values derived from it (voxel size, inverse, ...), and
+    // OpenVDB reads them all without deriving them again: a file whose stored values disagree reads
+    // as one scale and converts to an affine map as another (a fuzzed file's getAffineMap() threw
+    // "nearly singular" past a frame that cannot unwind). OpenVDB writes them consistent.
+    void check_scale_map(size_t g, const std::string& map) {
+        if (map.find("Scale") == std::string::npos) return;
+        const uint64_t at = pos_ + (map.find("Translate") != std::string::npos ? 24 : 0);
+        double v[15];
+        read_at(at, reinterpret_cast<char*>(v), sizeof(v));
+        for (int i = 0; i < 3; ++i) {
+            const double scale = v[i], voxel = v[3 + i], inverse = v[6 + i];
+            bool ok = std::isfinite(scale) && scale != 0.0 && std::isfinite(1.0 / scale);
+            ok = ok && std::abs(voxel - std::abs(scale)) <= 1e-6 * std::abs(scale);
+            ok = ok && std::abs(inverse * scale - 1.0) <= 1e-6;
+            for (int k = 9; k < 15; ++k) ok = ok && std::isfinite(v[k]);
+            if (!ok)
+                fail(fmt::format("grid {}'s {} stores scale {}, voxel size {} and inverse {} along axis {} (inconsistent)",
+                                 g, map, scale, voxel, inverse, i));
+        }
+    }
+    // Walks the tree at pos_ whose buffers start at `block` (the descriptor's block offset).
+    void walk_tree(const TreeLayout& layout, uint32_t compression, bool half, uint64_t block) {
+        layout_ = layout;
+        compression_ = compression;
+        from_half_ = half && layout.half > 0;
+        element_ = from_half_ ? layout.half : layout.value;
+        memory_ = 0;
+        leaf_active_.clear();
         const uint32_t buffers = read_u32("tree buffer count");
         if (buffers != 1) fail(fmt::format("a tree declares {} buffers (OpenVDB writes 1)", buffers));
-        need(value, "the tree's background value");
-        pos_ += value;
+        need(layout.value, "the tree's background value");
+        pos_ += layout.value;
         const uint32_t tiles = read_u32("root tile count"), children = read_u32("root child count");
-        const uint64_t left = size_ - pos_, tile_bytes = 12 + value + 1;
-        if (tiles > left / tile_bytes)
-            fail(fmt::format("the tree's root declares {} tiles of {} bytes in {} bytes", tiles, tile_bytes, left));
-        if (children > (left - uint64_t(tiles) * tile_bytes) / kRootChildMinBytes)
+        const uint64_t tile_bytes = 12 + layout.value + 1;
+        if (pos_ > size_ || tiles > (size_ - pos_) / tile_bytes)
+            fail(fmt::format("the tree's root declares {} tiles of {} bytes in {} bytes", tiles, tile_bytes,
+                             size_ - std::min(pos_, size_)));
+        pos_ += uint64_t(tiles) * tile_bytes;
+        // Each child is at least its origin and a 32^3 node's two masks.
+        if (children > (size_ - pos_) / (12 + kRootDim / 4))
             fail(fmt::format("the tree's root declares {} child nodes (at least {} bytes each) in {} bytes", children,
-                             kRootChildMinBytes, left - uint64_t(tiles) * tile_bytes));
+                             12 + kRootDim / 4, size_ - pos_));
+        if (layout.leaf == LeafKind::Points) {
+            // Only the root is bounded (see TreeLayout): its children's 32^3 nodes.
+            add_memory(uint64_t(children) * internal_node_memory(kRootDim, layout.value), "the root's child nodes");
+            return;
+        }
+        // RootNode::readBuffers visits its children in the order of their origins, the order in which
+        // OpenVDB writes them: the buffers below follow the topology's order only if the file's does.
+        std::array<int32_t, 3> last{};
+        for (uint32_t c = 0; c < children; ++c) {
+            std::array<int32_t, 3> origin;
+            for (int32_t& o : origin) o = int32_t(read_u32("a root child's origin"));
+            if (c > 0 && !(last < origin))
+                fail(fmt::format("the root's child nodes are not in the order OpenVDB writes them (child {} at ({}, {}, {}))",
+                                 c, origin[0], origin[1], origin[2]));
+            last = origin;
+            walk_internal_topology(kRootDim);
+        }
+        if (pos_ != block)
+            fail(fmt::format("the tree's topology ends at offset {}, its descriptor's buffers start at {}", pos_, block));
+        for (uint64_t active : leaf_active_) walk_leaf_buffer(active);
+    }
+    // A 32^3 or 16^3 internal node's topology and, below it, its children's.
+    void walk_internal_topology(uint64_t dim) {
+        add_memory(internal_node_memory(dim, layout_.value), "the tree's internal nodes");
+        const uint64_t mask_bytes = dim / 8;
+        const std::vector<uint64_t> child_mask = read_mask(mask_bytes, "an internal node's child mask");
+        const uint64_t active = popcount(read_mask(mask_bytes, "an internal node's value mask"));
+        walk_compressed_values(dim, active, layout_.value);
+        for (size_t w = 0; w < child_mask.size(); ++w)
+            for (uint64_t bits = child_mask[w]; bits != 0; bits &= bits - 1) {
+                if (dim == kRootDim) {
+                    walk_internal_topology(kInternalDim);
+                } else {
+                    add_memory(leaf_node_memory(layout_.value), "the tree's leaves");
+                    const std::vector<uint64_t> leaf_mask =
+                        read_mask(kLeafMaskBytes, layout_.leaf == LeafKind::Mask ? "a leaf's mask" : "a leaf's value mask");
+                    leaf_active_.push_back(popcount(leaf_mask));
+                }
+            }
+    }
+    // A leaf's voxel buffer (LeafNode::readBuffers on a seekable stream: its value mask is stepped
+    // over, the topology's mask says which values are stored).
+    void walk_leaf_buffer(uint64_t active) {
+        switch (layout_.leaf) {
+        case LeafKind::Values:
+            need(kLeafMaskBytes, "a leaf's value mask");
+            pos_ += kLeafMaskBytes;
+            walk_compressed_values(kLeafDim, active, layout_.value);
+            break;
+        case LeafKind::Bool:  // value mask, origin, value bits
+            need(kLeafMaskBytes + 12 + kLeafMaskBytes, "a bool leaf's buffer");
+            pos_ += kLeafMaskBytes + 12 + kLeafMaskBytes;
+            break;
+        case LeafKind::Mask:  // mask, origin
+            need(kLeafMaskBytes + 12, "a mask leaf's buffer");
+            pos_ += kLeafMaskBytes + 12;
+            break;
+        case LeafKind::Points: break;
+        }
+    }
+    // io::readCompressedValues for `count` values, `active` of them active: a metadata byte, up to two
+    // inactive values and a selection mask, then the stored values (only the active ones when the
+    // grid is mask-compressed and the byte allows) as readData stores them.
+    void walk_compressed_values(uint64_t count, uint64_t active, uint64_t value) {
+        need(1, "a node's compression metadata");
+        const uint8_t metadata = uint8_t(byte_at(pos_));
+        pos_ += 1;
+        if (metadata == kNoMaskAndOneInactiveVal || metadata == kMaskAndOneInactiveVal ||
+            metadata == kMaskAndTwoInactiveVals) {
+            const uint64_t n = metadata == kMaskAndTwoInactiveVals ? 2 : 1;
+            need(n * value, "a node's inactive values");
+            pos_ += n * value;
+        }
+        if (metadata == kMaskAndNoInactiveVals || metadata == kMaskAndOneInactiveVal ||
+            metadata == kMaskAndTwoInactiveVals) {
+            need(count / 8, "a node's selection mask");
+            pos_ += count / 8;
+        }
+        const uint64_t stored = (compression_ & kCompressActiveMask) && metadata != kNoMaskAndAllVals ? active : count;
+        // HalfReader reads nothing for no values; readData still reads a (zip or Blosc) chunk header.
+        if (stored == 0 && from_half_) return;
+        walk_data(stored * element_);
+    }
+    // io::readData: with Blosc or zip an int64 chunk size (<= 0: that many bytes stored raw, which
+    // must be the expected size), else the raw values.
+    void walk_data(uint64_t bytes) {
+        if (!(compression_ & (kCompressBlosc | kCompressZip))) {
+            need(bytes, "a node's values");
+            pos_ += bytes;
+            return;
+        }
+        const int64_t chunk = int64_t(read_u64("a compressed chunk's size"));
+        if (chunk <= 0) {
+            if (uint64_t(0) - uint64_t(chunk) != bytes)
+                fail(fmt::format("an uncompressed chunk of {} bytes where {} are expected", uint64_t(0) - uint64_t(chunk),
+                                 bytes));
+            need(bytes, "an uncompressed chunk");
+            pos_ += bytes;
+            return;
+        }
+        need(uint64_t(chunk), "a compressed chunk");
+        if (compression_ & kCompressBlosc) {
+            // Blosc takes both sizes from its header: it would read past the chunk if its header said so.
+            if (uint64_t(chunk) < kBloscHeaderBytes)
+                fail(fmt::format("a {}-byte Blosc chunk (its header alone is {})", chunk, kBloscHeaderBytes));
+            const uint32_t uncompressed = u32_at(pos_ + 4), compressed = u32_at(pos_ + 12);
+            if (uncompressed != bytes || compressed != uint64_t(chunk))
+                fail(fmt::format("a Blosc chunk's header declares {} bytes from {} ({} from {} expected)", uncompressed,
+                                 compressed, bytes, chunk));
+        }
+        pos_ += uint64_t(chunk);
+    }
+    std::vector<uint64_t> read_mask(uint64_t bytes, const std::string& what) {
+        need(bytes, what);
+        std::vector<uint64_t> words(bytes / 8);
+        read_at(pos_, reinterpret_cast<char*>(words.data()), bytes);
+        pos_ += bytes;
+        return words;
+    }
+    void add_memory(uint64_t bytes, const std::string& what) {
+        memory_ += bytes;
         const uint64_t budget = memory_budget_bytes();
-        if (budget > 0 && uint64_t(children) * kRootChildMemoryBytes > budget)
-            fail(fmt::format("the tree's root declares {} child nodes ({} in memory), more than {}", children,
-                             format_bytes(uint64_t(children) * kRootChildMemoryBytes), memory_budget_description()));
+        if (budget > 0 && memory_ > budget)
+            fail(fmt::format("the tree needs more than {} in memory ({} at {}), more than {}", format_bytes(memory_),
+                             what, pos_, memory_budget_description()));
     }
     [[noreturn]] void fail(const std::string& what) const {
         throw InputError(SourceLocation{path_, 0}, fmt::format("\"{}\": cannot read the .vdb file: {}", path_, what));
@@ -186,21 +398,28 @@ class VdbWalker {
         pos_ += n;
         return s;
     }
-    void walk_metadata(const std::string& what) {
+    // Returns the value of an "is_saved_as_half_float" entry (GridBase::saveFloatAsHalf), the last one.
+    std::optional<bool> walk_metadata(const std::string& what) {
+        std::optional<bool> saved_as_half;
         const uint32_t count = read_u32("entry count of " + what);
         // An entry is at least two empty strings and an empty value: 12 bytes.
         if (pos_ > size_ || count > (size_ - pos_) / 12)
             fail(fmt::format("{} declares {} entries in {} bytes", what, count, size_ - std::min(pos_, size_)));
         for (uint32_t i = 0; i < count; ++i) {
-            skip_string("metadata name");
+            const std::string name = read_string("metadata name");
             const std::string type = read_string("metadata type");
             const uint32_t n = read_u32("metadata size");
             need(n, "a metadata value");
             if (const std::optional<uint32_t> layout = vdb_metadata_layout_bytes(type); layout && *layout != n)
                 fail(fmt::format("a \"{}\" metadata value declares {} bytes; OpenVDB reads {}", type, n, *layout));
             if (type == "__delayedload" && n > 0) walk_delayed_load(pos_, pos_ + n);
+            if (name == "is_saved_as_half_float") {
+                if (type != "bool") fail(fmt::format("is_saved_as_half_float metadata of type \"{}\" (bool expected)", type));
+                saved_as_half = byte_at(pos_) != 0;
+            }
             pos_ += n;
         }
+        return saved_as_half;
     }
     // One array of the delayed-load metadata at [at, end): uint32 byte count, then a Blosc buffer of
     // that many bytes holding count elements, or (byte count 0) the raw elements. Returns its end.
@@ -215,8 +434,10 @@ class VdbWalker {
             if (bytes < kBloscHeaderBytes)
                 fail(fmt::format("the delayed-load {} is a {}-byte Blosc buffer (its header alone is {})", what, bytes,
                                  kBloscHeaderBytes));
+            // OpenVDB's compression::bloscCompress pads arrays shorter than 128 bytes to 128.
             const uint32_t uncompressed = u32_at(at + 4), compressed = u32_at(at + 12);
-            if (uncompressed != count * element || compressed != bytes)
+            const bool padded = count * element < kBloscPadBytes && uncompressed == kBloscPadBytes;
+            if ((uncompressed != count * element && !padded) || compressed != bytes)
                 fail(fmt::format("the delayed-load {}'s Blosc header declares {} bytes from {} ({} from {} expected)",
                                  what, uncompressed, compressed, count * element, bytes));
         }
@@ -237,6 +458,14 @@ class VdbWalker {
     std::ifstream& in_;
     uint64_t size_;
     uint64_t pos_ = 0;
+    // The tree being walked: its layout, the grid's compression flags, the bytes of a stored value,
+    // the memory OpenVDB will hold for its nodes, the active voxels of each leaf in topology order.
+    TreeLayout layout_;
+    uint32_t compression_ = 0;
+    bool from_half_ = false;
+    uint64_t element_ = 0;
+    uint64_t memory_ = 0;
+    std::vector<uint64_t> leaf_active_;
 };
 
 }  // namespace
