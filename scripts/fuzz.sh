@@ -35,7 +35,10 @@ for t in "${targets[@]}"; do
   echo "== fuzz_$t: $seconds s"
   # -timeout: an input taking 10 s is a hang; -rss_limit_mb: a reader allocating > 2 GB for a small
   # file is a finding (resources must be bounded before allocation).
-  if ! "$build/fuzz_$t" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=2048 \
+  # FUZZ_SEED (default 0: libFuzzer picks one): a fixed seed makes a run explore the same inputs in
+  # the same order (CI's smoke run replays the corpus and explores from seed 1, so it fails on a
+  # regression, not on a new finding it happened to reach; the long runs pick their own seeds).
+  if ! "$build/fuzz_$t" -seed="${FUZZ_SEED:-0}" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=2048 \
       -print_final_stats=1 -artifact_prefix="$artifacts/" "${dict[@]}" "$corpus" "$root/tests/fuzz/corpus/$t" \
       2>"$build/fuzz-$t.log"; then
     failed+=("$t")
