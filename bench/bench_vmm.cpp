@@ -8,6 +8,7 @@
 #include "volguide/core/sampler.h"
 #include "volguide/core/warp.h"
 #include "volguide/vmm/phase_vmm.h"
+#include "volguide/vmm/vmm_fast_product.h"
 #include "volguide/vmm/vmm_fit.h"
 
 using namespace volguide;
@@ -76,6 +77,27 @@ static void BM_VmmProduct8x3(benchmark::State& state) {
     }
 }
 BENCHMARK(BM_VmmProduct8x3);
+
+// The single-precision product of the guided direction sampler (vmm_fast_product.h): four lobes at
+// a time (product_fast) and one at a time (product_fast_scalar), 8 radiance lobes x an HG phase VMM.
+template <bool Lanes>
+static void BM_VmmProductFast(benchmark::State& state) {
+    auto dirs = directions(1024);
+    Vmm m = radiance_vmm(int(state.range(0)));
+    PhaseVmm phase = hg_phase_vmm(0.7f);
+    std::vector<VmfMixture<kPhaseVmmMaxLobes>> oriented;
+    for (const Vec3f& d : dirs) oriented.push_back(phase.oriented(d));
+    VmfMixture<kVmmMaxLobes * kPhaseVmmMaxLobes> out(VmfMixture<kVmmMaxLobes * kPhaseVmmMaxLobes>::Uninitialized{});
+    size_t i = 0;
+    for (auto _ : state) {
+        const double z = Lanes ? product_fast(m, oriented[i++ & 1023], out) : product_fast_scalar(m, oriented[i++ & 1023], out);
+        benchmark::DoNotOptimize(z);
+        benchmark::DoNotOptimize(out);
+    }
+    state.counters["product_lobes"] = double(out.count);
+}
+BENCHMARK(BM_VmmProductFast<true>)->Name("BM_VmmProductFast/lanes")->Arg(8)->Arg(32);
+BENCHMARK(BM_VmmProductFast<false>)->Name("BM_VmmProductFast/scalar")->Arg(8)->Arg(32);
 
 static void BM_HgPhaseVmmLookup(benchmark::State& state) {
     float g = 0.1f;
