@@ -10,7 +10,6 @@
 #include "volguide/guiding/surface_guide.h"
 #include "volguide/vmm/phase_vmm.h"
 #include "volguide/vmm/vmm_fast_product.h"
-#include "volguide/vmm/vmm_product_simd.h"
 
 using namespace volguide;
 using namespace volguide::test;
@@ -96,64 +95,10 @@ TEST(VmmFastProduct, MixtureTimesMixtureMatchesTheDoublePrecisionProduct) {
         const double z_fast = product_fast(a, b, fast);
         ASSERT_EQ(ref.count, fast.count) << trial;
         EXPECT_NEAR(z_fast, z_ref, 1e-4 * z_ref) << trial;
-        for (int k = 0; k < a.count; ++k)
-            for (int j = 0; j < b.count; ++j) {
-                const int r = k * b.count + j, f = j * a.count + k;  // product_into's order, product_fast's
-                EXPECT_NEAR(fast.weight[f], ref.weight[r], 1e-4 * ref.weight[r] + 1e-6) << trial << " lobe " << r;
-                EXPECT_NEAR(fast.kappa[f], ref.kappa[r], 1e-4 * ref.kappa[r] + 1e-4) << trial;
-            }
-    }
-}
-
-// product_fast computes four lobes of a at a time (vmm_product_simd.cpp) with a four-lane exp and a
-// Taylor expm1; product_fast_scalar one at a time with std::exp/expm1. The same lobes (in transposed
-// slots), equal up to float rounding: every lobe count 1..32 (full and partial lanes), kappas from 0 to
-// 32000 on both sides (every branch of the normalisation), phase VMMs and general mixtures.
-TEST(VmmFastProduct, FourLaneProductMatchesTheScalarOne) {
-    std::mt19937 rng(11);
-    std::uniform_real_distribution<float> u(0.f, 1.f);
-    for (int trial = 0; trial < 3000; ++trial) {
-        Vmm a;
-        const int lobes = 1 + trial % 32;
-        for (int k = 0; k < lobes; ++k) {
-            const float kappa = trial % 7 == 0 && k == 0 ? 0.f : std::exp(std::log(1e-5f) + u(rng) * std::log(3.2e9f));
-            a.add_lobe(0.05f + u(rng), VmfLobe(random_direction(rng), kappa));
+        for (int k = 0; k < ref.count; ++k) {
+            EXPECT_NEAR(fast.weight[k], ref.weight[k], 1e-4 * ref.weight[k] + 1e-6) << trial << " lobe " << k;
+            EXPECT_NEAR(fast.kappa[k], ref.kappa[k], 1e-4 * ref.kappa[k] + 1e-4) << trial;
         }
-        a.normalize_weights();
-        VmfMixture<kPhaseVmmMaxLobes> b;
-        if (trial % 2 == 0) {
-            b = hg_phase_vmm(-0.95f + 1.9f * u(rng)).oriented(random_direction(rng));
-        } else {
-            const int n = 1 + trial % kPhaseVmmMaxLobes;
-            for (int j = 0; j < n; ++j)
-                b.add_lobe(0.1f + u(rng), VmfLobe(random_direction(rng), std::exp(std::log(1e-5f) + u(rng) * std::log(3.2e9f))));
-            b.normalize_weights();
-        }
-        VmfMixture<32 * kPhaseVmmMaxLobes> scalar(VmfMixture<32 * kPhaseVmmMaxLobes>::Uninitialized{}),
-            lanes(VmfMixture<32 * kPhaseVmmMaxLobes>::Uninitialized{});
-        const double z_scalar = product_fast_scalar(a, b, scalar);
-        const double z_lanes = product_fast(a, b, lanes);
-        ASSERT_EQ(scalar.count, lanes.count) << trial;
-        EXPECT_NEAR(z_lanes, z_scalar, 1e-5 * z_scalar) << trial;
-        for (int s = 0; s < scalar.count; ++s) {
-            const int k = s / b.count, j = s % b.count, i = j * a.count + k;  // the lanes' slot of lobe (k, j)
-            EXPECT_NEAR(lanes.weight[i], scalar.weight[s], 1e-5f * scalar.weight[s] + 1e-30f) << trial << " lobe " << s;
-            EXPECT_NEAR(lanes.kappa[i], scalar.kappa[s], 1e-6f * scalar.kappa[s]) << trial << " lobe " << s;
-            EXPECT_NEAR(lanes.norm[i], scalar.norm[s], 1e-6f * scalar.norm[s]) << trial << " lobe " << s;
-            EXPECT_NEAR(lanes.mu_x[i], scalar.mu_x[s], 1e-6f) << trial << " lobe " << s;
-            EXPECT_NEAR(lanes.mu_y[i], scalar.mu_y[s], 1e-6f) << trial << " lobe " << s;
-            EXPECT_NEAR(lanes.mu_z[i], scalar.mu_z[s], 1e-6f) << trial << " lobe " << s;
-        }
-    }
-}
-
-TEST(VmmFastProduct, FourLaneNormalizationMatchesTheDoubleOne) {
-    const float kappas[] = {0.f, 1e-5f, 5e-4f, 9.99e-4f, 1e-3f, 0.1f, 0.2499f, 0.25f, 1.f, 8.99f, 9.f, 50.f, 32000.f};
-    for (float k : kappas) {
-        const float in[4] = {k, k, k, k};
-        float out[4];
-        vmf_normalization_simd(in, out);
-        EXPECT_NEAR(out[0], vmf_normalization(k), 2e-6 * vmf_normalization(k)) << k;
     }
 }
 

@@ -1,15 +1,9 @@
 #pragma once
-// Four-lane float arithmetic for the vMF kernels (vmf_sum.cpp, vmm_product_simd.cpp): GCC/Clang
+// Four-lane float arithmetic for the vMF kernels (vmf_sum.cpp): GCC/Clang
 // vector extensions (SSE2 on x86-64, NEON on arm64; no -march needed). Internal to the kernels'
 // .cpp files: the four-float loads must not be inlined into callers whose arrays GCC sees as
 // shorter than four.
-#include <cmath>
 #include <cstring>
-#if defined(__SSE__)
-#include <xmmintrin.h>
-#elif defined(__ARM_NEON) && defined(__aarch64__)
-#include <arm_neon.h>
-#endif
 
 namespace volguide::simd4 {
 
@@ -31,9 +25,9 @@ using I4 = int __attribute__((vector_size(16)));
 [[gnu::always_inline]] inline F4 exp4(F4 x_in) {
     constexpr float kMinNormalArg = -87.33654475f;  // ln(FLT_MIN)
     // Lanes flushed to 0 below compute exp(0) instead: exp(kMinNormalArg) itself can round below
-    // FLT_MIN (2^-126 times a polynomial under 1), and that product took a microcode assist in every
-    // such lane (the product kernel's normalisation, e^{-2 kappa} for kappa >= 44, spent a sixth of
-    // its time on it).
+    // FLT_MIN (2^-126 times a polynomial under 1), and that product takes a microcode assist in every
+    // such lane (a four-lane product kernel tried for issue 20 spent a sixth of its time on it, in
+    // the normalisations' e^{-2 kappa} for kappa >= 44).
     const F4 x = x_in > splat(kMinNormalArg) ? (x_in < splat(88.f) ? x_in : splat(88.f)) : splat(0.f);
     // n = round(x / ln 2), r = x - n ln 2 (Cody-Waite, two parts) in [-ln2 / 2, ln2 / 2].
     const F4 fx = x * splat(1.44269504088896341f);
@@ -54,16 +48,5 @@ using I4 = int __attribute__((vector_size(16)));
     return x_in == x_in ? flushed : x_in;
 }
 
-
-// Correctly rounded square root per lane (the instruction where there is one).
-[[gnu::always_inline]] inline F4 sqrt4(F4 x) {
-#if defined(__SSE__)
-    return (F4)_mm_sqrt_ps((__m128)x);
-#elif defined(__ARM_NEON) && defined(__aarch64__)
-    return (F4)vsqrtq_f32((float32x4_t)x);
-#else
-    return F4{std::sqrt(x[0]), std::sqrt(x[1]), std::sqrt(x[2]), std::sqrt(x[3])};
-#endif
-}
 
 }  // namespace volguide::simd4

@@ -9,7 +9,6 @@
 #include <cmath>
 
 #include "volguide/vmm/vmm.h"
-#include "volguide/vmm/vmm_product_simd.h"
 
 namespace volguide {
 
@@ -98,37 +97,12 @@ double product_with_lobe_fast(const VmfMixture<A>& a, const VmfLobe& b, VmfMixtu
     return normalize_product_fast(out, a.count, exponent.data(), max_exponent);
 }
 
-// out = a(w) b(w) / Z for two mixtures (K x J lobes, lobe (k, j) at j * a.count + k: the transpose of
-// product_into's order, so that four lobes of a are computed and stored together,
-// vmm_product_simd.h); returns Z in double (0: out is empty). product_fast_scalar below is the same
-// computation one lobe at a time, in product_into's order.
+// out = a(w) b(w) / Z for two mixtures (K x J lobes, lobe (k, j) at k * b.count + j, the order
+// of product_into); returns Z in double (0: out is empty). Lobes of b on the axis of the lobe
+// before them (a phase VMM's) share the angle to each lobe of a.
 template <int A, int B, int C>
 double product_fast(const VmfMixture<A>& a, const VmfMixture<B>& b, VmfMixture<C>& out) {
     static_assert(C >= A * B, "product_fast: output capacity below A x B");
-    std::array<float, A * B> exponent;
-    auto arrays = [](const auto& m) {
-        return VmfLobeArrays{m.weight.data(), m.mu_x.data(), m.mu_y.data(), m.mu_z.data(),
-                             m.kappa.data(),  m.norm.data(), m.count};
-    };
-    const VmfLobeOutput o{out.weight.data(), out.mu_x.data(),  out.mu_y.data(),
-                          out.mu_z.data(),   out.kappa.data(), out.norm.data()};
-    const float max_exponent = product_lobes_simd(arrays(a), arrays(b), o, exponent.data());
-    const int n = a.count * b.count;
-    out.count = 0;
-    if (!std::isfinite(max_exponent)) return 0.0;
-    const float z = scale_by_exponent_simd(out.weight.data(), exponent.data(), n, max_exponent);
-    if (!(z > 0.f) || !std::isfinite(z)) return 0.0;
-    out.count = n;
-    const float inv = 1.f / z;
-    for (int i = 0; i < n; ++i) out.weight[i] *= inv;
-    return double(z) * std::exp(double(max_exponent));
-}
-
-// product_fast one lobe at a time (the reference its lanes are tested against). Lobes of b on the
-// axis of the lobe before them (a phase VMM's) share the angle to each lobe of a.
-template <int A, int B, int C>
-double product_fast_scalar(const VmfMixture<A>& a, const VmfMixture<B>& b, VmfMixture<C>& out) {
-    static_assert(C >= A * B, "product_fast_scalar: output capacity below A x B");
     std::array<float, A * B> exponent;
     std::array<bool, B> same_axis;
     for (int j = 0; j < b.count; ++j)
