@@ -63,3 +63,27 @@ TEST(GuidingFieldPerSampleMean, NeeSamplesDoNotCountAsVertices) {
     // 200 vertices carrying 100 x (2 + 4) in total.
     EXPECT_FLOAT_EQ(f.leaves()[0].fluence.r, 3.f);
 }
+
+// A split path (guided splitting): vertex 0, then two copies made there. The first copy records
+// vertex 1 and collects 2; the second resumes at vertex 0, records vertex 2 and collects 3; a copy
+// made before any vertex credits nothing. Each vertex's radiance is its subtree's.
+TEST(TrainingRecorder, SplitCopiesCreditTheirAncestorsOnly) {
+    TrainingRecorder rec;
+    const int before_any = rec.branch_point();
+    rec.record_medium_vertex(Point3f(0.f), Vec3f(0.f, 0.f, 1.f), 1.f, Color3(1.f));
+    rec.record_contribution(Color3(0.5f));  // NEE at vertex 0
+    const int at_0 = rec.branch_point();    // the second copy, walked later
+    rec.record_medium_vertex(Point3f(1.f), Vec3f(0.f, 0.f, 1.f), 1.f, Color3(0.5f));
+    rec.record_contribution(Color3(2.f));
+    rec.resume_branch(at_0);
+    rec.record_medium_vertex(Point3f(2.f), Vec3f(0.f, 0.f, 1.f), 1.f, Color3(0.5f));
+    rec.record_contribution(Color3(3.f));
+    rec.resume_branch(before_any);
+    rec.record_contribution(Color3(100.f));  // an emitter seen by a copy made before any vertex
+    std::vector<RadianceSample> out;
+    rec.finish(out);
+    ASSERT_EQ(out.size(), 3u);
+    EXPECT_FLOAT_EQ(out[0].weight.r, 0.5f + 2.f + 3.f);
+    EXPECT_FLOAT_EQ(out[1].weight.r, 2.f / 0.5f);
+    EXPECT_FLOAT_EQ(out[2].weight.r, 3.f / 0.5f);
+}

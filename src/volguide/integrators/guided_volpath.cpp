@@ -209,6 +209,14 @@ Color3 GuidedVolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const C
     return guided_walk(scene, sampler, camera.ray, rrs_ ? pixel_estimate_.at(camera.film_uv) : 0.f);
 }
 
+Color3 GuidedVolPathIntegrator::recorded_Li(const Scene& scene, Sampler& sampler, const CameraRay& camera,
+                                            WalkPolicy& recorder) const {
+    if (!guide_) return walk_.walk(scene, sampler, camera.ray, &recorder);
+    GuidedWalkPolicy policy(*guide_, rrs_.get(), rrs_ ? pixel_estimate_.at(camera.film_uv) : 0.f);
+    policy.record_training(&recorder);
+    return walk_.walk(scene, sampler, camera.ray, &policy);
+}
+
 std::vector<std::pair<std::string, double>> GuidedVolPathIntegrator::statistics() const {
     std::vector<std::pair<std::string, double>> stats = training_stats_;
     if (guide_) {

@@ -31,6 +31,10 @@ public:
     explicit GuidedVolPathIntegrator(const Properties& props);
     // Guided RR/splitting compares with the pixel estimate at the camera ray's film position.
     Color3 Li(const Scene& scene, Sampler& sampler, const CameraRay& camera) const override;
+    // Li's walk (after preprocess) recording its medium vertices as training samples
+    // (training_recorder.h; the caller calls finish): what learning from the render's own guided,
+    // split paths reads.
+    Color3 recorded_Li(const Scene& scene, Sampler& sampler, const CameraRay& camera, WalkPolicy& recorder) const;
     void preprocess(const Scene& scene, const PreprocessContext& context) override;
     std::vector<std::pair<std::string, double>> statistics() const override;
     std::string to_string() const override;

@@ -114,6 +114,7 @@ void GuidedWalkPolicy::end_camera_sample(int branches) {
 
 void GuidedWalkPolicy::record_contribution(const Color3& value) {
     if (recorder_) recorder_->contribution(value);
+    if (training_) training_->record_contribution(value);
 }
 
 }  // namespace volguide

@@ -5,7 +5,9 @@
 // Decisions the guide does not make are the analog ones, with the same random numbers. One object
 // per camera sample (it holds the vertex's prepared samplers and the distance decisions' scratch).
 // With a SelectionRecorder (the learned selection's pilot, selection_pilot.h) it also records every
-// decision's mixture densities, the continuation points and the contributions.
+// decision's mixture densities, the continuation points and the contributions. With a training
+// recorder (training_recorder.h) it hands it the medium vertices (with the guided densities their
+// directions were sampled with), their NEE samples, the contributions and the split copies.
 #include <optional>
 
 #include "volguide/guiding/guided_direction.h"
@@ -51,11 +53,25 @@ class GuidedWalkPolicy final : public WalkPolicy {
     void end_camera_sample(int branches) override;
     void record_contribution(const Color3& value) override;
 
+    // Also record training samples into `training` (null: none).
+    void record_training(WalkPolicy* training) { training_ = training; }
+    void record_medium_vertex(const Point3f& x, const Vec3f& w, float pdf, const Color3& throughput) override {
+        if (training_) training_->record_medium_vertex(x, w, pdf, throughput);
+    }
+    void record_medium_nee(const Point3f& x, const Vec3f& d, const Color3& weight) override {
+        if (training_) training_->record_medium_nee(x, d, weight);
+    }
+    int branch_point() override { return training_ ? training_->branch_point() : 0; }
+    void resume_branch(int point) override {
+        if (training_) training_->resume_branch(point);
+    }
+
   private:
     const WalkGuide& guide_;
     const RouletteSplitting* rrs_;
     float pixel_;
     SelectionRecorder* recorder_;
+    WalkPolicy* training_ = nullptr;
     DistanceScratch scratch_;
     int direction_leaf_ = -1;  // the current medium vertex's leaf (-1: none), for the recorder
     int surface_leaf_ = -1;    // the leaf beside the current surface vertex

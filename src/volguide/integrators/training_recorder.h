@@ -18,6 +18,14 @@
 //
 // Directions are where the radiance comes from (towards the light, theory.md §1.1): the sampled
 // travel direction w_j, exactly the photon samples' -w_travel convention.
+//
+// Split paths (guided splitting, walk_policy.h's continuation) form a tree: a copy made at a
+// continuation decision is walked after the current branch ends, and what it collects belongs to
+// the vertices before the split. Each vertex keeps its parent (the last vertex of its branch when
+// it was recorded); branch_point() hands a copy the current vertex, resume_branch() makes it
+// current again when the copy is walked. L^(x_j, w_j) is then everything contributed in j's
+// subtree over j's throughput: the copies' contributions carry their 1/q, so the sum over the n
+// copies estimates one continuation. Unsplit paths are chains: the subtree is the suffix.
 #include <vector>
 
 #include "volguide/core/color.h"
@@ -31,14 +39,17 @@ public:
     void clear();
     // A contribution the walk adds to the pixel (after its throughput and MIS weight).
     void record_contribution(const Color3& value) override {
-        if (!vertices_.empty()) suffix_[vertices_.size() - 1] += value;
+        if (current_ >= 0) suffix_[size_t(current_)] += value;
     }
     // A medium vertex: `pdf` is the density the next direction w was sampled with (phase sampling
     // today, a guided mixture later) and `throughput` the path weight including f_p / pdf.
     void record_medium_vertex(const Point3f& x, const Vec3f& w, float pdf, const Color3& throughput) override {
-        vertices_.push_back({x, w, pdf, throughput});
+        vertices_.push_back({x, w, pdf, throughput, current_});
         suffix_.push_back(Color3(0.f));
+        current_ = int(vertices_.size()) - 1;
     }
+    int branch_point() override { return current_; }
+    void resume_branch(int point) override { current_ = point; }
     // The MIS-weighted NEE radiance estimate at x towards the light d (weight = L T w_mis / p_light).
     void record_medium_nee(const Point3f& x, const Vec3f& d, const Color3& weight) override {
         if (!weight.is_black() && weight.is_finite()) nee_.push_back({x, d, weight, 0.f});
@@ -52,9 +63,11 @@ private:
         Vec3f w;
         float pdf;
         Color3 throughput;
+        int parent;  // -1: the first vertex of the camera sample
     };
     std::vector<Vertex> vertices_;
-    std::vector<Color3> suffix_;  // suffix_[j]: contributions made while j was the last vertex
+    std::vector<Color3> suffix_;  // suffix_[j]: contributions made while j was the current vertex
+    int current_ = -1;            // the current branch's last vertex (-1: none yet)
     std::vector<RadianceSample> nee_;
 };
 

@@ -31,6 +31,7 @@ Color3 VolumeWalk::run(const Ray& camera_ray) {
         branch_sampler_ = b.sampler;
         rng_ = &branch_sampler_;
         need_intersection_ = true;
+        if (policy_) policy_->resume_branch(b.record_point);
         if (b.at_vertex && !scatter(b.vertex)) continue;  // the copy ended at its vertex
         walk_branch();
     }
@@ -242,7 +243,8 @@ bool VolumeWalk::continue_path(ContinuationStage stage, const MediumInteraction&
     // than the camera sample's budget.
     if (c.n > 1) state_.split_allowance /= float(c.n);
     for (int k = 1; k < c.n; ++k) {
-        PendingBranch b{state_, rng_->fork(uint64_t(k)), at_vertex != nullptr, at_vertex ? *at_vertex : MediumVertex()};
+        PendingBranch b{state_, rng_->fork(uint64_t(k)), at_vertex != nullptr, at_vertex ? *at_vertex : MediumVertex(),
+                        policy_->branch_point()};
         // A copy finds its own region: with the one it was made at, a copy's first distance
         // decision could skip the guided walk where its original did not (WalkGuide::sample_distance),
         // and splitting would draw other random numbers than before the region moved into the state.

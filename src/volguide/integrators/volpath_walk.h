@@ -88,6 +88,7 @@ class VolumeWalk {
         Sampler sampler;
         bool at_vertex = false;  // resume at `vertex`, else trace state.ray
         MediumVertex vertex;
+        int record_point = 0;  // the policy's branch_point() when the copy was made
     };
 
     const Scene& scene_;

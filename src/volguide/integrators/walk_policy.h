@@ -97,6 +97,12 @@ class WalkPolicy {
     // The camera sample ended with `branches` branches.
     virtual void end_camera_sample(int branches) {}
 
+    // A copy of the path made by a continuation decision waits and is walked after the current
+    // branch ended: branch_point() is called when it is made, resume_branch(its value) before it is
+    // walked, so that a recorder credits what the copy collects to the vertices before the split.
+    virtual int branch_point() { return 0; }
+    virtual void resume_branch(int point) {}
+
     // Recording, in path order: a contribution added to the estimate (after throughput and MIS
     // weight); a medium vertex x after its direction w was sampled with density pdf (throughput
     // includes f_p / pdf); the MIS-weighted NEE estimate at x towards the light d; the surface
