@@ -73,3 +73,20 @@ TEST(Determinism, LearnedSelectionSameImageForOneAndTwoThreads) {
                          "guided fogbox, learned selection");
 }
 
+
+// Online learning (online_spp): each pass's recorded paths are joined in stream-key order before the
+// field is rebuilt, so the fields, and the image, do not depend on the thread count. 8 spp with
+// online_spp 4: updates after the passes of 1, 1 and 2 spp, then a pass with the last field.
+TEST(Determinism, OnlineLearningSameImageForOneAndTwoThreads) {
+    TempDir dir("determinism-online");
+    const std::string integrator = dir.write(
+        "online.xml",
+        R"(<scene version="3.0.0"><integrator type="guided_volpath"><integer name="max_depth" value="$max_depth"/>)"
+        R"(<string name="training" value="progressive"/><integer name="training_iterations" value="3"/>)"
+        R"(<integer name="online_spp" value="4"/><integer name="leaf_samples" value="400"/></integrator></scene>)");
+    const std::string scene = source_dir() + "/bench/scenes/fogbox.xml";
+    expect_deterministic(render_three(scene, {"width=32", "height=24", "integrator=guided_volpath",
+                                              "integrator_xml=" + integrator},
+                                      "determinism-online-render"),
+                         "guided fogbox, online learning");
+}

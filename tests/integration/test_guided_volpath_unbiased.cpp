@@ -460,3 +460,24 @@ TEST(GuidedVolPathUnbiased, LearnedSelectionIsUnbiased) {
     EXPECT_EQ(none.count("selection_seconds"), 0u);
     EXPECT_EQ(none.at("selection_distance_unguided"), 0.0);
 }
+
+// Online learning (online_spp): the passes of the first online_spp samples per pixel record the
+// render's own guided, split paths, and the field (with the guide, the pixel estimate and the
+// learned selection) is rebuilt after each of them. Every pass samples one fixed field, so the
+// image is still volpath's in expectation; 1024 spp with online_spp 64: seven updates.
+TEST(GuidedVolPathUnbiased, OnlineLearningIsUnbiased) {
+    TempDir dir("guided-online");
+    const std::string grid = write_furnace_grid(dir);
+    const std::string online = R"(<string name="training" value="progressive"/><integer name="training_iterations" value="3"/>)"
+                               R"(<integer name="online_spp" value="64"/>)";
+    for (bool het : {false, true}) {
+        SCOPED_TRACE(het ? "heterogeneous" : "homogeneous");
+        Rendered ref = render_scene_xml(lit_fog_xml(het, grid, R"(<integrator type="volpath"/>)"), 1024, 7, false);
+        Rendered g = render_scene_xml(
+            lit_fog_xml(het, grid, guided("incremental", "product", 200000, -1.f, online, rrs_xml("grrs", 5.f))), 1024,
+            8, false);
+        expect_same_means(g, ref);
+    }
+    const auto s = guide_stats(lit_fog_xml(false, grid, guided("incremental", "product", 200000, -1.f, online)));
+    EXPECT_EQ(s.at("online_updates"), 3.0);  // 4 spp: after the passes of 1, 1 and 2 spp
+}

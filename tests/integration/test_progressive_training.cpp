@@ -474,3 +474,38 @@ TEST(GuidedVolPathProgressive, CancellationDuringTrainingStopsCleanly) {
     const auto& leaves = static_cast<const GuidedVolPathIntegrator&>(scene->integrator()).field().leaves();
     EXPECT_FALSE(leaves.empty());
 }
+
+// online_spp rebuilds the field from the progressive training's samples: with photon training, a
+// loaded field or a negative count it is an error naming the file and line; a given pre-pass
+// (render --field) has no samples either.
+TEST(GuidedVolPathProgressive, BadOnlineLearningIsAnErrorNamingFileAndLine) {
+    TempDir dir("online-errors");
+    const std::string field = dir.file("f.vgfield");
+    {
+        const std::string xml = point_light_scene(
+            Point3f(0.f), 0.5f, 0.5f, 8,
+            progressive_integrator(fmt::format(R"(<string name="save_field" value="{}"/>)", field)));
+        ASSERT_EQ(run_cli({"render", dir.write("save.xml", xml), "-o", dir.file("s.exr"), "--spp", "1", "--quiet"}).exit_code, 0);
+    }
+    const std::string cases[] = {
+        R"(<integrator type="guided_volpath"><integer name="online_spp" value="8"/></integrator>)",
+        progressive_integrator(R"(<integer name="online_spp" value="-1"/>)"),
+        progressive_integrator(fmt::format(R"(<integer name="online_spp" value="8"/><string name="load_field" value="{}"/>)", field))};
+    for (const std::string& integrator : cases) {
+        const std::string xml = point_light_scene(Point3f(0.f), 0.5f, 0.5f, 8, integrator);
+        CliResult r = run_cli({"render", dir.write("s.xml", xml), "-o", dir.file("o.exr"), "--spp", "1", "--quiet"});
+        EXPECT_EQ(r.exit_code, 1) << integrator;
+        EXPECT_NE(r.err.find("s.xml:2"), std::string::npos) << r.err;
+        EXPECT_NE(r.err.find("online_spp"), std::string::npos) << r.err;
+        EXPECT_FALSE(std::filesystem::exists(dir.file("o.exr")));
+    }
+    // A trained pre-pass given to the render: refused before rendering.
+    const std::string xml = point_light_scene(Point3f(0.f), 0.5f, 0.5f, 8,
+                                              progressive_integrator(R"(<integer name="online_spp" value="8"/>)"));
+    const std::string scene = dir.write("online.xml", xml);
+    ASSERT_EQ(run_cli({"train", scene, "-o", dir.file("t.vgtrain"), "--quiet"}).exit_code, 0);
+    CliResult r = run_cli({"render", scene, "--field", dir.file("t.vgtrain"), "-o", dir.file("o.exr"), "--spp", "1", "--quiet"});
+    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_NE(r.err.find("online_spp"), std::string::npos) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(dir.file("o.exr")));
+}

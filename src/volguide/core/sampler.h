@@ -41,6 +41,9 @@ public:
         return {a, next_1d()};
     }
     uint64_t dimension() const { return dimension_; }
+    // The stream's identity (a hash of seed, pixel, sample and stream; drawing does not change it):
+    // a thread-independent order for what samples rendered in parallel record (online learning).
+    uint64_t key() const { return key_; }
 
 private:
     uint64_t key_ = 0;

@@ -30,12 +30,33 @@ BBox3f guiding_bounds(const Scene& scene) {
 
 void GuidedVolPathIntegrator::preprocess(const Scene& scene, const PreprocessContext& context) {
     training_stats_.clear();
+    scene_ = &scene;
+    seed_ = context.seed;
+    online_samples_.clear();
+    online_threads_.clear();
+    online_updates_ = 0;
+    online_seconds_ = 0;
     walk_.preprocess(scene, context);
+    if (settings_.online_spp > 0 && given_prepass_)
+        throw InputError(settings_.location, "guided_volpath: online_spp cannot continue a given pre-pass (render "
+                                             "--field): it rebuilds the field from the training's samples");
     load_or_train_field(scene, context);
+    build_from_field(scene, context, false);
+    online_recording_ = settings_.online_spp > 0 && !estimator_;
+    if (!settings_.save_field.empty()) {
+        try {
+            save_field(settings_.save_field, field_);
+        } catch (const FieldFormatError& e) {
+            throw InputError(settings_.location, e.what());
+        }
+    }
+}
+
+void GuidedVolPathIntegrator::build_from_field(const Scene& scene, const PreprocessContext& context, bool update) {
     estimator_.reset();
     if (settings_.estimate != FieldEstimate::None) estimator_ = std::make_unique<CacheEstimator>(scene, field_);
     guide_.reset();
-    rrs_.reset();
+    if (!update) rrs_.reset();
     pixel_estimate_ = PixelEstimate();
     pixel_estimate_seconds_ = 0;
     if (settings_.guide.distance != DistanceGuiding::Standard ||
@@ -49,7 +70,7 @@ void GuidedVolPathIntegrator::preprocess(const Scene& scene, const PreprocessCon
         else
             make_pixel_estimate(scene, context);
     }
-    if (settings_.roulette.mode != RouletteMode::Standard && !estimator_) {
+    if (settings_.roulette.mode != RouletteMode::Standard && !estimator_ && !rrs_) {
         rrs_ = std::make_unique<RouletteSplitting>(settings_.roulette);
         rrs_->set_pixel_estimate_seconds(pixel_estimate_seconds_);
     }
@@ -59,13 +80,50 @@ void GuidedVolPathIntegrator::preprocess(const Scene& scene, const PreprocessCon
         else
             learn_selection(scene, context);
     }
-    if (!settings_.save_field.empty()) {
-        try {
-            save_field(settings_.save_field, field_);
-        } catch (const FieldFormatError& e) {
-            throw InputError(settings_.location, e.what());
-        }
+}
+
+void GuidedVolPathIntegrator::end_pass(int spp_done, double seconds) {
+    if (online_recording_) online_update(spp_done);
+}
+
+// Joins the pass's recorded camera samples in stream-key order, rebuilds the field from every sample
+// so far (as progressive training does after each iteration: one pure function of the sample list)
+// and what is derived from it.
+void GuidedVolPathIntegrator::online_update(int spp_done) {
+    const auto start = std::chrono::steady_clock::now();
+    struct Ref {
+        uint64_t key;
+        const OnlineThread* thread;
+        size_t path;
+    };
+    std::vector<Ref> refs;
+    for (const OnlineThread& t : online_threads_)
+        for (size_t p = 0; p < t.paths.size(); ++p) refs.push_back({t.paths[p].key, &t, p});
+    std::sort(refs.begin(), refs.end(), [](const Ref& a, const Ref& b) { return a.key < b.key; });
+    for (const Ref& r : refs) {
+        const OnlinePath& p = r.thread->paths[r.path];
+        online_samples_.insert(online_samples_.end(), r.thread->samples.begin() + std::ptrdiff_t(p.first),
+                               r.thread->samples.begin() + std::ptrdiff_t(p.first + p.count));
     }
+    for (OnlineThread& t : online_threads_) {
+        t.samples.clear();
+        t.paths.clear();
+    }
+    GuidingFieldSettings fs = settings_.field;
+    fs.fluence = FluenceEstimator::PerSampleMean;
+    field_ = GuidingField::build(guiding_bounds(*scene_), online_samples_, fs);
+    PreprocessContext context;
+    context.seed = seed_ + uint64_t(online_updates_ + 1);
+    if (!field_.empty())
+        field_.set_medium_fractions(medium_fractions(*scene_, field_.tree(), kMediumFractionPoints, context.seed), false);
+    build_from_field(*scene_, context, true);
+    ++online_updates_;
+    if (spp_done >= settings_.online_spp) {
+        online_recording_ = false;
+        online_threads_.clear();
+        std::vector<RadianceSample>().swap(online_samples_);
+    }
+    online_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 void GuidedVolPathIntegrator::load_or_train_field(const Scene& scene, const PreprocessContext& context) {
@@ -84,7 +142,10 @@ void GuidedVolPathIntegrator::load_or_train_field(const Scene& scene, const Prep
         ts.iterations = settings_.training_iterations;
         if (context.time_budget > 0) ts.time_limit = settings_.training_fraction * context.time_budget;
         ts.field = settings_.field;
-        field_ = train_progressive(scene, guiding_bounds(scene), ts, context).field;
+        ts.keep_samples = settings_.online_spp > 0;
+        ProgressiveTrainingResult trained = train_progressive(scene, guiding_bounds(scene), ts, context);
+        field_ = std::move(trained.field);
+        online_samples_ = std::move(trained.sample_list);
     } else {
         field_ = train_by_photons(scene, context);
         photon_fluence = true;
@@ -164,6 +225,8 @@ void GuidedVolPathIntegrator::learn_selection(const Scene& scene, const Preproce
     guide_->set_selection(LearnedSelection::fit(stats, settings_.selection, guide_->configured_shares()));
     const LearnedSelection::Summary sum = guide_->selection().summary();
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    // An online update learns the selection again: its figures replace the last ones.
+    std::erase_if(training_stats_, [](const auto& s) { return s.first.rfind("selection_", 0) == 0; });
     training_stats_.insert(training_stats_.end(),
                            {{"selection_seconds", seconds},
                             {"selection_distance_regions_guided", double(sum.guided[0])},
@@ -206,6 +269,15 @@ Color3 GuidedVolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const C
             settings_.estimate == FieldEstimate::Incident ? CacheQuantity::Incident : CacheQuantity::Inscattered;
         return estimator_->estimate(camera.ray, scene.sensor().medium(), q, sampler);
     }
+    if (online_recording_) {
+        OnlineThread& t = online_threads_.local();
+        const uint64_t key = sampler.key();
+        const Color3 L = recorded_Li(scene, sampler, camera, t.recorder);
+        const size_t first = t.samples.size();
+        t.recorder.finish(t.samples);
+        t.paths.push_back({key, first, t.samples.size() - first});
+        return L;
+    }
     return guided_walk(scene, sampler, camera.ray, rrs_ ? pixel_estimate_.at(camera.film_uv) : 0.f);
 }
 
@@ -219,6 +291,10 @@ Color3 GuidedVolPathIntegrator::recorded_Li(const Scene& scene, Sampler& sampler
 
 std::vector<std::pair<std::string, double>> GuidedVolPathIntegrator::statistics() const {
     std::vector<std::pair<std::string, double>> stats = training_stats_;
+    if (settings_.online_spp > 0) {
+        stats.emplace_back("online_updates", double(online_updates_));
+        stats.emplace_back("online_seconds", online_seconds_);
+    }
     if (guide_) {
         const auto walk = guide_->stats().named();
         stats.insert(stats.end(), walk.begin(), walk.end());

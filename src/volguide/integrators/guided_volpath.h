@@ -12,6 +12,8 @@
 // (roulette_splitting.h) the RR/splitting decisions after them (rrs=grr/grrs). `estimate` renders
 // the field's own inspection images instead. With distance=standard direction=phase rrs=standard
 // it renders exactly what volpath renders.
+#include <tbb/enumerable_thread_specific.h>
+
 #include <memory>
 #include <string>
 
@@ -21,6 +23,7 @@
 #include "volguide/integrators/guided_prepass.h"
 #include "volguide/integrators/guided_volpath_settings.h"
 #include "volguide/integrators/pixel_estimate.h"
+#include "volguide/integrators/training_recorder.h"
 #include "volguide/integrators/volpath.h"
 #include "volguide/integrators/walk_guide.h"
 
@@ -36,6 +39,10 @@ public:
     // split paths reads.
     Color3 recorded_Li(const Scene& scene, Sampler& sampler, const CameraRay& camera, WalkPolicy& recorder) const;
     void preprocess(const Scene& scene, const PreprocessContext& context) override;
+    // Online learning (online_spp > 0): after each pass of the first online_spp samples per pixel,
+    // the field is rebuilt from the training's samples and every recorded pass so far, and the guide,
+    // the pixel estimate and the learned selection with it. The next pass samples with the new field.
+    void end_pass(int spp_done, double seconds) override;
     std::vector<std::pair<std::string, double>> statistics() const override;
     std::string to_string() const override;
     // The field and the pixel estimate (guided_prepass.h); use_prepass_state() makes preprocess()
@@ -68,8 +75,32 @@ private:
     void make_pixel_estimate(const Scene& scene, const PreprocessContext& context);
     void use_given_pixel_estimate();
     void learn_selection(const Scene& scene, const PreprocessContext& context);
+    // The guide, the pixel estimate, RR/splitting and the learned selection of field_ (preprocess(),
+    // and every online update, `update` true: the RR/splitting statistics carry on).
+    void build_from_field(const Scene& scene, const PreprocessContext& context, bool update);
+    void online_update(int spp_done);
     double pixel_estimate_seconds_ = 0;
     std::vector<std::pair<std::string, double>> training_stats_;  // of the last preprocess()
+
+    // Online learning: each thread's recorder and what its camera samples recorded during the pass
+    // (the samples, and per camera sample its stream key and range); end_pass joins them in key
+    // order, so the field is the same for any number of threads.
+    struct OnlinePath {
+        uint64_t key;
+        size_t first, count;
+    };
+    struct OnlineThread {
+        TrainingRecorder recorder;
+        std::vector<RadianceSample> samples;
+        std::vector<OnlinePath> paths;
+    };
+    mutable tbb::enumerable_thread_specific<OnlineThread> online_threads_;
+    std::vector<RadianceSample> online_samples_;  // the training's, then each recorded pass's
+    bool online_recording_ = false;
+    const Scene* scene_ = nullptr;  // of the last preprocess(), for the online updates
+    uint64_t seed_ = 0;
+    int online_updates_ = 0;
+    double online_seconds_ = 0;
 };
 
 // The bounds the guiding field covers: the scene's shapes (media are bounded by shapes or grids).

@@ -95,6 +95,13 @@ void read_training(const Properties& props, GuidedVolPathSettings& s) {
                       s.max_deposits);
     s.photon_focus = props.get_bool("photon_focus", s.photon_focus);
     s.training_iterations = int_in(props, "training_iterations", s.training_iterations, 1, kMaxTrainingIterations);
+    s.online_spp = int_in(props, "online_spp", s.online_spp, 0, 1 << 16, " (0: off)");
+    if (s.online_spp > 0 && s.training != TrainingMethod::Progressive)
+        props.fail_at("online_spp", "guided_volpath: online_spp needs training=\"progressive\" (the field is rebuilt "
+                                    "from the training's samples and the render's)");
+    if (s.online_spp > 0 && props.has("load_field"))
+        props.fail_at("online_spp", "guided_volpath: online_spp cannot be combined with load_field (a saved field "
+                                    "has no training samples to rebuild from)");
     s.training_fraction = props.get_float("training_fraction", s.training_fraction);
     if (!(s.training_fraction > 0.f && s.training_fraction < 1.f))
         props.fail_at("training_fraction", "guided_volpath: training_fraction must be in (0, 1), got {}",
@@ -233,11 +240,12 @@ GuidedVolPathSettings GuidedVolPathSettings::from(const Properties& props) {
 
 std::string GuidedVolPathSettings::to_string() const {
     return fmt::format(
-        "max_depth={}, rr_depth={}, rr_rule={}, training={}, photons={}, training_iterations={}, leaf_samples={}, "
+        "max_depth={}, rr_depth={}, rr_rule={}, training={}, photons={}, training_iterations={}, online_spp={}, "
+        "leaf_samples={}, "
         "lobes={}, distance={}, distance_merge={}, hetero_distance={}, direction={}, surface_guiding={}, rrs={}, rrs_window={}, "
         "rrs_branch_budget={}, selection_spp={}, pixel_estimate={}, equiangular={}, estimate={}",
         walk.max_depth, walk.rr_depth, roulette_rule_name(walk.rr_rule), choice_name<TrainingMethod>(kTraining, training), photons,
-        training_iterations, field.tree.max_samples, field.lobes,
+        training_iterations, online_spp, field.tree.max_samples, field.lobes,
         choice_name<DistanceGuiding>(kDistance, guide.distance), guide.distance_merge,
         choice_name<bool>(kHeteroDistance, guide.guided_tracking),
         choice_name<DirectionGuiding>(kDirection, guide.direction), guide.surface,

@@ -37,6 +37,10 @@ struct GuidedVolPathSettings {
     // Focused photon emission (emission_focus.h): a pilot finds where each emitter lights a medium.
     bool photon_focus = true;
     int training_iterations = 5;  // progressive: iteration k traces 2^k spp (5: 31 spp in total)
+    // Online learning (issue 22, progressive training only): the render's own guided paths of its
+    // first online_spp samples per pixel are recorded and the field is rebuilt from them and the
+    // training's after each pass (0: off, the field stays the training's).
+    int online_spp = 0;
     float training_fraction = 0.25f;
     GuidingFieldSettings field;  // leaf_samples -> field.tree.max_samples, lobes -> field.lobes
     // The distance and direction decisions (guide.distance, guide.direction) and their parameters

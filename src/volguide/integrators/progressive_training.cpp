@@ -126,6 +126,7 @@ ProgressiveTrainingResult train_progressive(const Scene& scene, const BBox3f& bo
     }
     result.samples = int64_t(samples.size());
     if (result.field.empty()) result.field = GuidingField::build(bounds, samples, fs);
+    if (settings.keep_samples) result.sample_list = std::move(samples);
     return result;
 }
 

@@ -42,6 +42,7 @@ struct ProgressiveTrainingSettings {
     double time_limit = 0;  // seconds (> 0) from the start of training
     GuidingFieldSettings field;  // fluence is forced to PerSampleMean
     int tile_size = 16;
+    bool keep_samples = false;  // return the samples the field was built from (online learning)
 };
 
 struct ProgressiveTrainingResult {
@@ -49,6 +50,7 @@ struct ProgressiveTrainingResult {
     int iterations = 0;     // completed (a partial last iteration counts)
     int spp = 0;            // training samples per pixel traced (of complete iterations)
     int64_t samples = 0;    // radiance samples the field was built from
+    std::vector<RadianceSample> sample_list;  // those samples, with keep_samples
     std::vector<double> iteration_seconds;  // tracing + fitting, per iteration
     bool cancelled = false, time_limited = false;
 };
