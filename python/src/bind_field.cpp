@@ -12,6 +12,7 @@
 #include "bindings.h"
 #include "handles.h"
 #include "interruptible.h"
+#include "volguide/core/parallel.h"
 #include "volguide/guiding/field_io.h"
 #include "volguide/guiding/guided_direction.h"
 #include "volguide/integrators/cache_estimate.h"
@@ -198,7 +199,7 @@ py::array_t<float> pixel_estimate(const std::shared_ptr<SceneHandle>& scene, con
         [&] {
             std::lock_guard lock(scene->jobs);
             tbb::task_arena arena(threads.value_or(0) > 0 ? *threads : tbb::task_arena::automatic);
-            arena.execute([&] {
+            arena_execute(arena, [&] {
                 // As guided_volpath: a field without medium fractions (format 2) gets them measured
                 // here, so that surfaces read the leaves that are mostly medium.
                 std::optional<GuidingField> measured;

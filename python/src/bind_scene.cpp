@@ -2,7 +2,6 @@
 // train, radiance.
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
-#include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
 #include <atomic>
@@ -13,6 +12,7 @@
 #include "bindings.h"
 #include "handles.h"
 #include "interruptible.h"
+#include "volguide/core/parallel.h"
 #include "volguide/integrators/guided_volpath.h"
 #include "volguide/integrators/render_loop.h"
 #include "volguide/render/image_compare.h"
@@ -209,7 +209,7 @@ FieldHandle train(const std::shared_ptr<SceneHandle>& scene, const std::optional
         [&] {
             std::lock_guard lock(scene->jobs);
             tbb::task_arena arena(threads.value_or(0) > 0 ? *threads : tbb::task_arena::automatic);
-            arena.execute([&] { guided->preprocess(*scene->scene, context); });
+            arena_execute(arena, [&] { guided->preprocess(*scene->scene, context); });
         },
         cancel);
     return {std::make_shared<const GuidingField>(guided->field()), scene};
@@ -230,8 +230,8 @@ py::array_t<float> radiance(const std::shared_ptr<SceneHandle>& scene, const Flo
         [&] {
             std::lock_guard lock(scene->jobs);
             tbb::task_arena arena(threads.value_or(0) > 0 ? *threads : tbb::task_arena::automatic);
-            arena.execute([&] {
-                tbb::parallel_for(size_t(0), o.size(), [&](size_t i) {
+            arena_execute(arena, [&] {
+                parallel_for(size_t(0), o.size(), [&](size_t i) {
                     if (cancel.load(std::memory_order_relaxed)) return;
                     // A ray of no pixel: guided RR/splitting compares with the film centre's pixel
                     // estimate (any value keeps the estimate unbiased; it only shapes the splitting).

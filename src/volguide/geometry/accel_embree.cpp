@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "volguide/core/tsan.h"
 #include "volguide/geometry/accel.h"
 
 namespace volguide {
@@ -26,8 +27,12 @@ void error_callback(void* user, RTCError code, const char* str) {
         state->message = fmt::format("Embree error {}: {}", int(code), str ? str : "");
 }
 
+// Called by Embree's BVH build (rtcCommitScene) on TBB's threads: in a ThreadSanitizer build it
+// acquires what the building thread released on the shape's address before the commit, and
+// releases what the building thread acquires after it (core/parallel.h).
 void user_bounds(const RTCBoundsFunctionArguments* args) {
     const auto* shape = static_cast<const Shape*>(args->geometryUserPtr);
+    tsan_acquire(shape);
     BBox3f b = shape->bbox();
     args->bounds_o->lower_x = b.lo.x;
     args->bounds_o->lower_y = b.lo.y;
@@ -35,6 +40,7 @@ void user_bounds(const RTCBoundsFunctionArguments* args) {
     args->bounds_o->upper_x = b.hi.x;
     args->bounds_o->upper_y = b.hi.y;
     args->bounds_o->upper_z = b.hi.z;
+    tsan_release(shape);
 }
 
 // Only rtcIntersect1/rtcOccluded1 are used, so the packets have width 1 and the N-wide
@@ -153,7 +159,12 @@ Accel::Accel(const std::vector<const Shape*>& shapes) : impl_(std::make_unique<I
         else
             m.add_user(s);
     }
+    // The build is a fork/join of Embree's (on TBB's threads) that ThreadSanitizer cannot see:
+    // the user geometries' bounds callbacks see everything before the commit, and everything
+    // after it sees them (no-ops outside a ThreadSanitizer build).
+    for (const Shape* s : m.shapes) tsan_release(s);
     rtcCommitScene(m.scene);
+    for (const Shape* s : m.shapes) tsan_acquire(s);
     m.check("building the acceleration structure");
 }
 

@@ -1,9 +1,9 @@
 #include "volguide/guiding/guiding_field.h"
 
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 #include <stdexcept>
+
+#include "volguide/core/parallel.h"
 
 namespace volguide {
 
@@ -73,7 +73,7 @@ GuidingField GuidingField::build(const BBox3f& bounds, std::span<const RadianceS
     }
     SpatialTree tree = SpatialTree::build(bounds, positions, settings.tree, carries_radiance);
     std::vector<GuidingLeaf> leaves(size_t(tree.leaf_count()));
-    tbb::parallel_for(0, tree.leaf_count(), [&](int l) {
+    parallel_for(0, tree.leaf_count(), [&](int l) {
         leaves[size_t(l)] = fit_leaf(samples, tree.leaf_samples(l), tree.leaf_bounds(l), settings);
     });
     return GuidingField(std::move(tree), std::move(leaves));

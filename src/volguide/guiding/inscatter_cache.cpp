@@ -1,9 +1,8 @@
 #include "volguide/guiding/inscatter_cache.h"
 
-#include <tbb/parallel_for.h>
-
 #include <cmath>
 
+#include "volguide/core/parallel.h"
 #include "volguide/vmm/vmf_sum.h"
 #include "volguide/vmm/vmm.h"
 
@@ -16,7 +15,7 @@ InscatterCache::InscatterCache(const GuidingField& field, const PhaseVmm& phase)
         float mu_x, mu_y, mu_z, kappa, scale;
     };
     std::vector<std::vector<Lobe>> per_leaf(leaves.size());
-    tbb::parallel_for(size_t(0), leaves.size(), [&](size_t l) {
+    parallel_for(size_t(0), leaves.size(), [&](size_t l) {
         const GuidingLeaf& leaf = leaves[l];
         if (!leaf.valid) return;
         const auto mixture = convolve(leaf.vmm, phase);

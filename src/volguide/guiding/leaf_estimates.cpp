@@ -1,9 +1,9 @@
 #include "volguide/guiding/leaf_estimates.h"
 
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 #include <cmath>
+
+#include "volguide/core/parallel.h"
 
 namespace volguide {
 
@@ -43,7 +43,7 @@ LeafEstimates::LeafEstimates(const GuidingField& field, const InscatterCache& in
     const std::vector<GuidingLeaf>& leaves = field.leaves();
     headers_.assign(leaves.size(), Header{});
     texels_.assign(leaves.size() * size_t(R * R), EstimateTexel{0, 0});
-    tbb::parallel_for(size_t(0), leaves.size(), [&](size_t l) {
+    parallel_for(size_t(0), leaves.size(), [&](size_t l) {
         const GuidingLeaf& leaf = leaves[l];
         Header& h = headers_[l];
         h.valid = leaf.valid;

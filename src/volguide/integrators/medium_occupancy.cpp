@@ -1,7 +1,6 @@
 #include "volguide/integrators/medium_occupancy.h"
 
-#include <tbb/parallel_for.h>
-
+#include "volguide/core/parallel.h"
 #include "volguide/core/sampler.h"
 #include "volguide/core/warp.h"
 #include "volguide/media/medium.h"
@@ -34,7 +33,7 @@ const Medium* medium_along(const Scene& scene, const Ray& probe) {
 std::vector<float> medium_fractions(const Scene& scene, const SpatialTree& tree, int points_per_leaf, uint64_t seed) {
     std::vector<float> fractions(size_t(tree.leaf_count()), 0.f);
     const int n = std::max(points_per_leaf, 1);
-    tbb::parallel_for(0, tree.leaf_count(), [&](int leaf) {
+    parallel_for(0, tree.leaf_count(), [&](int leaf) {
         const BBox3f& b = tree.leaf_bounds(leaf);
         Sampler sampler(seed, kOccupancyStream, uint64_t(leaf));
         int inside = 0;

@@ -1,11 +1,11 @@
 #include "volguide/integrators/photon_pass.h"
 
 #include <tbb/enumerable_thread_specific.h>
-#include <tbb/parallel_for.h>
 
 #include <chrono>
 #include <mutex>
 
+#include "volguide/core/parallel.h"
 #include "volguide/integrators/emission_focus.h"
 #include "volguide/integrators/volume_nee.h"
 #include "volguide/media/medium.h"
@@ -130,7 +130,7 @@ EmissionFocus focus_emission(const Scene& scene, const PhotonPassSettings& s, in
         [&] { return EmissionPilot(scene.emitters().size()); });
     const EmissionFocus uniform;
     const int64_t batches = (pilot_photons + kBatch - 1) / kBatch;
-    tbb::parallel_for(int64_t(0), batches, [&](int64_t b) {
+    parallel_for(int64_t(0), batches, [&](int64_t b) {
         if (context.cancelled()) return;
         EmissionPilot& pilot = pilots.local();
         BatchResult scratch;
@@ -172,7 +172,7 @@ PhotonPassResult trace_photons(const Scene& scene, const PhotonPassSettings& set
             break;
         }
         const int64_t wave_end = std::min(batches, wave + kWaveBatches);
-        tbb::parallel_for(wave, wave_end, [&](int64_t b) {
+        parallel_for(wave, wave_end, [&](int64_t b) {
             if (context.cancelled()) return;
             if (settings.time_limit > 0 &&
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() >

@@ -1,10 +1,8 @@
 #include "volguide/integrators/pixel_estimate.h"
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-
 #include <cmath>
 
+#include "volguide/core/parallel.h"
 #include "volguide/core/sampler.h"
 #include "volguide/guiding/guiding_field.h"
 #include "volguide/guiding/surface_guide.h"
@@ -111,7 +109,7 @@ Image average_camera_samples(const Scene& scene, int count, uint64_t stream, boo
     const int W = sensor.film().width(), H = sensor.film().height();
     const int strata = stratify ? std::max(1, int(std::sqrt(float(count)))) : 0;
     Image image(W, H);
-    tbb::parallel_for(tbb::blocked_range<int>(0, H), [&](const tbb::blocked_range<int>& rows) {
+    parallel_for(tbb::blocked_range<int>(0, H), [&](const tbb::blocked_range<int>& rows) {
         for (int y = rows.begin(); y != rows.end(); ++y) {
             if (context.cancelled()) return;
             for (int x = 0; x < W; ++x) {

@@ -1,12 +1,11 @@
 #include "volguide/integrators/progressive_training.h"
 
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <mutex>
 
+#include "volguide/core/parallel.h"
 #include "volguide/integrators/camera_sample.h"
 #include "volguide/integrators/training_recorder.h"
 #include "volguide/render/scene.h"
@@ -94,7 +93,7 @@ ProgressiveTrainingResult train_progressive(const Scene& scene, const BBox3f& bo
         std::vector<std::vector<RadianceSample>> per_tile(tiles.size());
         std::vector<uint8_t> done(tiles.size(), 0);
         std::atomic<size_t> finished{0};
-        tbb::parallel_for(size_t(0), tiles.size(), [&](size_t t) {
+        parallel_for(size_t(0), tiles.size(), [&](size_t t) {
             if (context.cancelled()) return;
             // Iteration 0 always completes: a field needs some samples.
             if (limited && k > 0 && elapsed() > settings.time_limit) return;

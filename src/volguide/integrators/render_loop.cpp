@@ -1,8 +1,6 @@
 #include "volguide/integrators/render_loop.h"
 
-#include <tbb/blocked_range.h>
 #include <tbb/global_control.h>
-#include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
@@ -11,6 +9,7 @@
 #include <mutex>
 #include <stdexcept>
 
+#include "volguide/core/parallel.h"
 #include "volguide/integrators/camera_sample.h"
 #include "volguide/integrators/integrator.h"
 #include "volguide/render/scene.h"
@@ -191,11 +190,11 @@ class FrameRenderer {
     // false (nothing merged) when it was stopped.
     bool run_pass(int spp_done, int n, RenderStats& stats) {
         PassOutput out(tiles_.size());
-        arena_.execute([&] {
-            tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles_.size(), 1),
-                              [&](const tbb::blocked_range<size_t>& r) {
-                                  for (size_t t = r.begin(); t != r.end(); ++t) render_tile(t, spp_done, n, out);
-                              });
+        arena_execute(arena_, [&] {
+            parallel_for(tbb::blocked_range<size_t>(0, tiles_.size(), 1),
+                         [&](const tbb::blocked_range<size_t>& r) {
+                             for (size_t t = r.begin(); t != r.end(); ++t) render_tile(t, spp_done, n, out);
+                         });
         });
         if (out.stop_cancel || out.stop_time) {
             stats.discarded_samples += out.samples_done.load();
@@ -303,7 +302,7 @@ void preprocess_in(tbb::task_arena& arena, const Scene& scene, Integrator& integ
     context.time_budget = options.time_budget;
     context.progress = options.progress;
     context.cancel = options.cancel;
-    arena.execute([&] { integrator.preprocess(scene, context); });
+    arena_execute(arena, [&] { integrator.preprocess(scene, context); });
 }
 
 }  // namespace
@@ -339,7 +338,7 @@ RenderResult render(const Scene& scene, Integrator& integrator, const RenderOpti
     // The integrator may learn from each pass (Integrator::end_pass), within the render's arena.
     RenderOptions pass_options = options;
     pass_options.end_pass = [&](int spp, double seconds) {
-        arena.execute([&] { integrator.end_pass(spp, seconds); });
+        arena_execute(arena, [&] { integrator.end_pass(spp, seconds); });
         if (options.end_pass) options.end_pass(spp, seconds);
     };
     RenderResult result = render_frame_impl(setup, radiance, pass_options, arena, job_start);

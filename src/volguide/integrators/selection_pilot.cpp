@@ -1,12 +1,11 @@
 #include "volguide/integrators/selection_pilot.h"
 
-#include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
-#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <optional>
 
+#include "volguide/core/parallel.h"
 #include "volguide/integrators/camera_sample.h"
 #include "volguide/integrators/integrator.h"
 #include "volguide/render/scene.h"
@@ -73,7 +72,7 @@ SelectionStatistics run_selection_pilot(
     const Sensor& sensor = scene.sensor();
     const int W = sensor.film().width(), H = sensor.film().height();
     tbb::enumerable_thread_specific<SelectionStatistics> stats([&] { return SelectionStatistics(regions); });
-    tbb::parallel_for(tbb::blocked_range<int>(0, H), [&](const tbb::blocked_range<int>& rows) {
+    parallel_for(tbb::blocked_range<int>(0, H), [&](const tbb::blocked_range<int>& rows) {
         SelectionStatistics& local = stats.local();
         SelectionRecorder recorder(local, regions);
         for (int y = rows.begin(); y != rows.end(); ++y) {

@@ -3,13 +3,13 @@
 // tabulated over cos(theta) at construction by integrating the microfacet model numerically
 // (64 entries, as Mitsuba); internal reflections use the hemispherically averaged internal
 // reflectance of the rough interface.
-#include <tbb/parallel_for.h>
 
 #include <array>
 #include <map>
 #include <mutex>
 #include <tuple>
 
+#include "volguide/core/parallel.h"
 #include "volguide/core/warp.h"
 #include "volguide/render/bsdf.h"
 #include "volguide/render/bsdfs/bsdf_util.h"
@@ -151,7 +151,7 @@ class RoughPlastic final : public BSDF {
         const MicrofacetDistribution distr(type, alpha, alpha, true);
         auto tables = std::make_shared<Tables>();
         std::array<double, kTransmittanceRes> internal{};
-        tbb::parallel_for(0, kTransmittanceRes, [&](int i) {
+        parallel_for(0, kTransmittanceRes, [&](int i) {
             const float mu = std::max(1e-6f, float(i) / float(kTransmittanceRes - 1));
             const Vec3f wi(std::sqrt(1.f - mu * mu), 0.f, mu);
             tables->external_transmittance[i] = rough_transmittance(distr, wi, eta);
