@@ -85,6 +85,13 @@ EXTRA_METHODS = {
     # Issue 21: the full system without learned selection (its default since 2026-11-25: a 2-spp pilot).
     "guided_volpath distance=incremental direction=product rrs=grrs selection_spp=0": {
         "guided": {"distance": "incremental", "direction": "product", "rrs": "grrs", "selection_spp": 0}},
+    # Issue 22: the full system trained from camera paths instead of photons, and with online
+    # learning from its own first 64 spp.
+    "guided_volpath distance=incremental direction=product rrs=grrs training=progressive": {
+        "guided": {"distance": "incremental", "direction": "product", "rrs": "grrs", "training": "progressive"}},
+    "guided_volpath distance=incremental direction=product rrs=grrs training=progressive online_spp=64": {
+        "guided": {"distance": "incremental", "direction": "product", "rrs": "grrs", "training": "progressive",
+                   "online_spp": 64}},
 }
 
 # Zoomed crops shown in the HTML report: (x, y, width, height) in pixels of the 160x120 image.
