@@ -21,8 +21,16 @@ common=(-DCMAKE_BUILD_TYPE=RelWithDebInfo -DVOLGUIDE_BUILD_BENCH=OFF -DVOLGUIDE_
 slow='bench_harness|install_embed|slurm_array|BenchScene\.|GuidedVsVolpathScenes|MitsubaConformance'
 
 if [[ " $stages " == *" asan "* ]]; then
-  [[ -f $asan/CMakeCache.txt ]] || cmake -S "$root" -B "$asan" "${common[@]}" -DVOLGUIDE_SANITIZE=address,undefined
-  cmake --build "$asan" -j "$jobs"
+  # Configured every time (seconds): an older build directory gets the tests_<label> targets too.
+  cmake -S "$root" -B "$asan" "${common[@]}" -DVOLGUIDE_SANITIZE=address,undefined > /dev/null
+  # Labels among unit|stat|integration: only their executables (tests_<label>, tests/CMakeLists.txt);
+  # anything else: every target.
+  targets=()
+  if [[ $labels =~ ^(unit|stat|integration)(\|(unit|stat|integration))*$ ]]; then
+    IFS='|' read -ra picked <<< "$labels"
+    for l in "${picked[@]}"; do targets+=(--target "tests_$l"); done
+  fi
+  cmake --build "$asan" -j "$jobs" "${targets[@]}"
   export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1
   export UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
   ctest --test-dir "$asan" --output-on-failure -j "$jobs" -L "$labels" -E "$slow" --timeout 1500
