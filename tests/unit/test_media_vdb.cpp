@@ -26,6 +26,11 @@ using namespace volguide::test;
 namespace {
 
 
+std::string file_bytes(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
 void write_vdb(const std::string& path, const openvdb::GridPtrVec& grids) {
     openvdb::initialize();
     openvdb::io::File file(path);
@@ -344,8 +349,7 @@ TEST(MediaVdb, FilesWithMetadataOfEveryTypeAndBloscDelayedLoadPassTheHeaderCheck
     grid->insertMeta("m4d", openvdb::Mat4DMetadata(openvdb::math::Mat4d::identity()));
     const std::string path = dir.path("meta.vdb");
     write_vdb(path, {grid});
-    std::ifstream in(path, std::ios::binary);
-    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::string bytes = file_bytes(path);
     // io::File wrote the delayed-load metadata, and Blosc compressed the mask (its 1000 bytes are not
     // stored raw: the byte count after the leaf count is not 0).
     const size_t type = bytes.find("__delayedload");
@@ -582,8 +586,7 @@ TEST(MediaVdb, HeaderCheckWalksEveryTreeToTheEndTheDescriptorsGive) {
             ASSERT_EQ(a.channels, 3);
             EXPECT_EQ(a.at(0, 0, 0, 2), 3.f);
             // One byte more or less anywhere in a tree puts its end elsewhere: cut the file short.
-            std::ifstream in(path, std::ios::binary);
-            const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+            const std::string bytes = file_bytes(path);
             EXPECT_THROW(check_vdb_header(dir.write("short.vdb", bytes.substr(0, bytes.size() - 1))), InputError);
         }
 }
@@ -600,8 +603,7 @@ TEST(MediaVdb, HeaderCheckRefusesInternalNodesTheFileCannotHold) {
     file.setCompression(openvdb::io::COMPRESS_NONE);
     file.write({grid});
     file.close();
-    std::ifstream in(path, std::ios::binary);
-    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::string bytes = file_bytes(path);
     // The root's one child: its origin, then its 4096-byte child mask, whose first word is bit 0.
     const size_t type = bytes.find("UniformScale");
     ASSERT_NE(type, std::string::npos);
@@ -636,8 +638,7 @@ TEST(MediaVdb, ScaleMapsWhoseStoredValuesDisagreeAreRefused) {
     const std::string path = dir.path("good.vdb");
     write_vdb(path, {grid});
     EXPECT_EQ(read_vdb_file(path, "density").nx, 2);
-    std::ifstream in(path, std::ios::binary);
-    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::string bytes = file_bytes(path);
     const size_t type = bytes.find("UniformScaleMap");
     ASSERT_NE(type, std::string::npos);
     double scale = 0.0;

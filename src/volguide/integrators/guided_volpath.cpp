@@ -114,8 +114,7 @@ void GuidedVolPathIntegrator::online_update(int spp_done) {
     field_ = GuidingField::build(guiding_bounds(*scene_), online_samples_, fs);
     PreprocessContext context;
     context.seed = seed_ + uint64_t(online_updates_ + 1);
-    if (!field_.empty())
-        field_.set_medium_fractions(medium_fractions(*scene_, field_.tree(), kMediumFractionPoints, context.seed), false);
+    measure_medium_fractions(*scene_, context.seed, false);
     build_from_field(*scene_, context, true);
     ++online_updates_;
     if (spp_done >= settings_.online_spp) {
@@ -154,9 +153,12 @@ void GuidedVolPathIntegrator::load_or_train_field(const Scene& scene, const Prep
     // each leaf's medium share (collisions only happen inside media), and surface guiding and the
     // pixel estimate trust only leaves mostly filled by a medium (GuidingLeaf::mostly_medium). A
     // field of format v2 or from progressive training is measured here, its fluence left as it is.
-    if (!field_.empty() && !field_.has_medium_fractions())
-        field_.set_medium_fractions(medium_fractions(scene, field_.tree(), kMediumFractionPoints, context.seed),
-                                    photon_fluence);
+    if (!field_.has_medium_fractions()) measure_medium_fractions(scene, context.seed, photon_fluence);
+}
+
+void GuidedVolPathIntegrator::measure_medium_fractions(const Scene& scene, uint64_t seed, bool photon_fluence) {
+    if (!field_.empty())
+        field_.set_medium_fractions(medium_fractions(scene, field_.tree(), kMediumFractionPoints, seed), photon_fluence);
 }
 
 GuidingField GuidedVolPathIntegrator::train_by_photons(const Scene& scene, const PreprocessContext& context) {
@@ -257,9 +259,11 @@ void GuidedVolPathIntegrator::use_given_pixel_estimate() {
     pixel_estimate_ = PixelEstimate::from_image(given_prepass_->pixel_estimate, settings_.pixel.floor_fraction);
 }
 
-Color3 GuidedVolPathIntegrator::guided_walk(const Scene& scene, Sampler& sampler, const Ray& ray, float pixel) const {
-    if (!guide_) return walk_.walk(scene, sampler, ray, nullptr);
+Color3 GuidedVolPathIntegrator::guided_walk(const Scene& scene, Sampler& sampler, const Ray& ray, float pixel,
+                                            WalkPolicy* recorder) const {
+    if (!guide_) return walk_.walk(scene, sampler, ray, recorder);
     GuidedWalkPolicy policy(*guide_, rrs_.get(), pixel);
+    policy.record_training(recorder);
     return walk_.walk(scene, sampler, ray, &policy);
 }
 
@@ -283,10 +287,7 @@ Color3 GuidedVolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const C
 
 Color3 GuidedVolPathIntegrator::recorded_Li(const Scene& scene, Sampler& sampler, const CameraRay& camera,
                                             WalkPolicy& recorder) const {
-    if (!guide_) return walk_.walk(scene, sampler, camera.ray, &recorder);
-    GuidedWalkPolicy policy(*guide_, rrs_.get(), rrs_ ? pixel_estimate_.at(camera.film_uv) : 0.f);
-    policy.record_training(&recorder);
-    return walk_.walk(scene, sampler, camera.ray, &policy);
+    return guided_walk(scene, sampler, camera.ray, rrs_ ? pixel_estimate_.at(camera.film_uv) : 0.f, &recorder);
 }
 
 std::vector<std::pair<std::string, double>> GuidedVolPathIntegrator::statistics() const {

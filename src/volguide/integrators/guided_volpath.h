@@ -66,11 +66,15 @@ private:
     std::unique_ptr<RouletteSplitting> rrs_;     // rrs != standard
     PixelEstimate pixel_estimate_;
     std::unique_ptr<GuidedPrepass> given_prepass_;  // use_prepass_state(): no training
-    // The guided walk along ray, with guided RR/splitting (when rrs_) against the pixel value I.
-    Color3 guided_walk(const Scene& scene, Sampler& sampler, const Ray& ray, float pixel) const;
+    // The guided walk along ray, with guided RR/splitting (when rrs_) against the pixel value I;
+    // `recorder` (null: none) records its training samples.
+    Color3 guided_walk(const Scene& scene, Sampler& sampler, const Ray& ray, float pixel,
+                       WalkPolicy* recorder = nullptr) const;
     // preprocess()'s steps: the field (loaded or trained) with its leaves' medium fractions, then
     // the pixel estimate I of guided RR/splitting.
     void load_or_train_field(const Scene& scene, const PreprocessContext& context);
+    // Each leaf's medium share (medium_occupancy.h) into field_; photon_fluence: divide its fluence by it.
+    void measure_medium_fractions(const Scene& scene, uint64_t seed, bool photon_fluence);
     GuidingField train_by_photons(const Scene& scene, const PreprocessContext& context);
     void make_pixel_estimate(const Scene& scene, const PreprocessContext& context);
     void use_given_pixel_estimate();
