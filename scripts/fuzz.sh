@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets with clang (ASan + UBSan, tests/fuzz) and runs each for N seconds.
-#   scripts/fuzz.sh SECONDS [BUILD_DIR] [TARGET...]      (make fuzz FUZZ_SECONDS=N)
+#   scripts/fuzz.sh SECONDS [BUILD_DIR] [TARGET...]      (make fuzz FUZZ_SECONDS=N [FUZZ_RUNS=M])
 # Seeds: tests/fuzz/corpus/<target>/ (read-only); what the fuzzer adds goes to BUILD_DIR/fuzz-corpus/,
 # crashes, hangs and sanitizer reports to BUILD_DIR/fuzz-artifacts/<target>/. Exit 1 when any target
 # found something: keep the input in tests/fuzz/regression/<target>/ and fix the reader
@@ -38,7 +38,9 @@ for t in "${targets[@]}"; do
   # FUZZ_SEED (default 0: libFuzzer picks one): a fixed seed makes a run explore the same inputs in
   # the same order (CI's smoke run replays the corpus and explores from seed 1, so it fails on a
   # regression, not on a new finding it happened to reach; the long runs pick their own seeds).
-  if ! "$build/fuzz_$t" -seed="${FUZZ_SEED:-0}" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=2048 \
+  # FUZZ_RUNS (default -1: no cap): stop a target after that many executions, whichever of it and
+  # SECONDS comes first (the acceptance's long runs: FUZZ_RUNS=10000000 with SECONDS=3600).
+  if ! "$build/fuzz_$t" -seed="${FUZZ_SEED:-0}" -runs="${FUZZ_RUNS:--1}" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=2048 \
       -print_final_stats=1 -artifact_prefix="$artifacts/" "${dict[@]}" "$corpus" "$root/tests/fuzz/corpus/$t" \
       2>"$build/fuzz-$t.log"; then
     failed+=("$t")

@@ -16,6 +16,9 @@
 
 #if VOLGUIDE_TSAN
 #include <sanitizer/tsan_interface.h>
+// Part of the TSan runtime's interface (gcc's libtsan and clang's compiler-rt), not of its header.
+extern "C" void __tsan_ignore_thread_begin();
+extern "C" void __tsan_ignore_thread_end();
 #endif
 
 namespace volguide {
@@ -37,5 +40,22 @@ inline void tsan_acquire(const void* key) {
     (void)key;
 #endif
 }
+
+// While one lives, ThreadSanitizer ignores this thread's memory accesses (and resets, rather than
+// records, what it allocates and frees). For calls into an uninstrumented library that set up or tear
+// down state the library later reads on threads of its own, through hand-overs TSan cannot see:
+// Embree's device settings, written when the device is created and read by the BVH build on TBB's
+// threads (geometry/accel_embree.cpp). Nothing of volguide's may run inside one.
+class TsanIgnoredAccesses {
+public:
+#if VOLGUIDE_TSAN
+    TsanIgnoredAccesses() { __tsan_ignore_thread_begin(); }
+    ~TsanIgnoredAccesses() { __tsan_ignore_thread_end(); }
+#else
+    TsanIgnoredAccesses() = default;
+#endif
+    TsanIgnoredAccesses(const TsanIgnoredAccesses&) = delete;
+    TsanIgnoredAccesses& operator=(const TsanIgnoredAccesses&) = delete;
+};
 
 }  // namespace volguide
