@@ -1,7 +1,8 @@
 // Guiding field costs (issue 6):
 //  - PhotonPass: photons/s of the pre-pass on the bundled demo (fog room, sun through a window);
 //  - FieldBuild: kd-tree + per-leaf EM fit (8 lobes) of the samples those photons deposited,
-//    reported per leaf;
+//    reported per leaf; TreeBuild/{threads}/{concurrent}: the kd-tree alone, sequential (0) or with
+//    large subtrees' halves built concurrently (1), in an arena of 1 or 2 threads;
 //  - Incident / Inscattered{Exact,A3}: one query of L~ and L~_i at a random point and direction;
 //  - InscatteredA3Prepared: the same A3 query through an InscatterCache prepared for the phase
 //    (and InscatterCachePrepare: the preparation itself, with the cache's bytes per leaf);
@@ -33,6 +34,7 @@
 #include <cmath>
 #include <vector>
 
+#include "volguide/core/parallel.h"
 #include "volguide/core/sampler.h"
 #include "volguide/core/warp.h"
 #include "volguide/guiding/distance_regions.h"
@@ -146,6 +148,26 @@ void BM_FieldBuild(benchmark::State& state) {
         benchmark::Counter(double(leaves), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
     state.counters["bytes_per_leaf"] =
         double(sizeof(GuidingLeaf)) + double(sizeof(SpatialTree::Node)) * 2.0 + double(sizeof(BBox3f));
+}
+
+// The kd-tree alone over the demo's photon positions (default leaf_samples), in an arena of
+// state.range(0) threads; state.range(1) = 0 builds sequentially (parallel_min_samples above the
+// sample count), 1 lets subtrees of >= 2^15 samples build their halves concurrently (the default).
+void BM_TreeBuild(benchmark::State& state) {
+    std::vector<Point3f> points;
+    for (const RadianceSample& r : demo_photons().samples) points.push_back(r.position);
+    SpatialTreeSettings settings;
+    if (state.range(1) == 0) settings.parallel_min_samples = points.size() + 1;
+    tbb::task_arena arena(int(state.range(0)));
+    int leaves = 0;
+    for (auto _ : state) {
+        const SpatialTree tree =
+            arena_execute(arena, [&] { return SpatialTree::build(guiding_bounds(demo_scene()), points, settings); });
+        leaves = tree.leaf_count();
+        benchmark::DoNotOptimize(tree);
+    }
+    state.counters["leaves"] = leaves;
+    state.counters["samples"] = double(points.size());
 }
 
 template <int Mode>
@@ -391,6 +413,7 @@ BENCHMARK(BM_LeafWalk<true>)->Name("BM_LeafWalkCursor");
 BENCHMARK(BM_LeafWalk<false>)->Name("BM_LeafWalkTraverse");
 BENCHMARK(BM_PhotonPass)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_FieldBuild)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_TreeBuild)->Args({1, 0})->Args({1, 1})->Args({2, 0})->Args({2, 1})->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Query<0>)->Name("BM_Incident");
 BENCHMARK(BM_Query<1>)->Name("BM_InscatteredExact");
 BENCHMARK(BM_Query<2>)->Name("BM_InscatteredA3");

@@ -123,11 +123,11 @@ const Combo kCombos[] = {{"standard", "incident"},   {"standard", "product"},
                          {"tabulated", "product"},   {"incremental-bins", "product"}};
 
 // The guided integrator inside `moment`, for its statistics.
-std::map<std::string, double> guide_stats(const std::string& xml) {
+std::map<std::string, double> guide_stats(const std::string& xml, int spp = 4) {
     TempDir dir("guided-stats");
     auto scene = load_scene(dir.write("s.xml", xml));
     RenderOptions ro;
-    ro.spp = 4;
+    ro.spp = spp;
     ro.seed = 3;
     render(*scene, ro);
     const auto& moment = dynamic_cast<const MomentIntegrator&>(scene->integrator());
@@ -463,8 +463,8 @@ TEST(GuidedVolPathUnbiased, LearnedSelectionIsUnbiased) {
 
 // Online learning (online_spp): the passes of the first online_spp samples per pixel record the
 // render's own guided, split paths, and the field (with the guide, the pixel estimate and the
-// learned selection) is rebuilt after each of them. Every pass samples one fixed field, so the
-// image is still volpath's in expectation; 1024 spp with online_spp 64: seven updates.
+// learned selection) is rebuilt whenever they have doubled. Every pass samples one fixed field, so
+// the image is still volpath's in expectation; 1024 spp with online_spp 64: seven updates.
 TEST(GuidedVolPathUnbiased, OnlineLearningIsUnbiased) {
     TempDir dir("guided-online");
     const std::string grid = write_furnace_grid(dir);
@@ -480,4 +480,10 @@ TEST(GuidedVolPathUnbiased, OnlineLearningIsUnbiased) {
     }
     const auto s = guide_stats(lit_fog_xml(false, grid, guided("incremental", "product", 200000, -1.f, online)));
     EXPECT_EQ(s.at("online_updates"), 3.0);  // 4 spp: after the passes of 1, 1 and 2 spp
+    // The render loop's passes of 1, 1, 2, 4, 8, 8, 8, 8 spp: updates at 1, 2, 4, 8, 16, 32 and at
+    // online_spp (40); not after the passes ending at 24.
+    const std::string online40 = R"(<string name="training" value="progressive"/><integer name="training_iterations" value="3"/>)"
+                                 R"(<integer name="online_spp" value="40"/>)";
+    const auto s40 = guide_stats(lit_fog_xml(false, grid, guided("incremental", "product", 200000, -1.f, online40)), 40);
+    EXPECT_EQ(s40.at("online_updates"), 7.0);
 }

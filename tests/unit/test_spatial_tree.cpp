@@ -3,8 +3,11 @@
 // intervals that agree with point lookup, and rebuilding from the node array is exact.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <span>
 
+#include "volguide/core/parallel.h"
 #include "volguide/core/sampler.h"
 #include "volguide/core/warp.h"
 #include "volguide/guiding/spatial_tree.h"
@@ -154,6 +157,43 @@ TEST(SpatialTree, BuildIsAPureFunctionOfTheSamples) {
         EXPECT_EQ(a.nodes()[i].split, b.nodes()[i].split);
         EXPECT_EQ(a.nodes()[i].child, b.nodes()[i].child);
         EXPECT_EQ(a.nodes()[i].axis, b.nodes()[i].axis);
+    }
+}
+
+// Large subtrees build their halves concurrently and splice them in the sequential build's order:
+// splicing at every split of 64 samples or more, on one thread and on two, gives the arrays of the
+// sequential build exactly (nodes, leaf numbering, samples per leaf), masked or not.
+TEST(SpatialTree, ConcurrentBuildIsTheSequentialBuild) {
+    const auto pts = points(60000, 5);
+    std::vector<uint8_t> counted(pts.size());
+    for (size_t i = 0; i < pts.size(); ++i) counted[i] = uint8_t(i % 3 != 0);
+    for (bool masked : {false, true}) {
+        SCOPED_TRACE(masked ? "masked" : "all counted");
+        const std::span<const uint8_t> mask = masked ? std::span<const uint8_t>(counted) : std::span<const uint8_t>();
+        SpatialTreeSettings sequential;
+        sequential.max_samples = 50;
+        sequential.parallel_min_samples = pts.size() + 1;
+        const SpatialTree ref = SpatialTree::build(kBounds, pts, sequential, mask);
+        ASSERT_GT(ref.leaf_count(), 500);
+        SpatialTreeSettings concurrent = sequential;
+        concurrent.parallel_min_samples = 64;
+        for (int threads : {1, 2}) {
+            SCOPED_TRACE(threads);
+            tbb::task_arena arena(threads);
+            const SpatialTree t = arena_execute(arena, [&] { return SpatialTree::build(kBounds, pts, concurrent, mask); });
+            ASSERT_EQ(t.nodes().size(), ref.nodes().size());
+            for (size_t i = 0; i < t.nodes().size(); ++i) {
+                ASSERT_EQ(t.nodes()[i].split, ref.nodes()[i].split) << "node " << i;
+                ASSERT_EQ(t.nodes()[i].child, ref.nodes()[i].child) << "node " << i;
+                ASSERT_EQ(t.nodes()[i].axis, ref.nodes()[i].axis) << "node " << i;
+            }
+            ASSERT_EQ(t.leaf_count(), ref.leaf_count());
+            for (int l = 0; l < t.leaf_count(); ++l) {
+                const auto a = t.leaf_samples(l), b = ref.leaf_samples(l);
+                ASSERT_TRUE(std::equal(a.begin(), a.end(), b.begin(), b.end())) << "leaf " << l;
+            }
+            EXPECT_EQ(t.depth(), ref.depth());
+        }
     }
 }
 

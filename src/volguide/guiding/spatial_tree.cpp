@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "volguide/core/parallel.h"
+
 namespace volguide {
 
 SpatialTree::SpatialTree(const BBox3f& bounds) : bounds_(bounds) {
@@ -18,14 +20,22 @@ std::span<const uint32_t> SpatialTree::leaf_samples(int leaf) const {
 
 namespace {
 
+// Builds a subtree into its own arrays, in the order of a depth-first build: a split appends its two
+// children, then the lower child's subtree, then the upper's; leaves are numbered and their samples
+// appended in that order. Subtrees of at least parallel_min_samples samples build their two halves
+// concurrently into two Builders and splice them in lower-then-upper order, which gives exactly the
+// arrays of the sequential build (the same tree for any thread count).
 struct Builder {
     std::span<const Point3f> points;
     std::span<const uint8_t> counted;  // empty: every point counts
-    const SpatialTreeSettings& settings;
-    std::vector<SpatialTree::Node>& nodes;
-    std::vector<uint32_t>& order;       // sample indices, grouped by leaf as leaves are made
-    std::vector<uint32_t>& leaf_offset;
+    const SpatialTreeSettings* settings;
+    std::vector<SpatialTree::Node> nodes{SpatialTree::Node{}};  // nodes[0]: this subtree's root
+    std::vector<uint32_t> order;                                // sample indices, grouped by leaf
+    std::vector<uint32_t> leaf_offset{0u};
     int max_depth_reached = 0;
+
+    Builder(std::span<const Point3f> p, std::span<const uint8_t> c, const SpatialTreeSettings& s)
+        : points(p), counted(c), settings(&s) {}
 
     // Chooses the split of `idx` inside `box`: (axis, position), or axis 3 for "make a leaf".
     std::pair<int, float> choose_split(const std::vector<uint32_t>& idx, const BBox3f& box) const {
@@ -72,11 +82,12 @@ struct Builder {
         max_depth_reached = std::max(max_depth_reached, depth);
         int64_t n = 0;
         for (uint32_t i : idx) n += counts(i);
-        if (n <= settings.max_samples || depth >= settings.max_depth) return make_leaf(node, idx);
+        if (n <= settings->max_samples || depth >= settings->max_depth) return make_leaf(node, idx);
         auto [axis, split] = choose_split(idx, box);
         if (axis == 3) return make_leaf(node, idx);
         std::vector<uint32_t> lower, upper;
         for (uint32_t i : idx) (points[i][axis] < split ? lower : upper).push_back(i);
+        const bool parallel = idx.size() >= settings->parallel_min_samples;
         idx = {};
         const uint32_t child = uint32_t(nodes.size());
         nodes[node] = SpatialTree::Node{split, child, uint8_t(axis)};
@@ -84,8 +95,35 @@ struct Builder {
         BBox3f lo_box = box, hi_box = box;
         lo_box.hi[axis] = split;
         hi_box.lo[axis] = split;
-        build(child, std::move(lower), lo_box, depth + 1);
-        build(child + 1, std::move(upper), hi_box, depth + 1);
+        if (!parallel) {
+            build(child, std::move(lower), lo_box, depth + 1);
+            build(child + 1, std::move(upper), hi_box, depth + 1);
+            return;
+        }
+        Builder halves[2] = {Builder(points, counted, *settings), Builder(points, counted, *settings)};
+        std::vector<uint32_t>* parts[2] = {&lower, &upper};
+        const BBox3f* boxes[2] = {&lo_box, &hi_box};
+        parallel_for(0, 2, [&](int h) { halves[h].build(0, std::move(*parts[h]), *boxes[h], depth + 1); });
+        splice(child, halves[0]);
+        splice(child + 1, halves[1]);
+    }
+
+    // Appends a subtree built by `sub` (its root at sub.nodes[0]) as the sequential build would have
+    // built it from `node`: its other nodes after the current ones, its leaves after the current ones.
+    void splice(uint32_t node, const Builder& sub) {
+        const uint32_t base = uint32_t(nodes.size()) - 1;  // sub's node i >= 1 goes to base + i
+        const uint32_t first_leaf = uint32_t(leaf_offset.size()) - 1;
+        const uint32_t first_sample = uint32_t(order.size());
+        auto moved = [&](SpatialTree::Node n) {
+            n.child += n.is_leaf() ? first_leaf : base;
+            return n;
+        };
+        nodes[node] = moved(sub.nodes[0]);
+        nodes.reserve(nodes.size() + sub.nodes.size() - 1);
+        for (size_t i = 1; i < sub.nodes.size(); ++i) nodes.push_back(moved(sub.nodes[i]));
+        order.insert(order.end(), sub.order.begin(), sub.order.end());
+        for (size_t l = 1; l < sub.leaf_offset.size(); ++l) leaf_offset.push_back(first_sample + sub.leaf_offset[l]);
+        max_depth_reached = std::max(max_depth_reached, sub.max_depth_reached);
     }
 };
 
@@ -102,14 +140,14 @@ SpatialTree SpatialTree::build(const BBox3f& bounds, std::span<const Point3f> po
     for (Point3f& p : clamped) p = min(max(p, bounds.lo), bounds.hi);
 
     SpatialTree tree(bounds);
-    tree.nodes_.assign(1, Node{});
-    tree.sample_index_.clear();
-    tree.sample_index_.reserve(points.size());
-    tree.leaf_offset_ = {0u};
     std::vector<uint32_t> all(points.size());
     for (size_t i = 0; i < all.size(); ++i) all[i] = uint32_t(i);
-    Builder b{clamped, counted, settings, tree.nodes_, tree.sample_index_, tree.leaf_offset_};
+    Builder b(clamped, counted, settings);
+    b.order.reserve(points.size());
     b.build(0, std::move(all), bounds, 0);
+    tree.nodes_ = std::move(b.nodes);
+    tree.sample_index_ = std::move(b.order);
+    tree.leaf_offset_ = std::move(b.leaf_offset);
     tree.depth_ = b.max_depth_reached;
     tree.compute_leaf_bounds();
     return tree;

@@ -25,6 +25,9 @@ namespace volguide {
 struct SpatialTreeSettings {
     int max_samples = 2000;  // theory.md §15 ("leaf_samples")
     int max_depth = 32;
+    // Subtrees of at least this many samples build their two halves concurrently. Only the build's
+    // speed depends on it: the tree is the same for any value and any thread count.
+    size_t parallel_min_samples = size_t(1) << 15;
 };
 
 class SpatialTree {

@@ -35,6 +35,7 @@ void GuidedVolPathIntegrator::preprocess(const Scene& scene, const PreprocessCon
     online_samples_.clear();
     online_threads_.clear();
     online_updates_ = 0;
+    online_updated_spp_ = 0;
     online_seconds_ = 0;
     walk_.preprocess(scene, context);
     if (settings_.online_spp > 0 && given_prepass_)
@@ -82,8 +83,12 @@ void GuidedVolPathIntegrator::build_from_field(const Scene& scene, const Preproc
     }
 }
 
+// Updates at doublings: each costs about as much as all the earlier ones together (a rebuild from
+// every sample so far, a selection pilot), so updating after every pass of the render loop's 1, 1,
+// 2, 4, 8, 8, 8, ... spp would spend most of the learning on small steps late in the recording.
 void GuidedVolPathIntegrator::end_pass(int spp_done, double seconds) {
-    if (online_recording_) online_update(spp_done);
+    if (online_recording_ && (spp_done >= 2 * online_updated_spp_ || spp_done >= settings_.online_spp))
+        online_update(spp_done);
 }
 
 // Joins the pass's recorded camera samples in stream-key order, rebuilds the field from every sample
@@ -117,6 +122,7 @@ void GuidedVolPathIntegrator::online_update(int spp_done) {
     measure_medium_fractions(*scene_, context.seed, false);
     build_from_field(*scene_, context, true);
     ++online_updates_;
+    online_updated_spp_ = spp_done;
     if (spp_done >= settings_.online_spp) {
         online_recording_ = false;
         online_threads_.clear();

@@ -39,9 +39,11 @@ public:
     // split paths reads.
     Color3 recorded_Li(const Scene& scene, Sampler& sampler, const CameraRay& camera, WalkPolicy& recorder) const;
     void preprocess(const Scene& scene, const PreprocessContext& context) override;
-    // Online learning (online_spp > 0): after each pass of the first online_spp samples per pixel,
-    // the field is rebuilt from the training's samples and every recorded pass so far, and the guide,
-    // the pixel estimate and the learned selection with it. The next pass samples with the new field.
+    // Online learning (online_spp > 0): the passes of the first online_spp samples per pixel record;
+    // whenever the recorded samples per pixel have doubled since the last update (1, 2, 4, ..., and
+    // at online_spp), the field is rebuilt from the training's samples and every recorded pass so far,
+    // and the guide, the pixel estimate and the learned selection with it. The next pass samples with
+    // the new field.
     void end_pass(int spp_done, double seconds) override;
     std::vector<std::pair<std::string, double>> statistics() const override;
     std::string to_string() const override;
@@ -104,6 +106,7 @@ private:
     const Scene* scene_ = nullptr;  // of the last preprocess(), for the online updates
     uint64_t seed_ = 0;
     int online_updates_ = 0;
+    int online_updated_spp_ = 0;  // spp_done at the last update
     double online_seconds_ = 0;
 };
 
