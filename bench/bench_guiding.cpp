@@ -23,8 +23,8 @@
 //    the ray's direction prepared once), random leaves of the demo field;
 //  - RouletteEstimate: the E[X] lookup of guided RR / splitting at a medium vertex (WalkGuide::
 //    inscattered_estimate: leaf descent + table lookup) at random points of the demo's fog;
-//  - LeafWalk{Cursor,Traverse}: the leaves crossed by a random ray through a kd-tree of the demo's
-//    photon positions split to ~2000 leaves (the size of a benchmark scene's field), by the rope
+//  - LeafWalk{Cursor,Traverse}/{2000,50000}: the leaves crossed by a random ray through a kd-tree of
+//    the demo's photon positions split to ~2000 leaves (a benchmark scene's field) or ~50000, by the rope
 //    cursor the distance sampler uses and by the stack traversal; time per ray, `time_per_leaf`
 //    counter (leaves/ray is the `leaves` counter; both walks yield the same leaves).
 //   cmake --build build --target bench_guiding && build/bench_guiding
@@ -77,21 +77,23 @@ const GuidingField& demo_field() {
     return f;
 }
 
-// The demo's photon positions split into ~2000 leaves.
-const SpatialTree& walk_tree() {
-    static SpatialTree tree = [] {
-        std::vector<Point3f> points;
-        for (const RadianceSample& r : demo_photons().samples) points.push_back(r.position);
-        SpatialTreeSettings settings;
-        settings.max_samples = std::max(1, int(points.size() / 2000));
-        return SpatialTree::build(guiding_bounds(demo_scene()), points, settings);
-    }();
-    return tree;
+// The demo's photon positions split into ~2000 leaves (a benchmark scene's field; its tree fits in
+// the L2 cache) or ~50000 (a 50 M-photon field's size; it does not).
+SpatialTree make_walk_tree(int leaves) {
+    std::vector<Point3f> points;
+    for (const RadianceSample& r : demo_photons().samples) points.push_back(r.position);
+    SpatialTreeSettings settings;
+    settings.max_samples = std::max(1, int(points.size()) / leaves);
+    return SpatialTree::build(guiding_bounds(demo_scene()), points, settings);
+}
+const SpatialTree& walk_tree(int leaves = 2000) {
+    static SpatialTree small = make_walk_tree(2000), large = make_walk_tree(50000);
+    return leaves == 2000 ? small : large;
 }
 
 template <bool Cursor>
 void BM_LeafWalk(benchmark::State& state) {
-    const SpatialTree& tree = walk_tree();
+    const SpatialTree& tree = walk_tree(int(state.range(0)));
     const BBox3f b = tree.bounds();
     std::vector<Ray> rays;
     for (int i = 0; i < 4096; ++i) {
@@ -409,8 +411,8 @@ BENCHMARK(BM_GuidedDirection<DirectionGuiding::Incident, Pdf>)->Name("BM_GuidedD
 BENCHMARK(BM_DistanceQuery)->Arg(0)->Arg(30)->Arg(50);
 BENCHMARK(BM_LeafTableLookup);
 BENCHMARK(BM_RouletteEstimate);
-BENCHMARK(BM_LeafWalk<true>)->Name("BM_LeafWalkCursor");
-BENCHMARK(BM_LeafWalk<false>)->Name("BM_LeafWalkTraverse");
+BENCHMARK(BM_LeafWalk<true>)->Name("BM_LeafWalkCursor")->Arg(2000)->Arg(50000);
+BENCHMARK(BM_LeafWalk<false>)->Name("BM_LeafWalkTraverse")->Arg(2000)->Arg(50000);
 BENCHMARK(BM_PhotonPass)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_FieldBuild)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_TreeBuild)->Args({1, 0})->Args({1, 1})->Args({2, 0})->Args({2, 1})->Unit(benchmark::kMillisecond)->UseRealTime();
