@@ -67,11 +67,18 @@ GuidingField GuidingField::build(const BBox3f& bounds, std::span<const RadianceS
     // Only samples that carry radiance drive the subdivision (spatial_tree.h): zero-valued training
     // samples still count in their leaf's fluence mean. Photon samples are all positive.
     std::vector<uint8_t> carries_radiance(samples.size());
+    // What the transport-shaped refinement compares (tree.split_contrast): the fluence estimator's
+    // own numerator, per volume for photons, per sample for camera vertices.
+    std::vector<float> radiance;
+    if (settings.tree.split_contrast > 0.f) radiance.resize(samples.size());
     for (size_t i = 0; i < samples.size(); ++i) {
         positions[i] = samples[i].position;
         carries_radiance[i] = samples[i].weight.is_finite() && samples[i].weight.average() > 0.f;
+        if (!radiance.empty()) radiance[i] = carries_radiance[i] ? samples[i].weight.average() : 0.f;
     }
-    SpatialTree tree = SpatialTree::build(bounds, positions, settings.tree, carries_radiance);
+    SpatialTreeSettings tree_settings = settings.tree;
+    tree_settings.contrast_per_volume = settings.fluence == FluenceEstimator::PerVolume;
+    SpatialTree tree = SpatialTree::build(bounds, positions, tree_settings, carries_radiance, radiance);
     std::vector<GuidingLeaf> leaves(size_t(tree.leaf_count()));
     parallel_for(0, tree.leaf_count(), [&](int l) {
         leaves[size_t(l)] = fit_leaf(samples, tree.leaf_samples(l), tree.leaf_bounds(l), settings);

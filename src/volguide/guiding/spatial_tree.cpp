@@ -1,6 +1,7 @@
 #include "volguide/guiding/spatial_tree.h"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 #include "volguide/core/parallel.h"
@@ -28,14 +29,16 @@ namespace {
 struct Builder {
     std::span<const Point3f> points;
     std::span<const uint8_t> counted;  // empty: every point counts
+    std::span<const float> values;     // for settings->split_contrast
     const SpatialTreeSettings* settings;
     std::vector<SpatialTree::Node> nodes{SpatialTree::Node{}};  // nodes[0]: this subtree's root
     std::vector<uint32_t> order;                                // sample indices, grouped by leaf
     std::vector<uint32_t> leaf_offset{0u};
     int max_depth_reached = 0;
 
-    Builder(std::span<const Point3f> p, std::span<const uint8_t> c, const SpatialTreeSettings& s)
-        : points(p), counted(c), settings(&s) {}
+    Builder(std::span<const Point3f> p, std::span<const uint8_t> c, std::span<const float> v,
+            const SpatialTreeSettings& s)
+        : points(p), counted(c), values(v), settings(&s) {}
 
     // Chooses the split of `idx` inside `box`: (axis, position), or axis 3 for "make a leaf".
     std::pair<int, float> choose_split(const std::vector<uint32_t>& idx, const BBox3f& box) const {
@@ -78,12 +81,55 @@ struct Builder {
         leaf_offset.push_back(uint32_t(order.size()));
     }
 
+    // The contrast of a node's halves at (axis, split): |a - b| / (a + b) of their values per unit
+    // volume or per point; 0 when a half has fewer than contrast_min_samples counted points.
+    double contrast(const std::vector<uint32_t>& idx, const BBox3f& box, int axis, float split) const {
+        int64_t counted_in[2] = {0, 0}, points_in[2] = {0, 0};
+        double sum[2] = {0.0, 0.0};
+        for (uint32_t i : idx) {
+            const int h = points[i][axis] < split ? 0 : 1;
+            counted_in[h] += counts(i);
+            points_in[h] += 1;
+            sum[h] += double(values[i]);
+        }
+        if (std::min(counted_in[0], counted_in[1]) < settings->contrast_min_samples) return 0.0;
+        BBox3f half[2] = {box, box};
+        half[0].hi[axis] = split;
+        half[1].lo[axis] = split;
+        double mean[2];
+        for (int h = 0; h < 2; ++h) {
+            const Vec3f e = half[h].extents();
+            const double norm = settings->contrast_per_volume ? double(e.x) * double(e.y) * double(e.z)
+                                                              : double(points_in[h]);
+            mean[h] = norm > 0.0 ? sum[h] / norm : 0.0;
+        }
+        const double total = mean[0] + mean[1];
+        return total > 0.0 ? std::abs(mean[0] - mean[1]) / total : 0.0;
+    }
+
+    // A node within the sample limit splits where the light changes most: the box's mid-plane of
+    // the axis whose halves differ most, if that contrast exceeds split_contrast; else axis 3.
+    std::pair<int, float> choose_light_split(const std::vector<uint32_t>& idx, const BBox3f& box) const {
+        int best = 3;
+        float best_split = 0.f;
+        double best_contrast = double(settings->split_contrast);
+        for (int a = 0; a < 3; ++a) {
+            const float mid = 0.5f * (box.lo[a] + box.hi[a]);
+            if (!(mid > box.lo[a] && mid < box.hi[a])) continue;
+            const double c = contrast(idx, box, a, mid);
+            if (c > best_contrast) best_contrast = c, best = a, best_split = mid;
+        }
+        return {best, best_split};
+    }
+
     void build(uint32_t node, std::vector<uint32_t> idx, const BBox3f& box, int depth) {
         max_depth_reached = std::max(max_depth_reached, depth);
         int64_t n = 0;
         for (uint32_t i : idx) n += counts(i);
-        if (n <= settings->max_samples || depth >= settings->max_depth) return make_leaf(node, idx);
-        auto [axis, split] = choose_split(idx, box);
+        const bool by_count = n > settings->max_samples;
+        const bool by_light = !by_count && settings->split_contrast > 0.f && n >= 2 * int64_t(settings->contrast_min_samples);
+        if ((!by_count && !by_light) || depth >= settings->max_depth) return make_leaf(node, idx);
+        auto [axis, split] = by_count ? choose_split(idx, box) : choose_light_split(idx, box);
         if (axis == 3) return make_leaf(node, idx);
         std::vector<uint32_t> lower, upper;
         for (uint32_t i : idx) (points[i][axis] < split ? lower : upper).push_back(i);
@@ -100,7 +146,7 @@ struct Builder {
             build(child + 1, std::move(upper), hi_box, depth + 1);
             return;
         }
-        Builder halves[2] = {Builder(points, counted, *settings), Builder(points, counted, *settings)};
+        Builder halves[2] = {Builder(points, counted, values, *settings), Builder(points, counted, values, *settings)};
         std::vector<uint32_t>* parts[2] = {&lower, &upper};
         const BBox3f* boxes[2] = {&lo_box, &hi_box};
         parallel_for(0, 2, [&](int h) { halves[h].build(0, std::move(*parts[h]), *boxes[h], depth + 1); });
@@ -130,9 +176,14 @@ struct Builder {
 }  // namespace
 
 SpatialTree SpatialTree::build(const BBox3f& bounds, std::span<const Point3f> points,
-                               const SpatialTreeSettings& settings, std::span<const uint8_t> counted) {
+                               const SpatialTreeSettings& settings, std::span<const uint8_t> counted,
+                               std::span<const float> values) {
     if (!counted.empty() && counted.size() != points.size())
         throw std::invalid_argument("SpatialTree::build: one `counted` flag per point expected");
+    if (settings.split_contrast > 0.f && values.size() != points.size())
+        throw std::invalid_argument("SpatialTree::build: split_contrast needs one value per point");
+    if (!(settings.split_contrast >= 0.f && settings.split_contrast < 1.f) || settings.contrast_min_samples < 1)
+        throw std::invalid_argument("SpatialTree::build: split_contrast must be in [0, 1) and contrast_min_samples >= 1");
     if (!bounds.valid()) throw std::invalid_argument("SpatialTree::build: invalid bounds");
     if (settings.max_samples < 1 || settings.max_depth < 0 || settings.max_depth > 60)
         throw std::invalid_argument("SpatialTree::build: max_samples must be >= 1 and max_depth in [0, 60]");
@@ -142,7 +193,7 @@ SpatialTree SpatialTree::build(const BBox3f& bounds, std::span<const Point3f> po
     SpatialTree tree(bounds);
     std::vector<uint32_t> all(points.size());
     for (size_t i = 0; i < all.size(); ++i) all[i] = uint32_t(i);
-    Builder b(clamped, counted, settings);
+    Builder b(clamped, counted, values, settings);
     b.order.reserve(points.size());
     b.build(0, std::move(all), bounds, 0);
     tree.nodes_ = std::move(b.nodes);

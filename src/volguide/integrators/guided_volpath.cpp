@@ -54,6 +54,13 @@ void GuidedVolPathIntegrator::preprocess(const Scene& scene, const PreprocessCon
 }
 
 void GuidedVolPathIntegrator::build_from_field(const Scene& scene, const PreprocessContext& context, bool update) {
+    // The field's shape (an online update replaces the last figures).
+    std::erase_if(training_stats_, [](const auto& s) { return s.first.rfind("field_", 0) == 0; });
+    int valid = 0;
+    for (const GuidingLeaf& leaf : field_.leaves()) valid += leaf.valid;
+    training_stats_.insert(training_stats_.end(), {{"field_leaves", double(field_.tree().leaf_count())},
+                                                   {"field_valid_leaves", double(valid)},
+                                                   {"field_depth", double(field_.tree().depth())}});
     estimator_.reset();
     if (settings_.estimate != FieldEstimate::None) estimator_ = std::make_unique<CacheEstimator>(scene, field_);
     guide_.reset();

@@ -111,6 +111,13 @@ void read_training(const Properties& props, GuidedVolPathSettings& s) {
         props.fail_at("leaf_samples", "guided_volpath: leaf_samples must be >= 1, got {}", leaf_samples);
     s.field.tree.max_samples = int(std::min<int64_t>(leaf_samples, 1 << 30));
     s.field.lobes = int_in(props, "lobes", s.field.lobes, 1, kVmmMaxLobes);
+    // The transport-shaped refinement (spatial_tree.h, issue 22).
+    s.field.tree.split_contrast = props.get_float("leaf_contrast", s.field.tree.split_contrast);
+    if (!(s.field.tree.split_contrast >= 0.f && s.field.tree.split_contrast < 1.f))
+        props.fail_at("leaf_contrast", "guided_volpath: leaf_contrast must be in [0, 1) (0: off), got {}",
+                      s.field.tree.split_contrast);
+    s.field.tree.contrast_min_samples =
+        int_in(props, "leaf_contrast_samples", s.field.tree.contrast_min_samples, 1, 1 << 30);
 }
 
 // distance and its parameters (c_T, p_max, filter_A, distance_denominator, leaf_tau_max,
@@ -241,11 +248,12 @@ GuidedVolPathSettings GuidedVolPathSettings::from(const Properties& props) {
 std::string GuidedVolPathSettings::to_string() const {
     return fmt::format(
         "max_depth={}, rr_depth={}, rr_rule={}, training={}, photons={}, training_iterations={}, online_spp={}, "
-        "leaf_samples={}, "
+        "leaf_samples={}, leaf_contrast={}, leaf_contrast_samples={}, "
         "lobes={}, distance={}, distance_merge={}, hetero_distance={}, direction={}, surface_guiding={}, rrs={}, rrs_window={}, "
         "rrs_branch_budget={}, selection_spp={}, pixel_estimate={}, equiangular={}, estimate={}",
         walk.max_depth, walk.rr_depth, roulette_rule_name(walk.rr_rule), choice_name<TrainingMethod>(kTraining, training), photons,
-        training_iterations, online_spp, field.tree.max_samples, field.lobes,
+        training_iterations, online_spp, field.tree.max_samples, field.tree.split_contrast,
+        field.tree.contrast_min_samples, field.lobes,
         choice_name<DistanceGuiding>(kDistance, guide.distance), guide.distance_merge,
         choice_name<bool>(kHeteroDistance, guide.guided_tracking),
         choice_name<DirectionGuiding>(kDirection, guide.direction), guide.surface,
