@@ -21,6 +21,7 @@
 #include "volguide/core/sampler.h"
 #include "volguide/guiding/field_io.h"
 #include "volguide/integrators/guided_volpath.h"
+#include "volguide/integrators/medium_occupancy.h"
 #include "volguide/integrators/photon_pass.h"
 #include "volguide/render/scene.h"
 #include "volguide/scene/loader.h"
@@ -201,6 +202,73 @@ TEST(PhotonPass, AreaLightPhotonsReachTheMedium) {
     const PhotonPassResult r = trace_photons(*scene, ps, ctx);
     const double rate = double(r.photons_depositing) / double(r.photons_traced);
     EXPECT_NEAR(rate, 0.1125, 0.02);
+}
+
+// A lamp inside fog whose shape (or, for a point light, whose emitter) names no medium: the camera's
+// walk never needs it, but photons must start in the fog that encloses it. Purely absorbing fog of
+// radius 2 around a lamp at the centre: a photon collides before leaving with probability
+// 1 - exp(-sigma (2 - r_lamp)) (the fog bounds are a null sphere). Started in vacuum, as they were
+// before, none did (fogbox's field missed its lamp's direct light).
+TEST(PhotonPass, PhotonsOfALampThatNamesNoMediumStartInTheFogAroundIt) {
+    const float sigma = 0.5f;
+    for (bool point : {false, true}) {
+        SCOPED_TRACE(point ? "point light without a medium" : "sphere light without media");
+        TempDir dir("photons-lamp-in-fog");
+        const std::string lamp =
+            point ? R"(<emitter type="point"><point name="position" value="0, 0, 0"/><rgb name="intensity" value="10"/></emitter>)"
+                  : R"(<shape type="sphere"><float name="radius" value="0.05"/>
+                       <emitter type="area"><rgb name="radiance" value="10"/></emitter></shape>)";
+        auto scene = load(dir, fmt::format(R"(<scene version="3.0.0">
+    <integrator type="volpath"/>
+    <medium type="homogeneous" id="fog">
+        <float name="sigma_t" value="{0}"/><float name="albedo" value="0"/><phase type="isotropic"/>
+    </medium>
+    <shape type="sphere"><float name="radius" value="2"/><bsdf type="null"/><ref name="interior" id="fog"/></shape>
+    {1}
+    <sensor type="perspective">
+        <transform name="to_world"><lookat origin="0, 0, 4" target="0, 0, 0" up="0, 1, 0"/></transform>
+        <film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film>
+    </sensor>
+</scene>)",
+                                           sigma, lamp));
+        PhotonPassSettings ps;
+        ps.photons = 100000;
+        ps.focus = false;
+        PreprocessContext ctx;
+        ctx.seed = 11;
+        const PhotonPassResult r = trace_photons(*scene, ps, ctx);
+        const double rate = double(r.photons_depositing) / double(r.photons_traced);
+        const double expected = 1.0 - std::exp(-sigma * (2.0 - (point ? 0.0 : 0.05)));
+        EXPECT_NEAR(rate, expected, 0.01);  // binomial standard error 0.0015
+        size_t direct = 0;
+        for (const RadianceSample& d : r.samples) direct += d.direct;
+        EXPECT_EQ(direct, r.samples.size());  // albedo 0: every collision is the lamp's direct light
+    }
+}
+
+// medium_enclosing (photons' start medium): inside a fog sphere the fog; outside it, where every
+// axis probe escapes, no medium even though the camera sits in that fog (the fog is bounded); with
+// fog that no shape bounds (the sensor's own medium) the fog everywhere.
+TEST(MediumOccupancy, EnclosingMediumInsideOutsideAndUnbounded) {
+    const std::string fog = R"(<medium type="homogeneous" id="fog"><float name="sigma_t" value="1"/></medium>)";
+    const std::string sensor = R"(<sensor type="perspective"><ref name="medium" id="fog"/>
+        <transform name="to_world"><lookat origin="0, 0, 1" target="0, 0, 0" up="0, 1, 0"/></transform>
+        <film type="hdrfilm"><integer name="width" value="4"/><integer name="height" value="4"/></film></sensor>)";
+    TempDir dir("enclosing-medium");
+    auto bounded = load(dir, R"(<scene version="3.0.0">)" + fog +
+                                 R"(<shape type="sphere"><float name="radius" value="2"/><bsdf type="null"/>
+                                    <ref name="interior" id="fog"/></shape>)" +
+                                 sensor + "</scene>");
+    const Medium* in_fog = bounded->sensor().medium();
+    ASSERT_NE(in_fog, nullptr);
+    EXPECT_EQ(medium_enclosing(*bounded, Point3f(0.3f, -0.2f, 0.1f)), in_fog);
+    EXPECT_EQ(medium_enclosing(*bounded, Point3f(3.f, 3.f, 3.f)), nullptr);  // every probe escapes
+    EXPECT_EQ(medium_enclosing(*bounded, Point3f(3.f, 0.f, 0.f)), nullptr);  // a probe meets the sphere
+    // medium_along's rule takes the sensor's medium for an escaping probe.
+    EXPECT_EQ(medium_along(*bounded, Ray(Point3f(3.f, 3.f, 3.f), Vec3f(1.f, 0.f, 0.f))), in_fog);
+    auto unbounded = load(dir, R"(<scene version="3.0.0">)" + fog +
+                                   R"(<shape type="rectangle"><bsdf type="diffuse"/></shape>)" + sensor + "</scene>");
+    EXPECT_EQ(medium_enclosing(*unbounded, Point3f(3.f, 3.f, 3.f)), unbounded->sensor().medium());
 }
 
 // A sun over a small absorbing fog box on a large ground: the bounding sphere's disk is ~600 times

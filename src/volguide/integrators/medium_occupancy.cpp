@@ -17,7 +17,9 @@ const Medium* medium_at(const Scene& scene, const Point3f& p, Point2f u) {
     return medium_along(scene, Ray(p, warp::square_to_uniform_sphere(u)));
 }
 
-const Medium* medium_along(const Scene& scene, const Ray& probe) {
+namespace {
+// The medium on the near side of the first shape with media along the probe; none: nullopt.
+std::optional<const Medium*> medium_hit_along(const Scene& scene, const Ray& probe) {
     Ray ray = probe;
     for (int k = 0; k < kMaxSkippedSurfaces; ++k) {
         SurfaceInteraction si;
@@ -27,7 +29,25 @@ const Medium* medium_along(const Scene& scene, const Ray& probe) {
             return dot(ray.d, si.n) > 0.f ? shape.interior_medium() : shape.exterior_medium();
         ray = si.spawn_ray(ray.d);
     }
-    return scene.sensor().medium();
+    return std::nullopt;
+}
+}  // namespace
+
+const Medium* medium_along(const Scene& scene, const Ray& probe) {
+    return medium_hit_along(scene, probe).value_or(scene.sensor().medium());
+}
+
+const Medium* medium_enclosing(const Scene& scene, const Point3f& p) {
+    for (int a = 0; a < 6; ++a) {
+        Vec3f d(0.f);
+        d[a / 2] = a % 2 ? -1.f : 1.f;
+        if (const std::optional<const Medium*> m = medium_hit_along(scene, Ray(p, d))) return *m;
+    }
+    // Every probe escaped: p sees infinity, whose medium is the sensor's only if no shape encloses it.
+    const Medium* ambient = scene.sensor().medium();
+    for (const auto& shape : scene.shapes())
+        if (ambient && shape->interior_medium() == ambient) return nullptr;
+    return ambient;
 }
 
 std::vector<float> medium_fractions(const Scene& scene, const SpatialTree& tree, int points_per_leaf, uint64_t seed) {

@@ -7,6 +7,7 @@
 
 #include "volguide/core/parallel.h"
 #include "volguide/integrators/emission_focus.h"
+#include "volguide/integrators/medium_occupancy.h"
 #include "volguide/integrators/volume_nee.h"
 #include "volguide/media/medium.h"
 #include "volguide/render/bsdf.h"
@@ -30,22 +31,61 @@ struct BatchResult {
     int64_t depositing = 0;  // photons that deposited at least once
 };
 
-// The medium a photon leaving `emitter` along `ray` starts in.
-const Medium* start_medium(const Emitter& emitter, const RaySample& rs) {
-    if (emitter.is_infinite() || (emitter.flags() & emitter_flags::DeltaDirection))
-        return nullptr;  // from outside
-    if (const Shape* shape = emitter.shape()) {
-        if (!is_medium_transition(*shape)) return nullptr;
-        return shape->target_medium(rs.n, rs.ray.d);
+// The media photons start in, per emitter. A shape that separates media, or a light that names its
+// medium, says where; a lamp inside fog whose shape names no medium (Mitsuba's scenes often do that:
+// the camera's walk never needs it) is in the medium that encloses it (medium_enclosing), probed once
+// at 16 points it emits from -- per photon only if they disagree (a light straddling a boundary).
+// Started in vacuum instead, such a lamp's photons left every collision of its direct light out of
+// the field (fogbox's in-scattered estimate read 0.54 of the path-traced one). Training only: the
+// render's estimate never reads it.
+class StartMedia {
+public:
+    explicit StartMedia(const Scene& scene) {
+        for (const auto& e : scene.emitters()) starts_.push_back(resolve(scene, *e));
     }
-    return emitter.medium();
-}
+
+    const Medium* at(const Scene& scene, size_t emitter_index, const Emitter& emitter, const RaySample& rs) const {
+        const Start& st = starts_[emitter_index];
+        switch (st.kind) {
+            case Kind::Outside: return nullptr;
+            case Kind::Shape: return emitter.shape()->target_medium(rs.n, rs.ray.d);
+            case Kind::Fixed: return st.medium;
+            case Kind::Probe: break;
+        }
+        return medium_enclosing(scene, rs.ray.o);
+    }
+
+private:
+    enum class Kind { Outside, Shape, Fixed, Probe };
+    struct Start {
+        Kind kind = Kind::Outside;
+        const Medium* medium = nullptr;
+    };
+
+    static Start resolve(const Scene& scene, const Emitter& emitter) {
+        if (emitter.is_infinite() || (emitter.flags() & emitter_flags::DeltaDirection)) return {};  // from outside
+        if (const Shape* shape = emitter.shape(); shape && is_medium_transition(*shape)) return {Kind::Shape, nullptr};
+        if (!emitter.shape() && emitter.medium()) return {Kind::Fixed, emitter.medium()};
+        const Medium* found = nullptr;
+        constexpr int kProbes = 16;
+        for (int i = 0; i < kProbes; ++i) {
+            const Point2f u_pos((float(i % 4) + 0.5f) / 4.f, (float(i / 4) + 0.5f) / 4.f);
+            const RaySample rs = emitter.sample_ray(u_pos, Point2f(0.5f, 0.5f));
+            const Medium* m = medium_enclosing(scene, rs.ray.o);
+            if (i > 0 && m != found) return {Kind::Probe, nullptr};
+            found = m;
+        }
+        return {Kind::Fixed, found};
+    }
+
+    std::vector<Start> starts_;
+};
 
 // Carries one emitted photon through the scene, depositing its medium collisions in `out`.
-void transport(const Scene& scene, const PhotonPassSettings& s, const Emitter& emitter, const RaySample& rs,
+void transport(const Scene& scene, const PhotonPassSettings& s, const Medium* start, const RaySample& rs,
                const Color3& flux, Sampler& sampler, BatchResult& out) {
     Ray ray = rs.ray;
-    const Medium* medium = start_medium(emitter, rs);
+    const Medium* medium = start;
     Color3 throughput(1.f);
     const BSDFContext ctx{TransportMode::Importance};
     int depth = 0, null_crossings = 0;
@@ -104,8 +144,8 @@ void transport(const Scene& scene, const PhotonPassSettings& s, const Emitter& e
 
 // One photon: an emitter by power, its emission sample (focused when `focus` is active), then
 // transport. With `pilot`, the emission sample is recorded with whether the photon deposited.
-void trace_one(const Scene& scene, const PhotonPassSettings& s, const EmissionFocus& focus, Sampler& sampler,
-               BatchResult& out, EmissionPilot* pilot) {
+void trace_one(const Scene& scene, const PhotonPassSettings& s, const StartMedia& media, const EmissionFocus& focus,
+               Sampler& sampler, BatchResult& out, EmissionPilot* pilot) {
     auto [index, p_emitter] = scene.sample_emitter_index_for_emission(sampler.next_1d());
     if (!(p_emitter > 0.f)) return;
     const Emitter& emitter = *scene.emitters()[index];
@@ -116,7 +156,8 @@ void trace_one(const Scene& scene, const PhotonPassSettings& s, const EmissionFo
     const size_t deposits_before = out.samples.size();
     const RaySample rs = emitter.sample_ray(u_pos, u_dir);
     if (!rs.weight.is_black() && rs.weight.is_finite())
-        transport(scene, s, emitter, rs, rs.weight * (focus_weight / p_emitter), sampler, out);
+        transport(scene, s, media.at(scene, index, emitter, rs), rs, rs.weight * (focus_weight / p_emitter), sampler,
+                  out);
     const bool deposited = out.samples.size() > deposits_before;
     out.depositing += deposited;
     if (pilot) pilot->record(index, u_focused, deposited);
@@ -124,8 +165,8 @@ void trace_one(const Scene& scene, const PhotonPassSettings& s, const EmissionFo
 
 // The pilot of the focused emission: photons from their own stream, uniform emission, deposits
 // discarded. Integer counts summed over threads: the same focus for any thread count.
-EmissionFocus focus_emission(const Scene& scene, const PhotonPassSettings& s, int64_t pilot_photons,
-                             const PreprocessContext& context) {
+EmissionFocus focus_emission(const Scene& scene, const PhotonPassSettings& s, const StartMedia& media,
+                             int64_t pilot_photons, const PreprocessContext& context) {
     tbb::enumerable_thread_specific<EmissionPilot> pilots(
         [&] { return EmissionPilot(scene.emitters().size()); });
     const EmissionFocus uniform;
@@ -136,7 +177,7 @@ EmissionFocus focus_emission(const Scene& scene, const PhotonPassSettings& s, in
         BatchResult scratch;
         for (int64_t i = b * kBatch; i < std::min(pilot_photons, (b + 1) * kBatch); ++i) {
             Sampler sampler(context.seed, kPilotStream, uint64_t(i));
-            trace_one(scene, s, uniform, sampler, scratch, &pilot);
+            trace_one(scene, s, media, uniform, sampler, scratch, &pilot);
             scratch.samples.clear();
         }
     });
@@ -151,12 +192,13 @@ PhotonPassResult trace_photons(const Scene& scene, const PhotonPassSettings& set
                                const PreprocessContext& context) {
     PhotonPassResult result;
     const auto start = std::chrono::steady_clock::now();  // the pilot counts against time_limit
+    const StartMedia media(scene);
     EmissionFocus focus;
     if (settings.focus && settings.photons > 0 && !scene.emitters().empty()) {
         result.pilot_photons = settings.pilot_photons > 0
                                    ? settings.pilot_photons
                                    : std::min<int64_t>(settings.photons / 8 + 1, int64_t(1) << 20);
-        focus = focus_emission(scene, settings, result.pilot_photons, context);
+        focus = focus_emission(scene, settings, media, result.pilot_photons, context);
     }
     const int64_t batches = (settings.photons + kBatch - 1) / kBatch;
     std::vector<BatchResult> per_batch(size_t(std::max<int64_t>(batches, 0)));
@@ -182,7 +224,7 @@ PhotonPassResult trace_photons(const Scene& scene, const PhotonPassSettings& set
             BatchResult& out = per_batch[size_t(b)];
             for (int64_t i = first; i < last; ++i) {
                 Sampler sampler(context.seed, kPhotonStream, uint64_t(i));
-                trace_one(scene, settings, focus, sampler, out, nullptr);
+                trace_one(scene, settings, media, focus, sampler, out, nullptr);
             }
             done[size_t(b)] = 1;
             const int64_t n = ++finished;
