@@ -32,6 +32,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 #include <vector>
 
 #include "volguide/core/parallel.h"
@@ -87,8 +88,13 @@ SpatialTree make_walk_tree(int leaves) {
     return SpatialTree::build(guiding_bounds(demo_scene()), points, settings);
 }
 const SpatialTree& walk_tree(int leaves = 2000) {
-    static SpatialTree small = make_walk_tree(2000), large = make_walk_tree(50000);
-    return leaves == 2000 ? small : large;
+    if (leaves == 2000) {
+        static const SpatialTree small = make_walk_tree(2000);
+        return small;
+    }
+    if (leaves != 50000) throw std::invalid_argument("walk_tree: 2000 or 50000 leaves");
+    static const SpatialTree large = make_walk_tree(50000);  // ~73,000 leaves (split at points/50000)
+    return large;
 }
 
 template <bool Cursor>

@@ -261,14 +261,18 @@ TEST(MediumOccupancy, EnclosingMediumInsideOutsideAndUnbounded) {
                                  sensor + "</scene>");
     const Medium* in_fog = bounded->sensor().medium();
     ASSERT_NE(in_fog, nullptr);
-    EXPECT_EQ(medium_enclosing(*bounded, Point3f(0.3f, -0.2f, 0.1f)), in_fog);
-    EXPECT_EQ(medium_enclosing(*bounded, Point3f(3.f, 3.f, 3.f)), nullptr);  // every probe escapes
-    EXPECT_EQ(medium_enclosing(*bounded, Point3f(3.f, 0.f, 0.f)), nullptr);  // a probe meets the sphere
+    const Medium* ambient = ambient_medium(*bounded);
+    EXPECT_EQ(ambient, nullptr);
+    EXPECT_EQ(medium_enclosing(*bounded, Point3f(0.3f, -0.2f, 0.1f), ambient), in_fog);
+    EXPECT_EQ(medium_enclosing(*bounded, Point3f(3.f, 3.f, 3.f), ambient), nullptr);  // every probe escapes
+    EXPECT_EQ(medium_enclosing(*bounded, Point3f(3.f, 0.f, 0.f), ambient), nullptr);  // a probe meets the sphere
     // medium_along's rule takes the sensor's medium for an escaping probe.
     EXPECT_EQ(medium_along(*bounded, Ray(Point3f(3.f, 3.f, 3.f), Vec3f(1.f, 0.f, 0.f))), in_fog);
     auto unbounded = load(dir, R"(<scene version="3.0.0">)" + fog +
                                    R"(<shape type="rectangle"><bsdf type="diffuse"/></shape>)" + sensor + "</scene>");
-    EXPECT_EQ(medium_enclosing(*unbounded, Point3f(3.f, 3.f, 3.f)), unbounded->sensor().medium());
+    EXPECT_EQ(ambient_medium(*unbounded), unbounded->sensor().medium());
+    EXPECT_EQ(medium_enclosing(*unbounded, Point3f(3.f, 3.f, 3.f), ambient_medium(*unbounded)),
+              unbounded->sensor().medium());
 }
 
 // A sun over a small absorbing fog box on a large ground: the bounding sphere's disk is ~600 times

@@ -475,6 +475,37 @@ TEST(GuidedVolPathProgressive, CancellationDuringTrainingStopsCleanly) {
     EXPECT_FALSE(leaves.empty());
 }
 
+// leaf_contrast in [0, 1) and leaf_contrast_samples >= 1, else an error naming the file and line;
+// a valid pair reaches the tree (--stats: more leaves than without it on a point light's falloff).
+TEST(GuidedVolPathProgressive, LeafContrastIsCheckedAndShapesTheTree) {
+    TempDir dir("leaf-contrast");
+    const std::string bad[] = {R"(<float name="leaf_contrast" value="1"/>)", R"(<float name="leaf_contrast" value="-0.1"/>)",
+                               R"(<integer name="leaf_contrast_samples" value="0"/>)"};
+    for (const std::string& param : bad) {
+        const std::string xml = point_light_scene(Point3f(0.f), 0.5f, 0.5f, 8,
+                                                  R"(<integrator type="guided_volpath">)" + param + "</integrator>");
+        CliResult r = run_cli({"render", dir.write("s.xml", xml), "-o", dir.file("o.exr"), "--spp", "1", "--quiet"});
+        EXPECT_EQ(r.exit_code, 1) << param;
+        EXPECT_NE(r.err.find("s.xml:2"), std::string::npos) << r.err;
+        EXPECT_NE(r.err.find("leaf_contrast"), std::string::npos) << r.err;
+    }
+    auto leaves = [&](const std::string& params) {
+        const std::string xml = point_light_scene(
+            Point3f(0.f), 0.5f, 0.5f, 8,
+            R"(<integrator type="guided_volpath"><integer name="photons" value="200000"/>)" + params + "</integrator>");
+        CliResult r = run_cli({"render", dir.write("l.xml", xml), "-o", dir.file("l.exr"), "--spp", "1", "--quiet",
+                               "--stats", dir.file("l.json")});
+        EXPECT_EQ(r.exit_code, 0) << r.err;
+        std::ifstream in(dir.file("l.json"));
+        const std::string json((std::istreambuf_iterator<char>(in)), {});
+        const size_t at = json.find("\"field_leaves\":");
+        return at == std::string::npos ? -1.0 : std::stod(json.substr(at + 15));
+    };
+    const double plain = leaves(""), shaped = leaves(R"(<float name="leaf_contrast" value="0.1"/><integer name="leaf_contrast_samples" value="64"/>)");
+    EXPECT_GT(plain, 0.0);
+    EXPECT_GT(shaped, plain);
+}
+
 // online_spp rebuilds the field from the progressive training's samples: with photon training, a
 // loaded field or a negative count it is an error naming the file and line; a given pre-pass
 // (render --field) has no samples either.

@@ -211,15 +211,17 @@ TEST(SpatialTree, ConcurrentBuildIsTheSequentialBuild) {
 
 // The transport-shaped refinement (split_contrast): within the sample limit, a node splits where its
 // halves' values differ -- a bright slab x > 0.5 in a dim box, per volume (photon densities: the
-// bright side also holds more points) and per point (camera vertices: the same density) -- but not
-// where they do not (uniform light: no split beyond the count limit), and never below
-// contrast_min_samples counted points per half.
+// bright side also holds more points) and per point (camera vertices: the same density; the bright
+// side also holds three zero-valued points of count 0 per vertex, as NEE samples add nothing to the
+// fluence mean's divisor) -- but not where they do not (uniform light: no split beyond the count
+// limit), and never below contrast_min_samples counted points per half.
 TEST(SpatialTree, LeavesSplitWhereTheLightChanges) {
     const BBox3f box(Point3f(0.f), Point3f(1.f));
     for (bool per_volume : {true, false}) {
         SCOPED_TRACE(per_volume ? "per volume" : "per point");
         std::vector<Point3f> pts;
-        std::vector<float> values, uniform;
+        std::vector<float> values, uniform, counts;
+        std::vector<uint8_t> counted;
         for (int i = 0; i < 40000; ++i) {
             Sampler s(9, 0, uint64_t(i));
             Point3f p(s.next_1d(), s.next_1d(), s.next_1d());
@@ -228,29 +230,44 @@ TEST(SpatialTree, LeavesSplitWhereTheLightChanges) {
             pts.push_back(p);
             values.push_back(per_volume ? 1.f : (p.x > 0.5f ? 4.f : 1.f));
             uniform.push_back(per_volume && p.x > 0.5f ? 0.25f : 1.f);  // the same light everywhere
+            counts.push_back(1.f);
+            counted.push_back(1);
+            if (!per_volume && p.x > 0.5f)
+                for (int k = 0; k < 3; ++k) {
+                    pts.push_back(p);
+                    values.push_back(0.f);
+                    uniform.push_back(0.f);
+                    counts.push_back(0.f);
+                    counted.push_back(0);
+                }
         }
         SpatialTreeSettings settings;
         settings.max_samples = int(pts.size());  // no split by count
         settings.contrast_per_volume = per_volume;
         settings.contrast_min_samples = 200;
-        const SpatialTree off = SpatialTree::build(box, pts, settings, {}, values);
+        const SpatialTree off = SpatialTree::build(box, pts, settings, counted, values, counts);
         EXPECT_EQ(off.leaf_count(), 1);
         settings.split_contrast = 0.3f;
-        const SpatialTree flat = SpatialTree::build(box, pts, settings, {}, uniform);
+        const SpatialTree flat = SpatialTree::build(box, pts, settings, counted, uniform, counts);
         EXPECT_EQ(flat.leaf_count(), 1) << "uniform light";
-        const SpatialTree lit = SpatialTree::build(box, pts, settings, {}, values);
+        const SpatialTree lit = SpatialTree::build(box, pts, settings, counted, values, counts);
         ASSERT_GT(lit.leaf_count(), 1);
         // The edge x = 0.5 separates the leaves: none straddles it by more than a sliver, and every
-        // leaf keeps its share of points.
+        // leaf keeps its share of counted points.
         for (int l = 0; l < lit.leaf_count(); ++l) {
             const BBox3f& b = lit.leaf_bounds(l);
             EXPECT_TRUE(b.hi.x <= 0.55f || b.lo.x >= 0.45f) << "leaf " << l << " x in [" << b.lo.x << ", " << b.hi.x << "]";
-            EXPECT_GE(lit.leaf_samples(l).size(), 200u) << "leaf " << l;
+            size_t n = 0;
+            for (uint32_t i : lit.leaf_samples(l)) n += counted[i];
+            EXPECT_GE(n, 200u) << "leaf " << l;
         }
     }
     SpatialTreeSettings bad;
     bad.split_contrast = 0.3f;
     EXPECT_THROW(SpatialTree::build(box, std::vector<Point3f>(10, Point3f(0.5f)), bad), std::invalid_argument);
+    EXPECT_THROW(SpatialTree::build(box, std::vector<Point3f>(10, Point3f(0.5f)), bad, {}, std::vector<float>(10, 1.f),
+                                    std::vector<float>(3, 1.f)),
+                 std::invalid_argument);
     bad.split_contrast = 1.f;
     EXPECT_THROW(SpatialTree::build(box, std::vector<Point3f>(10, Point3f(0.5f)), bad, {}, std::vector<float>(10, 1.f)),
                  std::invalid_argument);

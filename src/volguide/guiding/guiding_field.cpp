@@ -68,17 +68,22 @@ GuidingField GuidingField::build(const BBox3f& bounds, std::span<const RadianceS
     // samples still count in their leaf's fluence mean. Photon samples are all positive.
     std::vector<uint8_t> carries_radiance(samples.size());
     // What the transport-shaped refinement compares (tree.split_contrast): the fluence estimator's
-    // own numerator, per volume for photons, per sample for camera vertices.
-    std::vector<float> radiance;
-    if (settings.tree.split_contrast > 0.f) radiance.resize(samples.size());
+    // own numerator and divisor, per volume for photons, per vertex for camera vertices
+    // (camera vertices: sum(weight) / sum(count), NEE samples counting 0).
+    const bool contrast = settings.tree.split_contrast > 0.f;
+    const bool per_volume = settings.fluence == FluenceEstimator::PerVolume;
+    std::vector<float> radiance, counts;
+    if (contrast) radiance.resize(samples.size());
+    if (contrast && !per_volume) counts.resize(samples.size());
     for (size_t i = 0; i < samples.size(); ++i) {
         positions[i] = samples[i].position;
         carries_radiance[i] = samples[i].weight.is_finite() && samples[i].weight.average() > 0.f;
         if (!radiance.empty()) radiance[i] = carries_radiance[i] ? samples[i].weight.average() : 0.f;
+        if (!counts.empty()) counts[i] = samples[i].count;
     }
     SpatialTreeSettings tree_settings = settings.tree;
-    tree_settings.contrast_per_volume = settings.fluence == FluenceEstimator::PerVolume;
-    SpatialTree tree = SpatialTree::build(bounds, positions, tree_settings, carries_radiance, radiance);
+    tree_settings.contrast_per_volume = per_volume;
+    SpatialTree tree = SpatialTree::build(bounds, positions, tree_settings, carries_radiance, radiance, counts);
     std::vector<GuidingLeaf> leaves(size_t(tree.leaf_count()));
     parallel_for(0, tree.leaf_count(), [&](int l) {
         leaves[size_t(l)] = fit_leaf(samples, tree.leaf_samples(l), tree.leaf_bounds(l), settings);

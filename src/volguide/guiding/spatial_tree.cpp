@@ -29,16 +29,16 @@ namespace {
 struct Builder {
     std::span<const Point3f> points;
     std::span<const uint8_t> counted;  // empty: every point counts
-    std::span<const float> values;     // for settings->split_contrast
+    std::span<const float> values;        // for settings->split_contrast
+    std::span<const float> value_counts;  // per-point means' divisors (empty: 1 each)
     const SpatialTreeSettings* settings;
     std::vector<SpatialTree::Node> nodes{SpatialTree::Node{}};  // nodes[0]: this subtree's root
     std::vector<uint32_t> order;                                // sample indices, grouped by leaf
     std::vector<uint32_t> leaf_offset{0u};
-    int max_depth_reached = 0;
 
     Builder(std::span<const Point3f> p, std::span<const uint8_t> c, std::span<const float> v,
-            const SpatialTreeSettings& s)
-        : points(p), counted(c), values(v), settings(&s) {}
+            std::span<const float> vc, const SpatialTreeSettings& s)
+        : points(p), counted(c), values(v), value_counts(vc), settings(&s) {}
 
     // Chooses the split of `idx` inside `box`: (axis, position), or axis 3 for "make a leaf".
     std::pair<int, float> choose_split(const std::vector<uint32_t>& idx, const BBox3f& box) const {
@@ -84,12 +84,12 @@ struct Builder {
     // The contrast of a node's halves at (axis, split): |a - b| / (a + b) of their values per unit
     // volume or per point; 0 when a half has fewer than contrast_min_samples counted points.
     double contrast(const std::vector<uint32_t>& idx, const BBox3f& box, int axis, float split) const {
-        int64_t counted_in[2] = {0, 0}, points_in[2] = {0, 0};
-        double sum[2] = {0.0, 0.0};
+        int64_t counted_in[2] = {0, 0};
+        double sum[2] = {0.0, 0.0}, divisor[2] = {0.0, 0.0};
         for (uint32_t i : idx) {
             const int h = points[i][axis] < split ? 0 : 1;
             counted_in[h] += counts(i);
-            points_in[h] += 1;
+            divisor[h] += value_counts.empty() ? 1.0 : double(value_counts[i]);
             sum[h] += double(values[i]);
         }
         if (std::min(counted_in[0], counted_in[1]) < settings->contrast_min_samples) return 0.0;
@@ -99,8 +99,8 @@ struct Builder {
         double mean[2];
         for (int h = 0; h < 2; ++h) {
             const Vec3f e = half[h].extents();
-            const double norm = settings->contrast_per_volume ? double(e.x) * double(e.y) * double(e.z)
-                                                              : double(points_in[h]);
+            const double norm =
+                settings->contrast_per_volume ? double(e.x) * double(e.y) * double(e.z) : divisor[h];
             mean[h] = norm > 0.0 ? sum[h] / norm : 0.0;
         }
         const double total = mean[0] + mean[1];
@@ -123,7 +123,6 @@ struct Builder {
     }
 
     void build(uint32_t node, std::vector<uint32_t> idx, const BBox3f& box, int depth) {
-        max_depth_reached = std::max(max_depth_reached, depth);
         int64_t n = 0;
         for (uint32_t i : idx) n += counts(i);
         const bool by_count = n > settings->max_samples;
@@ -146,7 +145,8 @@ struct Builder {
             build(child + 1, std::move(upper), hi_box, depth + 1);
             return;
         }
-        Builder halves[2] = {Builder(points, counted, values, *settings), Builder(points, counted, values, *settings)};
+        Builder halves[2] = {Builder(points, counted, values, value_counts, *settings),
+                             Builder(points, counted, values, value_counts, *settings)};
         std::vector<uint32_t>* parts[2] = {&lower, &upper};
         const BBox3f* boxes[2] = {&lo_box, &hi_box};
         parallel_for(0, 2, [&](int h) { halves[h].build(0, std::move(*parts[h]), *boxes[h], depth + 1); });
@@ -169,7 +169,6 @@ struct Builder {
         for (size_t i = 1; i < sub.nodes.size(); ++i) nodes.push_back(moved(sub.nodes[i]));
         order.insert(order.end(), sub.order.begin(), sub.order.end());
         for (size_t l = 1; l < sub.leaf_offset.size(); ++l) leaf_offset.push_back(first_sample + sub.leaf_offset[l]);
-        max_depth_reached = std::max(max_depth_reached, sub.max_depth_reached);
     }
 };
 
@@ -177,11 +176,13 @@ struct Builder {
 
 SpatialTree SpatialTree::build(const BBox3f& bounds, std::span<const Point3f> points,
                                const SpatialTreeSettings& settings, std::span<const uint8_t> counted,
-                               std::span<const float> values) {
+                               std::span<const float> values, std::span<const float> value_counts) {
     if (!counted.empty() && counted.size() != points.size())
         throw std::invalid_argument("SpatialTree::build: one `counted` flag per point expected");
     if (settings.split_contrast > 0.f && values.size() != points.size())
         throw std::invalid_argument("SpatialTree::build: split_contrast needs one value per point");
+    if (!value_counts.empty() && value_counts.size() != points.size())
+        throw std::invalid_argument("SpatialTree::build: one value count per point expected");
     if (!(settings.split_contrast >= 0.f && settings.split_contrast < 1.f) || settings.contrast_min_samples < 1)
         throw std::invalid_argument("SpatialTree::build: split_contrast must be in [0, 1) and contrast_min_samples >= 1");
     if (!bounds.valid()) throw std::invalid_argument("SpatialTree::build: invalid bounds");
@@ -193,13 +194,12 @@ SpatialTree SpatialTree::build(const BBox3f& bounds, std::span<const Point3f> po
     SpatialTree tree(bounds);
     std::vector<uint32_t> all(points.size());
     for (size_t i = 0; i < all.size(); ++i) all[i] = uint32_t(i);
-    Builder b(clamped, counted, values, settings);
+    Builder b(clamped, counted, values, value_counts, settings);
     b.order.reserve(points.size());
     b.build(0, std::move(all), bounds, 0);
     tree.nodes_ = std::move(b.nodes);
     tree.sample_index_ = std::move(b.order);
     tree.leaf_offset_ = std::move(b.leaf_offset);
-    tree.depth_ = b.max_depth_reached;
     tree.compute_leaf_bounds();
     return tree;
 }

@@ -98,9 +98,9 @@ void GuidedVolPathIntegrator::end_pass(int spp_done, double seconds) {
         online_update(spp_done);
 }
 
-// Joins the pass's recorded camera samples in stream-key order, rebuilds the field from every sample
-// so far (as progressive training does after each iteration: one pure function of the sample list)
-// and what is derived from it.
+// Joins the camera samples recorded since the last update (one or more passes) in stream-key order,
+// rebuilds the field from every sample so far (as progressive training does after each iteration:
+// one pure function of the sample list) and what is derived from it.
 void GuidedVolPathIntegrator::online_update(int spp_done) {
     const auto start = std::chrono::steady_clock::now();
     struct Ref {

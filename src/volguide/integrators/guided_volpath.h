@@ -88,9 +88,10 @@ private:
     double pixel_estimate_seconds_ = 0;
     std::vector<std::pair<std::string, double>> training_stats_;  // of the last preprocess()
 
-    // Online learning: each thread's recorder and what its camera samples recorded during the pass
-    // (the samples, and per camera sample its stream key and range); end_pass joins them in key
-    // order, so the field is the same for any number of threads.
+    // Online learning: each thread's recorder and what its camera samples recorded since the last
+    // update (the samples, and per camera sample its stream key and range); the update joins them in
+    // key order, so the field is the same for any number of threads. (A render that ends between two
+    // updates, or before online_spp, records its last passes for nothing.)
     struct OnlinePath {
         uint64_t key;
         size_t first, count;

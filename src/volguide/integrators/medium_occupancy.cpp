@@ -37,17 +37,21 @@ const Medium* medium_along(const Scene& scene, const Ray& probe) {
     return medium_hit_along(scene, probe).value_or(scene.sensor().medium());
 }
 
-const Medium* medium_enclosing(const Scene& scene, const Point3f& p) {
+const Medium* ambient_medium(const Scene& scene) {
+    const Medium* sensor = scene.sensor().medium();
+    if (!sensor) return nullptr;
+    for (const auto& shape : scene.shapes())
+        if (shape->interior_medium() == sensor) return nullptr;
+    return sensor;
+}
+
+const Medium* medium_enclosing(const Scene& scene, const Point3f& p, const Medium* ambient) {
     for (int a = 0; a < 6; ++a) {
         Vec3f d(0.f);
         d[a / 2] = a % 2 ? -1.f : 1.f;
         if (const std::optional<const Medium*> m = medium_hit_along(scene, Ray(p, d))) return *m;
     }
-    // Every probe escaped: p sees infinity, whose medium is the sensor's only if no shape encloses it.
-    const Medium* ambient = scene.sensor().medium();
-    for (const auto& shape : scene.shapes())
-        if (ambient && shape->interior_medium() == ambient) return nullptr;
-    return ambient;
+    return ambient;  // every probe escaped: p sees infinity
 }
 
 std::vector<float> medium_fractions(const Scene& scene, const SpatialTree& tree, int points_per_leaf, uint64_t seed) {

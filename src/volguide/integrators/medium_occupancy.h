@@ -24,11 +24,14 @@ const Medium* medium_at(const Scene& scene, const Point3f& p, Point2f u);
 // The same rule with the probe along a given ray: the medium a ray leaving from ray.o along ray.d
 // travels in first.
 const Medium* medium_along(const Scene& scene, const Ray& ray);
+// The medium at infinity: the sensor's if no shape has it inside (media unbounded around the camera),
+// else none.
+const Medium* ambient_medium(const Scene& scene);
 // The medium enclosing p, from probes along the six axis directions: the first that meets a shape
-// with media decides. When all escape, p is outside every shape with media in those directions: the
-// sensor's medium if it is unbounded (no shape has it inside), else none. (medium_at/medium_along
-// take the sensor's medium for an escaping probe.)
-const Medium* medium_enclosing(const Scene& scene, const Point3f& p);
+// with media decides; when all escape, p is outside every shape with media in those directions and
+// gets `ambient` (ambient_medium(scene), computed once by the caller). (medium_at/medium_along take
+// the sensor's medium for an escaping probe.)
+const Medium* medium_enclosing(const Scene& scene, const Point3f& p, const Medium* ambient);
 
 // The points per leaf guided_volpath measures a field's medium fractions with: ~4 % standard error
 // for a half-filled leaf.

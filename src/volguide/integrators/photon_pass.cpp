@@ -40,7 +40,7 @@ struct BatchResult {
 // render's estimate never reads it.
 class StartMedia {
 public:
-    explicit StartMedia(const Scene& scene) {
+    explicit StartMedia(const Scene& scene) : ambient_(ambient_medium(scene)) {
         for (const auto& e : scene.emitters()) starts_.push_back(resolve(scene, *e));
     }
 
@@ -52,7 +52,8 @@ public:
             case Kind::Fixed: return st.medium;
             case Kind::Probe: break;
         }
-        return medium_enclosing(scene, rs.ray.o);
+        // A light straddling a boundary: each photon's origin decides (its direction does not).
+        return medium_enclosing(scene, rs.ray.o, ambient_);
     }
 
 private:
@@ -62,7 +63,7 @@ private:
         const Medium* medium = nullptr;
     };
 
-    static Start resolve(const Scene& scene, const Emitter& emitter) {
+    Start resolve(const Scene& scene, const Emitter& emitter) const {
         if (emitter.is_infinite() || (emitter.flags() & emitter_flags::DeltaDirection)) return {};  // from outside
         if (const Shape* shape = emitter.shape(); shape && is_medium_transition(*shape)) return {Kind::Shape, nullptr};
         if (!emitter.shape() && emitter.medium()) return {Kind::Fixed, emitter.medium()};
@@ -71,13 +72,14 @@ private:
         for (int i = 0; i < kProbes; ++i) {
             const Point2f u_pos((float(i % 4) + 0.5f) / 4.f, (float(i / 4) + 0.5f) / 4.f);
             const RaySample rs = emitter.sample_ray(u_pos, Point2f(0.5f, 0.5f));
-            const Medium* m = medium_enclosing(scene, rs.ray.o);
+            const Medium* m = medium_enclosing(scene, rs.ray.o, ambient_);
             if (i > 0 && m != found) return {Kind::Probe, nullptr};
             found = m;
         }
         return {Kind::Fixed, found};
     }
 
+    const Medium* ambient_;
     std::vector<Start> starts_;
 };
 
