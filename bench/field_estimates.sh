@@ -12,17 +12,8 @@ VG="$BUILD/volguide"
 SCENE="$ROOT/bench/scenes/shafts.xml"
 SIZE=(-D width=80 -D height=60)
 
-integrator() {  # name body
-    printf '<?xml version="1.0" encoding="utf-8"?>\n<scene version="3.0.0">\n%s\n</scene>\n' "$2" > "$WORK/$1.xml"
-}
-integrator reference '    <integrator type="volpath">
-        <integer name="max_depth" value="$max_depth"/>
-        <boolean name="volume_only" value="true"/>
-    </integrator>'
-if [ ! -f "$WORK/reference.exr" ]; then
-    "$VG" render "$SCENE" "${SIZE[@]}" -D integrator_xml="$WORK/reference.xml" --spp 4096 --seed 77 \
-        -o "$WORK/reference.exr" --quiet >/dev/null
-fi
+source "$ROOT/bench/field_common.sh"
+reference "$SCENE" "$WORK/reference.exr"
 
 printf '| training | preprocess (s) | relMSE (eps 1e-2) | relMSE (eps 1e-3) | mean ratio |\n|---|---:|---:|---:|---:|\n'
 run() {  # name training photons iterations leaf_samples

@@ -16,18 +16,9 @@ VG="$BUILD/volguide"
 SCENE="$ROOT/bench/scenes/$SCENE_NAME.xml"
 SIZE=(-D width=80 -D height=60)
 
-integrator() {  # name body
-    printf '<?xml version="1.0" encoding="utf-8"?>\n<scene version="3.0.0">\n%s\n</scene>\n' "$2" > "$WORK/$1.xml"
-}
-integrator reference '    <integrator type="volpath">
-        <integer name="max_depth" value="$max_depth"/>
-        <boolean name="volume_only" value="true"/>
-    </integrator>'
+source "$ROOT/bench/field_common.sh"
 ref="$WORK/$SCENE_NAME-reference.exr"
-if [ ! -f "$ref" ]; then
-    "$VG" render "$SCENE" "${SIZE[@]}" -D integrator_xml="$WORK/reference.xml" --spp 4096 --seed 77 \
-        -o "$ref" --quiet >/dev/null
-fi
+reference "$SCENE" "$ref"
 
 printf '| scene | leaf_contrast | leaf_contrast_samples | leaves (valid) | preprocess (s) | relMSE (eps 1e-2) | relMSE (eps 1e-3) | mean ratio |\n|---|---:|---:|---:|---:|---:|---:|---:|\n'
 for c in $CONTRASTS; do

@@ -57,6 +57,19 @@ std::unique_ptr<Scene> load(const TempDir& dir, const std::string& xml) {
     return load_scene(dir.write("scene.xml", xml));
 }
 
+// A photon pass with uniform (unfocused) emission, and the share of its photons that deposited.
+PhotonPassResult trace_unfocused(const Scene& scene, int64_t photons, uint64_t seed) {
+    PhotonPassSettings ps;
+    ps.photons = photons;
+    ps.focus = false;
+    PreprocessContext ctx;
+    ctx.seed = seed;
+    return trace_photons(scene, ps, ctx);
+}
+double depositing_rate(const PhotonPassResult& r) {
+    return double(r.photons_depositing) / double(r.photons_traced);
+}
+
 GuidingField train(const Scene& scene, int64_t photons, uint64_t seed, int max_samples) {
     PhotonPassSettings ps;
     ps.photons = photons;
@@ -194,14 +207,7 @@ TEST(PhotonPass, AreaLightPhotonsReachTheMedium) {
         <film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film>
     </sensor>
 </scene>)");
-    PhotonPassSettings ps;
-    ps.photons = 200000;
-    ps.focus = false;
-    PreprocessContext ctx;
-    ctx.seed = 9;
-    const PhotonPassResult r = trace_photons(*scene, ps, ctx);
-    const double rate = double(r.photons_depositing) / double(r.photons_traced);
-    EXPECT_NEAR(rate, 0.1125, 0.02);
+    EXPECT_NEAR(depositing_rate(trace_unfocused(*scene, 200000, 9)), 0.1125, 0.02);
 }
 
 // A lamp inside fog whose shape (or, for a point light, whose emitter) names no medium: the camera's
@@ -231,15 +237,9 @@ TEST(PhotonPass, PhotonsOfALampThatNamesNoMediumStartInTheFogAroundIt) {
     </sensor>
 </scene>)",
                                            sigma, lamp));
-        PhotonPassSettings ps;
-        ps.photons = 100000;
-        ps.focus = false;
-        PreprocessContext ctx;
-        ctx.seed = 11;
-        const PhotonPassResult r = trace_photons(*scene, ps, ctx);
-        const double rate = double(r.photons_depositing) / double(r.photons_traced);
+        const PhotonPassResult r = trace_unfocused(*scene, 100000, 11);
         const double expected = 1.0 - std::exp(-sigma * (2.0 - (point ? 0.0 : 0.05)));
-        EXPECT_NEAR(rate, expected, 0.01);  // binomial standard error 0.0015
+        EXPECT_NEAR(depositing_rate(r), expected, 0.01);  // binomial standard error 0.0015
         size_t direct = 0;
         for (const RadianceSample& d : r.samples) direct += d.direct;
         EXPECT_EQ(direct, r.samples.size());  // albedo 0: every collision is the lamp's direct light
