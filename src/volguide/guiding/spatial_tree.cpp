@@ -81,45 +81,43 @@ struct Builder {
         leaf_offset.push_back(uint32_t(order.size()));
     }
 
-    // The contrast of a node's halves at (axis, split): |a - b| / (a + b) of their values per unit
-    // volume or per point; 0 when a half has fewer than contrast_min_samples counted points.
-    double contrast(const std::vector<uint32_t>& idx, const BBox3f& box, int axis, float split) const {
-        int64_t counted_in[2] = {0, 0};
-        double sum[2] = {0.0, 0.0}, divisor[2] = {0.0, 0.0};
-        for (uint32_t i : idx) {
-            const int h = points[i][axis] < split ? 0 : 1;
-            counted_in[h] += counts(i);
-            divisor[h] += value_counts.empty() ? 1.0 : double(value_counts[i]);
-            sum[h] += double(values[i]);
-        }
-        if (std::min(counted_in[0], counted_in[1]) < settings->contrast_min_samples) return 0.0;
-        BBox3f half[2] = {box, box};
-        half[0].hi[axis] = split;
-        half[1].lo[axis] = split;
-        double mean[2];
-        for (int h = 0; h < 2; ++h) {
-            const Vec3f e = half[h].extents();
-            const double norm =
-                settings->contrast_per_volume ? double(e.x) * double(e.y) * double(e.z) : divisor[h];
-            mean[h] = norm > 0.0 ? sum[h] / norm : 0.0;
-        }
-        const double total = mean[0] + mean[1];
-        return total > 0.0 ? std::abs(mean[0] - mean[1]) / total : 0.0;
-    }
-
     // A node within the sample limit splits where the light changes most: the box's mid-plane of
-    // the axis whose halves differ most, if that contrast exceeds split_contrast; else axis 3.
+    // the axis whose halves differ most, if that contrast |a - b| / (a + b) of the halves' values
+    // (per unit volume or per point count) exceeds split_contrast and each half keeps
+    // contrast_min_samples counted points; else axis 3. One pass over the points for all three axes.
     std::pair<int, float> choose_light_split(const std::vector<uint32_t>& idx, const BBox3f& box) const {
+        const Point3f mid = box.center();  // (lo + hi) / 2 per axis
+        int64_t counted_in[3][2] = {};
+        double sum[3][2] = {}, divisor[3][2] = {};
+        for (uint32_t i : idx) {
+            const int c = counts(i);
+            const double d = value_counts.empty() ? 1.0 : double(value_counts[i]), v = double(values[i]);
+            for (int a = 0; a < 3; ++a) {
+                const int h = points[i][a] < mid[a] ? 0 : 1;
+                counted_in[a][h] += c;
+                divisor[a][h] += d;
+                sum[a][h] += v;
+            }
+        }
         int best = 3;
-        float best_split = 0.f;
         double best_contrast = double(settings->split_contrast);
         for (int a = 0; a < 3; ++a) {
-            const float mid = 0.5f * (box.lo[a] + box.hi[a]);
-            if (!(mid > box.lo[a] && mid < box.hi[a])) continue;
-            const double c = contrast(idx, box, a, mid);
-            if (c > best_contrast) best_contrast = c, best = a, best_split = mid;
+            if (!(mid[a] > box.lo[a] && mid[a] < box.hi[a])) continue;
+            if (std::min(counted_in[a][0], counted_in[a][1]) < settings->contrast_min_samples) continue;
+            double mean[2];
+            for (int h = 0; h < 2; ++h) {
+                BBox3f half = box;
+                (h == 0 ? half.hi : half.lo)[a] = mid[a];
+                const Vec3f e = half.extents();
+                const double norm =
+                    settings->contrast_per_volume ? double(e.x) * double(e.y) * double(e.z) : divisor[a][h];
+                mean[h] = norm > 0.0 ? sum[a][h] / norm : 0.0;
+            }
+            const double total = mean[0] + mean[1];
+            const double contrast = total > 0.0 ? std::abs(mean[0] - mean[1]) / total : 0.0;
+            if (contrast > best_contrast) best_contrast = contrast, best = a;
         }
-        return {best, best_split};
+        return {best, best < 3 ? mid[best] : 0.f};
     }
 
     void build(uint32_t node, std::vector<uint32_t> idx, const BBox3f& box, int depth) {

@@ -53,14 +53,18 @@ void GuidedVolPathIntegrator::preprocess(const Scene& scene, const PreprocessCon
     }
 }
 
-void GuidedVolPathIntegrator::build_from_field(const Scene& scene, const PreprocessContext& context, bool update) {
-    // The field's shape (an online update replaces the last figures).
+// The field's shape in --stats (an online update replaces the last figures).
+void GuidedVolPathIntegrator::record_field_stats() {
     std::erase_if(training_stats_, [](const auto& s) { return s.first.rfind("field_", 0) == 0; });
     int valid = 0;
     for (const GuidingLeaf& leaf : field_.leaves()) valid += leaf.valid;
     training_stats_.insert(training_stats_.end(), {{"field_leaves", double(field_.tree().leaf_count())},
                                                    {"field_valid_leaves", double(valid)},
                                                    {"field_depth", double(field_.tree().depth())}});
+}
+
+void GuidedVolPathIntegrator::build_from_field(const Scene& scene, const PreprocessContext& context, bool update) {
+    record_field_stats();
     estimator_.reset();
     if (settings_.estimate != FieldEstimate::None) estimator_ = std::make_unique<CacheEstimator>(scene, field_);
     guide_.reset();

@@ -84,6 +84,7 @@ private:
     // The guide, the pixel estimate, RR/splitting and the learned selection of field_ (preprocess(),
     // and every online update, `update` true: the RR/splitting statistics carry on).
     void build_from_field(const Scene& scene, const PreprocessContext& context, bool update);
+    void record_field_stats();
     void online_update(int spp_done);
     double pixel_estimate_seconds_ = 0;
     std::vector<std::pair<std::string, double>> training_stats_;  // of the last preprocess()

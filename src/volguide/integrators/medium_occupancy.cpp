@@ -1,5 +1,7 @@
 #include "volguide/integrators/medium_occupancy.h"
 
+#include <optional>
+
 #include "volguide/core/parallel.h"
 #include "volguide/core/sampler.h"
 #include "volguide/core/warp.h"

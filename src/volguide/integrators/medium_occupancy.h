@@ -8,7 +8,6 @@
 // the ray leaves through it (d . n > 0) and its exterior otherwise; no such shape: the sensor's
 // medium (the scene's ambient medium). A heterogeneous medium counts only where sigma_t > 0.
 #include <cstdint>
-#include <optional>
 #include <vector>
 
 #include "volguide/core/ray.h"
