@@ -25,14 +25,14 @@ cmake --build "$build" -j "$jobs" --target "${targets[@]/#/fuzz_}"
 # Allocations sized by input are bounded by this budget (core/memory.h), so a size the readers accept
 # stays inside -rss_limit_mb below instead of being reported as out-of-memory.
 export VOLGUIDE_MEMORY_LIMIT_MB=1024
-failed=()
-for t in "${targets[@]}"; do
-  corpus=$build/fuzz-corpus/$t
-  artifacts=$build/fuzz-artifacts/$t
+# One target per core at a time (FUZZ_JOBS, default JOBS): each libFuzzer process is single-threaded,
+# so the smoke run's seven 30 s targets take four rounds on two cores instead of seven.
+fuzz_jobs=${FUZZ_JOBS:-$jobs}
+run_target() {
+  local t=$1 corpus=$build/fuzz-corpus/$1 artifacts=$build/fuzz-artifacts/$1
   mkdir -p "$corpus" "$artifacts"
-  dict=()
+  local dict=()
   [[ -f $root/tests/fuzz/$t.dict ]] && dict=(-dict="$root/tests/fuzz/$t.dict")
-  echo "== fuzz_$t: $seconds s"
   # -timeout: an input taking 10 s is a hang; -rss_limit_mb: a reader allocating > 2 GB for a small
   # file is a finding (resources must be bounded before allocation).
   # FUZZ_SEED (default 0: libFuzzer picks one): a fixed seed makes a run explore the same inputs in
@@ -40,9 +40,26 @@ for t in "${targets[@]}"; do
   # regression, not on a new finding it happened to reach; the long runs pick their own seeds).
   # FUZZ_RUNS (default -1: no cap): stop a target after that many executions, whichever of it and
   # SECONDS comes first (the acceptance's long runs: FUZZ_RUNS=10000000 with SECONDS=3600).
-  if ! "$build/fuzz_$t" -seed="${FUZZ_SEED:-0}" -runs="${FUZZ_RUNS:--1}" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=2048 \
+  if "$build/fuzz_$t" -seed="${FUZZ_SEED:-0}" -runs="${FUZZ_RUNS:--1}" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=2048 \
       -print_final_stats=1 -artifact_prefix="$artifacts/" "${dict[@]}" "$corpus" "$root/tests/fuzz/corpus/$t" \
       2>"$build/fuzz-$t.log"; then
+    echo 0 > "$build/fuzz-$t.status"
+  else
+    echo 1 > "$build/fuzz-$t.status"
+  fi
+}
+for t in "${targets[@]}"; do
+  rm -f "$build/fuzz-$t.status"
+  echo "== fuzz_$t: $seconds s"
+  run_target "$t" &
+  while (( $(jobs -rp | wc -l) >= fuzz_jobs )); do wait -n || true; done
+done
+wait
+# The reports in the targets' order, whatever order they ended in.
+failed=()
+for t in "${targets[@]}"; do
+  echo "== fuzz_$t"
+  if [[ $(cat "$build/fuzz-$t.status" 2>/dev/null) != 0 ]]; then
     failed+=("$t")
     grep -E "ERROR|SUMMARY|Test unit written" "$build/fuzz-$t.log" | head -5 || true
   fi
