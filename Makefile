@@ -67,6 +67,7 @@ bench-distributed: build
 # FUZZ_TARGETS: a subset (default all: scene vol vdb field obj ply exr_part). FUZZ_SEED=N (environment):
 # libFuzzer's seed, for a run that explores the same inputs every time (CI's smoke run uses 1).
 # FUZZ_RUNS=M (environment): also stop each target after M executions (the long runs: 10000000).
+# FUZZ_JOBS=N (environment): targets run at once (default JOBS; each fuzzer uses one core).
 FUZZ_SECONDS ?= 60
 FUZZ_BUILD_DIR ?= build-fuzz
 FUZZ_TARGETS ?=

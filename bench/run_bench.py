@@ -50,6 +50,8 @@ METHODS = {
         "guided": {"distance": "incremental", "direction": "product", "rrs": "grr"}},
     "guided_volpath distance=incremental direction=product rrs=grrs": {
         "guided": {"distance": "incremental", "direction": "product", "rrs": "grrs"}},
+    # The full system without the guided distance decision (issue 22: is it worth its cost on fogbox?).
+    "guided_volpath direction=product rrs=grrs": {"guided": {"direction": "product", "rrs": "grrs"}},
     # The peer (issue 19): Intel Open PGL's directional guiding as Cycles drives it, trained online
     # from the render's own passes (training_spp 128, or under --time the passes up to 25 % of the
     # budget; those samples are in the image). Skipped when volguide was built without Open PGL.
