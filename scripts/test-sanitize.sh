@@ -22,8 +22,8 @@ slow='bench_harness|install_embed|slurm_array|BenchScene\.|GuidedVsVolpathScenes
 
 if [[ " $stages " == *" asan "* ]]; then
   # Configured every time (seconds): an older build directory gets the tests_<label> targets too.
-  # -O1 -g1: ASan's recommended optimisation and line tables only; a fresh machine builds the unit and
-  # stat executables in 7.4 min instead of 14 (docs/reliability.md), and the tests run as fast.
+  # -O1 -g1: ASan's recommended optimisation and line tables only, so that a fresh machine builds the
+  # unit and stat executables in about half the time (CI's time, docs/reliability.md).
   cmake -S "$root" -B "$asan" "${common[@]}" -DVOLGUIDE_SANITIZE=address,undefined \
     -DVOLGUIDE_SANITIZE_DEBUG=-g1 "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -DNDEBUG" > /dev/null
   # Labels among unit|stat|integration: only their executables (tests_<label>, tests/CMakeLists.txt);

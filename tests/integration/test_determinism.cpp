@@ -35,6 +35,18 @@ void expect_deterministic(const Renders& r, const std::string& what) {
     EXPECT_FALSE(r.other_seed == r.one_thread) << what << ": the seed has no effect";
 }
 
+// render_three on the benchmark's fog-filled Cornell box at 32x24 with guided_volpath and the
+// integrator parameters `params` (XML elements).
+Renders guided_fogbox(const std::string& params, const std::string& tag) {
+    TempDir dir(tag + "-settings");
+    const std::string integrator = dir.write(
+        "integrator.xml",
+        R"(<scene version="3.0.0"><integrator type="guided_volpath"><integer name="max_depth" value="$max_depth"/>)" +
+            params + "</integrator></scene>");
+    return render_three(source_dir() + "/bench/scenes/fogbox.xml",
+                        {"width=32", "height=24", "integrator=guided_volpath", "integrator_xml=" + integrator}, tag);
+}
+
 }  // namespace
 
 TEST(Determinism, SameSeedSameImageForOneAndTwoThreads) {
@@ -53,49 +65,26 @@ TEST(Determinism, VolumetricDemoSameImageForOneAndTwoThreads) {
 // fog and at the walls) on the benchmark's fog-filled Cornell box: the field and every guided
 // decision depend on the seed only. 300 k photons (74 batches in 5 waves, kd-tree subtrees far above
 // parallel_min_samples, so every parallel step of the training runs) instead of the default 1 M: the
-// same code, and under ThreadSanitizer 40 s instead of two minutes (CI runs it there).
+// same code in a third of the time, which matters under ThreadSanitizer (CI runs it there).
 TEST(Determinism, GuidedSameImageForOneAndTwoThreads) {
-    TempDir dir("determinism-guided-settings");
-    const std::string integrator = dir.write(
-        "guided.xml",
-        R"(<scene version="3.0.0"><integrator type="guided_volpath"><integer name="max_depth" value="$max_depth"/>)"
-        R"(<integer name="photons" value="300000"/></integrator></scene>)");
-    const std::string scene = source_dir() + "/bench/scenes/fogbox.xml";
-    expect_deterministic(render_three(scene, {"width=32", "height=24", "integrator=guided_volpath",
-                                              "integrator_xml=" + integrator},
-                                      "determinism-guided"),
+    expect_deterministic(guided_fogbox(R"(<integer name="photons" value="300000"/>)", "determinism-guided"),
                          "guided fogbox");
 }
 
 // Learned selection's pilot and fit (exact sums) on the same scene: the same image for any thread count.
 TEST(Determinism, LearnedSelectionSameImageForOneAndTwoThreads) {
-    TempDir dir("determinism-selection");
-    const std::string integrator = dir.write(
-        "selection.xml",
-        R"(<scene version="3.0.0"><integrator type="guided_volpath"><integer name="max_depth" value="$max_depth"/>)"
-        R"(<integer name="photons" value="200000"/><integer name="selection_spp" value="2"/>)"
-        R"(<integer name="selection_min_samples" value="8"/></integrator></scene>)");
-    const std::string scene = source_dir() + "/bench/scenes/fogbox.xml";
-    expect_deterministic(render_three(scene, {"width=32", "height=24", "integrator=guided_volpath",
-                                              "integrator_xml=" + integrator},
-                                      "determinism-selection-render"),
+    expect_deterministic(guided_fogbox(R"(<integer name="photons" value="200000"/><integer name="selection_spp" value="2"/>)"
+                                       R"(<integer name="selection_min_samples" value="8"/>)",
+                                       "determinism-selection"),
                          "guided fogbox, learned selection");
 }
-
 
 // Online learning (online_spp): each pass's recorded paths are joined in stream-key order before the
 // field is rebuilt, so the fields, and the image, do not depend on the thread count. 8 spp with
 // online_spp 4: updates after the passes of 1, 1 and 2 spp, then a pass with the last field.
 TEST(Determinism, OnlineLearningSameImageForOneAndTwoThreads) {
-    TempDir dir("determinism-online");
-    const std::string integrator = dir.write(
-        "online.xml",
-        R"(<scene version="3.0.0"><integrator type="guided_volpath"><integer name="max_depth" value="$max_depth"/>)"
-        R"(<string name="training" value="progressive"/><integer name="training_iterations" value="3"/>)"
-        R"(<integer name="online_spp" value="4"/><integer name="leaf_samples" value="400"/></integrator></scene>)");
-    const std::string scene = source_dir() + "/bench/scenes/fogbox.xml";
-    expect_deterministic(render_three(scene, {"width=32", "height=24", "integrator=guided_volpath",
-                                              "integrator_xml=" + integrator},
-                                      "determinism-online-render"),
+    expect_deterministic(guided_fogbox(R"(<string name="training" value="progressive"/><integer name="training_iterations" value="3"/>)"
+                                       R"(<integer name="online_spp" value="4"/><integer name="leaf_samples" value="400"/>)",
+                                       "determinism-online"),
                          "guided fogbox, online learning");
 }
