@@ -5,7 +5,8 @@
 // The segment: the ray from `origin` along `direction` up to the first surface it hits or t_max,
 // whichever is nearer (a distance decision never looks past a surface), in the medium the ray
 // travels in first (medium_along: the first shape with media along the ray decides, its interior
-// if the ray leaves through it, else its exterior; no such shape: the camera's medium).
+// if the ray leaves through it, else its exterior; no such shape: the scene's ambient medium, the
+// camera's where no shape bounds it).
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
@@ -73,7 +74,7 @@ py::dict distance_pdf(const FieldHandle& h, const FloatArray& origin, const Floa
         throw py::value_error("sampler must be 'tabulated' or 'incremental', got '" + sampler + "'");
     const Scene& s = *scene->scene;
     const Ray ray(Point3f(one_vector(origin, "origin")), normalize(one_vector(direction, "direction")));
-    const Medium* medium = medium_along(s, ray);
+    const Medium* medium = medium_along(s, ray, ambient_medium(s));
     if (!medium) throw py::value_error("the ray starts in vacuum: no distance to guide");
     float t_end = t_max;
     SurfaceInteraction si;

@@ -246,9 +246,9 @@ TEST(PhotonPass, PhotonsOfALampThatNamesNoMediumStartInTheFogAroundIt) {
     }
 }
 
-// medium_enclosing (photons' start medium): inside a fog sphere the fog; outside it, where every
-// axis probe escapes, no medium even though the camera sits in that fog (the fog is bounded); with
-// fog that no shape bounds (the sensor's own medium) the fog everywhere.
+// medium_enclosing (photons' start medium) and medium_along (the leaves' medium fractions): inside a
+// fog sphere the fog; outside it, where probes escape, no medium even though the camera sits in that
+// fog (the fog is bounded); with fog that no shape bounds (the sensor's own medium) the fog everywhere.
 TEST(MediumOccupancy, EnclosingMediumInsideOutsideAndUnbounded) {
     const std::string fog = R"(<medium type="homogeneous" id="fog"><float name="sigma_t" value="1"/></medium>)";
     const std::string sensor = R"(<sensor type="perspective"><ref name="medium" id="fog"/>
@@ -266,13 +266,24 @@ TEST(MediumOccupancy, EnclosingMediumInsideOutsideAndUnbounded) {
     EXPECT_EQ(medium_enclosing(*bounded, Point3f(0.3f, -0.2f, 0.1f), ambient), in_fog);
     EXPECT_EQ(medium_enclosing(*bounded, Point3f(3.f, 3.f, 3.f), ambient), nullptr);  // every probe escapes
     EXPECT_EQ(medium_enclosing(*bounded, Point3f(3.f, 0.f, 0.f), ambient), nullptr);  // a probe meets the sphere
-    // medium_along's rule takes the sensor's medium for an escaping probe.
-    EXPECT_EQ(medium_along(*bounded, Ray(Point3f(3.f, 3.f, 3.f), Vec3f(1.f, 0.f, 0.f))), in_fog);
+    // medium_along: an escaping probe gets the ambient medium (none: the fog is bounded), a probe
+    // that meets the sphere from outside its exterior (none), from inside its interior.
+    EXPECT_EQ(medium_along(*bounded, Ray(Point3f(3.f, 3.f, 3.f), Vec3f(1.f, 0.f, 0.f)), ambient), nullptr);
+    EXPECT_EQ(medium_along(*bounded, Ray(Point3f(3.f, 0.f, 0.f), Vec3f(-1.f, 0.f, 0.f)), ambient), nullptr);
+    EXPECT_EQ(medium_along(*bounded, Ray(Point3f(0.f, 0.f, 0.f), Vec3f(1.f, 0.f, 0.f)), ambient), in_fog);
+    // The medium fractions of leaves (one-leaf trees): outside the bounded fog none, although the
+    // camera sits in it and most probes from there escape; inside it all.
+    EXPECT_EQ(medium_fractions(*bounded, SpatialTree(BBox3f(Point3f(2.5f), Point3f(3.5f))), 64, 1),
+              std::vector<float>{0.f});
+    EXPECT_EQ(medium_fractions(*bounded, SpatialTree(BBox3f(Point3f(-0.5f), Point3f(0.5f))), 64, 1),
+              std::vector<float>{1.f});
     auto unbounded = load(dir, R"(<scene version="3.0.0">)" + fog +
                                    R"(<shape type="rectangle"><bsdf type="diffuse"/></shape>)" + sensor + "</scene>");
     EXPECT_EQ(ambient_medium(*unbounded), unbounded->sensor().medium());
     EXPECT_EQ(medium_enclosing(*unbounded, Point3f(3.f, 3.f, 3.f), ambient_medium(*unbounded)),
               unbounded->sensor().medium());
+    EXPECT_EQ(medium_fractions(*unbounded, SpatialTree(BBox3f(Point3f(2.5f), Point3f(3.5f))), 64, 1),
+              std::vector<float>{1.f});
 }
 
 // A sun over a small absorbing fog box on a large ground: the bounding sphere's disk is ~600 times

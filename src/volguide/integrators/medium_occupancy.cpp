@@ -15,8 +15,8 @@ constexpr uint64_t kOccupancyStream = 0x0CC0BA7Cull;
 constexpr int kMaxSkippedSurfaces = 64;
 }  // namespace
 
-const Medium* medium_at(const Scene& scene, const Point3f& p, Point2f u) {
-    return medium_along(scene, Ray(p, warp::square_to_uniform_sphere(u)));
+const Medium* medium_at(const Scene& scene, const Point3f& p, Point2f u, const Medium* ambient) {
+    return medium_along(scene, Ray(p, warp::square_to_uniform_sphere(u)), ambient);
 }
 
 namespace {
@@ -35,8 +35,8 @@ std::optional<const Medium*> medium_hit_along(const Scene& scene, const Ray& pro
 }
 }  // namespace
 
-const Medium* medium_along(const Scene& scene, const Ray& probe) {
-    return medium_hit_along(scene, probe).value_or(scene.sensor().medium());
+const Medium* medium_along(const Scene& scene, const Ray& probe, const Medium* ambient) {
+    return medium_hit_along(scene, probe).value_or(ambient);
 }
 
 const Medium* ambient_medium(const Scene& scene) {
@@ -59,6 +59,7 @@ const Medium* medium_enclosing(const Scene& scene, const Point3f& p, const Mediu
 std::vector<float> medium_fractions(const Scene& scene, const SpatialTree& tree, int points_per_leaf, uint64_t seed) {
     std::vector<float> fractions(size_t(tree.leaf_count()), 0.f);
     const int n = std::max(points_per_leaf, 1);
+    const Medium* ambient = ambient_medium(scene);
     parallel_for(0, tree.leaf_count(), [&](int leaf) {
         const BBox3f& b = tree.leaf_bounds(leaf);
         Sampler sampler(seed, kOccupancyStream, uint64_t(leaf));
@@ -67,7 +68,7 @@ std::vector<float> medium_fractions(const Scene& scene, const SpatialTree& tree,
             const Vec3f e = b.extents();
             const Point3f p(b.lo.x + e.x * sampler.next_1d(), b.lo.y + e.y * sampler.next_1d(),
                             b.lo.z + e.z * sampler.next_1d());
-            const Medium* m = medium_at(scene, p, sampler.next_2d());
+            const Medium* m = medium_at(scene, p, sampler.next_2d(), ambient);
             if (m && m->eval(p).sigma_t.max_value() > 0.f) ++inside;
         }
         fractions[size_t(leaf)] = float(inside) / float(n);

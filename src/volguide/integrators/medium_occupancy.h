@@ -5,8 +5,10 @@
 //
 // The medium at a point is found the way a ray would find it: cast from the point in a random
 // direction, skip surfaces without media, and at the first shape with media take its interior if
-// the ray leaves through it (d . n > 0) and its exterior otherwise; no such shape: the sensor's
-// medium (the scene's ambient medium). A heterogeneous medium counts only where sigma_t > 0.
+// the ray leaves through it (d . n > 0) and its exterior otherwise; no such shape: the scene's
+// ambient medium (ambient_medium: the sensor's only where no shape bounds it — a camera inside a fog
+// box does not make the space outside the box foggy). A heterogeneous medium counts only where
+// sigma_t > 0.
 #include <cstdint>
 #include <vector>
 
@@ -18,18 +20,18 @@ namespace volguide {
 class Scene;
 class Medium;
 
-// The medium at p (nullptr for none), as described above; u picks the probe direction.
-const Medium* medium_at(const Scene& scene, const Point3f& p, Point2f u);
-// The same rule with the probe along a given ray: the medium a ray leaving from ray.o along ray.d
-// travels in first.
-const Medium* medium_along(const Scene& scene, const Ray& ray);
 // The medium at infinity: the sensor's if no shape has it inside (media unbounded around the camera),
 // else none.
 const Medium* ambient_medium(const Scene& scene);
+// The medium at p (nullptr for none), as described above; u picks the probe direction, `ambient` is
+// ambient_medium(scene) (computed once by the caller).
+const Medium* medium_at(const Scene& scene, const Point3f& p, Point2f u, const Medium* ambient);
+// The same rule with the probe along a given ray: the medium a ray leaving from ray.o along ray.d
+// travels in first (`ambient` when the probe meets no shape with media).
+const Medium* medium_along(const Scene& scene, const Ray& ray, const Medium* ambient);
 // The medium enclosing p, from probes along the six axis directions: the first that meets a shape
 // with media decides; when all escape, p is outside every shape with media in those directions and
-// gets `ambient` (ambient_medium(scene), computed once by the caller). (medium_at/medium_along take
-// the sensor's medium for an escaping probe.)
+// gets `ambient`.
 const Medium* medium_enclosing(const Scene& scene, const Point3f& p, const Medium* ambient);
 
 // The points per leaf guided_volpath measures a field's medium fractions with: ~4 % standard error
