@@ -58,4 +58,30 @@ d = json.loads(subprocess.run([volguide, "diff", f"{tmp}/out/images/thin__volpat
 assert abs(float(v["relmse_1e-2"]) - d["relmse_1e-2"]) <= 1e-9 * max(1.0, d["relmse_1e-2"]), (v, d)
 print("rescore agrees with volguide diff against the new reference")
 PY
+# A guided reference (issue 22: backlit's is rendered by the full guided system) is cross-checked
+# against the volpath reference it replaced: without that one it is an error naming the file; with it
+# the record holds their relMSE against each other and what the two estimated errors predict.
+mkdir -p "$tmp/refs3"
+if "$PY" "$src/bench/make_references.py" --scenes backlit --spp 1 --chunks 2 --build-dir "$build" \
+     --out-dir "$tmp/refs3" --work-dir "$tmp/chunks3" >/dev/null 2>"$tmp/err3"; then
+  fail "a guided reference without a volpath one to check against was accepted"
+fi
+grep -q 'volpath/backlit.exr' "$tmp/err3" || fail "the missing cross-check reference is not named: $(cat "$tmp/err3")"
+mkdir -p "$tmp/refs3/volpath"
+cp "$src/bench/references/volpath/backlit.exr" "$src/bench/references/volpath/backlit.json" "$tmp/refs3/volpath/"
+"$PY" "$src/bench/make_references.py" --scenes backlit --spp 1 --chunks 2 --build-dir "$build" \
+  --out-dir "$tmp/refs3" --work-dir "$tmp/chunks3" >/dev/null
+"$PY" - "$tmp" <<'PY'
+import json, sys
+r = json.load(open(f"{sys.argv[1]}/refs3/backlit.json"))
+assert r["defines"] == ["integrator_xml=bench/references/guided_volpath.xml"], r["defines"]
+c = r["cross_check"]
+assert c["against"].endswith("volpath/backlit.exr"), c
+assert c["relmse_1e-2"] > 0 and c["predicted_relmse_1e-2"] > r["estimated_relmse_1e-2"], c
+# 2 spp against the volpath reference: the difference is the 2-spp image's noise, which its own
+# two-chunk estimate predicts within a factor (a wrong scene or a broken image would be far off).
+assert 0.2 < c["excess"] < 5.0, c
+assert 0.8 < c["mean_ratio"] < 1.25, c
+print("guided reference cross-checked against the volpath one:", c)
+PY
 "$PY" "$src/bench/check_report.py" "$tmp/out/index.html"
