@@ -94,6 +94,10 @@ EXTRA_METHODS = {
     "guided_volpath distance=incremental direction=product rrs=grrs training=progressive online_spp=64": {
         "guided": {"distance": "incremental", "direction": "product", "rrs": "grrs", "training": "progressive",
                    "online_spp": 64}},
+    # Issue 20: the full system with half the photon deposits (training ~half as long, ~half the
+    # leaves: coarser and shorter distance walks).
+    "guided_volpath distance=incremental direction=product rrs=grrs max_deposits=2000000": {
+        "guided": {"distance": "incremental", "direction": "product", "rrs": "grrs", "max_deposits": 2000000}},
 }
 
 # Zoomed crops shown in the HTML report: (x, y, width, height) in pixels of the 160x120 image.
