@@ -95,9 +95,12 @@ EXTRA_METHODS = {
         "guided": {"distance": "incremental", "direction": "product", "rrs": "grrs", "training": "progressive",
                    "online_spp": 64}},
     # Issue 20: the full system with half the photon deposits (training ~half as long, ~half the
-    # leaves: coarser and shorter distance walks).
+    # leaves: coarser and shorter distance walks); 2 M is guided_volpath's default since 2026-11-25
+    # (so that method is the full system itself, named explicitly for comparisons with earlier runs).
     "guided_volpath distance=incremental direction=product rrs=grrs max_deposits=2000000": {
         "guided": {"distance": "incremental", "direction": "product", "rrs": "grrs", "max_deposits": 2000000}},
+    "guided_volpath distance=incremental direction=product rrs=grrs max_deposits=1000000": {
+        "guided": {"distance": "incremental", "direction": "product", "rrs": "grrs", "max_deposits": 1000000}},
 }
 
 # Zoomed crops shown in the HTML report: (x, y, width, height) in pixels of the 160x120 image.
