@@ -64,13 +64,18 @@ def resolve_define(define):
     return define
 
 
-def cross_check(volguide, ref, record, out_dir, scene):
-    """relMSE of the new reference against the volpath one it replaced, and what the two errors predict."""
+def cross_check_reference(out_dir, scene):
+    """The volpath reference a guided one is checked against; exits naming it when it is missing."""
     other = os.path.join(out_dir, CROSS_CHECK_DIR, scene + ".exr")
-    other_json = other[:-4] + ".json"
-    if not (os.path.exists(other) and os.path.exists(other_json)):
+    if not (os.path.exists(other) and os.path.exists(other[:-4] + ".json")):
         sys.exit(f"make_references: {scene}: the guided reference needs {other} and its .json to be "
                  "checked against (move the volpath reference there first)")
+    return other
+
+
+def cross_check(volguide, ref, record, other):
+    """relMSE of the new reference against the volpath one it replaced, and what the two errors predict."""
+    other_json = other[:-4] + ".json"
     res = subprocess.run([volguide, "diff", "--json", ref, other], check=True, capture_output=True, text=True)
     diff = json.loads(res.stdout)
     with open(other_json) as f:
@@ -112,6 +117,8 @@ def main():
             if args.chunks < 2:
                 sys.exit("make_references: --chunks must be >= 2 (the error estimate needs a spread)")
             chunks = args.chunks
+        # Before any chunk renders: a guided reference cannot be finished without its cross-check.
+        check_against = cross_check_reference(args.out_dir, scene) if defines == GUIDED else None
         xml = os.path.join(ROOT, "bench", "scenes", scene + ".xml")
         chunk_files, seconds = [], 0.0
         for k in range(chunks):
@@ -148,8 +155,8 @@ def main():
                        (f" --spp {args.spp}" if args.spp > 0 else "") +
                        (f" --chunks {args.chunks}" if args.chunks > 0 else ""),
         }
-        if defines is GUIDED:
-            record["cross_check"] = cross_check(volguide, ref, record, args.out_dir, scene)
+        if check_against:
+            record["cross_check"] = cross_check(volguide, ref, record, check_against)
             c = record["cross_check"]
             print(f"{scene}: against {c['against']}: relMSE(1e-2) {c['relmse_1e-2']:.3g}, predicted by the two "
                   f"estimated errors {c['predicted_relmse_1e-2']:.3g} ({c['excess']:.2f}x), mean ratio "

@@ -14,14 +14,18 @@ the count weighting gives (the render's own, minus R) and what inverse-variance 
 same stretches would give, 1 / sum(n_i / v_i): how much the count weighting loses. The figures are
 as noisy as the relMSE of each record (one run, one seed); a stretch of few samples is noisy.
 
-    python3 bench/pass_variance.py STATS.json [STATS.json ...]
+    python3 bench/pass_variance.py STATS.json [STATS.json ...] [--reference-error R]
 """
+import argparse
 import json
 import os
-import sys
 
 
-def reference_error(stats):
+def reference_error(stats, given=None):
+    """The reference's estimated relMSE(1e-2): `given`, else its .json's (the reference as it is now:
+    pass --reference-error for a run measured against an earlier one)."""
+    if given is not None:
+        return given
     ref = stats.get("reference", {}).get("file")
     if ref and os.path.exists(ref[:-4] + ".json"):
         with open(ref[:-4] + ".json") as f:
@@ -29,9 +33,9 @@ def reference_error(stats):
     return 0.0
 
 
-def stretches(stats):
+def stretches(stats, given_error=None):
     """(n1, n2, per-sample relative variance) for consecutive records."""
-    R = reference_error(stats)
+    R = reference_error(stats, given_error)
     out, prev = [], None
     for rec in stats["convergence"]:
         n, e = rec["spp"], rec["relmse_1e-2"] - R
@@ -45,12 +49,15 @@ def stretches(stats):
 
 
 def main():
-    if len(sys.argv) < 2:
-        sys.exit(__doc__)
-    for path in sys.argv[1:]:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("stats", nargs="+", help="--stats JSON files of renders")
+    ap.add_argument("--reference-error", type=float, default=None,
+                    help="the reference's relMSE(1e-2) the run was measured against (default: its .json now)")
+    args = ap.parse_args()
+    for path in args.stats:
         with open(path) as f:
             stats = json.load(f)
-        R, parts = stretches(stats)
+        R, parts = stretches(stats, args.reference_error)
         online = int(stats.get("integrator", {}).get("online_updates", 0))
         print(f"{os.path.basename(path)}: reference error {R:.3g}, online updates {online}")
         N = parts[-1][1] if parts else 0
