@@ -58,6 +58,7 @@ def main():
         for key in ("best_unguided", "speedup_best_unguided_1e-2", "speedup_best_unguided_1e-3"):
             r.pop(key, None)
     run_bench.add_speedups(rows)
+    run_bench.add_net_of_reference(rows, args.references)
     checks = run_bench.check_references(rows, scenes, args.references)
     refs = {s: run_bench.reference_record(args.references, s) for s in scenes}
     note = ("re-scored by `python3 bench/rescore.py` against bench/references/ as of "

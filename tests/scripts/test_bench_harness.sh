@@ -34,6 +34,14 @@ d = json.loads(subprocess.run([volguide, "diff", f"{tmp}/out/images/thin__volpat
 for k in ("relmse_1e-2", "relmse_1e-3", "mse"):
     assert abs(float(v[k]) - d[k]) <= 1e-9 * max(1.0, d[k]), (k, v[k], d[k])
 assert float(v["speedup_1e-2"]) == 1.0
+# Net of the reference's own error: the measured relMSE less the record's estimate (where positive).
+ref_err = json.load(open(f"{tmp}/refs/thin.json"))["estimated_relmse_1e-2"]
+assert abs(float(v["reference_relmse_1e-2"]) - ref_err) <= 1e-12 * max(1.0, ref_err), (v, ref_err)
+if d["relmse_1e-2"] > ref_err:
+    assert abs(float(v["relmse_1e-2_net"]) - (d["relmse_1e-2"] - ref_err)) <= 1e-9 * max(1.0, d["relmse_1e-2"]), v
+    assert float(v["speedup_1e-2_net"]) == 1.0, v
+else:
+    assert v["relmse_1e-2_net"] == "", v
 p = rows["guided_volpath direction=product"]
 assert p["status"] == "ok" and int(p["spp"]) > 0, p
 g = rows["guided_volpath distance=incremental direction=product rrs=grr"]
