@@ -94,6 +94,10 @@ EXTRA_METHODS = {
     "guided_volpath distance=incremental direction=product rrs=grrs training=progressive online_spp=64": {
         "guided": {"distance": "incremental", "direction": "product", "rrs": "grrs", "training": "progressive",
                    "online_spp": 64}},
+    # ... and at longer budgets, learning for longer (issue 22's 600 s comparison).
+    "guided_volpath distance=incremental direction=product rrs=grrs training=progressive online_spp=512": {
+        "guided": {"distance": "incremental", "direction": "product", "rrs": "grrs", "training": "progressive",
+                   "online_spp": 512}},
     # Issue 20: the full system with half the photon deposits (training ~half as long, ~half the
     # leaves: coarser and shorter distance walks); 2 M is guided_volpath's default since 2026-11-25
     # (so that method is the full system itself, named explicitly for comparisons with earlier runs).
@@ -362,7 +366,7 @@ def plot_convergence(rows, scenes, out, checks=None):
         ok = [r for r in rows if r["scene"] == scene and r["status"] == "ok"]
         if not ok:
             continue
-        fig, ax = plt.subplots(figsize=(5, 3.6), dpi=100)
+        fig, ax = plt.subplots(figsize=(6.4, 4.6), dpi=100)
         for r in ok:
             pts = [(p["seconds"], p["relmse_1e-2"]) for p in r["convergence"] if p["seconds"] > 0 and p["relmse_1e-2"] > 0]
             if pts:
@@ -381,7 +385,7 @@ def plot_convergence(rows, scenes, out, checks=None):
         ax.set_title(scene + ("" if not c or c["meets_rule"] else
                               f" (dashed: net of the reference's {c['reference_relmse_1e-2']:.2g})"), fontsize=9)
         ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=7)
+        ax.legend(fontsize=6, loc="lower left")
         fig.tight_layout()
         path = os.path.join(out, "plots", scene + ".png")
         fig.savefig(path)
