@@ -10,6 +10,14 @@ deterministic: the same command reproduces the same EXR bit for bit on the same 
     python3 bench/make_references.py [--scenes shafts,cloud] [--build-dir build]
 
 Writes bench/references/<scene>.exr and <scene>.json (how it was made and its estimated error).
+
+    python3 bench/make_references.py --scenes shafts --extend
+
+makes a committed reference longer: the configuration below asks for more chunks than its record lists,
+and only the missing ones (the next seeds) are rendered; the reference is kept as the mean of its
+recorded chunks (their images are not kept) and averaged with them, the error estimated from the new
+chunks' spread. The record keeps what it was extended from and checks the new chunks' own mean against
+the earlier reference (a change of method or a bias would show as an excess, as in the cross-check).
 """
 import argparse
 import json
@@ -73,6 +81,44 @@ def cross_check_reference(out_dir, scene):
     return other
 
 
+def earlier_reference(out_dir, scene, defines, spp, chunks):
+    """The record of the reference --extend makes longer; exits naming what does not fit."""
+    path = os.path.join(out_dir, scene + ".json")
+    if not (os.path.exists(path) and os.path.exists(path[:-5] + ".exr")):
+        sys.exit(f"make_references: --extend: {scene} has no reference to extend ({path[:-5]}.exr and its .json)")
+    with open(path) as f:
+        record = json.load(f)
+    n = record.get("chunks", 0)
+    if record.get("defines") != defines or record.get("spp_per_chunk") != spp:
+        sys.exit(f"make_references: --extend: {path} was made with {record.get('defines')} at "
+                 f"{record.get('spp_per_chunk')} spp per chunk, the configuration asks for {defines} at {spp}: "
+                 "only a reference of the same method and chunk size can be made longer")
+    if record.get("seeds") != [1001 + k for k in range(n)]:
+        sys.exit(f"make_references: --extend: {path} does not list seeds 1001..{1000 + n}")
+    if chunks - n < 2:
+        sys.exit(f"make_references: --extend: {path} has {n} chunks and the configuration {chunks}: "
+                 "at least 2 new chunks are needed to estimate the error from their spread")
+    return record
+
+
+def earlier_check(volguide, average, work_dir, scene, earlier_ref, earlier_record, new_chunks):
+    """The new chunks' own mean against the reference they extend: relMSE measured and predicted."""
+    tmp = os.path.join(work_dir, f"{scene}-new-chunks-mean.exr")
+    new = json.loads(subprocess.run([average, tmp] + new_chunks, check=True, capture_output=True,
+                                    text=True).stdout)
+    diff = json.loads(subprocess.run([volguide, "diff", "--json", tmp, earlier_ref], check=True,
+                                     capture_output=True, text=True).stdout)
+    predicted = new["relmse_1e-2"] + earlier_record["estimated_relmse_1e-2"]
+    return {
+        "new_chunks": len(new_chunks),
+        "new_chunks_estimated_relmse_1e-2": new["relmse_1e-2"],
+        "relmse_1e-2": diff["relmse_1e-2"],
+        "predicted_relmse_1e-2": predicted,
+        "excess": diff["relmse_1e-2"] / predicted,
+        "mean_ratio": diff["ratio"],
+    }
+
+
 def cross_check(volguide, ref, record, other):
     """relMSE of the new reference against the volpath one it replaced, and what the two errors predict."""
     other_json = other[:-4] + ".json"
@@ -100,6 +146,8 @@ def main():
                     help="where <scene>.exr and <scene>.json go")
     ap.add_argument("--spp", type=int, default=0, help="override the spp per chunk (tests, previews)")
     ap.add_argument("--chunks", type=int, default=0, help="override the number of chunks (tests, previews; >= 2)")
+    ap.add_argument("--extend", action="store_true",
+                    help="make the existing reference longer: render only the chunks its record lacks")
     args = ap.parse_args()
     volguide = os.path.join(args.build_dir, "volguide")
     average = os.path.join(args.build_dir, "average_renders")
@@ -119,9 +167,11 @@ def main():
             chunks = args.chunks
         # Before any chunk renders: a guided reference cannot be finished without its cross-check.
         check_against = cross_check_reference(args.out_dir, scene) if defines == GUIDED else None
+        earlier = earlier_reference(args.out_dir, scene, defines, spp, chunks) if args.extend else None
+        first = earlier["chunks"] if earlier else 0
         xml = os.path.join(ROOT, "bench", "scenes", scene + ".xml")
         chunk_files, seconds = [], 0.0
-        for k in range(chunks):
+        for k in range(first, chunks):
             seed = 1001 + k
             out = os.path.join(args.work_dir, f"{scene}-{spp}spp-{seed}.exr")
             stats = out[:-4] + ".json"
@@ -138,7 +188,14 @@ def main():
             chunk_files.append(out)
         os.makedirs(args.out_dir, exist_ok=True)
         ref = os.path.join(args.out_dir, scene + ".exr")
-        res = subprocess.run([average, ref] + chunk_files, check=True, capture_output=True, text=True)
+        # Written beside the reference and moved over it once complete: a failed run leaves it as it was.
+        new_ref = os.path.join(args.out_dir, scene + ".new.exr")
+        average_cmd = [average, new_ref]
+        if earlier:
+            check = earlier_check(volguide, average, args.work_dir, scene, ref, earlier, chunk_files)
+            average_cmd += ["--earlier", ref, str(earlier["chunks"])]
+        res = subprocess.run(average_cmd + chunk_files, check=True, capture_output=True, text=True)
+        os.replace(new_ref, ref)
         estimate = json.loads(res.stdout)
         record = {
             "scene": f"bench/scenes/{scene}.xml",
@@ -147,14 +204,23 @@ def main():
             "chunks": chunks,
             "spp_per_chunk": spp,
             "seeds": [1001 + k for k in range(chunks)],
-            "render_seconds": round(seconds, 1),
+            "render_seconds": round(seconds + (earlier["render_seconds"] if earlier else 0.0), 1),
             "estimated_relmse_1e-2": estimate["relmse_1e-2"],
             "estimated_relmse_1e-3": estimate["relmse_1e-3"],
             "estimated_mse": estimate["mse"],
             "command": f"python3 bench/make_references.py --scenes {scene}" +
                        (f" --spp {args.spp}" if args.spp > 0 else "") +
-                       (f" --chunks {args.chunks}" if args.chunks > 0 else ""),
+                       (f" --chunks {args.chunks}" if args.chunks > 0 else "") +
+                       (" --extend" if earlier else ""),
         }
+        if earlier:
+            # What it was made longer from (the cross-check below is redone on the longer reference).
+            record["extended_from"] = {k: v for k, v in earlier.items() if k != "cross_check"}
+            record["error_from_seeds"] = [1001 + k for k in range(first, chunks)]
+            record["new_chunks_against_earlier"] = check
+            print(f"{scene}: the {check['new_chunks']} new chunks' mean against the earlier reference: relMSE(1e-2) "
+                  f"{check['relmse_1e-2']:.3g}, predicted {check['predicted_relmse_1e-2']:.3g} "
+                  f"({check['excess']:.2f}x), mean ratio {check['mean_ratio']:.5f}", flush=True)
         if check_against:
             record["cross_check"] = cross_check(volguide, ref, record, check_against)
             c = record["cross_check"]
@@ -164,7 +230,7 @@ def main():
         with open(ref[:-4] + ".json", "w") as f:
             json.dump(record, f, indent=2)
             f.write("\n")
-        print(f"{scene}: {spp * chunks} spp in {seconds:.0f} s, estimated relMSE(1e-2) "
+        print(f"{scene}: {spp * chunks} spp in {record['render_seconds']:.0f} s, estimated relMSE(1e-2) "
               f"{estimate['relmse_1e-2']:.3g}", flush=True)
 
 

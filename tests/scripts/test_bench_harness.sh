@@ -92,4 +92,42 @@ assert 0.2 < c["excess"] < 5.0, c
 assert 0.8 < c["mean_ratio"] < 1.25, c
 print("guided reference cross-checked against the volpath one:", c)
 PY
+# A reference made longer (--extend): only the chunks its record lacks are rendered, and the result is
+# the reference of all the chunks made at once (the same chunk files, so the same mean to rounding).
+mk() { "$PY" "$src/bench/make_references.py" --scenes thin --spp 4 --build-dir "$build" --work-dir "$tmp/chunks4" "$@"; }
+if mk --chunks 2 --out-dir "$tmp/refs4" --extend >/dev/null 2>"$tmp/err4"; then
+  fail "--extend without a reference to extend was accepted"
+fi
+grep -q 'no reference to extend' "$tmp/err4" || fail "--extend without a reference: $(cat "$tmp/err4")"
+mk --chunks 2 --out-dir "$tmp/refs4" >/dev/null
+if mk --chunks 3 --out-dir "$tmp/refs4" --extend >/dev/null 2>"$tmp/err4"; then
+  fail "--extend by one chunk (no spread to estimate the error from) was accepted"
+fi
+grep -q 'at least 2 new chunks' "$tmp/err4" || fail "--extend by one chunk: $(cat "$tmp/err4")"
+if "$PY" "$src/bench/make_references.py" --scenes thin --spp 8 --chunks 4 --build-dir "$build" \
+     --work-dir "$tmp/chunks4" --out-dir "$tmp/refs4" --extend >/dev/null 2>"$tmp/err4"; then
+  fail "--extend with another chunk size was accepted"
+fi
+grep -q 'same method and chunk size' "$tmp/err4" || fail "--extend with another chunk size: $(cat "$tmp/err4")"
+ls "$tmp/chunks4" | grep -q '1003' && fail "a refused --extend rendered chunks"
+mk --chunks 4 --out-dir "$tmp/refs4" --extend >/dev/null
+ls "$tmp/chunks4"/thin-4spp-100[34].exr >/dev/null || fail "--extend did not render seeds 1003 and 1004"
+mk --chunks 4 --out-dir "$tmp/refs5" >/dev/null  # every chunk exists: renders nothing
+"$PY" - "$tmp" "$build/volguide" <<'PY'
+import json, subprocess, sys
+tmp, volguide = sys.argv[1], sys.argv[2]
+longer, whole = json.load(open(f"{tmp}/refs4/thin.json")), json.load(open(f"{tmp}/refs5/thin.json"))
+assert longer["chunks"] == 4 and longer["seeds"] == [1001, 1002, 1003, 1004], longer
+assert longer["extended_from"]["chunks"] == 2 and longer["error_from_seeds"] == [1003, 1004], longer
+assert longer["command"].endswith("--extend"), longer
+d = json.loads(subprocess.run([volguide, "diff", "--json", f"{tmp}/refs4/thin.exr", f"{tmp}/refs5/thin.exr"],
+                              check=True, capture_output=True, text=True).stdout)
+assert d["relmse_1e-3"] < 1e-10, d  # the same mean but for float rounding of the earlier one
+# Two chunks' spread against four's: the same error to within the noise of the estimates.
+assert 0.5 < longer["estimated_relmse_1e-2"] / whole["estimated_relmse_1e-2"] < 2.0, (longer, whole)
+# The new chunks agree with the earlier reference as two independent means of the same image do.
+c = longer["new_chunks_against_earlier"]
+assert c["new_chunks"] == 2 and 0.5 < c["excess"] < 2.0 and 0.9 < c["mean_ratio"] < 1.1, c
+print("an extended reference is the reference of all its chunks:", c)
+PY
 "$PY" "$src/bench/check_report.py" "$tmp/out/index.html"

@@ -121,5 +121,30 @@ TEST(ImageCompare, MeanOfRendersEstimatesItsOwnError) {
     EXPECT_THROW(mean_of_renders({c, Image(2, 1)}), std::invalid_argument);
 }
 
+TEST(ImageCompare, MeanWithEarlierIsTheMeanOfAllRendersWithTheNewOnesSpread) {
+    // Five renders 0, 1, 2 | 4, 8 (one pixel): the first three kept only as their mean 1. The
+    // combined mean is that of all five (3); the error is the new pair's sample variance
+    // ((4 - 8)^2 / 2 = 8) over the five renders.
+    Image earlier(1, 1, Color3(1.f)), d(1, 1, Color3(4.f)), e(1, 1, Color3(8.f));
+    MeanEstimate m = mean_with_earlier(earlier, 3, {d, e});
+    EXPECT_FLOAT_EQ(m.mean.at(0, 0).r, 3.f);
+    EXPECT_FLOAT_EQ(m.mean.at(0, 0).b, 3.f);
+    EXPECT_NEAR(m.mse, 8.0 / 5, 1e-12);
+    EXPECT_NEAR(m.relmse_1e2, 8.0 / 5 / (9 + 1e-2), 1e-12);
+
+    // Made longer in two steps, the mean equals the one-step mean of the same renders (exact here:
+    // every value is representable), and the error estimate is that of the same spread over more renders.
+    Image a(1, 1, Color3(0.5f)), b(1, 1, Color3(1.5f));
+    const MeanEstimate first = mean_of_renders({a, b});
+    const MeanEstimate all = mean_of_renders({a, b, d, e});
+    const MeanEstimate longer = mean_with_earlier(first.mean, 2, {d, e});
+    EXPECT_FLOAT_EQ(longer.mean.at(0, 0).g, all.mean.at(0, 0).g);
+    EXPECT_NEAR(longer.mse, 8.0 / 4, 1e-12);
+
+    EXPECT_THROW(mean_with_earlier(earlier, 3, {d}), std::invalid_argument);
+    EXPECT_THROW(mean_with_earlier(earlier, 0, {d, e}), std::invalid_argument);
+    EXPECT_THROW(mean_with_earlier(Image(2, 1), 3, {d, e}), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace volguide

@@ -140,10 +140,15 @@ Image relative_error_heatmap(const Image& image, const Image& reference, double 
     return out;
 }
 
-MeanEstimate mean_of_renders(const std::vector<Image>& renders) {
+namespace {
+
+// Mean and error of `earlier_count` earlier renders (mean `earlier`, may be null with count 0) and the
+// k new ones; the spread is measured on the new renders only.
+MeanEstimate combined_mean(const Image* earlier, int earlier_count, const std::vector<Image>& renders) {
     if (renders.size() < 2) throw std::invalid_argument("the error of a mean needs at least 2 renders");
     for (const Image& r : renders) check_sizes(r, renders.front());
-    const double k = double(renders.size());
+    if (earlier) check_sizes(*earlier, renders.front());
+    const double k = double(renders.size()), total = k + earlier_count;
     MeanEstimate m;
     m.mean = Image(renders.front().width, renders.front().height);
     double rel2 = 0, rel3 = 0, se = 0;
@@ -151,10 +156,12 @@ MeanEstimate mean_of_renders(const std::vector<Image>& renders) {
         for (int c = 0; c < 3; ++c) {
             double sum = 0;
             for (const Image& r : renders) sum += r.pixels[p][c];
-            const double mean = sum / k;
+            const double new_mean = sum / k;
             double ss = 0;
-            for (const Image& r : renders) ss += (r.pixels[p][c] - mean) * (r.pixels[p][c] - mean);
-            const double mse = ss / (k - 1) / k;  // sample variance / k
+            for (const Image& r : renders) ss += (r.pixels[p][c] - new_mean) * (r.pixels[p][c] - new_mean);
+            const double mean =
+                earlier ? (sum + double(earlier_count) * earlier->pixels[p][c]) / total : new_mean;
+            const double mse = ss / (k - 1) / total;  // sample variance / number of renders
             m.mean.pixels[p][c] = float(mean);
             se += mse;
             rel2 += mse / (mean * mean + 1e-2);
@@ -167,6 +174,17 @@ MeanEstimate mean_of_renders(const std::vector<Image>& renders) {
         m.mse = se / n;
     }
     return m;
+}
+
+}  // namespace
+
+MeanEstimate mean_of_renders(const std::vector<Image>& renders) {
+    return combined_mean(nullptr, 0, renders);
+}
+
+MeanEstimate mean_with_earlier(const Image& earlier, int earlier_count, const std::vector<Image>& renders) {
+    if (earlier_count < 1) throw std::invalid_argument("an earlier mean stands for at least 1 render");
+    return combined_mean(&earlier, earlier_count, renders);
 }
 
 }  // namespace volguide

@@ -48,4 +48,12 @@ struct MeanEstimate {
 // Throws std::invalid_argument for fewer than 2 images or different sizes.
 MeanEstimate mean_of_renders(const std::vector<Image>& renders);
 
+// A reference made longer: `earlier` is the mean of `earlier_count` renders made before (their images
+// are not kept), `renders` are k >= 2 more of the same kind (same method and samples per render, other
+// seeds). The mean is that of all earlier_count + k renders, (earlier_count * earlier + sum) / (n + k);
+// its MSE is s^2 / (earlier_count + k) with s^2 the sample variance of the k new renders alone (an
+// unbiased estimate of every render's variance, the earlier ones' spread being lost with their images).
+// Throws std::invalid_argument for fewer than 2 new renders, earlier_count < 1 or different sizes.
+MeanEstimate mean_with_earlier(const Image& earlier, int earlier_count, const std::vector<Image>& renders);
+
 }  // namespace volguide
