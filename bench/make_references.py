@@ -5,7 +5,9 @@ Each reference is the mean of CHUNKS independent renders (seeds 1001, 1002, ...)
 pixel with an unbiased method; the spread of the chunks gives the reference's own relMSE
 (tools/average_renders.cpp), which must be at most 1/10 of the best method's relMSE at the benchmark
 budget (checked by bench/run_bench.py, recorded in bench/references/README.md). The renders are
-deterministic: the same command reproduces the same EXR bit for bit on the same build.
+deterministic: the same command reproduces the same EXR bit for bit on the same build (an extended
+reference: from the same earlier reference; made at once from all its chunks it is the same image to
+float rounding, with an error estimated from every chunk's spread).
 
     python3 bench/make_references.py [--scenes shafts,cloud] [--build-dir build]
 
@@ -17,7 +19,8 @@ makes a committed reference longer: the configuration below asks for more chunks
 and only the missing ones (the next seeds) are rendered; the reference is kept as the mean of its
 recorded chunks (their images are not kept) and averaged with them, the error estimated from the new
 chunks' spread. The record keeps what it was extended from and checks the new chunks' own mean against
-the earlier reference (a change of method or a bias would show as an excess, as in the cross-check).
+the earlier reference: an excess over what their two errors predict (a change of method, a bias) above
+MAX_EXTEND_EXCESS refuses the extension.
 """
 import argparse
 import json
@@ -136,6 +139,110 @@ def cross_check(volguide, ref, record, other):
     }
 
 
+# An extension whose new chunks disagree with the earlier reference by more than this factor of what
+# their two estimated errors predict is refused (a changed method or a bias; independent unbiased
+# means stay near 1).
+MAX_EXTEND_EXCESS = 3.0
+
+
+def plan(args, scene):
+    """What to render for one scene, every check made before anything renders."""
+    if scene not in REFERENCES:
+        sys.exit(f"make_references: unknown scene '{scene}' (known: {', '.join(REFERENCES)})")
+    defines, spp, chunks = REFERENCES[scene]
+    if args.spp > 0:
+        spp = args.spp
+    if args.chunks > 0:
+        if args.chunks < 2:
+            sys.exit("make_references: --chunks must be >= 2 (the error estimate needs a spread)")
+        chunks = args.chunks
+    # A guided reference cannot be finished without its cross-check.
+    check_against = cross_check_reference(args.out_dir, scene) if defines == GUIDED else None
+    earlier = earlier_reference(args.out_dir, scene, defines, spp, chunks) if args.extend else None
+    return defines, spp, chunks, check_against, earlier
+
+
+def render_chunks(args, volguide, scene, defines, spp, first, chunks):
+    """Renders the chunks first..chunks-1 that the work dir lacks; their files and summed render time."""
+    xml = os.path.join(ROOT, "bench", "scenes", scene + ".xml")
+    chunk_files, seconds = [], 0.0
+    for k in range(first, chunks):
+        seed = 1001 + k
+        out = os.path.join(args.work_dir, f"{scene}-{spp}spp-{seed}.exr")
+        stats = out[:-4] + ".json"
+        if not (os.path.exists(out) and os.path.exists(stats)):
+            cmd = [volguide, "render", xml, "-o", out, "--spp", str(spp), "--seed", str(seed),
+                   "--stats", stats, "--quiet"]
+            for d in defines:
+                cmd += ["-D", resolve_define(d)]
+            print(f"[{time.strftime('%H:%M:%S')}] {scene}: chunk {k + 1}/{chunks} ({spp} spp, seed {seed})",
+                  file=sys.stderr, flush=True)
+            subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
+        with open(stats) as f:
+            seconds += json.load(f)["time"]["total_with_load"]
+        chunk_files.append(out)
+    return chunk_files, seconds
+
+
+def make_reference(args, volguide, average, scene, defines, spp, chunks, check_against, earlier):
+    first = earlier["chunks"] if earlier else 0
+    chunk_files, seconds = render_chunks(args, volguide, scene, defines, spp, first, chunks)
+    os.makedirs(args.out_dir, exist_ok=True)
+    ref = os.path.join(args.out_dir, scene + ".exr")
+    # The new image and record are written beside the old ones and replace them together once both are
+    # complete: a failed run leaves the reference and its record as they were (an EXR that no longer
+    # matched its record would make a later --extend count chunks twice).
+    new_ref = os.path.join(args.out_dir, scene + ".new.exr")
+    new_json = new_ref[:-4] + ".json"
+    average_cmd = [average, new_ref]
+    if earlier:
+        check = earlier_check(volguide, average, args.work_dir, scene, ref, earlier, chunk_files)
+        print(f"{scene}: the {check['new_chunks']} new chunks' mean against the earlier reference: relMSE(1e-2) "
+              f"{check['relmse_1e-2']:.3g}, predicted {check['predicted_relmse_1e-2']:.3g} "
+              f"({check['excess']:.2f}x), mean ratio {check['mean_ratio']:.5f}", flush=True)
+        if not check["excess"] <= MAX_EXTEND_EXCESS:
+            sys.exit(f"make_references: --extend: {scene}'s new chunks disagree with {ref} by {check['excess']:.2f}x "
+                     f"what their errors predict (> {MAX_EXTEND_EXCESS}): not the same method, or one is biased; "
+                     "the reference is left as it was")
+        average_cmd += ["--earlier", ref, str(earlier["chunks"])]
+    res = subprocess.run(average_cmd + chunk_files, check=True, capture_output=True, text=True)
+    estimate = json.loads(res.stdout)
+    record = {
+        "scene": f"bench/scenes/{scene}.xml",
+        "defines": defines,
+        "spp": spp * chunks,
+        "chunks": chunks,
+        "spp_per_chunk": spp,
+        "seeds": [1001 + k for k in range(chunks)],
+        "render_seconds": round(seconds + (earlier["render_seconds"] if earlier else 0.0), 1),
+        "estimated_relmse_1e-2": estimate["relmse_1e-2"],
+        "estimated_relmse_1e-3": estimate["relmse_1e-3"],
+        "estimated_mse": estimate["mse"],
+        "command": f"python3 bench/make_references.py --scenes {scene}" +
+                   (f" --spp {args.spp}" if args.spp > 0 else "") +
+                   (f" --chunks {args.chunks}" if args.chunks > 0 else "") +
+                   (" --extend" if earlier else ""),
+    }
+    if earlier:
+        # What it was made longer from (its own history included; the cross-check is redone below).
+        record["extended_from"] = {k: v for k, v in earlier.items() if k != "cross_check"}
+        record["error_from_seeds"] = [1001 + k for k in range(first, chunks)]
+        record["new_chunks_against_earlier"] = check
+    if check_against:
+        record["cross_check"] = cross_check(volguide, new_ref, record, check_against)
+        c = record["cross_check"]
+        print(f"{scene}: against {c['against']}: relMSE(1e-2) {c['relmse_1e-2']:.3g}, predicted by the two "
+              f"estimated errors {c['predicted_relmse_1e-2']:.3g} ({c['excess']:.2f}x), mean ratio "
+              f"{c['mean_ratio']:.5f}", flush=True)
+    with open(new_json, "w") as f:
+        json.dump(record, f, indent=2)
+        f.write("\n")
+    os.replace(new_ref, ref)
+    os.replace(new_json, ref[:-4] + ".json")
+    print(f"{scene}: {spp * chunks} spp in {record['render_seconds']:.0f} s, estimated relMSE(1e-2) "
+          f"{estimate['relmse_1e-2']:.3g}", flush=True)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--scenes", default=",".join(REFERENCES), help="comma-separated scene names")
@@ -154,84 +261,11 @@ def main():
     for tool in (volguide, average):
         if not os.access(tool, os.X_OK):
             sys.exit(f"make_references: {tool} is missing; run `make build` first")
+    # Every scene is checked before any renders (a refusal must not come after hours of chunks).
+    plans = [(scene, plan(args, scene)) for scene in args.scenes.split(",")]
     os.makedirs(args.work_dir, exist_ok=True)
-    for scene in args.scenes.split(","):
-        if scene not in REFERENCES:
-            sys.exit(f"make_references: unknown scene '{scene}' (known: {', '.join(REFERENCES)})")
-        defines, spp, chunks = REFERENCES[scene]
-        if args.spp > 0:
-            spp = args.spp
-        if args.chunks > 0:
-            if args.chunks < 2:
-                sys.exit("make_references: --chunks must be >= 2 (the error estimate needs a spread)")
-            chunks = args.chunks
-        # Before any chunk renders: a guided reference cannot be finished without its cross-check.
-        check_against = cross_check_reference(args.out_dir, scene) if defines == GUIDED else None
-        earlier = earlier_reference(args.out_dir, scene, defines, spp, chunks) if args.extend else None
-        first = earlier["chunks"] if earlier else 0
-        xml = os.path.join(ROOT, "bench", "scenes", scene + ".xml")
-        chunk_files, seconds = [], 0.0
-        for k in range(first, chunks):
-            seed = 1001 + k
-            out = os.path.join(args.work_dir, f"{scene}-{spp}spp-{seed}.exr")
-            stats = out[:-4] + ".json"
-            if not (os.path.exists(out) and os.path.exists(stats)):
-                cmd = [volguide, "render", xml, "-o", out, "--spp", str(spp), "--seed", str(seed),
-                       "--stats", stats, "--quiet"]
-                for d in defines:
-                    cmd += ["-D", resolve_define(d)]
-                print(f"[{time.strftime('%H:%M:%S')}] {scene}: chunk {k + 1}/{chunks} ({spp} spp, seed {seed})",
-                      file=sys.stderr, flush=True)
-                subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
-            with open(stats) as f:
-                seconds += json.load(f)["time"]["total_with_load"]
-            chunk_files.append(out)
-        os.makedirs(args.out_dir, exist_ok=True)
-        ref = os.path.join(args.out_dir, scene + ".exr")
-        # Written beside the reference and moved over it once complete: a failed run leaves it as it was.
-        new_ref = os.path.join(args.out_dir, scene + ".new.exr")
-        average_cmd = [average, new_ref]
-        if earlier:
-            check = earlier_check(volguide, average, args.work_dir, scene, ref, earlier, chunk_files)
-            average_cmd += ["--earlier", ref, str(earlier["chunks"])]
-        res = subprocess.run(average_cmd + chunk_files, check=True, capture_output=True, text=True)
-        os.replace(new_ref, ref)
-        estimate = json.loads(res.stdout)
-        record = {
-            "scene": f"bench/scenes/{scene}.xml",
-            "defines": defines,
-            "spp": spp * chunks,
-            "chunks": chunks,
-            "spp_per_chunk": spp,
-            "seeds": [1001 + k for k in range(chunks)],
-            "render_seconds": round(seconds + (earlier["render_seconds"] if earlier else 0.0), 1),
-            "estimated_relmse_1e-2": estimate["relmse_1e-2"],
-            "estimated_relmse_1e-3": estimate["relmse_1e-3"],
-            "estimated_mse": estimate["mse"],
-            "command": f"python3 bench/make_references.py --scenes {scene}" +
-                       (f" --spp {args.spp}" if args.spp > 0 else "") +
-                       (f" --chunks {args.chunks}" if args.chunks > 0 else "") +
-                       (" --extend" if earlier else ""),
-        }
-        if earlier:
-            # What it was made longer from (the cross-check below is redone on the longer reference).
-            record["extended_from"] = {k: v for k, v in earlier.items() if k != "cross_check"}
-            record["error_from_seeds"] = [1001 + k for k in range(first, chunks)]
-            record["new_chunks_against_earlier"] = check
-            print(f"{scene}: the {check['new_chunks']} new chunks' mean against the earlier reference: relMSE(1e-2) "
-                  f"{check['relmse_1e-2']:.3g}, predicted {check['predicted_relmse_1e-2']:.3g} "
-                  f"({check['excess']:.2f}x), mean ratio {check['mean_ratio']:.5f}", flush=True)
-        if check_against:
-            record["cross_check"] = cross_check(volguide, ref, record, check_against)
-            c = record["cross_check"]
-            print(f"{scene}: against {c['against']}: relMSE(1e-2) {c['relmse_1e-2']:.3g}, predicted by the two "
-                  f"estimated errors {c['predicted_relmse_1e-2']:.3g} ({c['excess']:.2f}x), mean ratio "
-                  f"{c['mean_ratio']:.5f}", flush=True)
-        with open(ref[:-4] + ".json", "w") as f:
-            json.dump(record, f, indent=2)
-            f.write("\n")
-        print(f"{scene}: {spp * chunks} spp in {record['render_seconds']:.0f} s, estimated relMSE(1e-2) "
-              f"{estimate['relmse_1e-2']:.3g}", flush=True)
+    for scene, p in plans:
+        make_reference(args, volguide, average, scene, *p)
 
 
 if __name__ == "__main__":

@@ -92,15 +92,16 @@ assert 0.2 < c["excess"] < 5.0, c
 assert 0.8 < c["mean_ratio"] < 1.25, c
 print("guided reference cross-checked against the volpath one:", c)
 PY
-# A reference made longer (--extend): only the chunks its record lacks are rendered, and the result is
-# the reference of all the chunks made at once (the same chunk files, so the same mean to rounding).
-mk() { "$PY" "$src/bench/make_references.py" --scenes thin --spp 4 --build-dir "$build" --work-dir "$tmp/chunks4" "$@"; }
-if mk --chunks 2 --out-dir "$tmp/refs4" --extend >/dev/null 2>"$tmp/err4"; then
+# A reference made longer (--extend): only the chunks its record lacks are rendered (the earlier chunk
+# files are moved away first, so the result must come from the earlier reference image), and the result is
+# the reference of all the chunks made at once (the same chunks, so the same mean to rounding).
+mk() { "$PY" "$src/bench/make_references.py" --scenes thin --spp 4 --build-dir "$build" "$@"; }
+if mk --chunks 2 --work-dir "$tmp/chunks4" --out-dir "$tmp/refs4" --extend >/dev/null 2>"$tmp/err4"; then
   fail "--extend without a reference to extend was accepted"
 fi
 grep -q 'no reference to extend' "$tmp/err4" || fail "--extend without a reference: $(cat "$tmp/err4")"
-mk --chunks 2 --out-dir "$tmp/refs4" >/dev/null
-if mk --chunks 3 --out-dir "$tmp/refs4" --extend >/dev/null 2>"$tmp/err4"; then
+mk --chunks 2 --work-dir "$tmp/chunks4" --out-dir "$tmp/refs4" >/dev/null
+if mk --chunks 3 --work-dir "$tmp/chunks4" --out-dir "$tmp/refs4" --extend >/dev/null 2>"$tmp/err4"; then
   fail "--extend by one chunk (no spread to estimate the error from) was accepted"
 fi
 grep -q 'at least 2 new chunks' "$tmp/err4" || fail "--extend by one chunk: $(cat "$tmp/err4")"
@@ -109,10 +110,29 @@ if "$PY" "$src/bench/make_references.py" --scenes thin --spp 8 --chunks 4 --buil
   fail "--extend with another chunk size was accepted"
 fi
 grep -q 'same method and chunk size' "$tmp/err4" || fail "--extend with another chunk size: $(cat "$tmp/err4")"
-ls "$tmp/chunks4" | grep -q '1003' && fail "a refused --extend rendered chunks"
-mk --chunks 4 --out-dir "$tmp/refs4" --extend >/dev/null
-ls "$tmp/chunks4"/thin-4spp-100[34].exr >/dev/null || fail "--extend did not render seeds 1003 and 1004"
-mk --chunks 4 --out-dir "$tmp/refs5" >/dev/null  # every chunk exists: renders nothing
+if compgen -G "$tmp/chunks4/*-100[34].*" >/dev/null; then fail "a refused --extend rendered chunks"; fi
+mkdir -p "$tmp/chunks5"
+mv "$tmp"/chunks4/thin-4spp-100[12].* "$tmp/chunks5/"
+mkdir -p "$tmp/refs6"
+cp "$tmp/refs4/thin.json" "$tmp/refs6/"  # kept to extend another image below
+mk --chunks 4 --work-dir "$tmp/chunks4" --out-dir "$tmp/refs4" --extend >/dev/null
+if compgen -G "$tmp/chunks4/*-100[12].*" >/dev/null; then fail "--extend rendered the earlier chunks again"; fi
+for seed in 1003 1004; do
+  [ -s "$tmp/chunks4/thin-4spp-$seed.exr" ] || fail "--extend did not render seed $seed"
+done
+if compgen -G "$tmp/refs4/*.new.*" >/dev/null; then fail "--extend left its temporary files"; fi
+cp "$tmp"/chunks4/thin-4spp-100[34].* "$tmp/chunks5/"
+mk --chunks 4 --work-dir "$tmp/chunks5" --out-dir "$tmp/refs5" >/dev/null  # every chunk exists: renders nothing
+# New chunks that disagree with the earlier reference (here another scene's image under thin's record)
+# refuse the extension and leave the reference and its record as they were.
+cp "$src/bench/references/backlit.exr" "$tmp/refs6/thin.exr"
+cp "$tmp/refs6/thin.json" "$tmp/thin6.json"
+if mk --chunks 4 --work-dir "$tmp/chunks4" --out-dir "$tmp/refs6" --extend >/dev/null 2>"$tmp/err6"; then
+  fail "--extend accepted new chunks that disagree with the earlier reference"
+fi
+grep -q 'disagree with' "$tmp/err6" || fail "a disagreeing --extend: $(cat "$tmp/err6")"
+cmp -s "$src/bench/references/backlit.exr" "$tmp/refs6/thin.exr" || fail "a refused --extend changed the reference"
+cmp -s "$tmp/thin6.json" "$tmp/refs6/thin.json" || fail "a refused --extend changed the record"
 "$PY" - "$tmp" "$build/volguide" <<'PY'
 import json, subprocess, sys
 tmp, volguide = sys.argv[1], sys.argv[2]

@@ -50,9 +50,11 @@ MeanEstimate mean_of_renders(const std::vector<Image>& renders);
 
 // A reference made longer: `earlier` is the mean of `earlier_count` renders made before (their images
 // are not kept), `renders` are k >= 2 more of the same kind (same method and samples per render, other
-// seeds). The mean is that of all earlier_count + k renders, (earlier_count * earlier + sum) / (n + k);
-// its MSE is s^2 / (earlier_count + k) with s^2 the sample variance of the k new renders alone (an
-// unbiased estimate of every render's variance, the earlier ones' spread being lost with their images).
+// seeds). The mean is that of all earlier_count + k renders, (earlier_count * earlier + sum) /
+// (earlier_count + k); its MSE is s^2 / (earlier_count + k) with s^2 the sample variance of the k new
+// renders alone: an unbiased estimate of every render's variance (the earlier ones' spread is lost with
+// their images) with k - 1 degrees of freedom per pixel, so noisier per pixel than an estimate from
+// all renders; its mean over the image's many pixels is what certifies a reference.
 // Throws std::invalid_argument for fewer than 2 new renders, earlier_count < 1 or different sizes.
 MeanEstimate mean_with_earlier(const Image& earlier, int earlier_count, const std::vector<Image>& renders);
 
