@@ -60,7 +60,7 @@ REFERENCES = {
 # each other must be what their two estimated errors predict (a bias of either shows as an excess).
 GUIDED = ["integrator_xml=bench/references/guided_volpath.xml"]
 REFERENCES.update({
-    "shafts": (GUIDED, 1024, 8),
+    "shafts": (GUIDED, 1024, 32),
     "backlit": (GUIDED, 1536, 8),
     "aniso": (GUIDED, 640, 8),
 })
