@@ -19,7 +19,6 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
-#include <cstddef>
 #include <cstdint>
 #include <utility>
 
