@@ -61,7 +61,7 @@ REFERENCES = {
 GUIDED = ["integrator_xml=bench/references/guided_volpath.xml"]
 REFERENCES.update({
     "shafts": (GUIDED, 1024, 32),
-    "cloud": (GUIDED, 8192, 28),
+    "cloud": (GUIDED, 8192, 32),
     "backlit": (GUIDED, 1536, 8),
     "aniso": (GUIDED, 640, 8),
 })
