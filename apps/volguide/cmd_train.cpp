@@ -11,7 +11,7 @@
 #include "progress_display.h"
 #include "volguide/integrators/integrator.h"
 #include "volguide/integrators/render_loop.h"
-#include "volguide/integrators/training_file.h"
+#include "volguide/integrators/guided/prepass/training_file.h"
 #include "volguide/render/scene.h"
 #include "volguide/scene/loader.h"
 #include "volguide/scene/scene_fingerprint.h"

@@ -3,7 +3,7 @@
 #include <fmt/format.h>
 
 #include "commands.h"
-#include "volguide/integrators/training_file.h"
+#include "volguide/integrators/guided/prepass/training_file.h"
 
 namespace volguide::cli {
 

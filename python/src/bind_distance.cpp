@@ -1,5 +1,5 @@
 // The guided distance pdf along a ray, from Python: the bins the renderer's guided distance
-// decision builds for the ray's first segment (integrators/distance_bins.h) and the pdf of the
+// decision builds for the ray's first segment (integrators/guided/walk/distance_bins.h) and the pdf of the
 // tabulated or incremental sampler over them (guiding/guided_distance.h).
 //
 // The segment: the ray from `origin` along `direction` up to the first surface it hits or t_max,
@@ -17,12 +17,12 @@
 #include "bindings.h"
 #include "handles.h"
 #include "volguide/geometry/interaction.h"
-#include "volguide/integrators/distance_bins.h"
+#include "volguide/integrators/guided/walk/distance_bins.h"
 #include "volguide/guiding/guided_distance.h"
 #include "volguide/guiding/inscatter_cache.h"
 #include "volguide/guiding/leaf_estimates.h"
-#include "volguide/integrators/medium_occupancy.h"
-#include "volguide/integrators/walk_guide.h"
+#include "volguide/integrators/guided/training/medium_occupancy.h"
+#include "volguide/integrators/guided/walk/walk_guide.h"
 #include "volguide/vmm/phase_vmm.h"
 
 namespace volguide::python {

@@ -15,10 +15,10 @@
 #include "volguide/core/parallel.h"
 #include "volguide/guiding/field_io.h"
 #include "volguide/guiding/guided_direction.h"
-#include "volguide/integrators/cache_estimate.h"
+#include "volguide/integrators/guided/estimates/cache_estimate.h"
 #include "volguide/integrators/integrator.h"
-#include "volguide/integrators/medium_occupancy.h"
-#include "volguide/integrators/pixel_estimate.h"
+#include "volguide/integrators/guided/training/medium_occupancy.h"
+#include "volguide/integrators/guided/estimates/pixel_estimate.h"
 #include "volguide/media/phase_hg.h"
 #include "volguide/vmm/phase_vmm.h"
 

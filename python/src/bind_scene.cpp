@@ -13,7 +13,7 @@
 #include "handles.h"
 #include "interruptible.h"
 #include "volguide/core/parallel.h"
-#include "volguide/integrators/guided_volpath.h"
+#include "volguide/integrators/guided/guided_volpath.h"
 #include "volguide/integrators/render_loop.h"
 #include "volguide/render/image_compare.h"
 #include "volguide/scene/loader.h"

@@ -12,7 +12,7 @@
 #include "support/cli.h"
 #include "support/vol_writer.h"
 #include "support/volpath_test_util.h"
-#include "volguide/integrators/cache_estimate.h"
+#include "volguide/integrators/guided/estimates/cache_estimate.h"
 #include "volguide/render/scene.h"
 #include "volguide/scene/loader.h"
 

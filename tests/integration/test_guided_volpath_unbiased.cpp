@@ -27,9 +27,9 @@
 #include "support/furnace_grid.h"
 #include "support/volpath_test_util.h"
 #include "volguide/core/warp.h"
-#include "volguide/integrators/guided_volpath.h"
+#include "volguide/integrators/guided/guided_volpath.h"
 #include "volguide/integrators/moment.h"
-#include "volguide/integrators/walk_guide.h"
+#include "volguide/integrators/guided/walk/walk_guide.h"
 
 using namespace volguide;
 using namespace volguide::test;

@@ -1,5 +1,5 @@
 // Issue 19: `openpgl_volpath`, Intel Open PGL's directional guiding driven as Blender Cycles
-// drives it (src/volguide/openpgl/). Built whenever Open PGL is (CI builds it from
+// drives it (src/volguide/integrators/openpgl/). Built whenever Open PGL is (CI builds it from
 // ../shared/third_party); without it every test here but the availability check is SKIPPED, with
 // the reason, and the availability check verifies the error a scene naming it gets.
 //  - the media white furnace (heterogeneous, g = 0.9): every pixel has mean 1 although the field

@@ -20,9 +20,9 @@
 #include "support/volpath_test_util.h"
 #include "volguide/core/sampler.h"
 #include "volguide/guiding/field_io.h"
-#include "volguide/integrators/guided_volpath.h"
-#include "volguide/integrators/medium_occupancy.h"
-#include "volguide/integrators/photon_pass.h"
+#include "volguide/integrators/guided/guided_volpath.h"
+#include "volguide/integrators/guided/training/medium_occupancy.h"
+#include "volguide/integrators/guided/training/photon_pass.h"
 #include "volguide/render/scene.h"
 #include "volguide/scene/loader.h"
 

@@ -17,8 +17,8 @@
 #include <cmath>
 
 #include "support/volpath_test_util.h"
-#include "volguide/integrators/volpath.h"
-#include "volguide/integrators/walk_policy.h"
+#include "volguide/integrators/volpath/volpath.h"
+#include "volguide/integrators/volpath/walk_policy.h"
 
 using namespace volguide;
 using namespace volguide::test;

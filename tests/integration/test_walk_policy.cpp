@@ -7,8 +7,8 @@
 #include <string>
 
 #include "volguide/integrators/camera_sample.h"
-#include "volguide/integrators/volpath.h"
-#include "volguide/integrators/walk_policy.h"
+#include "volguide/integrators/volpath/volpath.h"
+#include "volguide/integrators/volpath/walk_policy.h"
 #include "volguide/render/scene.h"
 #include "volguide/scene/loader.h"
 

@@ -1,4 +1,4 @@
-// Equiangular distance sampling (integrators/equiangular.h): the density integrates to one over
+// Equiangular distance sampling (integrators/volpath/equiangular.h): the density integrates to one over
 // [0, tmax] (finite and infinite), and samples follow it (Kolmogorov–Smirnov against the CDF obtained
 // by integrating pdf() numerically, α = 0.01).
 #include <gtest/gtest.h>
@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "volguide/core/sampler.h"
-#include "volguide/integrators/equiangular.h"
+#include "volguide/integrators/volpath/equiangular.h"
 
 using namespace volguide;
 

@@ -1,4 +1,4 @@
-// Chi-square of the guided surface sampler (integrators/guided_surface_sampler.h) against its own
+// Chi-square of the guided surface sampler (integrators/guided/walk/guided_surface_sampler.h) against its own
 // mixture pdf, with the weight check (weight = exact diffuse f cos / mixture pdf): a one-lobe and a
 // four-lobe incident guide and their cosine products (guiding/surface_guide.h), bsdf_prob 0 (pure
 // guide, including directions below the surface, which must come back with weight 0) and 0.5, in a
@@ -13,7 +13,7 @@
 #include "support/chi2.h"
 #include "support/guiding_leaf_fixtures.h"
 #include "volguide/guiding/surface_guide.h"
-#include "volguide/integrators/guided_surface_sampler.h"
+#include "volguide/integrators/guided/walk/guided_surface_sampler.h"
 
 using namespace volguide;
 using namespace volguide::test;

@@ -1,4 +1,4 @@
-// Chi-square of openpgl_volpath's direction samplers (src/volguide/openpgl/openpgl_walk_policy.h)
+// Chi-square of openpgl_volpath's direction samplers (src/volguide/integrators/openpgl/openpgl_walk_policy.h)
 // against their own mixture pdfs, with the weight check eval / pdf:
 //  - medium vertex: Open PGL's VolumeSamplingDistribution times the HG lobe, mixed with HG
 //    sampling (phase_prob 0.5 and 0.2), for g in {0, 0.6, -0.4};
@@ -23,7 +23,7 @@
 #include "support/chi2.h"
 #include "support/test_media.h"
 #include "volguide/media/phase_hg.h"
-#include "volguide/openpgl/openpgl_walk_policy.h"
+#include "volguide/integrators/openpgl/openpgl_walk_policy.h"
 
 using namespace volguide;
 using namespace volguide::test;

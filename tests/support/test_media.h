@@ -129,8 +129,7 @@ inline ObjectPtr test_media_factory(const std::string& tag, const Properties& pr
 }
 
 inline std::unique_ptr<Scene> load_scene_with_test_media(const std::string& path, const LoadOptions& options = {}) {
-    Properties root = load_scene_properties(path, options, test_media_factory);
-    return std::make_unique<Scene>(root);
+    return make_scene(load_scene_properties(path, options, test_media_factory));
 }
 
 }  // namespace volguide::test

@@ -12,7 +12,7 @@
 #include "volguide/core/sampler.h"
 #include "volguide/core/warp.h"
 #include "volguide/guiding/distance_regions.h"
-#include "volguide/integrators/distance_bins.h"
+#include "volguide/integrators/guided/walk/distance_bins.h"
 
 using namespace volguide;
 using namespace volguide::test;

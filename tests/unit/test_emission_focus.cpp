@@ -1,4 +1,4 @@
-// Focused photon emission (integrators/emission_focus.h): the warped emission sample times its
+// Focused photon emission (integrators/guided/training/emission_focus.h): the warped emission sample times its
 // weight integrates any function of the uniform sample exactly (unbiased photons), useful cells
 // get most of the samples, unknown cells (no pilot photon) stay useful, and an emitter that
 // reached nothing (or everything) stays uniform with weight 1.
@@ -7,7 +7,7 @@
 #include <cmath>
 
 #include "volguide/core/sampler.h"
-#include "volguide/integrators/emission_focus.h"
+#include "volguide/integrators/guided/training/emission_focus.h"
 
 using namespace volguide;
 

@@ -1,4 +1,4 @@
-// The Open PGL path recorder (src/volguide/openpgl/openpgl_path_recorder.h) on a hand-made path:
+// The Open PGL path recorder (src/volguide/integrators/openpgl/openpgl_path_recorder.h) on a hand-made path:
 // the samples Open PGL's PrepareSamples makes from its segments carry, at each scattering vertex,
 // the radiance recorded after it divided by the throughput there, over the direction's pdf
 // (Open PGL's weight = max channel / pdf), at the distance to the next vertex. Skipped without Open PGL.
@@ -8,8 +8,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "volguide/openpgl/openpgl_field.h"
-#include "volguide/openpgl/openpgl_path_recorder.h"
+#include "volguide/integrators/openpgl/openpgl_field.h"
+#include "volguide/integrators/openpgl/openpgl_path_recorder.h"
 
 using namespace volguide;
 

@@ -16,7 +16,7 @@
 
 #include "volguide/guiding/field_io.h"
 #include "volguide/guiding/selection.h"
-#include "volguide/integrators/guided_prepass.h"
+#include "volguide/integrators/guided/prepass/guided_prepass.h"
 
 using namespace volguide;
 

@@ -1,10 +1,10 @@
-// The training file container (integrators/training_file.h) and the integrator configuration text.
+// The training file container (integrators/guided/prepass/training_file.h) and the integrator configuration text.
 #include <gtest/gtest.h>
 
 #include <string>
 
 #include "volguide/integrators/integrator_configuration.h"
-#include "volguide/integrators/training_file.h"
+#include "volguide/integrators/guided/prepass/training_file.h"
 
 namespace volguide {
 namespace {

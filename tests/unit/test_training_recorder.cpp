@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "volguide/guiding/guiding_field.h"
-#include "volguide/integrators/training_recorder.h"
+#include "volguide/integrators/guided/training/training_recorder.h"
 
 using namespace volguide;
 

@@ -86,7 +86,7 @@ class GuidingField {
     bool empty() const { return leaves_.empty(); }
 
     // Stores each leaf's medium fraction (fractions[leaf] in [0, 1], measured by the renderer:
-    // integrators/medium_occupancy.h). With scale_fluence (per-volume photon fields, once): per-volume
+    // integrators/guided/training/medium_occupancy.h). With scale_fluence (per-volume photon fields, once): per-volume
     // fluence averages the collision estimator over the whole leaf, but collisions only happen
     // where there is a medium, so a leaf half outside a fog sphere would read half the fluence;
     // each leaf's fluence is divided by its fraction (a fraction of 0 leaves the leaf unchanged).

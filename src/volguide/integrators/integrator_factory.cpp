@@ -3,15 +3,15 @@
 
 #include <cstdio>
 
-#include "volguide/integrators/guided_volpath.h"
+#include "volguide/integrators/guided/guided_volpath.h"
 #include "volguide/integrators/integrator_configuration.h"
 #include "volguide/integrators/moment.h"
 #include "volguide/integrators/path.h"
 #include "volguide/integrators/simple_volpath.h"
-#include "volguide/integrators/volpath.h"
+#include "volguide/integrators/volpath/volpath.h"
 #include "volguide/scene/factories.h"
 #if VOLGUIDE_HAVE_OPENPGL
-#include "volguide/openpgl/openpgl_volpath.h"
+#include "volguide/integrators/openpgl/openpgl_volpath.h"
 #endif
 
 namespace volguide {

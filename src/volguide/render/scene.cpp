@@ -3,10 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "volguide/integrators/integrator.h"
-#include "volguide/integrators/path.h"
 #include "volguide/render/bsdf.h"
-#include "volguide/scene/factories.h"
 
 namespace volguide {
 
@@ -21,16 +18,12 @@ std::shared_ptr<T> child_as(const Properties::Entry* e, const char* what) {
 
 }  // namespace
 
-Scene::Scene(const Properties& root) {
-    std::shared_ptr<BSDF> default_bsdf;
+Scene::Scene(const Properties& root, std::shared_ptr<Integrator> integrator,
+             const std::shared_ptr<BSDF>& default_bsdf)
+    : integrator_(std::move(integrator)) {
     for (const auto* e : root.children("shape")) {
         auto shape = child_as<Shape>(e, "shape");
-        if (!shape->bsdf()) {
-            // Mitsuba's default material: diffuse with reflectance 0.5, shared by all such shapes.
-            if (!default_bsdf)
-                default_bsdf = std::dynamic_pointer_cast<BSDF>(create_bsdf(Properties("bsdf", "diffuse", e->loc)));
-            shape->set_bsdf(default_bsdf);
-        }
+        if (!shape->bsdf()) shape->set_bsdf(default_bsdf);
         shapes_.push_back(shape);
         bbox_.expand(shape->bbox());
         if (shape->emitter_ptr()) emitters_.push_back(shape->emitter_ptr());
@@ -50,13 +43,6 @@ Scene::Scene(const Properties& root) {
     if (sensors.size() > 1) fail(sensors[1]->loc, "only one <sensor> per scene is supported");
     sensor_ = child_as<Sensor>(sensors[0], "sensor");
 
-    auto integrators = root.children("integrator");
-    if (integrators.size() > 1) fail(integrators[1]->loc, "only one top-level <integrator> is supported");
-    if (integrators.empty())
-        integrator_ = std::make_shared<PathIntegrator>(PathSettings{});  // Mitsuba's default
-    else
-        integrator_ = child_as<Integrator>(integrators[0], "integrator");
-
     std::vector<const Shape*> raw;
     raw.reserve(shapes_.size());
     for (const auto& s : shapes_) raw.push_back(s.get());
@@ -74,6 +60,14 @@ Scene::Scene(const Properties& root) {
 }
 
 Scene::~Scene() = default;
+
+BBox3f guiding_bounds(const Scene& scene) {
+    BBox3f b = scene.bbox();
+    if (!b.valid()) return BBox3f(Point3f(-1.f), Point3f(1.f));
+    // A little margin so that collisions on the bounding surfaces fall inside.
+    const Vec3f margin = b.extents() * 1e-3f + Vec3f(1e-4f);
+    return BBox3f(b.lo - margin, b.hi + margin);
+}
 
 std::pair<DirectionSample, Color3> Scene::sample_emitter_direction(const Interaction& ref, Point2f u,
                                                                    bool test_visibility) const {

@@ -15,12 +15,14 @@
 
 namespace volguide {
 
+class BSDF;
 class Integrator;
 
 class Scene {
 public:
-    // Takes the root <scene> record: its shapes, emitters, sensor and integrator children.
-    explicit Scene(const Properties& root);
+    // Takes the root <scene> record's shapes, emitters and sensor, the integrator to run and the BSDF
+    // of every shape without one (the loader, scene/loader.h's make_scene, chooses both).
+    Scene(const Properties& root, std::shared_ptr<Integrator> integrator, const std::shared_ptr<BSDF>& default_bsdf);
     ~Scene();
 
     bool intersect(const Ray& ray, SurfaceInteraction& si) const { return accel_->intersect(ray, si); }
@@ -59,5 +61,9 @@ private:
     BBox3f bbox_;
     DiscreteDistribution emission_distr_;  // over emitters_, by power; empty when none emits
 };
+
+// The bounds a guiding structure covers (guided_volpath's field, Open PGL's): the scene's shapes
+// (media are bounded by shapes or grids) with a small margin.
+BBox3f guiding_bounds(const Scene& scene);
 
 }  // namespace volguide

@@ -47,5 +47,9 @@ Properties load_scene_properties(const std::string& path, const LoadOptions& opt
                                  const ObjectFactory& factory);
 
 std::unique_ptr<Scene> load_scene(const std::string& path, const LoadOptions& options = {});
+// The Scene of a loaded root record, with Mitsuba 3's defaults for what the file leaves out: a
+// diffuse BSDF of reflectance 0.5 on every shape without one (one object shared by all of them)
+// and the `path` integrator.
+std::unique_ptr<Scene> make_scene(const Properties& root);
 
 }  // namespace volguide

@@ -1,0 +1,185 @@
+#include "volguide/integrators/guided/estimates/pixel_estimate.h"
+
+#include <cmath>
+
+#include "volguide/core/parallel.h"
+#include "volguide/core/sampler.h"
+#include "volguide/guiding/guiding_field.h"
+#include "volguide/guiding/surface_guide.h"
+#include "volguide/vmm/vmm.h"
+#include "volguide/integrators/guided/estimates/cache_estimate.h"
+#include "volguide/integrators/camera_sample.h"
+#include "volguide/integrators/integrator.h"
+#include "volguide/integrators/volume_nee.h"
+#include "volguide/render/bsdf.h"
+#include "volguide/render/emitter.h"
+#include "volguide/render/scene.h"
+#include "volguide/render/sensor.h"
+
+namespace volguide {
+
+namespace {
+
+// The estimates' random streams, apart from camera paths (0) and training passes.
+constexpr uint64_t kPixelEstimateStream = 0x9e57, kPixelRenderStream = 0x9e58;
+
+// Irradiance on a surface of normal n per unit fluence of a leaf whose incident radiance has the
+// shape V: integral of V(w) max(0, n . w) dw, the clamped cosine replaced by pi times the vMF of
+// mean cosine 2/3 on n (the same integral), so each lobe is a closed-form convolution (eq. 3.4).
+float field_irradiance_shape(const Vmm& v, const Vec3f& n) {
+    ZonalMixture<1> cosine;
+    cosine.count = 1;
+    cosine.weight[0] = 1.f;
+    cosine.kappa[0] = cosine_lobe_kappa();
+    cosine.sign[0] = 1.f;
+    return float(Pi * convolve_exact(v, cosine, n));
+}
+
+// The estimated radiance along one camera ray (see pixel_estimate.h).
+Color3 march_camera_ray(const Scene& scene, const GuidingField& field, const CacheEstimator& estimator,
+                        const PixelEstimateSettings& settings, Ray ray, Sampler& sampler) {
+    const BSDFContext ctx;
+    const float leaf_offset = 1e-4f * norm(field.tree().bounds().extents());
+    Color3 T(1.f), result(0.f);
+    const Medium* medium = scene.sensor().medium();
+    bool from_camera = true;  // no real surface event yet
+    int null_crossings = 0;
+    for (int event = 0; event <= settings.max_specular_events;) {
+        SurfaceInteraction si;
+        const bool hit = scene.intersect(ray, si);
+        if (!hit) si = miss_interaction(ray);
+        if (medium) estimator.march_segment(ray, 0.f, hit ? si.t : ray.tmax, *medium, CacheQuantity::Inscattered,
+                                            sampler, T, result);
+        if (!(T.max_value() > 1e-7f)) break;
+        const bool emission_counts = !settings.volume_only && !(from_camera && settings.hide_emitters);
+        const Emitter* emitter = hit ? si.shape->emitter() : scene.environment();
+        if (emitter && emission_counts) result += T * emitter->eval(si);
+        if (!hit) break;
+        const BSDF& bsdf = *si.shape->bsdf();
+        if (bsdf.is_null()) {
+            if (++null_crossings > 1024) break;
+            medium = medium_after(si, ray.d, medium);
+            ray = si.spawn_ray(ray.d);
+            continue;
+        }
+        if (settings.volume_only) break;  // the V image ends at the first real surface
+        ++event;
+        from_camera = false;
+        if (!bsdf.has(bsdf_flags::Smooth)) {  // purely specular: follow one sampled lobe
+            const float u1 = sampler.next_1d();
+            const auto [bs, weight] = bsdf.sample(ctx, si, u1, sampler.next_2d());
+            if (weight.is_black()) break;
+            T *= weight;
+            const Vec3f wo = si.to_world(bs.wo);
+            medium = medium_after(si, wo, medium);
+            ray = si.spawn_ray(wo);
+            continue;
+        }
+        // A rough surface, seen from the side the ray arrives on: its albedo (one BSDF sample's
+        // weight) times the irradiance there over pi, the irradiance from the field's leaf on that
+        // side (both direct and indirect light, in closed form) or, without a valid leaf, from one
+        // NEE sample (direct light only). Only a leaf that is mostly medium describes the light
+        // around the surface (GuidingLeaf::mostly_medium; sss: the floor read black, I's mean 0.57
+        // of the image's).
+        const float u1 = sampler.next_1d();
+        const Color3 albedo = bsdf.sample(ctx, si, u1, sampler.next_2d()).second;
+        if (albedo.is_black()) break;
+        const Vec3f n = si.wi.z >= 0.f ? Vec3f(si.sh_frame.n) : -Vec3f(si.sh_frame.n);
+        const int index = field.empty() ? -1 : field.tree().leaf_at(si.p + n * leaf_offset);
+        const GuidingLeaf* leaf = index >= 0 ? &field.leaves()[size_t(index)] : nullptr;
+        if (leaf && leaf->valid && leaf->mostly_medium()) {
+            result += T * albedo * leaf->fluence * (field_irradiance_shape(leaf->vmm, n) * InvPi);
+        } else {
+            const VolumeEmitterSample es =
+                sample_emitter_through_media(scene, si, &si, medium, sampler.next_2d(), sampler);
+            if (!es.weight.is_black()) result += T * bsdf.eval(ctx, si, si.to_local(es.ds.d)) * es.weight;
+        }
+        break;
+    }
+    return result;
+}
+
+// Per pixel, the mean of `count` camera samples of `radiance` (non-finite ones dropped), each on
+// its own stream Sampler(seed, pixel, k, stream); `stratify`: the first floor(sqrt(count))^2
+// samples are stratified over the pixel. Parallel over rows, deterministic for any thread count.
+Image average_camera_samples(const Scene& scene, int count, uint64_t stream, bool stratify,
+                             const PreprocessContext& context,
+                             const std::function<Color3(Sampler&, const Ray&)>& radiance) {
+    const Sensor& sensor = scene.sensor();
+    const int W = sensor.film().width(), H = sensor.film().height();
+    const int strata = stratify ? std::max(1, int(std::sqrt(float(count)))) : 0;
+    Image image(W, H);
+    parallel_for(tbb::blocked_range<int>(0, H), [&](const tbb::blocked_range<int>& rows) {
+        for (int y = rows.begin(); y != rows.end(); ++y) {
+            if (context.cancelled()) return;
+            for (int x = 0; x < W; ++x) {
+                Color3 sum(0.f);
+                for (int k = 0; k < count; ++k) {
+                    Sampler sampler(context.seed, uint64_t(y) * uint64_t(W) + uint64_t(x), uint64_t(k), stream);
+                    Vec2f u = sampler.next_2d();
+                    if (k < strata * strata)
+                        u = Vec2f((float(k % strata) + u.x) / float(strata), (float(k / strata) + u.y) / float(strata));
+                    const Point2f pos = film_position(x, y, u);
+                    const Point2f film_uv(pos.x / float(W), pos.y / float(H));
+                    const Color3 L = camera_sample_value(
+                        sensor, film_uv, [&](const CameraRay& camera) { return radiance(sampler, camera.ray); });
+                    if (L.is_finite()) sum += L;
+                }
+                image.at(x, y) = sum * (1.f / float(count));
+            }
+        }
+    });
+    return image;
+}
+
+}  // namespace
+
+PixelEstimate PixelEstimate::from_image(Image image, float floor_fraction) {
+    PixelEstimate e;
+    e.image_ = std::move(image);
+    e.value_.resize(e.image_.pixels.size());
+    double sum = 0.0;
+    for (size_t i = 0; i < e.value_.size(); ++i) {
+        const float v = e.image_.pixels[i].average();
+        e.value_[i] = std::isfinite(v) && v > 0.f ? v : 0.f;
+        sum += e.value_[i];
+    }
+    const double mean = e.value_.empty() ? 0.0 : sum / double(e.value_.size());
+    // A black image still needs a positive I (every decision then compares with the floor).
+    e.floor_ = std::max(float(floor_fraction * mean), 1e-6f);
+    for (float& v : e.value_) v = std::max(v, e.floor_);
+    return e;
+}
+
+PixelEstimate PixelEstimate::render(const Scene& scene, const std::function<Color3(Sampler&, const Ray&)>& radiance,
+                                    int spp, const PixelEstimateSettings& settings, const PreprocessContext& context) {
+    const Image raw = average_camera_samples(scene, spp, kPixelRenderStream, /*stratify=*/false, context, radiance);
+    const int W = raw.width, H = raw.height;
+    Image smooth(W, H);
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            Color3 sum(0.f);
+            int n = 0;
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const int xx = x + dx, yy = y + dy;
+                    if (xx < 0 || yy < 0 || xx >= W || yy >= H) continue;
+                    sum += raw.at(xx, yy);
+                    ++n;
+                }
+            smooth.at(x, y) = sum * (1.f / float(n));
+        }
+    return from_image(std::move(smooth), settings.floor_fraction);
+}
+
+PixelEstimate PixelEstimate::raymarch(const Scene& scene, const GuidingField& field, const CacheEstimator& estimator,
+                                      const PixelEstimateSettings& settings, const PreprocessContext& context) {
+    Image image = average_camera_samples(
+        scene, std::max(1, settings.rays_per_pixel), kPixelEstimateStream, /*stratify=*/true, context,
+        [&](Sampler& sampler, const Ray& ray) {
+            return march_camera_ray(scene, field, estimator, settings, ray, sampler);
+        });
+    return from_image(std::move(image), settings.floor_fraction);
+}
+
+}  // namespace volguide

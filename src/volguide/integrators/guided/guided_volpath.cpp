@@ -1,0 +1,324 @@
+#include "volguide/integrators/guided/guided_volpath.h"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cmath>
+
+#include "volguide/core/log.h"
+#include "volguide/guiding/field_io.h"
+#include "volguide/integrators/guided/walk/guided_walk_policy.h"
+#include "volguide/integrators/guided/training/medium_occupancy.h"
+#include "volguide/integrators/guided/training/photon_pass.h"
+#include "volguide/integrators/guided/training/progressive_training.h"
+#include "volguide/integrators/guided/estimates/selection_pilot.h"
+#include "volguide/render/image_io.h"
+#include "volguide/render/scene.h"
+
+namespace volguide {
+
+GuidedVolPathIntegrator::GuidedVolPathIntegrator(const Properties& props)
+    : settings_(GuidedVolPathSettings::from(props)), walk_(settings_.walk) {}
+
+void GuidedVolPathIntegrator::preprocess(const Scene& scene, const PreprocessContext& context) {
+    training_stats_.clear();
+    scene_ = &scene;
+    seed_ = context.seed;
+    online_samples_.clear();
+    online_threads_.clear();
+    online_updates_ = 0;
+    online_updated_spp_ = 0;
+    online_seconds_ = 0;
+    walk_.preprocess(scene, context);
+    if (settings_.online_spp > 0 && given_prepass_)
+        throw InputError(settings_.location, "guided_volpath: online_spp cannot continue a given pre-pass (render "
+                                             "--field): it rebuilds the field from the training's samples");
+    load_or_train_field(scene, context);
+    build_from_field(scene, context, false);
+    online_recording_ = settings_.online_spp > 0 && !estimator_;
+    if (!settings_.save_field.empty()) {
+        try {
+            save_field(settings_.save_field, field_);
+        } catch (const FieldFormatError& e) {
+            throw InputError(settings_.location, e.what());
+        }
+    }
+}
+
+// The field's shape in --stats (an online update replaces the last figures).
+void GuidedVolPathIntegrator::record_field_stats() {
+    std::erase_if(training_stats_, [](const auto& s) { return s.first.rfind("field_", 0) == 0; });
+    int valid = 0;
+    for (const GuidingLeaf& leaf : field_.leaves()) valid += leaf.valid;
+    training_stats_.insert(training_stats_.end(), {{"field_leaves", double(field_.tree().leaf_count())},
+                                                   {"field_valid_leaves", double(valid)},
+                                                   {"field_depth", double(field_.tree().depth())}});
+}
+
+void GuidedVolPathIntegrator::build_from_field(const Scene& scene, const PreprocessContext& context, bool update) {
+    record_field_stats();
+    estimator_.reset();
+    if (settings_.estimate != FieldEstimate::None) estimator_ = std::make_unique<CacheEstimator>(scene, field_);
+    guide_.reset();
+    if (!update) rrs_.reset();
+    pixel_estimate_ = PixelEstimate();
+    pixel_estimate_seconds_ = 0;
+    if (settings_.guide.distance != DistanceGuiding::Standard ||
+        settings_.guide.direction != DirectionGuiding::Phase || settings_.roulette.mode != RouletteMode::Standard)
+        guide_ = std::make_unique<WalkGuide>(scene, field_, settings_.guide);
+    // Learned selection's pilot compares with the pixel estimate too.
+    const bool learn = guide_ && !estimator_ && settings_.selection.pilot_spp > 0;
+    if ((settings_.roulette.mode != RouletteMode::Standard || learn) && !estimator_) {
+        if (given_prepass_)
+            use_given_pixel_estimate();
+        else
+            make_pixel_estimate(scene, context);
+    }
+    if (settings_.roulette.mode != RouletteMode::Standard && !estimator_ && !rrs_) {
+        rrs_ = std::make_unique<RouletteSplitting>(settings_.roulette);
+        rrs_->set_pixel_estimate_seconds(pixel_estimate_seconds_);
+    }
+    if (learn) {
+        if (given_prepass_ && !given_prepass_->selection.empty())
+            guide_->set_selection(LearnedSelection::deserialize(given_prepass_->selection));
+        else
+            learn_selection(scene, context);
+    }
+}
+
+// Updates at doublings: each costs about as much as all the earlier ones together (a rebuild from
+// every sample so far, a selection pilot), so updating after every pass of the render loop's 1, 1,
+// 2, 4, 8, 8, 8, ... spp would spend most of the learning on small steps late in the recording.
+void GuidedVolPathIntegrator::end_pass(int spp_done, double seconds) {
+    if (online_recording_ && (spp_done >= 2 * online_updated_spp_ || spp_done >= settings_.online_spp))
+        online_update(spp_done);
+}
+
+// Joins the camera samples recorded since the last update (one or more passes) in stream-key order,
+// rebuilds the field from every sample so far (as progressive training does after each iteration:
+// one pure function of the sample list) and what is derived from it.
+void GuidedVolPathIntegrator::online_update(int spp_done) {
+    const auto start = std::chrono::steady_clock::now();
+    struct Ref {
+        uint64_t key;
+        const OnlineThread* thread;
+        size_t path;
+    };
+    std::vector<Ref> refs;
+    for (const OnlineThread& t : online_threads_)
+        for (size_t p = 0; p < t.paths.size(); ++p) refs.push_back({t.paths[p].key, &t, p});
+    std::sort(refs.begin(), refs.end(), [](const Ref& a, const Ref& b) { return a.key < b.key; });
+    for (const Ref& r : refs) {
+        const OnlinePath& p = r.thread->paths[r.path];
+        online_samples_.insert(online_samples_.end(), r.thread->samples.begin() + std::ptrdiff_t(p.first),
+                               r.thread->samples.begin() + std::ptrdiff_t(p.first + p.count));
+    }
+    for (OnlineThread& t : online_threads_) {
+        t.samples.clear();
+        t.paths.clear();
+    }
+    GuidingFieldSettings fs = settings_.field;
+    fs.fluence = FluenceEstimator::PerSampleMean;
+    field_ = GuidingField::build(guiding_bounds(*scene_), online_samples_, fs);
+    PreprocessContext context;
+    context.seed = seed_ + uint64_t(online_updates_ + 1);
+    measure_medium_fractions(*scene_, context.seed, false);
+    build_from_field(*scene_, context, true);
+    ++online_updates_;
+    online_updated_spp_ = spp_done;
+    if (spp_done >= settings_.online_spp) {
+        online_recording_ = false;
+        online_threads_.clear();
+        std::vector<RadianceSample>().swap(online_samples_);
+    }
+    online_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+void GuidedVolPathIntegrator::load_or_train_field(const Scene& scene, const PreprocessContext& context) {
+    bool photon_fluence = false;  // a photon-trained fluence still counts collisions per leaf volume
+    if (given_prepass_) {
+        field_ = given_prepass_->field;
+    } else if (!settings_.load_field.empty()) {
+        try {
+            field_ = load_field(settings_.load_field);
+        } catch (const FieldFormatError& e) {
+            throw InputError(settings_.location, e.what());
+        }
+    } else if (settings_.training == TrainingMethod::Progressive) {
+        ProgressiveTrainingSettings ts;
+        ts.walk = settings_.walk;
+        ts.iterations = settings_.training_iterations;
+        if (context.time_budget > 0) ts.time_limit = settings_.training_fraction * context.time_budget;
+        ts.field = settings_.field;
+        ts.keep_samples = settings_.online_spp > 0;
+        ProgressiveTrainingResult trained = train_progressive(scene, guiding_bounds(scene), ts, context);
+        field_ = std::move(trained.field);
+        online_samples_ = std::move(trained.sample_list);
+    } else {
+        field_ = train_by_photons(scene, context);
+        photon_fluence = true;
+    }
+    // Once per field, kept in its file (format v3): the photons' per-volume fluence is divided by
+    // each leaf's medium share (collisions only happen inside media), and surface guiding and the
+    // pixel estimate trust only leaves mostly filled by a medium (GuidingLeaf::mostly_medium). A
+    // field of format v2 or from progressive training is measured here, its fluence left as it is.
+    if (!field_.has_medium_fractions()) measure_medium_fractions(scene, context.seed, photon_fluence);
+}
+
+void GuidedVolPathIntegrator::measure_medium_fractions(const Scene& scene, uint64_t seed, bool photon_fluence) {
+    if (!field_.empty())
+        field_.set_medium_fractions(medium_fractions(scene, field_.tree(), kMediumFractionPoints, seed), photon_fluence);
+}
+
+GuidingField GuidedVolPathIntegrator::train_by_photons(const Scene& scene, const PreprocessContext& context) {
+    PhotonPassSettings ps;
+    ps.photons = settings_.photons;
+    ps.max_deposits = settings_.max_deposits;
+    ps.focus = settings_.photon_focus;
+    ps.max_depth = settings_.walk.max_depth;
+    ps.rr_depth = settings_.walk.rr_depth;
+    // Under a --time budget, training gets training_fraction of it (interface.md).
+    if (context.time_budget > 0) ps.time_limit = settings_.training_fraction * context.time_budget;
+    const PhotonPassResult photons = trace_photons(scene, ps, context);
+    training_stats_ = {
+        {"photons_traced", double(photons.photons_traced)},
+        {"photons_pilot", double(photons.pilot_photons)},
+        {"photons_depositing_fraction",
+         photons.photons_traced > 0 ? double(photons.photons_depositing) / double(photons.photons_traced) : 0.0},
+        {"photon_deposits", double(photons.samples.size())},
+        {"photon_deposit_limited", photons.deposit_limited ? 1.0 : 0.0}};
+    return GuidingField::build(guiding_bounds(scene), photons.samples, settings_.field);
+}
+
+// The pixel estimate I (theory.md §9.5), once, from the finished field.
+void GuidedVolPathIntegrator::make_pixel_estimate(const Scene& scene, const PreprocessContext& context) {
+    const auto start = std::chrono::steady_clock::now();
+    if (context.progress) {
+        Progress p;
+        p.phase = "pixel estimate";
+        context.progress(p);
+    }
+    if (settings_.pixel_estimate == PixelEstimateMethod::Render) {
+        pixel_estimate_ = PixelEstimate::render(
+            scene, [&](Sampler& sampler, const Ray& ray) { return guided_walk(scene, sampler, ray, 0.f); },
+            settings_.pixel_estimate_spp, settings_.pixel, context);
+    } else {
+        const CacheEstimator marcher(scene, field_);
+        pixel_estimate_ = PixelEstimate::raymarch(scene, field_, marcher, settings_.pixel, context);
+    }
+    if (!settings_.save_pixel_estimate.empty()) {
+        try {
+            write_exr(settings_.save_pixel_estimate, pixel_estimate_.image());
+        } catch (const std::exception& e) {
+            throw InputError(settings_.location,
+                             fmt::format("guided_volpath: cannot write the pixel estimate: {}", e.what()));
+        }
+    }
+    pixel_estimate_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// The learned selection's pilot (selection_pilot.h) with the configured mixtures, then its fit.
+void GuidedVolPathIntegrator::learn_selection(const Scene& scene, const PreprocessContext& context) {
+    const auto start = std::chrono::steady_clock::now();
+    if (context.progress) {
+        Progress p;
+        p.phase = "selection pilot";
+        context.progress(p);
+    }
+    const SelectionStatistics stats = run_selection_pilot(
+        scene, settings_.selection.pilot_spp, guide_->selection_regions(),
+        [&](Point2f film_uv) { return pixel_estimate_.at(film_uv); },
+        [&](Sampler& sampler, const Ray& ray, SelectionRecorder& recorder) {
+            GuidedWalkPolicy policy(*guide_, nullptr, 0.f, &recorder);
+            return walk_.walk(scene, sampler, ray, &policy);
+        },
+        context);
+    guide_->set_selection(LearnedSelection::fit(stats, settings_.selection, guide_->configured_shares()));
+    const LearnedSelection::Summary sum = guide_->selection().summary();
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    // An online update learns the selection again: its figures replace the last ones.
+    std::erase_if(training_stats_, [](const auto& s) { return s.first.rfind("selection_", 0) == 0; });
+    training_stats_.insert(training_stats_.end(),
+                           {{"selection_seconds", seconds},
+                            {"selection_distance_regions_guided", double(sum.guided[0])},
+                            {"selection_distance_regions_unguided", double(sum.unguided[0])},
+                            {"selection_direction_regions_guided", double(sum.guided[1])},
+                            {"selection_direction_regions_unguided", double(sum.unguided[1])},
+                            {"selection_surface_regions_guided", double(sum.guided[2])},
+                            {"selection_surface_regions_unguided", double(sum.unguided[2])},
+                            {"selection_distance_mean_share", sum.mean_share[0]},
+                            {"selection_direction_mean_share", sum.mean_share[1]},
+                            {"selection_surface_mean_share", sum.mean_share[2]},
+                            {"selection_rrs_regions_off", double(sum.rrs_off)}});
+}
+
+std::string GuidedVolPathIntegrator::prepass_state() const {
+    return serialize_guided_prepass(field_, pixel_estimate_.image(),
+                                    guide_ && !guide_->selection().empty() ? guide_->selection().serialize() : "");
+}
+
+void GuidedVolPathIntegrator::use_prepass_state(const std::string& bytes) {
+    given_prepass_ = std::make_unique<GuidedPrepass>(deserialize_guided_prepass(bytes));
+}
+
+// The pixel estimate of a given pre-pass: exactly the one the training computed.
+void GuidedVolPathIntegrator::use_given_pixel_estimate() {
+    if (given_prepass_->pixel_estimate.pixels.empty())
+        throw std::runtime_error("the given guided_volpath pre-pass has no pixel estimate (it was trained with rrs=standard)");
+    pixel_estimate_ = PixelEstimate::from_image(given_prepass_->pixel_estimate, settings_.pixel.floor_fraction);
+}
+
+Color3 GuidedVolPathIntegrator::guided_walk(const Scene& scene, Sampler& sampler, const Ray& ray, float pixel,
+                                            WalkPolicy* recorder) const {
+    if (!guide_) return walk_.walk(scene, sampler, ray, recorder);
+    GuidedWalkPolicy policy(*guide_, rrs_.get(), pixel);
+    policy.record_training(recorder);
+    return walk_.walk(scene, sampler, ray, &policy);
+}
+
+Color3 GuidedVolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const CameraRay& camera) const {
+    if (estimator_) {
+        const CacheQuantity q =
+            settings_.estimate == FieldEstimate::Incident ? CacheQuantity::Incident : CacheQuantity::Inscattered;
+        return estimator_->estimate(camera.ray, scene.sensor().medium(), q, sampler);
+    }
+    if (online_recording_) {
+        OnlineThread& t = online_threads_.local();
+        const uint64_t key = sampler.key();
+        const Color3 L = recorded_Li(scene, sampler, camera, t.recorder);
+        const size_t first = t.samples.size();
+        t.recorder.finish(t.samples);
+        t.paths.push_back({key, first, t.samples.size() - first});
+        return L;
+    }
+    return guided_walk(scene, sampler, camera.ray, rrs_ ? pixel_estimate_.at(camera.film_uv) : 0.f);
+}
+
+Color3 GuidedVolPathIntegrator::recorded_Li(const Scene& scene, Sampler& sampler, const CameraRay& camera,
+                                            WalkPolicy& recorder) const {
+    return guided_walk(scene, sampler, camera.ray, rrs_ ? pixel_estimate_.at(camera.film_uv) : 0.f, &recorder);
+}
+
+std::vector<std::pair<std::string, double>> GuidedVolPathIntegrator::statistics() const {
+    std::vector<std::pair<std::string, double>> stats = training_stats_;
+    if (settings_.online_spp > 0) {
+        stats.emplace_back("online_updates", double(online_updates_));
+        stats.emplace_back("online_seconds", online_seconds_);
+    }
+    if (guide_) {
+        const auto walk = guide_->stats().named();
+        stats.insert(stats.end(), walk.begin(), walk.end());
+        stats.emplace_back("distance_regions", double(guide_->distance_region_count()));
+    }
+    if (rrs_) {
+        const auto rr = rrs_->stats().named();
+        stats.insert(stats.end(), rr.begin(), rr.end());
+    }
+    return stats;
+}
+
+std::string GuidedVolPathIntegrator::to_string() const {
+    return "guided_volpath[" + settings_.to_string() + "]";
+}
+
+}  // namespace volguide

@@ -1,0 +1,115 @@
+#pragma once
+// `guided_volpath`: volguide's zero-variance-based volume path guiding integrator (interface.md).
+//
+// preprocess() trains the guiding field, by the photon pre-pass (training=photons, theory.md §5.2,
+// §10.1) or PPG-style from camera paths (training=progressive, §10.2, progressive_training.h:
+// training_iterations iterations of 2^k spp with volpath's walk, field rebuilt after each), or
+// loads it (`load_field`), then prepares the guided decisions and, for guided RR/splitting and the
+// learned selection, the pixel estimate I (pixel_estimate.h: raymarch through the field, or render
+// a few guided spp and filter them), then learns the selection from a pilot (selection_pilot.h,
+// guiding/selection.h: per leaf the guided share of each decision; `selection_spp`, default 2). The render is volpath's walk with a WalkGuide (walk_guide.h) making the distance
+// (incremental / tabulated) and direction (incident / product) decisions and RouletteSplitting
+// (roulette_splitting.h) the RR/splitting decisions after them (rrs=grr/grrs). `estimate` renders
+// the field's own inspection images instead. With distance=standard direction=phase rrs=standard
+// it renders exactly what volpath renders.
+#include <tbb/enumerable_thread_specific.h>
+
+#include <memory>
+#include <string>
+
+#include "volguide/guiding/guiding_field.h"
+#include "volguide/guiding/roulette_splitting.h"
+#include "volguide/integrators/guided/estimates/cache_estimate.h"
+#include "volguide/integrators/guided/prepass/guided_prepass.h"
+#include "volguide/integrators/guided/guided_volpath_settings.h"
+#include "volguide/integrators/guided/estimates/pixel_estimate.h"
+#include "volguide/integrators/guided/training/training_recorder.h"
+#include "volguide/integrators/volpath/volpath.h"
+#include "volguide/integrators/guided/walk/walk_guide.h"
+
+namespace volguide {
+
+class GuidedVolPathIntegrator final : public Integrator {
+public:
+    explicit GuidedVolPathIntegrator(const Properties& props);
+    // Guided RR/splitting compares with the pixel estimate at the camera ray's film position.
+    Color3 Li(const Scene& scene, Sampler& sampler, const CameraRay& camera) const override;
+    // Li's walk (after preprocess) recording its medium vertices as training samples
+    // (training_recorder.h; the caller calls finish): what learning from the render's own guided,
+    // split paths reads.
+    Color3 recorded_Li(const Scene& scene, Sampler& sampler, const CameraRay& camera, WalkPolicy& recorder) const;
+    void preprocess(const Scene& scene, const PreprocessContext& context) override;
+    // Online learning (online_spp > 0): the passes of the first online_spp samples per pixel record;
+    // whenever the recorded samples per pixel have doubled since the last update (1, 2, 4, ..., and
+    // at online_spp), the field is rebuilt from the training's samples and every recorded pass so far,
+    // and the guide, the pixel estimate and the learned selection with it. The next pass samples with
+    // the new field.
+    void end_pass(int spp_done, double seconds) override;
+    std::vector<std::pair<std::string, double>> statistics() const override;
+    std::string to_string() const override;
+    // The field and the pixel estimate (guided_prepass.h); use_prepass_state() makes preprocess()
+    // take them instead of training (and of load_field).
+    bool has_prepass_state() const override { return true; }
+    std::string prepass_state() const override;
+    void use_prepass_state(const std::string& bytes) override;
+
+    const GuidedVolPathSettings& settings() const { return settings_; }
+    // The trained (or loaded) field; empty before preprocess().
+    const GuidingField& field() const { return field_; }
+    // The pixel estimate of guided RR/splitting; empty with rrs=standard.
+    const PixelEstimate& pixel_estimate() const { return pixel_estimate_; }
+
+private:
+    GuidedVolPathSettings settings_;
+    VolPathIntegrator walk_;
+    GuidingField field_;
+    std::unique_ptr<CacheEstimator> estimator_;  // estimate != none
+    std::unique_ptr<WalkGuide> guide_;           // a guided distance, direction or RR decision
+    std::unique_ptr<RouletteSplitting> rrs_;     // rrs != standard
+    PixelEstimate pixel_estimate_;
+    std::unique_ptr<GuidedPrepass> given_prepass_;  // use_prepass_state(): no training
+    // The guided walk along ray, with guided RR/splitting (when rrs_) against the pixel value I;
+    // `recorder` (null: none) records its training samples.
+    Color3 guided_walk(const Scene& scene, Sampler& sampler, const Ray& ray, float pixel,
+                       WalkPolicy* recorder = nullptr) const;
+    // preprocess()'s steps: the field (loaded or trained) with its leaves' medium fractions, then
+    // the pixel estimate I of guided RR/splitting.
+    void load_or_train_field(const Scene& scene, const PreprocessContext& context);
+    // Each leaf's medium share (medium_occupancy.h) into field_; photon_fluence: divide its fluence by it.
+    void measure_medium_fractions(const Scene& scene, uint64_t seed, bool photon_fluence);
+    GuidingField train_by_photons(const Scene& scene, const PreprocessContext& context);
+    void make_pixel_estimate(const Scene& scene, const PreprocessContext& context);
+    void use_given_pixel_estimate();
+    void learn_selection(const Scene& scene, const PreprocessContext& context);
+    // The guide, the pixel estimate, RR/splitting and the learned selection of field_ (preprocess(),
+    // and every online update, `update` true: the RR/splitting statistics carry on).
+    void build_from_field(const Scene& scene, const PreprocessContext& context, bool update);
+    void record_field_stats();
+    void online_update(int spp_done);
+    double pixel_estimate_seconds_ = 0;
+    std::vector<std::pair<std::string, double>> training_stats_;  // of the last preprocess()
+
+    // Online learning: each thread's recorder and what its camera samples recorded since the last
+    // update (the samples, and per camera sample its stream key and range); the update joins them in
+    // key order, so the field is the same for any number of threads. (A render that ends between two
+    // updates, or before online_spp, records its last passes for nothing.)
+    struct OnlinePath {
+        uint64_t key;
+        size_t first, count;
+    };
+    struct OnlineThread {
+        TrainingRecorder recorder;
+        std::vector<RadianceSample> samples;
+        std::vector<OnlinePath> paths;
+    };
+    mutable tbb::enumerable_thread_specific<OnlineThread> online_threads_;
+    std::vector<RadianceSample> online_samples_;  // the training's, then each recorded pass's
+    bool online_recording_ = false;
+    const Scene* scene_ = nullptr;  // of the last preprocess(), for the online updates
+    uint64_t seed_ = 0;
+    int online_updates_ = 0;
+    int online_updated_spp_ = 0;  // spp_done at the last update
+    double online_seconds_ = 0;
+};
+
+}  // namespace volguide

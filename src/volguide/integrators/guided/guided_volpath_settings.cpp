@@ -1,0 +1,265 @@
+#include "volguide/integrators/guided/guided_volpath_settings.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <span>
+
+namespace volguide {
+
+namespace {
+
+// Iteration k traces 2^k spp: 20 iterations are already ~10^6 spp.
+constexpr int64_t kMaxTrainingIterations = 20;
+
+// A choice's name in the scene file and its value.
+template <class E>
+struct Choice {
+    const char* name;
+    E value;
+};
+
+constexpr Choice<TrainingMethod> kTraining[] = {{"photons", TrainingMethod::Photons},
+                                                {"progressive", TrainingMethod::Progressive}};
+constexpr Choice<DistanceGuiding> kDistance[] = {{"standard", DistanceGuiding::Standard},
+                                                 {"incremental", DistanceGuiding::Incremental},
+                                                 {"tabulated", DistanceGuiding::Tabulated}};
+constexpr Choice<DistanceDenominator> kDenominator[] = {{"vre", DistanceDenominator::Vre},
+                                                        {"incident", DistanceDenominator::Incident}};
+// Heterogeneous media under distance=incremental: guided null-collision tracking (H2) or the bins (H1).
+constexpr Choice<bool> kHeteroDistance[] = {{"tracking", true}, {"bins", false}};
+constexpr Choice<DirectionGuiding> kDirection[] = {{"phase", DirectionGuiding::Phase},
+                                                   {"incident", DirectionGuiding::Incident},
+                                                   {"product", DirectionGuiding::Product}};
+// direction_radiance: the direction guide learns indirect radiance only (NEE covers the rest) or all.
+constexpr Choice<bool> kDirectionRadiance[] = {{"indirect", true}, {"all", false}};
+constexpr Choice<RouletteMode> kRrs[] = {{"standard", RouletteMode::Standard},
+                                         {"grr", RouletteMode::Guided},
+                                         {"grrs", RouletteMode::GuidedSplitting}};
+constexpr Choice<PixelEstimateMethod> kPixelEstimate[] = {{"raymarch", PixelEstimateMethod::Raymarch},
+                                                          {"render", PixelEstimateMethod::Render}};
+constexpr Choice<FieldEstimate> kEstimate[] = {{"none", FieldEstimate::None},
+                                               {"inscattered", FieldEstimate::Inscattered},
+                                               {"incident", FieldEstimate::Incident}};
+
+template <class E>
+const char* choice_name(std::span<const Choice<E>> table, E value) {
+    for (const Choice<E>& c : table)
+        if (c.value == value) return c.name;
+    return "?";  // unreachable: every value a setting can hold is in its table
+}
+
+// The value named by parameter `name` (absent: `def`); any other name is an error listing the
+// table's names.
+template <class E>
+E read_choice(const Properties& props, const char* name, E def, std::span<const Choice<E>> table) {
+    const std::string value = props.get_string(name, choice_name(table, def));
+    for (const Choice<E>& c : table)
+        if (value == c.name) return c.value;
+    std::string options;
+    for (const Choice<E>& c : table) options += (options.empty() ? "" : ", ") + std::string(c.name);
+    props.fail_at(name, "guided_volpath: invalid {} '{}' (one of: {})", name, value, options);
+}
+
+float unit_interval(const Properties& props, const char* name, float def) {
+    const float v = props.get_float(name, def);
+    if (!(v >= 0.f && v <= 1.f)) props.fail_at(name, "guided_volpath: {} must be in [0, 1], got {}", name, v);
+    return v;
+}
+
+int int_in(const Properties& props, const char* name, int64_t def, int64_t lo, int64_t hi, const char* note = "") {
+    const int64_t v = props.get_int(name, def);
+    if (v < lo || v > hi)
+        props.fail_at(name, "guided_volpath: {} must be in [{}, {}]{}, got {}", name, lo, hi, note, v);
+    return int(v);
+}
+
+float finite_at_least(const Properties& props, const char* name, float def, float lo, const char* note = "") {
+    const float v = props.get_float(name, def);
+    if (!(v >= lo) || std::isinf(v))
+        props.fail_at(name, "guided_volpath: {} must be a finite value >= {}{}, got {}", name, lo, note, v);
+    return v;
+}
+
+// training, photons, max_deposits, photon_focus, training_iterations, training_fraction, and the
+// field's leaf_samples and lobes.
+void read_training(const Properties& props, GuidedVolPathSettings& s) {
+    s.training = read_choice<TrainingMethod>(props, "training", s.training, kTraining);
+    s.photons = props.get_int("photons", s.photons);
+    if (s.photons < 1) props.fail_at("photons", "guided_volpath: photons must be >= 1, got {}", s.photons);
+    s.max_deposits = props.get_int("max_deposits", s.max_deposits);
+    if (s.max_deposits < 0)
+        props.fail_at("max_deposits", "guided_volpath: max_deposits must be >= 0 (0: no cap), got {}",
+                      s.max_deposits);
+    s.photon_focus = props.get_bool("photon_focus", s.photon_focus);
+    s.training_iterations = int_in(props, "training_iterations", s.training_iterations, 1, kMaxTrainingIterations);
+    s.online_spp = int_in(props, "online_spp", s.online_spp, 0, 1 << 16, " (0: off)");
+    if (s.online_spp > 0 && s.training != TrainingMethod::Progressive)
+        props.fail_at("online_spp", "guided_volpath: online_spp needs training=\"progressive\" (the field is rebuilt "
+                                    "from the training's samples and the render's)");
+    if (s.online_spp > 0 && props.has("load_field"))
+        props.fail_at("online_spp", "guided_volpath: online_spp cannot be combined with load_field (a saved field "
+                                    "has no training samples to rebuild from)");
+    s.training_fraction = props.get_float("training_fraction", s.training_fraction);
+    if (!(s.training_fraction > 0.f && s.training_fraction < 1.f))
+        props.fail_at("training_fraction", "guided_volpath: training_fraction must be in (0, 1), got {}",
+                      s.training_fraction);
+    const int64_t leaf_samples = props.get_int("leaf_samples", 2000);
+    if (leaf_samples < 1)
+        props.fail_at("leaf_samples", "guided_volpath: leaf_samples must be >= 1, got {}", leaf_samples);
+    s.field.tree.max_samples = int(std::min<int64_t>(leaf_samples, 1 << 30));
+    s.field.lobes = int_in(props, "lobes", s.field.lobes, 1, kVmmMaxLobes);
+    // The transport-shaped refinement (spatial_tree.h, issue 22).
+    s.field.tree.split_contrast = props.get_float("leaf_contrast", s.field.tree.split_contrast);
+    if (!(s.field.tree.split_contrast >= 0.f && s.field.tree.split_contrast < 1.f))
+        props.fail_at("leaf_contrast", "guided_volpath: leaf_contrast must be in [0, 1) (0: off), got {}",
+                      s.field.tree.split_contrast);
+    s.field.tree.contrast_min_samples =
+        int_in(props, "leaf_contrast_samples", s.field.tree.contrast_min_samples, 1, 1 << 30);
+}
+
+// distance and its parameters (c_T, p_max, filter_A, distance_denominator, leaf_tau_max,
+// estimate_table, distance_merge, hetero_distance).
+void read_distance(const Properties& props, const VolPathSettings& walk, WalkGuideSettings& g) {
+    g.distance = read_choice<DistanceGuiding>(props, "distance", DistanceGuiding::Incremental, kDistance);
+    GuidedDistanceSettings& d = g.distance_settings;
+    d.c_T = unit_interval(props, "c_T", d.c_T);
+    d.p_max = props.get_float("p_max", d.p_max);
+    if (!(d.p_max > 0.f && d.p_max <= 1.f))
+        props.fail_at("p_max", "guided_volpath: p_max must be in (0, 1], got {}", d.p_max);
+    d.filter_A = unit_interval(props, "filter_A", d.filter_A);
+    d.denominator = read_choice<DistanceDenominator>(props, "distance_denominator", d.denominator, kDenominator);
+    g.leaf_tau_max = finite_at_least(props, "leaf_tau_max", g.leaf_tau_max, 0.f, " (0: off)");
+    g.estimate_table = int_in(props, "estimate_table", g.estimate_table, 0, 256, " (0: exact)");
+    g.distance_merge = finite_at_least(props, "distance_merge", g.distance_merge, 0.f, " (0: off)");
+    if (g.distance_merge > 0.f && g.estimate_table == 0)
+        props.fail_at("distance_merge", "guided_volpath: distance_merge needs the estimate tables (estimate_table > 0)");
+    if (g.distance != DistanceGuiding::Standard && walk.equiangular)
+        props.fail_at("equiangular", "guided_volpath: equiangular sampling cannot be combined with distance={}",
+                      choice_name<DistanceGuiding>(kDistance, g.distance));
+    g.guided_tracking = read_choice<bool>(props, "hetero_distance", g.guided_tracking, kHeteroDistance);
+}
+
+// direction and its parameters (phase_prob, direction_radiance, surface_guiding, bsdf_prob).
+void read_direction(const Properties& props, WalkGuideSettings& g) {
+    g.direction = read_choice<DirectionGuiding>(props, "direction", DirectionGuiding::Product, kDirection);
+    g.phase_prob = unit_interval(props, "phase_prob", g.phase_prob);
+    g.direction_indirect = read_choice<bool>(props, "direction_radiance", g.direction_indirect, kDirectionRadiance);
+    g.surface = props.get_bool("surface_guiding", g.surface);
+    g.bsdf_prob = unit_interval(props, "bsdf_prob", g.bsdf_prob);
+}
+
+// rrs and its parameters (rrs_window, rrs_q_min, rrs_q_max, rrs_max_branches, rrs_branch_budget).
+void read_roulette(const Properties& props, RouletteSplittingSettings& r) {
+    r.mode = read_choice<RouletteMode>(props, "rrs", RouletteMode::GuidedSplitting, kRrs);
+    r.window = finite_at_least(props, "rrs_window", r.window, 1.f);
+    r.q_min = props.get_float("rrs_q_min", r.q_min);
+    if (!(r.q_min > 0.f && r.q_min <= 1.f))
+        props.fail_at("rrs_q_min", "guided_volpath: rrs_q_min must be in (0, 1], got {}", r.q_min);
+    r.q_max = finite_at_least(props, "rrs_q_max", r.q_max, 1.f);
+    r.max_branches = int_in(props, "rrs_max_branches", r.max_branches, 1, 4096);
+    r.branch_budget = props.get_float("rrs_branch_budget", r.branch_budget);
+    if (!(r.branch_budget == 0.f || (r.branch_budget >= 1.f && std::isfinite(r.branch_budget))))
+        props.fail_at("rrs_branch_budget", "guided_volpath: rrs_branch_budget must be 0 (off) or a finite value >= 1, got {}",
+                      r.branch_budget);
+}
+
+// Learned selection (guiding/selection.h): selection_spp (0: off), selection_min_samples,
+// selection_cost_distance / _direction / _surface (kappa), selection_rrs_ratio.
+void read_selection(const Properties& props, SelectionSettings& s) {
+    s.pilot_spp = int_in(props, "selection_spp", s.pilot_spp, 0, 64, " (0: off)");
+    s.min_samples = int_in(props, "selection_min_samples", s.min_samples, 1, 1 << 30);
+    s.kappa[0] = finite_at_least(props, "selection_cost_distance", s.kappa[0], 0.f);
+    s.kappa[1] = finite_at_least(props, "selection_cost_direction", s.kappa[1], 0.f);
+    s.kappa[2] = finite_at_least(props, "selection_cost_surface", s.kappa[2], 0.f);
+    s.rrs_ratio = finite_at_least(props, "selection_rrs_ratio", s.rrs_ratio, 0.f, " (0: off)");
+    if (s.rrs_ratio > 0.f && s.rrs_ratio < 1.f)
+        props.fail_at("selection_rrs_ratio", "guided_volpath: selection_rrs_ratio must be 0 (off) or >= 1, got {}",
+                      s.rrs_ratio);
+    if (s.pilot_spp > 0) return;
+    for (const char* name : {"selection_min_samples", "selection_cost_distance", "selection_cost_direction",
+                             "selection_cost_surface", "selection_rrs_ratio"})
+        if (props.has(name))
+            props.fail_at(name, "guided_volpath: {} only applies to a learned selection (selection_spp > 0)", name);
+}
+
+// Guided RR/splitting's pixel estimate (learned selection's pilot uses it too): pixel_estimate, pixel_estimate_rays, pixel_estimate_spp,
+// pixel_estimate_floor, save_pixel_estimate; all of them, and the rrs_* parameters, are errors
+// with rrs=standard (they would silently do nothing).
+void read_pixel_estimate(const Properties& props, GuidedVolPathSettings& s) {
+    s.pixel_estimate = read_choice<PixelEstimateMethod>(props, "pixel_estimate", s.pixel_estimate, kPixelEstimate);
+    s.pixel.rays_per_pixel = int_in(props, "pixel_estimate_rays", s.pixel.rays_per_pixel, 1, 1024);
+    s.pixel_estimate_spp = int_in(props, "pixel_estimate_spp", s.pixel_estimate_spp, 1, 4096);
+    s.pixel.floor_fraction = props.get_float("pixel_estimate_floor", s.pixel.floor_fraction);
+    if (!(s.pixel.floor_fraction > 0.f) || std::isinf(s.pixel.floor_fraction))
+        props.fail_at("pixel_estimate_floor",
+                      "guided_volpath: pixel_estimate_floor must be a finite value > 0, got {}",
+                      s.pixel.floor_fraction);
+    if (props.has("save_pixel_estimate")) s.save_pixel_estimate = props.get_string("save_pixel_estimate");
+    s.pixel.volume_only = s.walk.volume_only;
+    s.pixel.hide_emitters = s.walk.hide_emitters;
+    if (s.roulette.mode != RouletteMode::Standard) return;
+    for (const char* name : {"rrs_window", "rrs_q_min", "rrs_q_max", "rrs_max_branches", "rrs_branch_budget",
+                             "selection_rrs_ratio"})
+        if (props.has(name))
+            props.fail_at(name, "guided_volpath: {} only applies to rrs=grr or rrs=grrs (rrs=standard)", name);
+    if (s.selection.pilot_spp > 0) return;
+    for (const char* name : {"pixel_estimate", "pixel_estimate_rays", "pixel_estimate_spp", "pixel_estimate_floor",
+                             "save_pixel_estimate"})
+        if (props.has(name))
+            props.fail_at(name, "guided_volpath: {} only applies to rrs=grr or rrs=grrs or a learned selection "
+                                "(selection_spp > 0)", name);
+}
+
+// load_field, resolved like Mitsuba's file resolver: a relative path that does not exist here is
+// looked up beside the scene file.
+std::string resolve_field_path(const Properties& props) {
+    std::filesystem::path p(props.get_string("load_field"));
+    if (p.is_relative() && !std::filesystem::exists(p)) {
+        const auto beside = std::filesystem::path(props.location_of("load_field").file).parent_path() / p;
+        if (std::filesystem::exists(beside)) p = beside;
+    }
+    if (!std::filesystem::exists(p))
+        props.fail_at("load_field", "guided_volpath: the guiding field \"{}\" does not exist", p.string());
+    return p.string();
+}
+
+}  // namespace
+
+GuidedVolPathSettings GuidedVolPathSettings::from(const Properties& props) {
+    GuidedVolPathSettings s;
+    s.location = props.location();
+    s.walk = VolPathSettings::from(props);
+    read_training(props, s);
+    // The guided decisions: distance, direction, RR and splitting (the paper's full system by default).
+    read_distance(props, s.walk, s.guide);
+    read_direction(props, s.guide);
+    read_roulette(props, s.roulette);
+    read_selection(props, s.selection);
+    read_pixel_estimate(props, s);
+    s.estimate = read_choice<FieldEstimate>(props, "estimate", s.estimate, kEstimate);
+    if (props.has("save_field")) s.save_field = props.get_string("save_field");
+    if (props.has("load_field")) s.load_field = resolve_field_path(props);
+    return s;
+}
+
+std::string GuidedVolPathSettings::to_string() const {
+    return fmt::format(
+        "max_depth={}, rr_depth={}, rr_rule={}, training={}, photons={}, training_iterations={}, online_spp={}, "
+        "leaf_samples={}, leaf_contrast={}, leaf_contrast_samples={}, "
+        "lobes={}, distance={}, distance_merge={}, hetero_distance={}, direction={}, surface_guiding={}, rrs={}, rrs_window={}, "
+        "rrs_branch_budget={}, selection_spp={}, pixel_estimate={}, equiangular={}, estimate={}",
+        walk.max_depth, walk.rr_depth, roulette_rule_name(walk.rr_rule), choice_name<TrainingMethod>(kTraining, training), photons,
+        training_iterations, online_spp, field.tree.max_samples, field.tree.split_contrast,
+        field.tree.contrast_min_samples, field.lobes,
+        choice_name<DistanceGuiding>(kDistance, guide.distance), guide.distance_merge,
+        choice_name<bool>(kHeteroDistance, guide.guided_tracking),
+        choice_name<DirectionGuiding>(kDirection, guide.direction), guide.surface,
+        choice_name<RouletteMode>(kRrs, roulette.mode), roulette.window, roulette.branch_budget,
+        selection.pilot_spp, choice_name<PixelEstimateMethod>(kPixelEstimate, pixel_estimate), walk.equiangular,
+        choice_name<FieldEstimate>(kEstimate, estimate));
+}
+
+}  // namespace volguide

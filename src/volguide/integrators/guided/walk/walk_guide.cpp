@@ -1,0 +1,398 @@
+#include "volguide/integrators/guided/walk/walk_guide.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "volguide/integrators/guided/walk/distance_bins.h"
+#include "volguide/guiding/guided_collision.h"
+#include "volguide/guiding/surface_guide.h"
+#include "volguide/media/spectral_mis.h"
+#include "volguide/render/scene.h"
+#include "volguide/render/sensor.h"
+#include "volguide/vmm/phase_vmm.h"
+
+namespace volguide {
+
+WalkGuideStats& WalkGuideStats::operator+=(const WalkGuideStats& o) {
+    distance_queries += o.distance_queries;
+    distance_steps += o.distance_steps;
+    guided_strategy += o.guided_strategy;
+    guided_tracking += o.guided_tracking;
+    invalid_bins += o.invalid_bins;
+    nan_fallbacks += o.nan_fallbacks;
+    distance_outside_field += o.distance_outside_field;
+    direction_samples += o.direction_samples;
+    direction_guided += o.direction_guided;
+    direction_unguided_vertices += o.direction_unguided_vertices;
+    damped_bins += o.damped_bins;
+    distance_skipped += o.distance_skipped;
+    direction_damped_vertices += o.direction_damped_vertices;
+    surface_vertices += o.surface_vertices;
+    surface_guided_vertices += o.surface_guided_vertices;
+    surface_guided_samples += o.surface_guided_samples;
+    distance_unselected += o.distance_unselected;
+    direction_unselected += o.direction_unselected;
+    surface_unselected += o.surface_unselected;
+    rrs_unselected += o.rrs_unselected;
+    return *this;
+}
+
+std::vector<std::pair<std::string, double>> WalkGuideStats::named() const {
+    auto ratio = [](uint64_t a, uint64_t b) { return b ? double(a) / double(b) : 0.0; };
+    return {{"distance_queries", double(distance_queries)},
+            {"distance_average_steps", ratio(distance_steps, distance_queries)},
+            {"distance_guided_fraction", ratio(guided_strategy, distance_queries)},
+            {"distance_tracking_fraction", ratio(guided_tracking, distance_queries)},
+            {"distance_invalid_bin_fraction", ratio(invalid_bins, distance_steps)},
+            {"distance_nan_fallbacks", double(nan_fallbacks)},
+            {"distance_outside_field", double(distance_outside_field)},
+            {"direction_samples", double(direction_samples)},
+            {"direction_guided_fraction", ratio(direction_guided, direction_samples)},
+            {"direction_unguided_vertex_fraction", ratio(direction_unguided_vertices, direction_samples)},
+            {"distance_damped_bin_fraction", ratio(damped_bins, distance_steps)},
+            {"distance_skipped", double(distance_skipped)},
+            {"direction_damped_vertex_fraction", ratio(direction_damped_vertices, direction_samples)},
+            {"surface_vertices", double(surface_vertices)},
+            {"surface_guided_vertex_fraction", ratio(surface_guided_vertices, surface_vertices)},
+            {"surface_guided_sample_fraction", ratio(surface_guided_samples, surface_vertices)},
+            {"selection_distance_unguided", double(distance_unselected)},
+            {"selection_direction_unguided", double(direction_unselected)},
+            {"selection_surface_unguided", double(surface_unselected)},
+            {"selection_rrs_off", double(rrs_unselected)}};
+}
+
+WalkGuide::WalkGuide(const Scene& scene, const GuidingField& field, const WalkGuideSettings& settings)
+    : field_(field), settings_(settings) {
+    if (settings_.direction_indirect) {
+        direction_leaves_.resize(field.leaves().size());
+        for (size_t i = 0; i < field.leaves().size(); ++i) {
+            GuidingLeaf& d = direction_leaves_[i];
+            d.vmm = field.leaves()[i].vmm_indirect;
+            d.valid = field.leaves()[i].valid_indirect;
+            d.fluence = field.leaves()[i].fluence;
+            d.samples = field.leaves()[i].samples;
+        }
+    }
+    surface_offset_ = 1e-4f * norm(field.tree().bounds().extents());
+    leaf_extent_ = leaf_extents(field.tree());  // before the regions, which read it
+    auto add = [&](const Medium* m) {
+        if (!m) return;
+        const float g = m->phase().mean_cosine();
+        if (!inscatter_.count(g)) inscatter_.emplace(g, InscatterCache(field, hg_phase_vmm(g)));
+        if (!phase_vmms_.count(g)) phase_vmms_.emplace(g, hg_phase_vmm(g));
+        if (!estimates_.count(g) && settings_.distance != DistanceGuiding::Standard)
+            estimates_.emplace(std::piecewise_construct, std::forward_as_tuple(g),
+                               std::forward_as_tuple(field, inscatter_.at(g), settings_.estimate_table));
+        if (!regions_.count(g) && estimates_.count(g) && settings_.distance_merge > 0.f && settings_.estimate_table > 0)
+            regions_.emplace(std::piecewise_construct, std::forward_as_tuple(g),
+                             std::forward_as_tuple(field.tree(), estimates_.at(g), leaf_extent_,
+                                                   settings_.distance_merge));
+    };
+    add(scene.sensor().medium());
+    for (const auto& shape : scene.shapes()) {
+        add(shape->interior_medium());
+        add(shape->exterior_medium());
+    }
+}
+
+float WalkGuide::leaf_confidence(int leaf, const Color3& sigma_t) const {
+    if (!(settings_.leaf_tau_max > 0.f) || leaf < 0) return 1.f;
+    const float tau = leaf_extent_[size_t(leaf)] * sigma_t.average();
+    return tau > settings_.leaf_tau_max ? settings_.leaf_tau_max / tau : 1.f;
+}
+
+const LeafEstimates* WalkGuide::estimates_for(const PhaseFunction& phase) const {
+    const auto it = estimates_.find(phase.mean_cosine());
+    return it == estimates_.end() ? nullptr : &it->second;
+}
+
+const DistanceRegions* WalkGuide::regions_for(const PhaseFunction& phase) const {
+    const auto it = regions_.find(phase.mean_cosine());
+    return it == regions_.end() ? nullptr : &it->second;
+}
+
+size_t WalkGuide::distance_region_count() const {
+    size_t n = 0;
+    for (const auto& [g, r] : regions_) n += size_t(r.region_count());
+    return n;
+}
+
+FreeFlightSample WalkGuide::sample_distance(const Medium& medium, const Ray& ray, float tmax,
+                                            const Color3& throughput, Sampler& sampler, GuideRegion& region,
+                                            DistanceScratch& scratch) const {
+    // A query from the vertex of the last guided scatter: its leaf is known. Where that leaf's
+    // confidence is below kSkipConfidence the guided share would be small, and the guided walk
+    // (a leaf lookup per bin) costs more than it can return: free flight, as for leaves without
+    // estimates.
+    const int origin_leaf = region.leaf;
+    region.leaf = -1;
+    scratch.decision = DistanceScratch::Decision();
+    // The origin's leaf, kept on the free-flight paths below where the scattering vertex is in it
+    // (deep in a dense medium it usually is): the direction decision there needs no descent.
+    auto free_flight_from = [&](int origin) {
+        FreeFlightSample fs = medium.sample_free_flight(ray, tmax, throughput, sampler);
+        if (origin >= 0 && fs.scattered && field_.tree().holds_point(origin, fs.mi.p)) region.leaf = origin;
+        return fs;
+    };
+    if (origin_leaf >= 0 && leaf_confidence(origin_leaf, medium.eval(ray.o).sigma_t) < kSkipConfidence) {
+        ++stats_.local().distance_skipped;
+        return free_flight_from(origin_leaf);
+    }
+    // Learned selection: the guided share of the origin's region (found by a descent when no
+    // decision before found it); 0: free flight, nothing guided is paid for.
+    int origin = origin_leaf;
+    float c_T = settings_.distance_settings.c_T;
+    // (Only when some distance share was learned or the pilot records: heterogeneous media under
+    // guided tracking record none, and a descent per decision would then be work for nothing.)
+    if (selection_.learned(SelectionDecision::Distance) || scratch.record) {
+        if (origin < 0) origin = vertex_leaf(ray.o, GuideRegion());
+        const float share = selection_.share(SelectionDecision::Distance, selection_region(origin));
+        if (share == 0.f) {
+            ++stats_.local().distance_unselected;
+            return free_flight_from(origin);
+        }
+        if (share != LearnedSelection::kDefault) c_T = 1.f - share;
+    }
+    float b0, b1;
+    const bool crosses = !field_.empty() && field_.tree().bounds().ray_intersect(ray, b0, b1) && b1 > 0.f;
+    // The guided part: (0, t_end); beyond the field's bounds the medium's own free flight.
+    const float t_end = crosses ? std::min(tmax, b1) : 0.f;
+    if (!(t_end > 0.f) || !std::isfinite(t_end)) {
+        ++stats_.local().distance_outside_field;
+        return medium.sample_free_flight(ray, tmax, throughput, sampler);
+    }
+
+    const LeafEstimates* estimates = estimates_for(medium.phase());
+    if (settings_.distance == DistanceGuiding::Incremental && settings_.guided_tracking &&
+        medium.tracks_null_collisions()) {
+        // The whole segment: beyond the field the tracking falls back to the analog probability.
+        GuidedCollisionProbability guide(field_, estimates, ray, t_end, c_T);
+        FreeFlightSample fs = medium.sample_free_flight(ray, tmax, throughput, sampler, &guide);
+        WalkGuideStats& st = stats_.local();
+        ++st.distance_queries;
+        ++st.guided_tracking;
+        st.distance_steps += guide.collisions();
+        st.invalid_bins += guide.unguided_collisions();
+        st.nan_fallbacks += guide.nan_fallbacks();
+        return fs;
+    }
+
+    FreeFlightSample fs = binned_distance(medium, ray, tmax, t_end, estimates, c_T, throughput, sampler, region, scratch);
+    scratch.decision.leaf = origin;
+    return fs;
+}
+
+FreeFlightSample WalkGuide::binned_distance(const Medium& medium, const Ray& ray, float tmax, float t_end,
+                                            const LeafEstimates* estimates, float c_T, const Color3& throughput,
+                                            Sampler& sampler, GuideRegion& region, DistanceScratch& scratch) const {
+    DistanceScratch& s = scratch;
+    GuidedDistanceSettings distance_settings = settings_.distance_settings;
+    distance_settings.c_T = c_T;
+    distance_settings.channel_split = channel_probabilities(throughput);  // spectral MIS (§2.6)
+    const DistanceRegions* regions = regions_for(medium.phase());
+    BinSource source(ray, t_end, medium, field_, estimates, s.proxies, settings_.max_bin_optical_depth,
+                     leaf_extent_, settings_.leaf_tau_max, regions);
+    DistanceSample ds;
+    if (settings_.distance == DistanceGuiding::Incremental) {
+        ds = sample_incremental_distance(source, sampler, distance_settings);
+    } else {
+        s.bins.clear();
+        DistanceBin bin;
+        while (source(bin)) s.bins.push_back(bin);
+        const TabulatedDistance table(s.bins, std::nullopt, distance_settings);
+        ds = table.sample(sampler);
+        ds.steps = int(s.bins.size());
+    }
+
+    WalkGuideStats& st = stats_.local();
+    ++st.distance_queries;
+    st.distance_steps += uint64_t(ds.steps);
+    st.guided_strategy += ds.strategy == DistanceStrategy::Guided;
+    st.invalid_bins += source.invalid();
+    st.damped_bins += source.damped();
+    st.nan_fallbacks += uint64_t(ds.nan_fallbacks);
+    if (ds.event == DistanceEvent::Medium && ds.pdf > 0.f)
+        region.leaf = regions && source.leaf() >= 0 ? regions->fine_leaf(source.leaf(), ray(ds.t)) : source.leaf();
+    if (ds.pdf > 0.f && ds.pdf_transmittance >= 0.f && ds.pdf_guided >= 0.f) {
+        s.decision.mixture = true;
+        s.decision.pdf = ds.pdf;
+        s.decision.p_u = ds.pdf_transmittance;
+        s.decision.p_g = ds.pdf_guided;
+    }
+    return binned_flight(medium, ray, tmax, t_end, ds, throughput, sampler);
+}
+
+FreeFlightSample WalkGuide::binned_flight(const Medium& medium, const Ray& ray, float tmax, float t_end,
+                                          const DistanceSample& ds, const Color3& throughput, Sampler& sampler) const {
+    FreeFlightSample fs;
+    if (ds.event == DistanceEvent::Medium && ds.pdf > 0.f) {
+        const float t = ds.t;
+        const Color3 tr = medium.transmittance(ray, t, sampler);
+        const Point3f p = ray(t);
+        fs.scatter_at(ray, t, p, &medium, medium.eval(p));
+        fs.flight_weight = tr * (1.f / ds.pdf);
+        fs.weight = fs.flight_weight * fs.mi.coeffs.sigma_s;
+        return fs;
+    }
+    if (ds.event == DistanceEvent::Medium || !(ds.pdf > 0.f)) {  // a zero pdf cannot be weighted: no path
+        fs.weight = fs.flight_weight = Color3(0.f);
+        fs.t = t_end;
+        return fs;
+    }
+    const Color3 tr = medium.transmittance(ray, t_end, sampler);
+    fs.weight = fs.flight_weight = tr * (1.f / ds.pdf);
+    fs.t = t_end;
+    if (t_end < tmax) {
+        // Beyond the field: continue with ordinary free flight from the exit point.
+        const Ray rest(ray(t_end), ray.d);
+        FreeFlightSample tail =
+            medium.sample_free_flight(rest, tmax - t_end, throughput * fs.weight, sampler);
+        tail.weight *= fs.weight;
+        tail.flight_weight *= fs.weight;
+        tail.t += t_end;
+        if (tail.scattered) {
+            tail.mi.t = tail.t;
+            tail.mi.wi = -ray.d;
+        }
+        return tail;
+    }
+    return fs;
+}
+
+void WalkGuide::direction_sampler(const MediumInteraction& mi, const PhaseFunction& phase, GuideRegion& region,
+                                  std::optional<GuidedDirectionSampler>& out) const {
+    const GuidingLeaf* leaf = nullptr;
+    if (!field_.empty()) {
+        leaf = region.leaf >= 0 && field_.tree().holds_point(region.leaf, mi.p) ? &field_.leaves()[size_t(region.leaf)]
+                                                                               : field_.leaf_at(mi.p);
+    }
+    // The distance decision that follows starts here: it then knows its origin leaf (and may skip
+    // the guided walk in a leaf of low confidence) without a descent of its own.
+    if (leaf) region.leaf = int(leaf - field_.leaves().data());
+    if (leaf && settings_.direction_indirect)
+        leaf = &direction_leaves_[size_t(leaf - field_.leaves().data())];
+    const auto it = phase_vmms_.find(phase.mean_cosine());
+    float phase_prob = settings_.phase_prob;
+    if (leaf) {
+        const float confidence = leaf_confidence(region.leaf, mi.coeffs.sigma_t);
+        const float share = selection_.share(SelectionDecision::Direction, size_t(region.leaf));
+        if (confidence < kSkipConfidence) {
+            // The product is not worth building: the phase function alone.
+            phase_prob = 1.f;
+            ++stats_.local().direction_damped_vertices;
+        } else if (share != LearnedSelection::kDefault) {
+            // Learned: the share replaces the configured one, damped by the confidence as that
+            // is (a short pilot does not see the heavy tails long walks in a dense medium get
+            // from a large guided share: densesphere read 4.4 SE low at 256 spp undamped).
+            phase_prob = 1.f - share * confidence;
+            if (share == 0.f) ++stats_.local().direction_unselected;
+        } else if (confidence < 1.f) {
+            phase_prob = 1.f - (1.f - phase_prob) * confidence;
+            ++stats_.local().direction_damped_vertices;
+        }
+    }
+    const GuidedDirectionSampler& s = out.emplace(settings_.direction, leaf, phase, mi.wi, phase_prob,
+                                                  it == phase_vmms_.end() ? nullptr : &it->second);
+    if (!s.guided()) ++stats_.local().direction_unguided_vertices;
+}
+
+int WalkGuide::surface_sampler(const SurfaceInteraction& si, const BSDF& bsdf, const Medium* medium,
+                               Vmm& guide_storage, std::optional<GuidedSurfaceSampler>& out) const {
+    const Vmm* guide = nullptr;
+    float bsdf_prob = settings_.bsdf_prob;
+    int index = -1;
+    if (guides_surfaces() && !field_.empty() && bsdf.flags() == bsdf_flags::DiffuseReflection) {
+        ++stats_.local().surface_vertices;
+        // The side the path arrives from (wi above the shading frame: its normal, else the back).
+        const Vec3f n = si.wi.z >= 0.f ? Vec3f(si.sh_frame.n) : -Vec3f(si.sh_frame.n);
+        index = field_.tree().leaf_at(si.p + n * surface_offset_);
+        const float share = index >= 0 ? selection_.share(SelectionDecision::Surface, size_t(index))
+                                       : LearnedSelection::kDefault;
+        const GuidingLeaf* leaf = nullptr;
+        if (index >= 0)
+            leaf = settings_.direction_indirect ? &direction_leaves_[size_t(index)] : &field_.leaves()[size_t(index)];
+        const float confidence = leaf && medium ? leaf_confidence(index, medium->eval(si.p).sigma_t) : 1.f;
+        const bool guidable = leaf && leaf->valid && leaf->vmm.count > 0 && confidence >= kSkipConfidence &&
+                              field_.leaves()[size_t(index)].mostly_medium();
+        if (guidable && share == 0.f) {
+            ++stats_.local().surface_unselected;  // only vertices the configured mixture would guide
+        } else if (guidable) {
+            bsdf_prob = 1.f - (share != LearnedSelection::kDefault ? share : 1.f - bsdf_prob) * confidence;
+            if (settings_.direction == DirectionGuiding::Incident)
+                guide = &leaf->vmm;
+            else if (cosine_product(leaf->vmm, n, guide_storage))
+                guide = &guide_storage;
+        }
+    }
+    out.emplace(bsdf, si, guide, bsdf_prob);
+    if (out->guided()) ++stats_.local().surface_guided_vertices;
+    return index;
+}
+
+bool WalkGuide::rrs_acts(ContinuationStage stage, int leaf) const {
+    if (selection_.rrs_acts(int(stage), selection_region(leaf))) return true;
+    ++stats_.local().rrs_unselected;
+    return false;
+}
+
+std::array<float, kSelectionDecisions> WalkGuide::configured_shares() const {
+    return {1.f - settings_.distance_settings.c_T, 1.f - settings_.phase_prob, 1.f - settings_.bsdf_prob};
+}
+
+int WalkGuide::vertex_leaf(const Point3f& x, const GuideRegion& region) const {
+    if (field_.empty()) return -1;
+    if (region.leaf >= 0 && field_.tree().holds_point(region.leaf, x)) return region.leaf;
+    return field_.tree().leaf_at(x);
+}
+
+int WalkGuide::trusted_vertex_leaf(const MediumInteraction& mi, GuideRegion& region) const {
+    const int leaf = vertex_leaf(mi.p, region);
+    if (leaf < 0) return -1;
+    region.leaf = leaf;  // the decisions that follow at this vertex need no descent
+    return leaf_confidence(leaf, mi.coeffs.sigma_t) < kSkipConfidence ? -1 : leaf;
+}
+
+Color3 WalkGuide::inscattered_estimate(const MediumInteraction& mi, const Vec3f& d, GuideRegion& region) const {
+    const int leaf = mi.medium ? trusted_vertex_leaf(mi, region) : -1;
+    if (leaf < 0) return Color3(0.f);
+    // The distance decisions' tables when they exist (one bilinear lookup instead of K x J lobes).
+    if (const LeafEstimates* tables = estimates_for(mi.medium->phase())) {
+        Color3 Li(0.f), L(0.f);
+        tables->lookup(leaf, d, Li, L);
+        return Li;
+    }
+    const auto it = inscatter_.find(mi.medium->phase().mean_cosine());
+    return it == inscatter_.end() ? Color3(0.f) : it->second.inscattered(leaf, d);
+}
+
+Color3 WalkGuide::incident_estimate(const MediumInteraction& mi, const Vec3f& w, GuideRegion& region) const {
+    const int leaf = mi.medium ? trusted_vertex_leaf(mi, region) : -1;
+    if (leaf < 0) return Color3(0.f);
+    // The full L~, although NEE took the direct light at x: the continuation still collects the
+    // emitter hits MIS gives it (a sky), and the indirect part alone (tried with its own fluence)
+    // under-estimated: cloud 20 s, grr relMSE 0.00034 -> 0.00146, grrs s = 5 0.00022 -> 0.00052.
+    if (const LeafEstimates* tables = estimates_for(mi.medium->phase())) {  // L~ looking ahead along w
+        Color3 Li(0.f), L(0.f);
+        tables->lookup(leaf, w, Li, L);
+        return L;
+    }
+    return GuidingField::incident(field_.leaves()[size_t(leaf)], w);
+}
+
+void WalkGuide::count_surface_direction(bool guided) const {
+    if (guided) ++stats_.local().surface_guided_samples;
+}
+
+void WalkGuide::count_direction(bool guided) const {
+    WalkGuideStats& st = stats_.local();
+    ++st.direction_samples;
+    st.direction_guided += guided;
+}
+
+WalkGuideStats WalkGuide::stats() const {
+    WalkGuideStats total;
+    for (const WalkGuideStats& s : stats_) total += s;
+    return total;
+}
+
+}  // namespace volguide

@@ -1,0 +1,232 @@
+#pragma once
+// The guided decisions of `guided_volpath`'s walk (theory.md §7–8), between the guiding field and
+// volpath's walk, which calls them through GuidedWalkPolicy (guided_walk_policy.h, a WalkPolicy) in
+// place of free-flight, phase and BSDF sampling.
+//
+// Distance (§7.9): along a ray segment (0, tmax) in one medium, bins are the kd-tree leaves the ray
+// crosses, cut at the medium's proxy segments (majorant cells of a heterogeneous medium) and split so
+// that no bin is optically thicker than `max_bin_optical_depth` (§7.6). Each bin reads L~_i and L~
+// of its leaf looking along the ray (channel averages, §7.8) and the proxy coefficients; the
+// incremental or tabulated sampler (guiding/guided_distance.h) picks a scattering distance or the
+// segment's end. The weight uses the true coefficients: exact transmittance in homogeneous media,
+// the medium's unbiased estimate (residual ratio tracking) otherwise, and sigma_s at the vertex.
+// Where the segment leaves the field's bounds (e.g. an infinite medium), the part beyond is
+// sampled by the medium's own free flight from the exit point: two unbiased decisions in a row.
+//
+// Heterogeneous media with distance=incremental use guided null-collision tracking instead
+// (theory.md §7.7 H2; guiding/guided_collision.h): the medium's majorant walk with the guided
+// scatter probability at every tentative collision, weights from the true coefficients only
+// (no proxy, no separate transmittance estimate). `guided_tracking = false` keeps the bins (H1).
+//
+// Statistics are counted per thread and summed on request.
+#include <tbb/enumerable_thread_specific.h>
+
+#include <array>
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "volguide/guiding/distance_regions.h"
+#include "volguide/guiding/guided_direction.h"
+#include "volguide/guiding/guided_distance.h"
+#include "volguide/guiding/guiding_field.h"
+#include "volguide/guiding/inscatter_cache.h"
+#include "volguide/guiding/leaf_estimates.h"
+#include "volguide/guiding/selection.h"
+#include "volguide/integrators/guided/walk/guided_surface_sampler.h"
+#include "volguide/integrators/volpath/walk_policy.h"
+#include "volguide/media/medium.h"
+
+namespace volguide {
+
+class Scene;
+
+enum class DistanceGuiding { Standard, Incremental, Tabulated };
+
+struct WalkGuideSettings {
+    DistanceGuiding distance = DistanceGuiding::Standard;
+    GuidedDistanceSettings distance_settings;
+    float max_bin_optical_depth = 20.f;
+    bool guided_tracking = true;  // heterogeneous media, incremental: H2 tracking (false: H1 bins)
+    DirectionGuiding direction = DirectionGuiding::Phase;
+    float phase_prob = 0.5f;  // alpha_f: probability of sampling the phase function (§8.2)
+    // Per-leaf octahedral tables of L~_i and L~ for the distance decisions (leaf_estimates.h):
+    // resolution per side, 0 = exact VMM evaluation per leaf crossed.
+    int estimate_table = 16;
+    // The distance walk steps regions of leaves whose tables agree within this relative tolerance
+    // (guiding/distance_regions.h) instead of single leaves: fewer bins per decision. 0: leaves.
+    // Needs the tables (estimate_table > 0).
+    float distance_merge = 0.f;
+    // Guiding confidence of a leaf: min(1, leaf_tau_max / tau_leaf), tau_leaf = sigma_t (channel
+    // average, at the vertex / of the bin's proxy) x the cube root of the leaf's volume. A leaf many
+    // mean free paths across holds one estimate for radiance that varies on the scale of a free path
+    // (deep in a dense medium it is near-isotropic while the leaf's VMM carries the light at its
+    // boundary); following it at every one of hundreds of events compounds its error into the path
+    // weights. The guided distance probability and the direction mixture's guided share are scaled
+    // by the confidence toward free flight and the phase function. 0: off (confidence 1).
+    float leaf_tau_max = 1.f;
+    // Direction guiding from the leaves' indirect distribution (GuidingLeaf::vmm_indirect): NEE
+    // already samples the light that comes straight from the emitters at every medium vertex, so
+    // the continuation's zero-variance target is f_p times the rest (theory.md §8.3). false: the
+    // full incident distribution (the paper's).
+    bool direction_indirect = true;
+    // Diffuse surface vertices guided by the leaf around them (guiding/surface_guide.h), whenever
+    // directions are guided: the leaf's VMM (direction=incident) or its product with the cosine lobe
+    // (direction=product), mixed with BSDF sampling with probability bsdf_prob. Only leaves mostly
+    // filled by a medium guide surfaces (GuidingLeaf::mostly_medium; a field without measured
+    // medium fractions guides none).
+    bool surface = true;
+    float bsdf_prob = GuidedSurfaceSampler::kDefaultBsdfProbability;
+};
+
+struct WalkGuideStats {
+    uint64_t distance_queries = 0;        // guided distance decisions
+    uint64_t distance_steps = 0;          // bins stepped through by them (tracking: tentative collisions)
+    uint64_t guided_strategy = 0;         // bin queries whose decisions followed the guided probabilities
+    uint64_t guided_tracking = 0;         // queries by guided null-collision tracking (H2)
+    uint64_t invalid_bins = 0;            // bins (tracking: collisions) stepped through without a valid leaf
+    uint64_t nan_fallbacks = 0;           // bins (collisions) whose guided probability was not finite (§7.6)
+    uint64_t distance_outside_field = 0;  // segments that miss the field: ordinary free flight
+    uint64_t direction_samples = 0;       // directions sampled at medium vertices
+    uint64_t direction_guided = 0;        // ... from the guiding VMM (the rest from the phase function)
+    uint64_t direction_unguided_vertices = 0;  // vertices without a valid leaf (phase only)
+    uint64_t distance_skipped = 0;  // queries from a vertex in a leaf of confidence < kSkipConfidence
+    uint64_t damped_bins = 0;       // bins whose leaf is optically larger than leaf_tau_max
+    uint64_t direction_damped_vertices = 0;  // vertices whose leaf is optically larger than leaf_tau_max
+    uint64_t surface_vertices = 0;         // diffuse surface vertices offered to surface guiding
+    uint64_t surface_guided_vertices = 0;  // ... that found a valid leaf (mixture sampling)
+    uint64_t surface_guided_samples = 0;   // directions drawn from the surface guide
+    // Learned selection (guiding/selection.h): decisions made unguided because their region's
+    // learned guided share is 0, and continuation points where it switched guided RR/splitting off.
+    uint64_t distance_unselected = 0;
+    uint64_t direction_unselected = 0;
+    uint64_t surface_unselected = 0;
+    uint64_t rrs_unselected = 0;
+    WalkGuideStats& operator+=(const WalkGuideStats& o);
+    // Named values for --stats.
+    std::vector<std::pair<std::string, double>> named() const;
+};
+
+// Scratch of the distance decisions, reused across them (no allocation per decision); owned by the
+// caller (one per walk), it carries nothing from one decision to the next.
+struct DistanceScratch {
+    std::vector<ProxySegment> proxies;
+    std::vector<DistanceBin> bins;  // tabulated only
+    // For the selection pilot (selection_pilot.h). In: find the origin's leaf also where no
+    // decision before found it. Out: whether the last decision drew from a guided mixture whose
+    // parts are known, the leaf it was made from (-1: outside the field), the mixture's density
+    // at the sample and its unguided and guided parts.
+    bool record = false;
+    struct Decision {
+        bool mixture = false;
+        int leaf = -1;
+        float pdf = 0.f, p_u = 0.f, p_g = 0.f;
+    } decision;
+};
+
+// The decisions take the GuideRegion of the vertex they are made at (walk_policy.h): its kd leaf
+// when a decision before found it (-1: not known), so that the direction decision at a guided
+// scatter and the distance decision that leaves it need not descend the tree again (leaf_at was
+// ~1.5 % of aniso's guided profile), and the decisions update it. A leaf handed on is trusted only
+// where SpatialTree::leaf_at would provably return it (holds_point).
+class WalkGuide {
+  public:
+    // The field and the scene must outlive the guide.
+    WalkGuide(const Scene& scene, const GuidingField& field, const WalkGuideSettings& settings);
+
+    const WalkGuideSettings& settings() const { return settings_; }
+    bool guides_distance() const { return settings_.distance != DistanceGuiding::Standard; }
+    bool guides_direction() const { return settings_.direction != DirectionGuiding::Phase; }
+    bool guides_surfaces() const { return settings_.surface && guides_direction(); }
+
+    // Medium::sample_free_flight's contract (weight, mi when scattered) with guided probabilities,
+    // from the vertex of `region` (ray.o); `region` becomes the scattering vertex's (-1: not known).
+    FreeFlightSample sample_distance(const Medium& medium, const Ray& ray, float tmax, const Color3& throughput,
+                                     Sampler& sampler, GuideRegion& region, DistanceScratch& scratch) const;
+
+    // Learned selection (guiding/selection.h): per region, the guided share of each decision and
+    // whether guided RR/splitting acts; empty (the default) keeps the configured mixtures.
+    void set_selection(LearnedSelection selection) { selection_ = std::move(selection); }
+    const LearnedSelection& selection() const { return selection_; }
+    // The selection's region of a leaf (-1: outside the field) and how many there are.
+    size_t selection_region(int leaf) const { return leaf >= 0 ? size_t(leaf) : field_.leaves().size(); }
+    size_t selection_regions() const { return field_.leaves().size() + 1; }
+    // Whether guided RR/splitting acts at `stage` in the region of `leaf`; counts the ones it does not.
+    bool rrs_acts(ContinuationStage stage, int leaf) const;
+    // The guided shares the configuration sets (what the pilot samples with): distance, direction, surface.
+    std::array<float, kSelectionDecisions> configured_shares() const;
+
+    // Builds the direction sampler of a medium vertex in `out` (in place: it holds a ~3 KB product
+    // mixture); phase only where the field has no valid leaf.
+    void direction_sampler(const MediumInteraction& mi, const PhaseFunction& phase, GuideRegion& region,
+                           std::optional<GuidedDirectionSampler>& out) const;
+    // Counts one sampled direction (guided: drawn from the guiding part of the mixture).
+    void count_direction(bool guided) const;
+
+    // The direction sampler of a surface vertex: BSDF sampling mixed with the guide of the leaf
+    // beside the surface on the side the path arrives from (`medium`: the medium it travelled in,
+    // null for none; its extinction sets the leaf's confidence as in the medium). `guide_storage`
+    // holds the product guide and must outlive `out`. Leaves `out` a pure BSDF sampler where
+    // there is nothing to guide with (not diffuse, no valid leaf, surfaces not guided).
+    // Returns the leaf beside the surface (-1: none), the region of learned selection.
+    int surface_sampler(const SurfaceInteraction& si, const BSDF& bsdf, const Medium* medium, Vmm& guide_storage,
+                        std::optional<GuidedSurfaceSampler>& out) const;
+    void count_surface_direction(bool guided) const;
+
+    // The field's estimates for guided RR and splitting (theory.md §9.3) at the medium vertex mi:
+    // L~_i(x, d) for the ray that reached it along d (what the vertex collects from here on), and
+    // L~(x, w) arriving from w (what the continuation along w collects). Both from the distance
+    // decisions' per-leaf tables when they exist. 0 (no guided decision:
+    // throughput RR) where the field has no valid leaf, and where the leaf's confidence is below
+    // kSkipConfidence: deep in a dense medium one estimate per leaf cannot follow radiance that
+    // varies on the scale of a free path, and RR by it compounds: guided RR alone took sss's
+    // image mean 7 % low at 512 spp (heavy-tailed weights from leaves estimated too dark), with
+    // relMSE 19x volpath's.
+    Color3 inscattered_estimate(const MediumInteraction& mi, const Vec3f& d, GuideRegion& region) const;
+    Color3 incident_estimate(const MediumInteraction& mi, const Vec3f& w, GuideRegion& region) const;
+
+    WalkGuideStats stats() const;
+    // The distance walk's regions per phase mean cosine and their total (0 without merging).
+    size_t distance_region_count() const;
+
+  private:
+    const LeafEstimates* estimates_for(const PhaseFunction& phase) const;
+    const DistanceRegions* regions_for(const PhaseFunction& phase) const;
+    // sample_distance's decision on the bins of (0, t_end) (distance_bins.h; t_end: where the ray
+    // leaves the field or reaches tmax), weighted by binned_flight.
+    FreeFlightSample binned_distance(const Medium& medium, const Ray& ray, float tmax, float t_end,
+                                     const LeafEstimates* estimates, float c_T, const Color3& throughput,
+                                     Sampler& sampler, GuideRegion& region, DistanceScratch& scratch) const;
+    // The weights of the bins' decision `ds` (the caller contract of guided_distance.h), and beyond
+    // the field (t_end < tmax) the medium's own free flight.
+    FreeFlightSample binned_flight(const Medium& medium, const Ray& ray, float tmax, float t_end,
+                                   const DistanceSample& ds, const Color3& throughput, Sampler& sampler) const;
+    // The leaf at x (-1 outside the field), without a descent when `region` (x's) holds it.
+    int vertex_leaf(const Point3f& x, const GuideRegion& region) const;
+    // vertex_leaf(mi.p), kept in `region`, if its confidence at mi is at least kSkipConfidence, else -1.
+    int trusted_vertex_leaf(const MediumInteraction& mi, GuideRegion& region) const;
+    // min(1, leaf_tau_max / (sigma_t average x leaf extent)); 1 when leaf_tau_max is 0 (off).
+    float leaf_confidence(int leaf, const Color3& sigma_t) const;
+    // Below this confidence a vertex neither builds the direction product nor walks the guided
+    // bins from it: phase sampling and free flight (the guided share would be under a quarter).
+    static constexpr float kSkipConfidence = 0.25f;
+
+    const GuidingField& field_;
+    WalkGuideSettings settings_;
+    std::map<float, InscatterCache> inscatter_;  // by phase mean cosine
+    std::map<float, LeafEstimates> estimates_;   // by phase mean cosine (reads inscatter_)
+    std::map<float, DistanceRegions> regions_;   // by phase mean cosine (built on estimates_), if merging
+    std::map<float, PhaseVmm> phase_vmms_;
+    std::vector<float> leaf_extent_;  // cube root of each leaf's volume
+    float surface_offset_ = 0.f;      // how far off a surface its leaf is looked up
+    // With direction_indirect: per leaf, vmm/valid replaced by vmm_indirect/valid_indirect (the
+    // direction sampler reads a GuidingLeaf).
+    std::vector<GuidingLeaf> direction_leaves_;
+    LearnedSelection selection_;
+    mutable tbb::enumerable_thread_specific<WalkGuideStats> stats_;
+};
+
+}  // namespace volguide

@@ -1,0 +1,68 @@
+#pragma once
+// openpgl_volpath's policy for volpath's walk (walk_policy.h): Open PGL's directional guiding as
+// Blender Cycles uses it, and the recording of the camera path for Open PGL's training.
+//  - medium vertex: the field's VolumeSamplingDistribution at x (stochastic region lookup), times
+//    a single HG lobe of the medium's mean cosine g about the ray's direction, in a one-sample
+//    mixture p = phase_prob * p_phase + (1 - phase_prob) * p_guide; weight f_p / p. Not guided
+//    for |g| >= 0.99 (Cycles), or where Open PGL has no region yet (Init fails): then p = p_phase.
+//  - surface vertex with a diffuse reflection BSDF: SurfaceSamplingDistribution times the cosine
+//    lobe about the shading normal on the incoming side, mixed with the BSDF (bsdf_prob).
+//  - NEE's MIS and emitter hits' MIS use the same mixture pdf (direction_pdf / the walk's
+//    last_pdf), so the estimator stays unbiased whatever the field.
+// Distances are free flight and there is no guided RR (Open PGL 0.7.1 has neither in its
+// directional guiding). One object per camera sample, over its thread's OpenPglThreadState.
+#include <openpgl/cpp/OpenPGL.h>
+
+#include "volguide/integrators/volpath/walk_policy.h"
+#include "volguide/integrators/openpgl/openpgl_field.h"
+#include "volguide/integrators/openpgl/openpgl_path_recorder.h"
+#include "volguide/integrators/openpgl/openpgl_settings.h"
+
+namespace volguide {
+
+// What one worker thread reuses across camera samples: Open PGL's sampling distributions
+// (re-initialised at every vertex that uses them) and the path recorder (cleared per path).
+struct OpenPglThreadState {
+    explicit OpenPglThreadState(const openpgl::cpp::Field* field) : volume(field), surface(field) {}
+    openpgl::cpp::VolumeSamplingDistribution volume;
+    openpgl::cpp::SurfaceSamplingDistribution surface;
+    OpenPglPathRecorder recorder;
+    // Direction decisions at medium / surface vertices, and how many of them were guided.
+    int64_t medium_vertices = 0, guided_medium = 0, surface_vertices = 0, guided_surface = 0;
+};
+
+class OpenPglWalkPolicy final : public WalkPolicy {
+  public:
+    // field: guides when trained(); `training`: record this path into field's storage.
+    OpenPglWalkPolicy(const OpenPglSettings& settings, OpenPglThreadState& ts, OpenPglField& field, bool training);
+
+    void prepare_direction(const MediumInteraction& mi, GuideRegion& region, Sampler& sampler) override;
+    float direction_pdf(const MediumInteraction& mi, const Vec3f& wo) const override;
+    PhaseSample sample_direction(const MediumInteraction& mi, Sampler& sampler) override;
+
+    void prepare_surface_direction(const SurfaceInteraction& si, const BSDF& bsdf, const Medium* medium,
+                                   Sampler& sampler) override;
+    float surface_direction_pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const BSDF& bsdf,
+                                const Vec3f& wo_local) const override;
+    std::pair<BSDFSample, Color3> sample_surface_direction(const BSDFContext& ctx, const SurfaceInteraction& si,
+                                                           const BSDF& bsdf, float u1, Point2f u2,
+                                                           Sampler& sampler) override;
+
+    void record_contribution(const Color3& value) override;
+    void record_medium_vertex(const Point3f& x, const Vec3f& w, float pdf, const Color3& throughput) override;
+    void record_surface_hit(const SurfaceInteraction& si) override;
+    void record_surface_vertex(const SurfaceInteraction& si, const BSDFSample& bs, const Vec3f& wo,
+                               const Color3& throughput) override;
+    void end_camera_sample(int branches) override;
+
+  private:
+    const OpenPglSettings& settings_;
+    OpenPglThreadState& ts_;
+    OpenPglField& field_;
+    const bool training_;
+    bool volume_ready_ = false;   // ts_.volume holds the current medium vertex's product
+    bool surface_ready_ = false;  // ts_.surface holds the current surface vertex's product
+    Vec3f wi_;                    // the current medium vertex's direction towards the previous one
+};
+
+}  // namespace volguide

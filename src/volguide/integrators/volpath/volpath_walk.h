@@ -1,0 +1,109 @@
+#pragma once
+// volpath's walk of one camera sample (volpath.h gives the semantics): a small object over one
+// WalkState, with the medium step (distance decision), the scattering at a medium vertex (NEE and
+// direction), the surface step (emitter hit, NEE, BSDF sampling) as member functions. Guiding,
+// training and guided RR/splitting enter through one WalkPolicy (walk_policy.h; null: the analog
+// walk). Split copies of the path (guided splitting) wait on the walk's own stack and draw from
+// streams forked off the camera sample's; the first branch draws from the caller's sampler, so
+// that without splitting the walk is volpath's number for number.
+#include <limits>
+#include <vector>
+
+#include "volguide/core/color.h"
+#include "volguide/core/sampler.h"
+#include "volguide/geometry/interaction.h"
+#include "volguide/integrators/volpath/equiangular_mis.h"
+#include "volguide/integrators/volpath/volpath.h"
+#include "volguide/integrators/volpath/walk_policy.h"
+#include "volguide/render/bsdf.h"
+
+namespace volguide {
+
+class Scene;
+
+// The state a path carries from one event to the next (everything but the pending intersection):
+// what a split copy inherits.
+struct WalkState {
+    Color3 throughput{1.f};
+    float eta = 1.f;
+    Ray ray;
+    const Medium* medium = nullptr;
+    int depth = 0;             // real scattering events so far (null crossings do not count)
+    int rr_depth_done = -1;    // Russian roulette is played once per depth
+    int null_crossings = 0;
+    bool specular_chain = false;  // the last real event was a delta lobe: emitter hits count fully
+    Interaction last_vertex;   // last real scattering vertex and the pdf of the direction it sampled
+    float last_pdf = 1.f;
+    EquiVertex last_equi;      // equiangular bookkeeping of the last medium vertex (MIS of hits)
+    GuideRegion region;        // the policy's region of the vertex the ray leaves from
+    // The branches this path may still become (the policy's branch budget, shared by a split's copies).
+    float split_allowance = std::numeric_limits<float>::infinity();
+};
+
+// A medium scattering vertex before its NEE and direction decision.
+struct MediumVertex {
+    MediumInteraction mi;
+    EquiVertex equi;
+};
+
+class VolumeWalk {
+  public:
+    // scene, settings, sampler and policy (may be null) must outlive the walk.
+    VolumeWalk(const Scene& scene, const VolPathSettings& settings, Sampler& sampler, WalkPolicy* policy);
+    // The camera sample's estimate along camera_ray: every branch's contributions.
+    Color3 run(const Ray& camera_ray);
+
+  private:
+    // One branch from the current state to its end.
+    void walk_branch();
+    // Throughput Russian roulette, once per depth from rr_depth on; false: the path ends.
+    bool russian_roulette();
+    enum class Step { Scatter, Surface, End };
+    // The distance decision in the current medium up to the pending intersection.
+    Step medium_step(MediumVertex& v);
+    Step equiangular_step(const Medium& medium, float tmax, MediumVertex& v);
+    // A real scattering event at v (reached by the state's ray): the distance-stage continuation
+    // decision, then scatter(). False when the path ends there.
+    bool at_medium_vertex(const MediumVertex& v);
+    // NEE and the direction decision at v (and the direction-stage continuation decision).
+    bool scatter(const MediumVertex& v);
+    void sample_nee_medium(const MediumVertex& v);
+    // The ray reached the pending intersection (or left the scene): emission, then at a surface NEE
+    // and the BSDF's direction. False when the path ends there.
+    bool surface_step();
+    void emitter_hit();
+    void sample_nee_surface(const BSDF& bsdf);
+    // The policy's continuation decision; copies made at a vertex (at_vertex) resume before its
+    // NEE and direction, the others trace the state's ray. False when the path ends.
+    bool continue_path(ContinuationStage stage, const MediumInteraction& mi, const Vec3f& w,
+                       const MediumVertex* at_vertex);
+    // Every contribution goes through add(): the policy records it.
+    void add(const Color3& c);
+    bool depth_ok(int d) const { return settings_.max_depth < 0 || d < settings_.max_depth; }
+
+    // One branch of the camera sample waiting on the stack: its state, its own random stream,
+    // and, for a copy made at a medium vertex before its NEE and direction, that vertex.
+    struct PendingBranch {
+        WalkState state;
+        Sampler sampler;
+        bool at_vertex = false;  // resume at `vertex`, else trace state.ray
+        MediumVertex vertex;
+        int record_point = 0;  // the policy's branch_point() when the copy was made
+    };
+
+    const Scene& scene_;
+    const VolPathSettings& settings_;
+    WalkPolicy* policy_;
+    const bool guide_distance_;
+    const BSDFContext ctx_;
+    Sampler* rng_;             // the current branch's stream
+    Sampler branch_sampler_;   // a split copy's stream
+    WalkState state_;
+    SurfaceInteraction si_;    // the pending intersection of state_.ray
+    bool need_intersection_ = true;
+    Color3 result_{0.f};
+    int branches_ = 1;
+    std::vector<PendingBranch> stack_;
+};
+
+}  // namespace volguide
