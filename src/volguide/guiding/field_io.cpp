@@ -86,22 +86,27 @@ std::string serialize_field(const GuidingField& field) {
     return s;
 }
 
-GuidingField deserialize_field(const std::string& bytes) {
+namespace {
+
+// Checks the magic, the version and the checksum; returns the version and the body's reader.
+Reader open_body(const std::string& bytes, uint32_t& version) {
     if (bytes.size() < sizeof(kMagic) + 8 || std::memcmp(bytes.data(), kMagic, sizeof(kMagic)) != 0)
         throw FieldFormatError("not a volguide guiding field (bad magic)");
     Reader header{bytes, sizeof(kMagic), bytes.size()};
-    const uint32_t version = header.u32("header");
+    version = header.u32("header");
     if (version < kOldestReadableVersion || version > kFieldFormatVersion)
-        throw FieldFormatError("unsupported guiding field version " + std::to_string(version) + " (this build reads " +
-                               std::to_string(kOldestReadableVersion) + " to " + std::to_string(kFieldFormatVersion) +
-                               ")");
+        throw FieldFormatError("unsupported guiding field version " + std::to_string(version) +
+                               " (this build reads " + std::to_string(kOldestReadableVersion) + " to " +
+                               std::to_string(kFieldFormatVersion) + ")");
     const size_t body_end = bytes.size() - 8;
     Reader tail{bytes, body_end, bytes.size()};
     const uint64_t stored = uint64_t(tail.u32("checksum")) | uint64_t(tail.u32("checksum")) << 32;
     if (stored != fnv1a64(std::string_view(bytes).substr(sizeof(kMagic), body_end - sizeof(kMagic))))
         throw FieldFormatError("guiding field checksum mismatch (corrupt or truncated file)");
+    return Reader{bytes, header.pos, body_end};
+}
 
-    Reader r{bytes, header.pos, body_end};
+SpatialTree read_tree(Reader& r) {
     float box[6];
     for (float& v : box) {
         v = r.f32("bounds");
@@ -116,12 +121,61 @@ GuidingField deserialize_field(const std::string& bytes) {
         n.child = r.u32("nodes");
         n.axis = r.u8("nodes");
     }
-    SpatialTree tree;
     try {
-        tree = SpatialTree::from_nodes(bounds, std::move(nodes));
+        return SpatialTree::from_nodes(bounds, std::move(nodes));
     } catch (const std::invalid_argument& e) {
         throw FieldFormatError(std::string("invalid guiding field: ") + e.what());
     }
+}
+
+std::string leaf_error(uint32_t l, const std::string& what) {
+    return "guiding field leaf " + std::to_string(l) + what;
+}
+
+bool read_flag(Reader& r, uint32_t l) {
+    const uint8_t flag = r.u8("leaves");
+    if (flag > 1) throw FieldFormatError(leaf_error(l, " has an invalid flag"));
+    return flag == 1;
+}
+
+// Leaf l's VMM record, read in place from `vmm_in` (a stream over the whole file) at the reader's position.
+void read_leaf_vmm(Reader& r, std::istringstream& vmm_in, uint32_t l, Vmm& vmm) {
+    vmm_in.seekg(std::streamoff(r.pos));
+    try {
+        vmm = read_vmm<kVmmMaxLobes>(vmm_in);
+    } catch (const VmmFormatError& e) {
+        throw FieldFormatError(leaf_error(l, ": ") + e.what());
+    }
+    r.pos = size_t(vmm_in.tellg());
+    if (r.pos > r.end) throw FieldFormatError("truncated guiding field (in leaf VMMs)");
+    if (vmm.size() == 0) throw FieldFormatError(leaf_error(l, " is empty"));
+}
+
+void read_leaf(Reader& r, std::istringstream& vmm_in, uint32_t version, uint32_t l, GuidingLeaf& leaf) {
+    for (int c = 0; c < 3; ++c) {
+        leaf.fluence[c] = r.f32("leaves");
+        if (!(leaf.fluence[c] >= 0.f) || !std::isfinite(leaf.fluence[c]))
+            throw FieldFormatError(leaf_error(l, " has an invalid fluence"));
+    }
+    leaf.samples = r.u32("leaves");
+    if (version >= 3) {
+        leaf.medium_fraction = r.f32("leaves");
+        if (!(leaf.medium_fraction <= 1.f) || std::isnan(leaf.medium_fraction))
+            throw FieldFormatError(leaf_error(l, " has an invalid medium fraction"));
+        if (leaf.medium_fraction < 0.f) leaf.medium_fraction = -1.f;
+    }
+    leaf.valid = read_flag(r, l);
+    if (leaf.valid) read_leaf_vmm(r, vmm_in, l, leaf.vmm);
+    leaf.valid_indirect = read_flag(r, l);
+    if (leaf.valid_indirect) read_leaf_vmm(r, vmm_in, l, leaf.vmm_indirect);
+}
+
+}  // namespace
+
+GuidingField deserialize_field(const std::string& bytes) {
+    uint32_t version = 0;
+    Reader r = open_body(bytes, version);
+    SpatialTree tree = read_tree(r);
     const uint32_t leaf_count = r.u32("leaf count");
     if (int64_t(leaf_count) != tree.leaf_count())
         throw FieldFormatError("guiding field has " + std::to_string(leaf_count) + " leaves, its tree " +
@@ -129,43 +183,7 @@ GuidingField deserialize_field(const std::string& bytes) {
     r.need(size_t(leaf_count) * min_leaf_bytes(version), "leaves");
     std::vector<GuidingLeaf> leaves(leaf_count);
     std::istringstream vmm_in(bytes);  // VMM records are read in place
-    for (uint32_t l = 0; l < leaf_count; ++l) {
-        GuidingLeaf& leaf = leaves[l];
-        for (int c = 0; c < 3; ++c) {
-            leaf.fluence[c] = r.f32("leaves");
-            if (!(leaf.fluence[c] >= 0.f) || !std::isfinite(leaf.fluence[c]))
-                throw FieldFormatError("guiding field leaf " + std::to_string(l) + " has an invalid fluence");
-        }
-        leaf.samples = r.u32("leaves");
-        if (version >= 3) {
-            leaf.medium_fraction = r.f32("leaves");
-            if (!(leaf.medium_fraction <= 1.f) || std::isnan(leaf.medium_fraction))
-                throw FieldFormatError("guiding field leaf " + std::to_string(l) + " has an invalid medium fraction");
-            if (leaf.medium_fraction < 0.f) leaf.medium_fraction = -1.f;
-        }
-        const uint8_t valid = r.u8("leaves");
-        if (valid > 1)
-            throw FieldFormatError("guiding field leaf " + std::to_string(l) + " has an invalid flag");
-        auto read_leaf_vmm = [&](Vmm& vmm) {
-            vmm_in.seekg(std::streamoff(r.pos));
-            try {
-                vmm = read_vmm<kVmmMaxLobes>(vmm_in);
-            } catch (const VmmFormatError& e) {
-                throw FieldFormatError("guiding field leaf " + std::to_string(l) + ": " + e.what());
-            }
-            r.pos = size_t(vmm_in.tellg());
-            if (r.pos > r.end) throw FieldFormatError("truncated guiding field (in leaf VMMs)");
-            if (vmm.size() == 0)
-                throw FieldFormatError("guiding field leaf " + std::to_string(l) + " is empty");
-        };
-        leaf.valid = valid == 1;
-        if (leaf.valid) read_leaf_vmm(leaf.vmm);
-        const uint8_t valid_indirect = r.u8("leaves");
-        if (valid_indirect > 1)
-            throw FieldFormatError("guiding field leaf " + std::to_string(l) + " has an invalid flag");
-        leaf.valid_indirect = valid_indirect == 1;
-        if (leaf.valid_indirect) read_leaf_vmm(leaf.vmm_indirect);
-    }
+    for (uint32_t l = 0; l < leaf_count; ++l) read_leaf(r, vmm_in, version, l, leaves[l]);
     if (r.pos != r.end) throw FieldFormatError("guiding field has trailing data");
     return GuidingField(std::move(tree), std::move(leaves));
 }

@@ -39,6 +39,121 @@ T get(const std::string& in, size_t& at) {
     return v;
 }
 
+constexpr size_t kShares = kSelectionShares.size();
+
+// One region's second moments for one decision, in double (from exact sums: the same for any
+// order of the samples), and the share chosen for it.
+struct Entry {
+    std::array<double, kShares> m{};
+    double current = 0.0;
+    double count = 0.0;
+    bool learned = false;
+    size_t chosen = 0;
+};
+using Entries = std::vector<std::array<Entry, kSelectionDecisions>>;
+using PerDecision = std::array<std::array<double, kShares>, kSelectionDecisions>;
+
+// The pilot's moments per region and decision, each at the default share; `pooled`: their sum over
+// the regions.
+Entries gather_entries(const SelectionStatistics& stats, const SelectionSettings& settings,
+                       const std::array<float, kSelectionDecisions>& default_share, PerDecision& pooled) {
+    std::array<size_t, kSelectionDecisions> default_index{};
+    for (int d = 0; d < kSelectionDecisions; ++d)
+        default_index[size_t(d)] = nearest_share(default_share[size_t(d)]);
+    Entries entries(stats.regions());
+    pooled = {};
+    for (size_t r = 0; r < entries.size(); ++r)
+        for (int d = 0; d < kSelectionDecisions; ++d) {
+            const SelectionStatistics::Moments& mo = stats.moments(SelectionDecision(d), r);
+            Entry& e = entries[r][size_t(d)];
+            for (size_t k = 0; k < kShares; ++k) e.m[k] = mo.m[k].value();
+            e.current = mo.current.value();
+            e.count = double(mo.count);
+            e.learned = mo.count >= uint64_t(std::max(1, settings.min_samples));
+            e.chosen = default_index[size_t(d)];
+            for (size_t k = 0; k < kShares; ++k) pooled[size_t(d)][k] += e.m[k];
+        }
+    return entries;
+}
+
+// Shrinkage: a region's second moments come from few samples of a heavy-tailed quantity, so
+// which regions look important is largely which ones happened to catch the rare large
+// contributions (at 2 spp, thin's distance decisions were switched off in 207 of 217 regions
+// against their cost, and relMSE doubled, while the model's prediction for all regions
+// together was right). Each region's mean per decision is pulled towards the mean pooled over
+// all regions, with the weight of prior_samples pilot decisions: few samples follow the scene's
+// overall verdict, many follow their own.
+void shrink_towards_pooled(Entries& entries, const PerDecision& pooled, float prior_samples) {
+    const double n0 = std::max(0.f, prior_samples);
+    std::array<double, kSelectionDecisions> pooled_count{};
+    for (const auto& region : entries)
+        for (int d = 0; d < kSelectionDecisions; ++d) pooled_count[size_t(d)] += region[size_t(d)].count;
+    for (auto& region : entries)
+        for (int d = 0; d < kSelectionDecisions; ++d) {
+            Entry& e = region[size_t(d)];
+            if (!(pooled_count[size_t(d)] > 0.0) || !(e.count > 0.0)) continue;
+            for (size_t k = 0; k < kShares; ++k) {
+                const double prior = pooled[size_t(d)][k] / pooled_count[size_t(d)];
+                e.m[k] = e.count * (e.m[k] + n0 * prior) / (e.count + n0);
+            }
+        }
+    for (auto& region : entries)
+        for (Entry& e : region)
+            if (e.learned) e.chosen = size_t(std::min_element(e.m.begin(), e.m.end()) - e.m.begin());
+}
+
+// Each learned entry takes argmin_a M_r(a) / V + n_r kappa [a > 0] / T (selection.h); T, the cost in
+// decisions, depends on the shares chosen, hence three rounds.
+void choose_with_cost(Entries& entries, const SelectionStatistics& stats, const SelectionSettings& settings) {
+    auto cost_of = [&](int d, size_t k, double count) {
+        return count * (kSelectionShares[k] > 0.f ? double(settings.kappa[size_t(d)]) : 0.0);
+    };
+    for (int iteration = 0; iteration < 3; ++iteration) {
+        const double V = stats.camera_moment();
+        double T = double(stats.unrecorded_decisions());
+        for (const auto& region : entries)
+            for (int d = 0; d < kSelectionDecisions; ++d) {
+                const Entry& e = region[size_t(d)];
+                T += e.count + cost_of(d, e.chosen, e.count);
+            }
+        if (!(V > 0.0) || !(T > 0.0)) break;
+        for (auto& region : entries)
+            for (int d = 0; d < kSelectionDecisions; ++d) {
+                Entry& e = region[size_t(d)];
+                if (!e.learned) continue;
+                double best = std::numeric_limits<double>::infinity();
+                for (size_t k = 0; k < kShares; ++k) {
+                    const double value = e.m[k] / V + cost_of(d, k, e.count) / T;
+                    if (value < best) {
+                        best = value;
+                        e.chosen = k;
+                    }
+                }
+            }
+    }
+}
+
+// Region r's learned shares, and guided RR/splitting switched off at the stages where its estimate
+// and the measured radiance disagree by more than rrs_ratio.
+LearnedSelection::Region fitted_region(const std::array<Entry, kSelectionDecisions>& entries,
+                                       const SelectionStatistics& stats, size_t r,
+                                       const SelectionSettings& settings) {
+    LearnedSelection::Region region;
+    for (int d = 0; d < kSelectionDecisions; ++d) {
+        const Entry& e = entries[size_t(d)];
+        if (e.learned) region.share[size_t(d)] = kSelectionShares[e.chosen];
+    }
+    const double ratio = double(settings.rrs_ratio);
+    for (int s = 0; s < kSelectionStages && ratio >= 1.0; ++s) {
+        const SelectionStatistics::Calibration& c = stats.calibration(s, r);
+        if (c.count < uint64_t(std::max(1, settings.min_samples))) continue;
+        const double est = c.estimate.value(), meas = c.measured.value();
+        const bool agrees = est > 0.0 && meas >= est / ratio && meas <= est * ratio;
+        region.rrs[size_t(s)] = agrees ? 1 : 0;
+    }
+    return region;
+}
+
 }  // namespace
 
 void ExactSum::add_words(uint64_t hi, uint64_t lo) {
@@ -58,7 +173,9 @@ ExactSum& ExactSum::operator+=(const ExactSum& o) {
     return *this;
 }
 
-double ExactSum::value() const { return (double(hi_) * kTwo64 + double(lo_)) / kFixedScale; }
+double ExactSum::value() const {
+    return (double(hi_) * kTwo64 + double(lo_)) / kFixedScale;
+}
 
 SelectionStatistics::SelectionStatistics(size_t regions) : moments_(regions), calibration_(regions) {}
 
@@ -96,7 +213,8 @@ SelectionStatistics& SelectionStatistics::operator+=(const SelectionStatistics& 
         moments_.resize(o.moments_.size());
         calibration_.resize(o.calibration_.size());
     }
-    if (o.moments_.size() != moments_.size()) throw std::logic_error("SelectionStatistics: different region counts");
+    if (o.moments_.size() != moments_.size())
+        throw std::logic_error("SelectionStatistics: different region counts");
     for (size_t r = 0; r < moments_.size(); ++r) {
         for (int d = 0; d < kSelectionDecisions; ++d) {
             Moments& a = moments_[r][size_t(d)];
@@ -121,101 +239,14 @@ SelectionStatistics& SelectionStatistics::operator+=(const SelectionStatistics& 
 
 LearnedSelection LearnedSelection::fit(const SelectionStatistics& stats, const SelectionSettings& settings,
                                        const std::array<float, kSelectionDecisions>& default_share) {
+    PerDecision pooled;  // sum over regions of M(share k)
+    Entries entries = gather_entries(stats, settings, default_share, pooled);
+    shrink_towards_pooled(entries, pooled, settings.prior_samples);
+    choose_with_cost(entries, stats, settings);
     LearnedSelection out;
-    const size_t R = stats.regions();
-    out.regions_.resize(R);
-    constexpr size_t K = kSelectionShares.size();
-    std::array<size_t, kSelectionDecisions> default_index{};
-    for (int d = 0; d < kSelectionDecisions; ++d) default_index[size_t(d)] = nearest_share(default_share[size_t(d)]);
-
-    // Second moments in double (from exact sums: the same for any order of the samples).
-    struct Entry {
-        std::array<double, K> m{};
-        double current = 0.0;
-        double count = 0.0;
-        bool learned = false;
-        size_t chosen = 0;
-    };
-    std::vector<std::array<Entry, kSelectionDecisions>> entries(R);
-    std::array<std::array<double, K>, kSelectionDecisions> pooled{};  // sum over regions of M(share k)
-    for (size_t r = 0; r < R; ++r)
-        for (int d = 0; d < kSelectionDecisions; ++d) {
-            const SelectionStatistics::Moments& mo = stats.moments(SelectionDecision(d), r);
-            Entry& e = entries[r][size_t(d)];
-            for (size_t k = 0; k < K; ++k) e.m[k] = mo.m[k].value();
-            e.current = mo.current.value();
-            e.count = double(mo.count);
-            e.learned = mo.count >= uint64_t(std::max(1, settings.min_samples));
-            e.chosen = default_index[size_t(d)];
-            for (size_t k = 0; k < K; ++k) pooled[size_t(d)][k] += e.m[k];
-        }
-    // Shrinkage: a region's second moments come from few samples of a heavy-tailed quantity, so
-    // which regions look important is largely which ones happened to catch the rare large
-    // contributions (at 2 spp, thin's distance decisions were switched off in 207 of 217 regions
-    // against their cost, and relMSE doubled, while the model's prediction for all regions
-    // together was right). Each region's mean per decision is pulled towards the mean pooled over
-    // all regions, with the weight of prior_samples pilot decisions: few samples follow the scene's
-    // overall verdict, many follow their own.
-    const double n0 = std::max(0.f, settings.prior_samples);
-    std::array<double, kSelectionDecisions> pooled_count{};
-    for (size_t r = 0; r < R; ++r)
-        for (int d = 0; d < kSelectionDecisions; ++d) pooled_count[size_t(d)] += entries[r][size_t(d)].count;
-    for (size_t r = 0; r < R; ++r)
-        for (int d = 0; d < kSelectionDecisions; ++d) {
-            Entry& e = entries[r][size_t(d)];
-            if (!(pooled_count[size_t(d)] > 0.0) || !(e.count > 0.0)) continue;
-            for (size_t k = 0; k < K; ++k) {
-                const double prior = pooled[size_t(d)][k] / pooled_count[size_t(d)];
-                e.m[k] = e.count * (e.m[k] + n0 * prior) / (e.count + n0);
-            }
-        }
-    for (size_t r = 0; r < R; ++r)
-        for (int d = 0; d < kSelectionDecisions; ++d) {
-            Entry& e = entries[r][size_t(d)];
-            if (e.learned) e.chosen = size_t(std::min_element(e.m.begin(), e.m.end()) - e.m.begin());
-        }
-
-    auto cost_of = [&](int d, size_t k, double count) {
-        return count * (kSelectionShares[k] > 0.f ? double(settings.kappa[size_t(d)]) : 0.0);
-    };
-    for (int iteration = 0; iteration < 3; ++iteration) {
-        const double V = stats.camera_moment();
-        double T = double(stats.unrecorded_decisions());
-        for (size_t r = 0; r < R; ++r)
-            for (int d = 0; d < kSelectionDecisions; ++d) {
-                const Entry& e = entries[r][size_t(d)];
-                T += e.count + cost_of(d, e.chosen, e.count);
-            }
-        if (!(V > 0.0) || !(T > 0.0)) break;
-        for (size_t r = 0; r < R; ++r)
-            for (int d = 0; d < kSelectionDecisions; ++d) {
-                Entry& e = entries[r][size_t(d)];
-                if (!e.learned) continue;
-                double best = std::numeric_limits<double>::infinity();
-                for (size_t k = 0; k < K; ++k) {
-                    const double value = e.m[k] / V + cost_of(d, k, e.count) / T;
-                    if (value < best) {
-                        best = value;
-                        e.chosen = k;
-                    }
-                }
-            }
-    }
-    const double ratio = double(settings.rrs_ratio);
-    for (size_t r = 0; r < R; ++r) {
-        Region& region = out.regions_[r];
-        for (int d = 0; d < kSelectionDecisions; ++d) {
-            const Entry& e = entries[r][size_t(d)];
-            if (e.learned) region.share[size_t(d)] = kSelectionShares[e.chosen];
-        }
-        for (int s = 0; s < kSelectionStages && ratio >= 1.0; ++s) {
-            const SelectionStatistics::Calibration& c = stats.calibration(s, r);
-            if (c.count < uint64_t(std::max(1, settings.min_samples))) continue;
-            const double est = c.estimate.value(), meas = c.measured.value();
-            const bool agrees = est > 0.0 && meas >= est / ratio && meas <= est * ratio;
-            region.rrs[size_t(s)] = agrees ? 1 : 0;
-        }
-    }
+    out.regions_.resize(entries.size());
+    for (size_t r = 0; r < entries.size(); ++r)
+        out.regions_[r] = fitted_region(entries[r], stats, r, settings);
     out.update_learned();
     return out;
 }

@@ -81,10 +81,10 @@ AxisMap axis_aligned_map(const std::string& path, const std::string& grid_name,
     return a;
 }
 
+// The active voxel bounding box's size, checked against the dense grid's limits and the memory budget.
 template <typename GridT>
-GridData densify(const std::string& path, const GridT& grid, int channels) {
-    using ValueT = typename GridT::ValueType;
-    const openvdb::CoordBBox box = grid.evalActiveVoxelBoundingBox();
+std::array<int64_t, 3> dense_dimensions(const std::string& path, const GridT& grid,
+                                        const openvdb::CoordBBox& box, int channels) {
     if (grid.activeVoxelCount() == 0 || box.empty())
         vdb_fail(path, fmt::format("grid \"{}\" is empty (it has no active voxels)", grid.getName()));
     const openvdb::Coord lo = box.min(), hi = box.max();
@@ -100,19 +100,16 @@ GridData densify(const std::string& path, const GridT& grid, int channels) {
     // dense copy is bounded by the machine's memory instead of the file's size.
     const uint64_t have = memory_budget_bytes();
     if (have > 0 && count * sizeof(float) > have)
-        vdb_fail(path, fmt::format("grid \"{}\" densifies to {}x{}x{} voxels ({}), more than {}", grid.getName(),
-                                   dim[0], dim[1], dim[2], format_bytes(count * sizeof(float)),
-                                   memory_budget_description()));
+        vdb_fail(path, fmt::format("grid \"{}\" densifies to {}x{}x{} voxels ({}), more than {}",
+                                   grid.getName(), dim[0], dim[1], dim[2],
+                                   format_bytes(count * sizeof(float)), memory_budget_description()));
+    return dim;
+}
 
-    const AxisMap map = axis_aligned_map(path, grid.getName(), grid.transform());
-    GridData g;
-    g.nx = int(dim[0]);
-    g.ny = int(dim[1]);
-    g.nz = int(dim[2]);
-    g.channels = channels;
-    g.values.resize(count);
-    // Cell extent in world space; a negative scale reverses the axis, so the dense data is flipped.
-    std::array<bool, 3> flip;
+// Cell extent in world space of the index box [lo - 0.5, hi + 0.5]; a negative scale reverses the
+// axis, so the dense data is flipped along it.
+BBox3f dense_world_box(const openvdb::CoordBBox& box, const AxisMap& map, std::array<bool, 3>& flip) {
+    const openvdb::Coord lo = box.min(), hi = box.max();
     float world_lo[3], world_hi[3];
     for (int i = 0; i < 3; ++i) {
         const double a = (double(lo[i]) - 0.5) * map.scale[i] + map.offset[i];
@@ -121,58 +118,101 @@ GridData densify(const std::string& path, const GridT& grid, int channels) {
         world_lo[i] = float(std::min(a, b));
         world_hi[i] = float(std::max(a, b));
     }
-    g.bbox = BBox3f(Point3f(world_lo[0], world_lo[1], world_lo[2]),
-                    Point3f(world_hi[0], world_hi[1], world_hi[2]));
+    return BBox3f(Point3f(world_lo[0], world_lo[1], world_lo[2]),
+                  Point3f(world_hi[0], world_hi[1], world_hi[2]));
+}
 
-    // The background everywhere, then the active voxels and tiles. Runs of one value (the whole
-    // array, a tile's rows) are written as one voxel and then doubled with memcpy: per-voxel work
-    // beyond that is O(active voxels). Fuzz findings: probing every dense voxel, then even a plain
-    // loop filling a grid near the memory budget, took > 10 s under the fuzzer's instrumentation
-    // (ASan, coverage counters per iteration); memcpy is one call per run there too.
-    auto set_voxel = [&](float* out, const ValueT& v) {
+// Writes a grid's values into GridData::values: the background everywhere, then the active voxels
+// and tiles. Runs of one value (the whole array, a tile's rows) are written as one voxel and then
+// doubled with memcpy: per-voxel work beyond that is O(active voxels). Fuzz findings: probing every
+// dense voxel, then even a plain loop filling a grid near the memory budget, took > 10 s under the
+// fuzzer's instrumentation (ASan, coverage counters per iteration); memcpy is one call per run there too.
+template <typename ValueT>
+class DenseWriter {
+  public:
+    DenseWriter(GridData& g, const openvdb::Coord& lo, const std::array<bool, 3>& flip)
+        : g_(g), lo_(lo), flip_(flip), channels_(size_t(g.channels)) {}
+
+    void fill(const ValueT& background) {
+        set_voxel(g_.values.data(), background);
+        repeat_voxel(g_.values.data(), size_t(g_.nx) * size_t(g_.ny) * size_t(g_.nz));
+    }
+
+    void voxel(const openvdb::Coord& c, const ValueT& v) {
+        set_voxel(
+            &g_.values[index(int64_t(c.x()) - lo_.x(), int64_t(c.y()) - lo_.y(), int64_t(c.z()) - lo_.z())],
+            v);
+    }
+
+    // One row of the tile along x (contiguous, reversed when x is flipped), then the others.
+    void tile(const openvdb::CoordBBox& tile, const ValueT& v) {
+        const int64_t x0 = int64_t(tile.min().x()) - lo_.x(), x1 = int64_t(tile.max().x()) - lo_.x();
+        const size_t row = size_t(x1 - x0 + 1);
+        auto row_start = [&](int64_t y, int64_t z) { return index(flip_[0] ? x1 : x0, y, z); };
+        const int64_t y0 = int64_t(tile.min().y()) - lo_.y(), z0 = int64_t(tile.min().z()) - lo_.z();
+        float* first = &g_.values[row_start(y0, z0)];
+        set_voxel(first, v);
+        repeat_voxel(first, row);
+        for (int64_t z = z0; z <= int64_t(tile.max().z()) - lo_.z(); ++z)
+            for (int64_t y = y0; y <= int64_t(tile.max().y()) - lo_.y(); ++y)
+                if (y != y0 || z != z0)
+                    std::memcpy(&g_.values[row_start(y, z)], first, row * channels_ * sizeof(float));
+    }
+
+  private:
+    static void set_voxel(float* out, const ValueT& v) {
         if constexpr (std::is_same_v<ValueT, float>) {
             out[0] = v;
         } else {
             for (int c = 0; c < 3; ++c) out[c] = float(v[c]);
         }
-    };
+    }
     // out[0, channels) holds a voxel; copies it to fill out[0, voxels * channels).
-    auto repeat_voxel = [&](float* out, size_t voxels) {
-        const size_t total = voxels * size_t(channels);
-        for (size_t done = size_t(channels); done < total;) {
+    void repeat_voxel(float* out, size_t voxels) const {
+        const size_t total = voxels * channels_;
+        for (size_t done = channels_; done < total;) {
             const size_t n = std::min(done, total - done);
             std::memcpy(out + done, out, n * sizeof(float));
             done += n;
         }
-    };
-    auto index = [&](int64_t x, int64_t y, int64_t z) {  // x, y, z relative to lo
-        const int64_t ix = flip[0] ? g.nx - 1 - x : x, iy = flip[1] ? g.ny - 1 - y : y, iz = flip[2] ? g.nz - 1 - z : z;
-        return ((size_t(iz) * size_t(g.ny) + size_t(iy)) * size_t(g.nx) + size_t(ix)) * size_t(channels);
-    };
-    set_voxel(g.values.data(), grid.background());
-    repeat_voxel(g.values.data(), size_t(g.nx) * size_t(g.ny) * size_t(g.nz));
+    }
+    size_t index(int64_t x, int64_t y, int64_t z) const {  // x, y, z relative to lo
+        const int64_t ix = flip_[0] ? g_.nx - 1 - x : x, iy = flip_[1] ? g_.ny - 1 - y : y,
+                      iz = flip_[2] ? g_.nz - 1 - z : z;
+        return ((size_t(iz) * size_t(g_.ny) + size_t(iy)) * size_t(g_.nx) + size_t(ix)) * channels_;
+    }
+
+    GridData& g_;
+    const openvdb::Coord lo_;
+    const std::array<bool, 3> flip_;
+    const size_t channels_;
+};
+
+template <typename GridT>
+GridData densify(const std::string& path, const GridT& grid, int channels) {
+    const openvdb::CoordBBox box = grid.evalActiveVoxelBoundingBox();
+    const std::array<int64_t, 3> dim = dense_dimensions(path, grid, box, channels);
+    const AxisMap map = axis_aligned_map(path, grid.getName(), grid.transform());
+    GridData g;
+    g.nx = int(dim[0]);
+    g.ny = int(dim[1]);
+    g.nz = int(dim[2]);
+    g.channels = channels;
+    g.values.resize(uint64_t(dim[0]) * uint64_t(dim[1]) * uint64_t(dim[2]) * uint64_t(channels));
+    std::array<bool, 3> flip;
+    g.bbox = dense_world_box(box, map, flip);
+
+    DenseWriter<typename GridT::ValueType> writer(g, box.min(), flip);
+    writer.fill(grid.background());
     for (auto it = grid.cbeginValueOn(); it; ++it) {
-        const ValueT v = *it;
         if (it.isVoxelValue()) {
-            const openvdb::Coord c = it.getCoord();
-            set_voxel(&g.values[index(int64_t(c.x()) - lo.x(), int64_t(c.y()) - lo.y(), int64_t(c.z()) - lo.z())], v);
+            writer.voxel(it.getCoord(), *it);
             continue;
         }
         openvdb::CoordBBox tile;
         it.getBoundingBox(tile);
         tile.intersect(box);  // inside the active box by construction; clipped all the same
-        if (tile.empty()) continue;
-        // One row of the tile along x (contiguous, reversed when x is flipped), then the others.
-        const int64_t x0 = int64_t(tile.min().x()) - lo.x(), x1 = int64_t(tile.max().x()) - lo.x();
-        const size_t row = size_t(x1 - x0 + 1);
-        auto row_start = [&](int64_t y, int64_t z) { return index(flip[0] ? x1 : x0, y, z); };
-        const int64_t y0 = int64_t(tile.min().y()) - lo.y(), z0 = int64_t(tile.min().z()) - lo.z();
-        float* first = &g.values[row_start(y0, z0)];
-        set_voxel(first, v);
-        repeat_voxel(first, row);
-        for (int64_t z = z0; z <= int64_t(tile.max().z()) - lo.z(); ++z)
-            for (int64_t y = y0; y <= int64_t(tile.max().y()) - lo.y(); ++y)
-                if (y != y0 || z != z0) std::memcpy(&g.values[row_start(y, z)], first, row * channels * sizeof(float));
+        if (!tile.empty()) writer.tile(tile, *it);
     }
     return g;
 }

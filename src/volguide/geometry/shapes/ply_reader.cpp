@@ -220,110 +220,134 @@ int find_prop(const Element& e, std::initializer_list<const char*> names) {
     return -1;
 }
 
+// The texture coordinates' properties under the first of the usual name pairs the element has both of.
+std::pair<int, int> find_uv_props(const Element& e) {
+    int iu = -1, iv = -1;
+    const std::pair<const char*, const char*> uv_names[] = {
+        {"u", "v"}, {"texture_u", "texture_v"}, {"s", "t"}, {"texture_s", "texture_t"}};
+    for (const auto& [un, vn] : uv_names)
+        if (iu < 0 || iv < 0) {
+            iu = find_prop(e, {un});
+            iv = find_prop(e, {vn});
+        }
+    return {iu, iv};
+}
+
+void read_vertices(BodyReader& reader, const Element& e, TriangleMesh& mesh) {
+    std::vector<double> values(e.props.size(), 0.0);
+    int ix = find_prop(e, {"x"}), iy = find_prop(e, {"y"}), iz = find_prop(e, {"z"});
+    if (ix < 0 || iy < 0 || iz < 0) ply_fail("vertex element lacks x, y or z");
+    int inx = find_prop(e, {"nx"}), iny = find_prop(e, {"ny"}), inz = find_prop(e, {"nz"});
+    bool normals = inx >= 0 && iny >= 0 && inz >= 0;
+    const auto [iu, iv] = find_uv_props(e);
+    bool uvs = iu >= 0 && iv >= 0;
+    mesh.positions.reserve(e.count + 1);
+    for (size_t i = 0; i < e.count; ++i) {
+        for (size_t k = 0; k < e.props.size(); ++k) {
+            const Property& p = e.props[k];
+            if (p.is_list) {
+                size_t n = reader.read_count(p);
+                for (size_t j = 0; j < n; ++j) reader.read(p.type);
+            } else {
+                values[k] = reader.read(p.type);
+            }
+        }
+        mesh.positions.emplace_back(float(values[ix]), float(values[iy]), float(values[iz]));
+        if (normals) mesh.normals.emplace_back(float(values[inx]), float(values[iny]), float(values[inz]));
+        if (uvs) mesh.uvs.emplace_back(float(values[iu]), float(values[iv]));
+    }
+}
+
+// Face `face`'s index list of n entries: a triangle, or a quad split along its 0-2 diagonal.
+void read_face_indices(BodyReader& reader, const Property& p, size_t face, size_t n, TriangleMesh& mesh) {
+    if (n != 3 && n != 4)
+        ply_fail(fmt::format("face {} has {} vertices (only triangles and quads are supported)", face, n));
+    uint32_t idx[4];
+    for (size_t j = 0; j < n; ++j) {
+        double v = reader.read(p.type);
+        if (!(v >= 0.0) || v >= 4294967295.0)
+            ply_fail(fmt::format("face {} has an invalid vertex index {}", face, v));
+        idx[j] = uint32_t(v);
+    }
+    mesh.indices.insert(mesh.indices.end(), {idx[0], idx[1], idx[2]});
+    if (n == 4) mesh.indices.insert(mesh.indices.end(), {idx[0], idx[2], idx[3]});
+}
+
+void read_faces(BodyReader& reader, const Element& e, TriangleMesh& mesh) {
+    int list = -1;
+    for (const char* name : {"vertex_indices", "vertex_index"})
+        for (size_t k = 0; k < e.props.size() && list < 0; ++k)
+            if (e.props[k].is_list && e.props[k].name == name) list = int(k);
+    if (list < 0) ply_fail("face element has no vertex_indices/vertex_index list");
+    mesh.indices.reserve(3 * e.count + 1);
+    for (size_t i = 0; i < e.count; ++i) {
+        for (size_t k = 0; k < e.props.size(); ++k) {
+            const Property& p = e.props[k];
+            if (!p.is_list) {
+                reader.read(p.type);
+                continue;
+            }
+            size_t n = reader.read_count(p);
+            if (int(k) != list) {
+                for (size_t j = 0; j < n; ++j) reader.read(p.type);
+                continue;
+            }
+            read_face_indices(reader, p, i, n, mesh);
+        }
+    }
+}
+
+// Entries without properties hold no bytes (their count is not bounded by the file: a fuzzed
+// header's 8.9e15 of them took this loop minutes to skip), so only elements with properties are read.
+void skip_element(BodyReader& reader, const Element& e) {
+    if (e.props.empty()) return;
+    for (size_t i = 0; i < e.count; ++i)
+        for (const Property& p : e.props) {
+            size_t n = p.is_list ? reader.read_count(p) : 1;
+            for (size_t j = 0; j < n; ++j) reader.read(p.type);
+        }
+}
+
+TriangleMesh parse_ply(const std::string& data) {
+    TriangleMesh mesh;
+    Format fmt = Format::Ascii;
+    size_t body = 0;
+    std::vector<Element> elements = parse_header(data, fmt, body);
+    check_counts_fit(elements, data.size() - body);
+    BodyReader reader(data, body, fmt);
+    bool have_vertices = false, have_faces = false;
+    for (const Element& e : elements) {
+        if (e.name == "vertex") {
+            read_vertices(reader, e, mesh);
+            have_vertices = true;
+        } else if (e.name == "face") {
+            read_faces(reader, e, mesh);
+            have_faces = true;
+        } else {
+            skip_element(reader, e);
+        }
+    }
+    reader.finish();
+    if (!have_vertices) ply_fail("no vertex element");
+    if (!have_faces) ply_fail("no face element");
+    for (uint32_t i : mesh.indices)
+        if (i >= mesh.positions.size())
+            ply_fail(
+                fmt::format("a face refers to vertex {} but there are only {}", i, mesh.positions.size()));
+    return mesh;
+}
+
 }  // namespace
 
 TriangleMesh read_ply(const std::string& path, const SourceLocation& loc) {
     std::ifstream in(path, std::ios::binary);
     if (!in) fail(loc, "error while loading PLY file \"{}\": cannot open the file", path);
     std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-
-    TriangleMesh mesh;
     try {
-        Format fmt = Format::Ascii;
-        size_t body = 0;
-        std::vector<Element> elements = parse_header(data, fmt, body);
-        check_counts_fit(elements, data.size() - body);
-        BodyReader reader(data, body, fmt);
-        bool have_vertices = false, have_faces = false;
-        std::vector<double> values;
-        for (const Element& e : elements) {
-            values.assign(e.props.size(), 0.0);
-            if (e.name == "vertex") {
-                int ix = find_prop(e, {"x"}), iy = find_prop(e, {"y"}), iz = find_prop(e, {"z"});
-                if (ix < 0 || iy < 0 || iz < 0) ply_fail("vertex element lacks x, y or z");
-                int inx = find_prop(e, {"nx"}), iny = find_prop(e, {"ny"}), inz = find_prop(e, {"nz"});
-                bool normals = inx >= 0 && iny >= 0 && inz >= 0;
-                int iu = -1, iv = -1;
-                const std::pair<const char*, const char*> uv_names[] = {
-                    {"u", "v"}, {"texture_u", "texture_v"}, {"s", "t"}, {"texture_s", "texture_t"}};
-                for (const auto& [un, vn] : uv_names)
-                    if (iu < 0 || iv < 0) {
-                        iu = find_prop(e, {un});
-                        iv = find_prop(e, {vn});
-                    }
-                bool uvs = iu >= 0 && iv >= 0;
-                mesh.positions.reserve(e.count + 1);
-                for (size_t i = 0; i < e.count; ++i) {
-                    for (size_t k = 0; k < e.props.size(); ++k) {
-                        const Property& p = e.props[k];
-                        if (p.is_list) {
-                            size_t n = reader.read_count(p);
-                            for (size_t j = 0; j < n; ++j) reader.read(p.type);
-                        } else {
-                            values[k] = reader.read(p.type);
-                        }
-                    }
-                    mesh.positions.emplace_back(float(values[ix]), float(values[iy]), float(values[iz]));
-                    if (normals)
-                        mesh.normals.emplace_back(float(values[inx]), float(values[iny]), float(values[inz]));
-                    if (uvs) mesh.uvs.emplace_back(float(values[iu]), float(values[iv]));
-                }
-                have_vertices = true;
-            } else if (e.name == "face") {
-                int list = -1;
-                for (const char* name : {"vertex_indices", "vertex_index"})
-                    for (size_t k = 0; k < e.props.size() && list < 0; ++k)
-                        if (e.props[k].is_list && e.props[k].name == name) list = int(k);
-                if (list < 0) ply_fail("face element has no vertex_indices/vertex_index list");
-                mesh.indices.reserve(3 * e.count + 1);
-                uint32_t idx[4];
-                for (size_t i = 0; i < e.count; ++i) {
-                    for (size_t k = 0; k < e.props.size(); ++k) {
-                        const Property& p = e.props[k];
-                        if (!p.is_list) {
-                            reader.read(p.type);
-                            continue;
-                        }
-                        size_t n = reader.read_count(p);
-                        if (int(k) != list) {
-                            for (size_t j = 0; j < n; ++j) reader.read(p.type);
-                            continue;
-                        }
-                        if (n != 3 && n != 4)
-                            ply_fail(fmt::format(
-                                "face {} has {} vertices (only triangles and quads are supported)", i, n));
-                        for (size_t j = 0; j < n; ++j) {
-                            double v = reader.read(p.type);
-                            if (!(v >= 0.0) || v >= 4294967295.0)
-                                ply_fail(fmt::format("face {} has an invalid vertex index {}", i, v));
-                            idx[j] = uint32_t(v);
-                        }
-                        mesh.indices.insert(mesh.indices.end(), {idx[0], idx[1], idx[2]});
-                        if (n == 4) mesh.indices.insert(mesh.indices.end(), {idx[0], idx[2], idx[3]});
-                    }
-                }
-                have_faces = true;
-            } else if (!e.props.empty()) {
-                // Entries without properties hold no bytes (their count is not bounded by the file:
-                // a fuzzed header's 8.9e15 of them took this loop minutes to skip).
-                for (size_t i = 0; i < e.count; ++i)
-                    for (const Property& p : e.props) {
-                        size_t n = p.is_list ? reader.read_count(p) : 1;
-                        for (size_t j = 0; j < n; ++j) reader.read(p.type);
-                    }
-            }
-        }
-        reader.finish();
-        if (!have_vertices) ply_fail("no vertex element");
-        if (!have_faces) ply_fail("no face element");
-        for (uint32_t i : mesh.indices)
-            if (i >= mesh.positions.size())
-                ply_fail(fmt::format("a face refers to vertex {} but there are only {}", i,
-                                     mesh.positions.size()));
+        return parse_ply(data);
     } catch (const PlyError& e) {
         fail(loc, "error while loading PLY file \"{}\": {}", path, e.what);
     }
-    return mesh;
 }
 
 }  // namespace volguide
