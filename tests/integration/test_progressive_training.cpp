@@ -112,7 +112,7 @@ std::vector<RadianceSample> trace_paths(const Scene& scene, int spp, uint64_t se
                 const Vec2f u = sampler.next_2d();
                 const Ray ray =
                     scene.sensor().sample_ray(Point2f((x + u.x) / W, (y + u.y) / H), Point2f(0.5f, 0.5f)).first;
-                walk.walk(scene, sampler, ray, &recorder);
+                walk.walk(scene, sampler, ray, nullptr, &recorder);
                 recorder.finish(out);
             }
     return out;

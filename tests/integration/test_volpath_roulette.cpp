@@ -18,7 +18,7 @@
 
 #include "support/volpath_test_util.h"
 #include "volguide/integrators/volpath/volpath.h"
-#include "volguide/integrators/volpath/walk_policy.h"
+#include "volguide/integrators/volpath/path_recorder.h"
 
 using namespace volguide;
 using namespace volguide::test;
@@ -49,8 +49,8 @@ std::unique_ptr<Scene> load_xml(const std::string& xml) {
     return load_scene(dir.write("scene.xml", xml));
 }
 
-// Sees every contribution the walk adds (the analog walk: the default policy decides nothing).
-class MaxContribution final : public WalkPolicy {
+// Sees every contribution the walk adds (a recorder of the analog walk: it decides nothing).
+class MaxContribution final : public PathRecorder {
   public:
     void record_contribution(const Color3& value) override { max = std::max(max, double(value.max_value())); }
     double max = 0;
@@ -67,15 +67,15 @@ SampleStats centre_samples(const Scene& scene, RouletteRule rule, int n) {
     const VolPathIntegrator volpath(settings);
     const Ray ray = scene.sensor().sample_ray(Point2f(0.5f, 0.5f), Point2f(0.5f, 0.5f)).first;
     SampleStats s;
-    MaxContribution policy;
+    MaxContribution recorder;
     for (int i = 0; i < n; ++i) {
         Sampler sampler(7, 0, uint64_t(i));
-        const double v = volpath.walk(scene, sampler, ray, &policy).max_value();
+        const double v = volpath.walk(scene, sampler, ray, nullptr, &recorder).max_value();
         s.mean += v / n;
         s.second_moment += v * v / n;
         s.max = std::max(s.max, v);
     }
-    s.max_contribution = policy.max;
+    s.max_contribution = recorder.max;
     return s;
 }
 

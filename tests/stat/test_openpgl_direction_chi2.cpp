@@ -96,7 +96,7 @@ struct MediumVertex {
         mi.p = Point3f(0.1f, 0.2f, -0.1f);
         mi.wi = normalize(Vec3f(0.4f, -0.5f, 0.3f));
         mi.medium = &medium;
-        policy = std::make_unique<OpenPglWalkPolicy>(settings, ts, field(), false);
+        policy = std::make_unique<OpenPglWalkPolicy>(settings, ts, field());
         Sampler s(3, 0, 0);
         GuideRegion region;
         policy->prepare_direction(mi, region, s);
@@ -117,7 +117,7 @@ TEST_P(OpenPglVolumeChi2, MixtureMatchesItsPdf) {
     ASSERT_EQ(v.ts.guided_medium, 1) << "Open PGL's region lookup failed: the vertex is not guided";
     const ChiSquareResult r = chi2_test_sphere(
         [&](Sampler& s) {
-            const PhaseSample ps = v.policy->sample_direction(v.mi, s);
+            const PhaseSample ps = v.policy->sample_direction(v.mi, s, nullptr);
             return ChiSquareSample{ps.wo, Color3(ps.weight), ps.pdf > 0.f};
         },
         [&](const Vec3f& d) { return double(v.policy->direction_pdf(v.mi, d)); }, options(11),
@@ -134,7 +134,7 @@ TEST(OpenPglVolumeChi2, GuidedSamplesAreNotPhaseSamples) {
     ASSERT_EQ(v.ts.guided_medium, 1);
     const ChiSquareResult r = chi2_test_sphere(
         [&](Sampler& s) {
-            const PhaseSample ps = v.policy->sample_direction(v.mi, s);
+            const PhaseSample ps = v.policy->sample_direction(v.mi, s, nullptr);
             return ChiSquareSample{ps.wo, Color3(1.f), ps.pdf > 0.f};
         },
         [&](const Vec3f& d) { return double(v.medium.phase().pdf(v.mi.wi, d)); }, options(12));
@@ -157,7 +157,7 @@ TEST(OpenPglSurfaceChi2, MixtureWithDiffuseMatchesItsPdf) {
         OpenPglSettings settings;
         settings.bsdf_prob = bsdf_prob;
         OpenPglThreadState ts(&field().field());
-        OpenPglWalkPolicy policy(settings, ts, field(), false);
+        OpenPglWalkPolicy policy(settings, ts, field());
         Sampler prep(5, 0, 0);
         policy.prepare_surface_direction(si, *bsdf, nullptr, prep);
         ASSERT_EQ(ts.guided_surface, 1) << "Open PGL's region lookup failed: the vertex is not guided";
@@ -165,7 +165,7 @@ TEST(OpenPglSurfaceChi2, MixtureWithDiffuseMatchesItsPdf) {
             [&](Sampler& s) {
                 const float u1 = s.next_1d();
                 const Point2f u2 = s.next_2d();
-                const auto [bs, weight] = policy.sample_surface_direction(ctx, si, *bsdf, u1, u2, s);
+                const auto [bs, weight] = policy.sample_surface_direction(ctx, si, *bsdf, u1, u2, s, nullptr);
                 return ChiSquareSample{bs.wo, weight, bs.pdf > 0.f};
             },
             [&](const Vec3f& wo) { return double(policy.surface_direction_pdf(ctx, si, *bsdf, wo)); },

@@ -63,6 +63,41 @@ TEST(OpenPglPathRecorder, SamplesCarryTheIncidentRadianceOverThePdf) {
     }
 }
 
+// The same path reported the way volpath's walk reports it (path_recorder.h): the medium vertex's
+// hit before its direction, the vertex after it, the surface hit that ends the path.
+TEST(OpenPglPathRecorder, WalkReportsMakeTheSameSamples) {
+    OpenPglField field(BBox3f(Point3f(-10.f), Point3f(10.f)), 1, 32000);
+    OpenPglPathRecorder rec;
+    PathRecorder& walk = rec;
+    rec.begin_path();
+    MediumInteraction mi;
+    mi.p = Point3f(0.f);
+    mi.wi = Vec3f(-1.f, 0.f, 0.f);
+    walk.record_medium_hit(mi);
+    walk.record_medium_vertex(mi.p, Vec3f(1.f, 0.f, 0.f), 0.25f, Color3(0.5f));
+    mi.p = Point3f(2.f, 0.f, 0.f);
+    walk.record_medium_hit(mi);
+    walk.record_contribution(Color3(0.1f, 0.05f, 0.02f));
+    walk.record_medium_vertex(mi.p, Vec3f(0.f, 1.f, 0.f), 0.5f, Color3(0.25f));
+    SurfaceInteraction hit;
+    walk.record_surface_hit(hit);  // left the scene: the closing segment goes far along +y
+    walk.record_contribution(Color3(0.05f, 0.04f, 0.01f));
+    rec.end_path(field);
+
+    const openpgl::cpp::SampleStorage& s = field.pending_samples();
+    ASSERT_EQ(s.GetSizeVolume(), 2u);
+    for (size_t i = 0; i < 2; ++i) {
+        const openpgl::cpp::SampleData d = s.GetSampleVolume(int(i));
+        if (d.direction.x > 0.5f) {
+            EXPECT_NEAR(d.weight, 0.3f / 0.25f, 1e-5f);
+            EXPECT_NEAR(d.distance, 2.f, 1e-5f);
+        } else {
+            EXPECT_NEAR(d.weight, 0.2f / 0.5f, 1e-5f);
+            EXPECT_NEAR(d.position.x, 2.f, 1e-6f);
+        }
+    }
+}
+
 #else
 
 TEST(OpenPglPathRecorder, SamplesCarryTheIncidentRadianceOverThePdf) {

@@ -229,8 +229,8 @@ void GuidedVolPathIntegrator::learn_selection(const Scene& scene, const Preproce
         scene, settings_.selection.pilot_spp, guide_->selection_regions(),
         [&](Point2f film_uv) { return pixel_estimate_.at(film_uv); },
         [&](Sampler& sampler, const Ray& ray, SelectionRecorder& recorder) {
-            GuidedWalkPolicy policy(*guide_, nullptr, 0.f, &recorder);
-            return walk_.walk(scene, sampler, ray, &policy);
+            GuidedWalkPolicy policy(*guide_, nullptr, 0.f);
+            return walk_.walk(scene, sampler, ray, &policy, &recorder);
         },
         context);
     guide_->set_selection(LearnedSelection::fit(stats, settings_.selection, guide_->configured_shares()));
@@ -269,11 +269,10 @@ void GuidedVolPathIntegrator::use_given_pixel_estimate() {
 }
 
 Color3 GuidedVolPathIntegrator::guided_walk(const Scene& scene, Sampler& sampler, const Ray& ray, float pixel,
-                                            WalkPolicy* recorder) const {
-    if (!guide_) return walk_.walk(scene, sampler, ray, recorder);
+                                            PathRecorder* recorder) const {
+    if (!guide_) return walk_.walk(scene, sampler, ray, nullptr, recorder);
     GuidedWalkPolicy policy(*guide_, rrs_.get(), pixel);
-    policy.record_training(recorder);
-    return walk_.walk(scene, sampler, ray, &policy);
+    return walk_.walk(scene, sampler, ray, &policy, recorder);
 }
 
 Color3 GuidedVolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const CameraRay& camera) const {
@@ -295,7 +294,7 @@ Color3 GuidedVolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const C
 }
 
 Color3 GuidedVolPathIntegrator::recorded_Li(const Scene& scene, Sampler& sampler, const CameraRay& camera,
-                                            WalkPolicy& recorder) const {
+                                            PathRecorder& recorder) const {
     return guided_walk(scene, sampler, camera.ray, rrs_ ? pixel_estimate_.at(camera.film_uv) : 0.f, &recorder);
 }
 

@@ -37,7 +37,7 @@ public:
     // Li's walk (after preprocess) recording its medium vertices as training samples
     // (training_recorder.h; the caller calls finish): what learning from the render's own guided,
     // split paths reads.
-    Color3 recorded_Li(const Scene& scene, Sampler& sampler, const CameraRay& camera, WalkPolicy& recorder) const;
+    Color3 recorded_Li(const Scene& scene, Sampler& sampler, const CameraRay& camera, PathRecorder& recorder) const;
     void preprocess(const Scene& scene, const PreprocessContext& context) override;
     // Online learning (online_spp > 0): the passes of the first online_spp samples per pixel record;
     // whenever the recorded samples per pixel have doubled since the last update (1, 2, 4, ..., and
@@ -71,7 +71,7 @@ private:
     // The guided walk along ray, with guided RR/splitting (when rrs_) against the pixel value I;
     // `recorder` (null: none) records its training samples.
     Color3 guided_walk(const Scene& scene, Sampler& sampler, const Ray& ray, float pixel,
-                       WalkPolicy* recorder = nullptr) const;
+                       PathRecorder* recorder = nullptr) const;
     // preprocess()'s steps: the field (loaded or trained) with its leaves' medium fractions, then
     // the pixel estimate I of guided RR/splitting.
     void load_or_train_field(const Scene& scene, const PreprocessContext& context);

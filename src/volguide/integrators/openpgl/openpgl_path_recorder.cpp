@@ -83,4 +83,43 @@ void OpenPglPathRecorder::end_path(OpenPglField& field) {
     if (n > 0) field.add_samples(samples, n);
 }
 
+void OpenPglPathRecorder::record_medium_hit(const MediumInteraction& mi) {
+    reached(mi.p);
+    medium_wi_ = mi.wi;
+}
+
+void OpenPglPathRecorder::record_medium_vertex(const Point3f& x, const Vec3f& w, float pdf, const Color3& throughput) {
+    Vertex v;
+    v.x = x;
+    v.wo = w;
+    v.wi = medium_wi_;
+    v.pdf = pdf;
+    v.throughput = throughput;
+    v.volume = true;
+    add_vertex(v);
+}
+
+void OpenPglPathRecorder::record_surface_hit(const SurfaceInteraction& si) {
+    if (si.is_valid())
+        reached(si.p);
+    else
+        escaped();
+}
+
+void OpenPglPathRecorder::record_surface_vertex(const SurfaceInteraction& si, const BSDFSample& bs, const Vec3f& wo,
+                                                const Color3& throughput) {
+    // Null crossings (medium boundaries) are not scattering: the path goes on along the same line.
+    if (bs.sampled_flags & bsdf_flags::Null) return;
+    Vertex v;
+    v.x = si.p;
+    v.wo = wo;
+    v.wi = si.to_world(si.wi);
+    v.n = si.sh_frame.n;
+    v.pdf = bs.pdf;
+    v.throughput = throughput;
+    v.delta = (bs.sampled_flags & bsdf_flags::Delta) != 0;
+    v.eta = bs.eta;
+    add_vertex(v);
+}
+
 }  // namespace volguide

@@ -3,7 +3,8 @@
 // through Open PGL's own PrepareSamples (its back-propagation, clamping, delta-chain distances),
 // into training samples for the field.
 //
-// The walk reports, in path order, its scattering vertices (after their direction was sampled,
+// The walk (volpath_walk.h, with the recorder as its PathRecorder, path_recorder.h) reports, in
+// path order, its scattering vertices (after their direction was sampled,
 // with the path throughput T_k that includes everything up to and including that direction's
 // weight f / p), its surface hits and every contribution c added to the estimate (already
 // MIS-weighted). A contribution recorded after vertex k (and before vertex k + 1) is radiance
@@ -16,7 +17,8 @@
 // that ended the path (or far along the direction when it left the scene).
 //
 // Direct light therefore enters training MIS-weighted (Open PGL's useNEEMiWeights mode): what
-// the guided direction should sample beyond NEE. One recorder per thread, reused per path.
+// the guided direction should sample beyond NEE. One recorder per thread, reused per path: the
+// caller begins the path before the walk and ends it (into the field) after.
 #include <vector>
 
 #include <openpgl/cpp/OpenPGL.h>
@@ -24,10 +26,11 @@
 #include "volguide/core/color.h"
 #include "volguide/geometry/interaction.h"
 #include "volguide/integrators/openpgl/openpgl_field.h"
+#include "volguide/integrators/volpath/path_recorder.h"
 
 namespace volguide {
 
-class OpenPglPathRecorder {
+class OpenPglPathRecorder final : public PathRecorder {
   public:
     // Segments kept per path at most (a longer path's later vertices are not recorded: less
     // training data, no bias; PrepareSamples is quadratic in the segment count).
@@ -58,6 +61,14 @@ class OpenPglPathRecorder {
     // Writes the path's segments, prepares Open PGL's samples and adds them to the field's storage.
     void end_path(OpenPglField& field);
 
+    // The walk's reports (path_recorder.h) in the terms above.
+    void record_contribution(const Color3& value) override { add_contribution(value); }
+    void record_medium_hit(const MediumInteraction& mi) override;
+    void record_medium_vertex(const Point3f& x, const Vec3f& w, float pdf, const Color3& throughput) override;
+    void record_surface_hit(const SurfaceInteraction& si) override;
+    void record_surface_vertex(const SurfaceInteraction& si, const BSDFSample& bs, const Vec3f& wo,
+                               const Color3& throughput) override;
+
   private:
     openpgl::cpp::PathSegmentStorage segments_;
     std::vector<Vertex> path_;
@@ -65,6 +76,7 @@ class OpenPglPathRecorder {
     bool reached_after_last_vertex_ = false;
     bool escaped_ = false;
     Point3f reached_p_;
+    Vec3f medium_wi_;  // the current medium vertex's direction towards the previous one
 };
 
 }  // namespace volguide

@@ -32,8 +32,13 @@ OpenPglThreadState& OpenPglVolPathIntegrator::thread_state() const {
 }
 
 Color3 OpenPglVolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const CameraRay& camera) const {
-    OpenPglWalkPolicy policy(settings_, thread_state(), *field_, training_);
-    return walk_.walk(scene, sampler, camera.ray, &policy);
+    OpenPglThreadState& ts = thread_state();
+    OpenPglWalkPolicy policy(settings_, ts, *field_);
+    if (!training_) return walk_.walk(scene, sampler, camera.ray, &policy);
+    ts.recorder.begin_path();
+    const Color3 L = walk_.walk(scene, sampler, camera.ray, &policy, &ts.recorder);
+    ts.recorder.end_path(*field_);
+    return L;
 }
 
 void OpenPglVolPathIntegrator::end_pass(int spp_done, double seconds) {

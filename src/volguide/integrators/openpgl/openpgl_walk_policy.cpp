@@ -12,16 +12,11 @@ constexpr float kMaxGuidedMeanCosine = 0.99f;
 
 }  // namespace
 
-OpenPglWalkPolicy::OpenPglWalkPolicy(const OpenPglSettings& settings, OpenPglThreadState& ts, OpenPglField& field,
-                                     bool training)
-    : settings_(settings), ts_(ts), field_(field), training_(training) {
-    if (training_) ts_.recorder.begin_path();
-}
+OpenPglWalkPolicy::OpenPglWalkPolicy(const OpenPglSettings& settings, OpenPglThreadState& ts, OpenPglField& field)
+    : settings_(settings), ts_(ts), field_(field) {}
 
 void OpenPglWalkPolicy::prepare_direction(const MediumInteraction& mi, GuideRegion&, Sampler& sampler) {
     volume_ready_ = false;
-    wi_ = mi.wi;
-    if (training_) ts_.recorder.reached(mi.p);
     ++ts_.medium_vertices;
     if (!settings_.volume_guiding || settings_.phase_prob >= 1.f || !field_.trained()) return;
     const float g = mi.medium->phase().mean_cosine();
@@ -41,7 +36,7 @@ float OpenPglWalkPolicy::direction_pdf(const MediumInteraction& mi, const Vec3f&
     return a * p_phase + (1.f - a) * ts_.volume.PDF(pgl_vec(wo));
 }
 
-PhaseSample OpenPglWalkPolicy::sample_direction(const MediumInteraction& mi, Sampler& sampler) {
+PhaseSample OpenPglWalkPolicy::sample_direction(const MediumInteraction& mi, Sampler& sampler, DecisionRecord*) {
     const PhaseFunction& phase = mi.medium->phase();
     if (!volume_ready_) return phase.sample(mi.wi, sampler.next_2d());
     const float u_strategy = sampler.next_1d();
@@ -83,7 +78,7 @@ float OpenPglWalkPolicy::surface_direction_pdf(const BSDFContext& ctx, const Sur
 std::pair<BSDFSample, Color3> OpenPglWalkPolicy::sample_surface_direction(const BSDFContext& ctx,
                                                                           const SurfaceInteraction& si,
                                                                           const BSDF& bsdf, float u1, Point2f u2,
-                                                                          Sampler& sampler) {
+                                                                          Sampler& sampler, DecisionRecord*) {
     if (!surface_ready_) return bsdf.sample(ctx, si, u1, u2);
     const float u_strategy = sampler.next_1d();
     BSDFSample bs;
@@ -99,50 +94,6 @@ std::pair<BSDFSample, Color3> OpenPglWalkPolicy::sample_surface_direction(const 
     bs.sampled_flags = bsdf_flags::DiffuseReflection;  // the only guided BSDF kind
     if (!(bs.pdf > 0.f) || !std::isfinite(bs.pdf)) return {BSDFSample{}, Color3(0.f)};
     return {bs, bsdf.eval(ctx, si, bs.wo) * (1.f / bs.pdf)};
-}
-
-void OpenPglWalkPolicy::record_contribution(const Color3& value) {
-    if (training_) ts_.recorder.add_contribution(value);
-}
-
-void OpenPglWalkPolicy::record_medium_vertex(const Point3f& x, const Vec3f& w, float pdf, const Color3& throughput) {
-    if (!training_) return;
-    OpenPglPathRecorder::Vertex v;
-    v.x = x;
-    v.wo = w;
-    v.wi = wi_;
-    v.pdf = pdf;
-    v.throughput = throughput;
-    v.volume = true;
-    ts_.recorder.add_vertex(v);
-}
-
-void OpenPglWalkPolicy::record_surface_hit(const SurfaceInteraction& si) {
-    if (!training_) return;
-    if (si.is_valid())
-        ts_.recorder.reached(si.p);
-    else
-        ts_.recorder.escaped();
-}
-
-void OpenPglWalkPolicy::record_surface_vertex(const SurfaceInteraction& si, const BSDFSample& bs, const Vec3f& wo,
-                                              const Color3& throughput) {
-    // Null crossings (medium boundaries) are not scattering: the path goes on along the same line.
-    if (!training_ || (bs.sampled_flags & bsdf_flags::Null)) return;
-    OpenPglPathRecorder::Vertex v;
-    v.x = si.p;
-    v.wo = wo;
-    v.wi = si.to_world(si.wi);
-    v.n = si.sh_frame.n;
-    v.pdf = bs.pdf;
-    v.throughput = throughput;
-    v.delta = (bs.sampled_flags & bsdf_flags::Delta) != 0;
-    v.eta = bs.eta;
-    ts_.recorder.add_vertex(v);
-}
-
-void OpenPglWalkPolicy::end_camera_sample(int) {
-    if (training_) ts_.recorder.end_path(field_);
 }
 
 }  // namespace volguide

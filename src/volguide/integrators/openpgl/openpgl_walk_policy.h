@@ -1,6 +1,7 @@
 #pragma once
 // openpgl_volpath's policy for volpath's walk (walk_policy.h): Open PGL's directional guiding as
-// Blender Cycles uses it, and the recording of the camera path for Open PGL's training.
+// Blender Cycles uses it. The camera path's recording for Open PGL's training is the thread's
+// OpenPglPathRecorder's (openpgl_path_recorder.h), a PathRecorder beside the policy.
 //  - medium vertex: the field's VolumeSamplingDistribution at x (stochastic region lookup), times
 //    a single HG lobe of the medium's mean cosine g about the ray's direction, in a one-sample
 //    mixture p = phase_prob * p_phase + (1 - phase_prob) * p_guide; weight f_p / p. Not guided
@@ -21,7 +22,7 @@
 namespace volguide {
 
 // What one worker thread reuses across camera samples: Open PGL's sampling distributions
-// (re-initialised at every vertex that uses them) and the path recorder (cleared per path).
+// (re-initialised at every vertex that uses them) and the path recorder (begun per path).
 struct OpenPglThreadState {
     explicit OpenPglThreadState(const openpgl::cpp::Field* field) : volume(field), surface(field) {}
     openpgl::cpp::VolumeSamplingDistribution volume;
@@ -33,12 +34,12 @@ struct OpenPglThreadState {
 
 class OpenPglWalkPolicy final : public WalkPolicy {
   public:
-    // field: guides when trained(); `training`: record this path into field's storage.
-    OpenPglWalkPolicy(const OpenPglSettings& settings, OpenPglThreadState& ts, OpenPglField& field, bool training);
+    // field: guides when trained().
+    OpenPglWalkPolicy(const OpenPglSettings& settings, OpenPglThreadState& ts, OpenPglField& field);
 
     void prepare_direction(const MediumInteraction& mi, GuideRegion& region, Sampler& sampler) override;
     float direction_pdf(const MediumInteraction& mi, const Vec3f& wo) const override;
-    PhaseSample sample_direction(const MediumInteraction& mi, Sampler& sampler) override;
+    PhaseSample sample_direction(const MediumInteraction& mi, Sampler& sampler, DecisionRecord* record) override;
 
     void prepare_surface_direction(const SurfaceInteraction& si, const BSDF& bsdf, const Medium* medium,
                                    Sampler& sampler) override;
@@ -46,23 +47,14 @@ class OpenPglWalkPolicy final : public WalkPolicy {
                                 const Vec3f& wo_local) const override;
     std::pair<BSDFSample, Color3> sample_surface_direction(const BSDFContext& ctx, const SurfaceInteraction& si,
                                                            const BSDF& bsdf, float u1, Point2f u2,
-                                                           Sampler& sampler) override;
-
-    void record_contribution(const Color3& value) override;
-    void record_medium_vertex(const Point3f& x, const Vec3f& w, float pdf, const Color3& throughput) override;
-    void record_surface_hit(const SurfaceInteraction& si) override;
-    void record_surface_vertex(const SurfaceInteraction& si, const BSDFSample& bs, const Vec3f& wo,
-                               const Color3& throughput) override;
-    void end_camera_sample(int branches) override;
+                                                           Sampler& sampler, DecisionRecord* record) override;
 
   private:
     const OpenPglSettings& settings_;
     OpenPglThreadState& ts_;
     OpenPglField& field_;
-    const bool training_;
     bool volume_ready_ = false;   // ts_.volume holds the current medium vertex's product
     bool surface_ready_ = false;  // ts_.surface holds the current surface vertex's product
-    Vec3f wi_;                    // the current medium vertex's direction towards the previous one
 };
 
 }  // namespace volguide

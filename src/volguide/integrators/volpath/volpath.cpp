@@ -73,8 +73,9 @@ Color3 VolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const CameraR
     return walk(scene, sampler, camera.ray, nullptr);
 }
 
-Color3 VolPathIntegrator::walk(const Scene& scene, Sampler& sampler, const Ray& ray, WalkPolicy* policy) const {
-    return VolumeWalk(scene, settings_, sampler, policy).run(ray);
+Color3 VolPathIntegrator::walk(const Scene& scene, Sampler& sampler, const Ray& ray, WalkPolicy* policy,
+                               PathRecorder* recorder) const {
+    return VolumeWalk(scene, settings_, sampler, policy, recorder).run(ray);
 }
 
 }  // namespace volguide

@@ -32,6 +32,7 @@
 
 namespace volguide {
 
+class PathRecorder;
 class WalkPolicy;
 
 // The Russian roulette rule (see `rr_rule` above).
@@ -58,11 +59,12 @@ public:
     explicit VolPathIntegrator(VolPathSettings s) : settings_(s) {}
     Color3 Li(const Scene& scene, Sampler& sampler, const CameraRay& camera) const override;
     // The walk of one camera ray (volpath_walk.h) with `policy` (null: the analog walk) making the
-    // decisions guiding, training or guided RR/splitting change (walk_policy.h). Equiangular
-    // sampling is not combined with a policy that guides distances; training policies need
-    // equiangular = false (the recorder's NEE samples assume NEE and phase sampling are the only
-    // direct-light strategies).
-    Color3 walk(const Scene& scene, Sampler& sampler, const Ray& ray, WalkPolicy* policy) const;
+    // decisions guiding or guided RR/splitting change (walk_policy.h), and `recorder` (null: none)
+    // recording the path (path_recorder.h). Equiangular sampling is not combined with a policy
+    // that guides distances; training recorders need equiangular = false (the recorder's NEE
+    // samples assume NEE and phase sampling are the only direct-light strategies).
+    Color3 walk(const Scene& scene, Sampler& sampler, const Ray& ray, WalkPolicy* policy,
+                PathRecorder* recorder = nullptr) const;
     void preprocess(const Scene& scene, const PreprocessContext& context) override;
     std::string to_string() const override;
     const VolPathSettings& settings() const { return settings_; }

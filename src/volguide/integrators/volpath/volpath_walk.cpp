@@ -11,10 +11,13 @@
 
 namespace volguide {
 
-VolumeWalk::VolumeWalk(const Scene& scene, const VolPathSettings& settings, Sampler& sampler, WalkPolicy* policy)
+VolumeWalk::VolumeWalk(const Scene& scene, const VolPathSettings& settings, Sampler& sampler, WalkPolicy* policy,
+                       PathRecorder* recorder)
     : scene_(scene),
       settings_(settings),
       policy_(policy),
+      recorder_(recorder),
+      records_decisions_(policy && recorder && recorder->records_decisions()),
       guide_distance_(policy && policy->guides_distance()),
       rng_(&sampler) {}
 
@@ -31,11 +34,12 @@ Color3 VolumeWalk::run(const Ray& camera_ray) {
         branch_sampler_ = b.sampler;
         rng_ = &branch_sampler_;
         need_intersection_ = true;
-        if (policy_) policy_->resume_branch(b.record_point);
+        if (recorder_) recorder_->resume_branch(b.record_point);
         if (b.at_vertex && !scatter(b.vertex)) continue;  // the copy ended at its vertex
         walk_branch();
     }
     if (policy_) policy_->end_camera_sample(branches_);
+    if (recorder_) recorder_->end_camera_sample(branches_);
     return result_;
 }
 
@@ -75,9 +79,11 @@ VolumeWalk::Step VolumeWalk::medium_step(MediumVertex& v) {
     const float tmax = si_.is_valid() ? si_.t : state_.ray.tmax;
     if (settings_.equiangular && !guide_distance_ && medium.is_homogeneous() && medium.sample_emitters())
         return equiangular_step(medium, tmax, v);
-    const FreeFlightSample ff =
-        policy_ ? policy_->sample_distance(medium, state_.ray, tmax, state_.throughput, *rng_, state_.region)
-                : medium.sample_free_flight(state_.ray, tmax, state_.throughput, *rng_);
+    DecisionRecord record;
+    const FreeFlightSample ff = policy_ ? policy_->sample_distance(medium, state_.ray, tmax, state_.throughput, *rng_,
+                                                                  state_.region, decision_record(record))
+                                        : medium.sample_free_flight(state_.ray, tmax, state_.throughput, *rng_);
+    report_decision(DecisionKind::Distance, record);
     state_.throughput *= ff.weight;
     if (state_.throughput.is_black()) return Step::End;
     if (!ff.scattered) return Step::Surface;
@@ -123,6 +129,7 @@ bool VolumeWalk::scatter(const MediumVertex& v) {
         need_intersection_ = true;
         return true;
     }
+    if (recorder_) recorder_->record_medium_hit(mi);
     // One direction sampler per vertex, used by NEE's MIS and the continuation.
     if (policy_) policy_->prepare_direction(mi, s.region, *rng_);
     if (mi.medium->sample_emitters()) {
@@ -131,12 +138,14 @@ bool VolumeWalk::scatter(const MediumVertex& v) {
     } else {
         s.specular_chain = true;
     }
-    const PhaseSample ps =
-        policy_ ? policy_->sample_direction(mi, *rng_) : mi.medium->phase().sample(mi.wi, rng_->next_2d());
+    DecisionRecord record;
+    const PhaseSample ps = policy_ ? policy_->sample_direction(mi, *rng_, decision_record(record))
+                                   : mi.medium->phase().sample(mi.wi, rng_->next_2d());
+    report_decision(DecisionKind::Direction, record);
     if (!(ps.pdf > 0.f)) return false;
     s.throughput *= ps.weight;
     // Training sample at x_j: the radiance arriving from w_j is what guides w_j.
-    if (policy_) policy_->record_medium_vertex(mi.p, ps.wo, ps.pdf, s.throughput);
+    if (recorder_) recorder_->record_medium_vertex(mi.p, ps.wo, ps.pdf, s.throughput);
     s.last_vertex = mi;
     s.last_pdf = ps.pdf;  // MIS uses p_w alone: the direction stage's q depends on w (§8.3, §13.11)
     s.last_equi = v.equi;
@@ -160,14 +169,14 @@ void VolumeWalk::sample_nee_medium(const MediumVertex& v) {
                     : es.ds.delta                         ? 1.f
                                                           : mis_power_heuristic(es.ds.pdf, pp);
     add(state_.throughput * fp * es.weight * w);
-    if (policy_) policy_->record_medium_nee(mi.p, es.ds.d, es.weight * w);
+    if (recorder_) recorder_->record_medium_nee(mi.p, es.ds.d, es.weight * w);
 }
 
 bool VolumeWalk::surface_step() {
     WalkState& s = state_;
     // volume_only: a camera path whose first real event is not a medium scattering is excluded.
     if (settings_.volume_only && s.depth == 0 && !(si_.is_valid() && si_.shape->bsdf()->is_null())) return false;
-    if (policy_) policy_->record_surface_hit(si_);
+    if (recorder_) recorder_->record_surface_hit(si_);
     emitter_hit();
     if (!si_.is_valid()) return false;
 
@@ -178,13 +187,16 @@ bool VolumeWalk::surface_step() {
 
     const float u1 = rng_->next_1d();
     const Point2f u2 = rng_->next_2d();
-    const auto [bs, bsdf_weight] = policy_ ? policy_->sample_surface_direction(ctx_, si_, bsdf, u1, u2, *rng_)
-                                           : bsdf.sample(ctx_, si_, u1, u2);
+    DecisionRecord record;
+    const auto [bs, bsdf_weight] =
+        policy_ ? policy_->sample_surface_direction(ctx_, si_, bsdf, u1, u2, *rng_, decision_record(record))
+                : bsdf.sample(ctx_, si_, u1, u2);
+    report_decision(DecisionKind::Surface, record);
     s.throughput *= bsdf_weight;
     if (s.throughput.is_black()) return false;
     s.eta *= bs.eta;
     const Vec3f wo = si_.to_world(bs.wo);
-    if (policy_) policy_->record_surface_vertex(si_, bs, wo, s.throughput);
+    if (recorder_) recorder_->record_surface_vertex(si_, bs, wo, s.throughput);
     if (bs.sampled_flags & bsdf_flags::Null) {
         if (++s.null_crossings > 1024) return false;  // a ray stuck on a surface
     } else {
@@ -232,9 +244,14 @@ void VolumeWalk::sample_nee_surface(const BSDF& bsdf) {
 
 bool VolumeWalk::continue_path(ContinuationStage stage, const MediumInteraction& mi, const Vec3f& w,
                                const MediumVertex* at_vertex) {
-    const Continuation c =
-        policy_->continuation(stage, mi, w, state_.throughput, branches_, state_.split_allowance, *rng_,
-                              state_.region);
+    const Continuation c = policy_->continuation(stage, mi, w, state_.throughput, branches_, state_.split_allowance,
+                                                 *rng_, state_.region, records_decisions_);
+    if (records_decisions_ && c.estimate > 0.f)
+        recorder_->record_continuation(stage, state_.region, c.estimate, state_.throughput);
+    return continue_copies(c, at_vertex);
+}
+
+bool VolumeWalk::continue_copies(const Continuation& c, const MediumVertex* at_vertex) {
     if (c.guided) state_.rr_depth_done = state_.depth;  // replaces throughput RR at this depth
     if (c.q == 1.f) return true;
     if (c.n == 0) return false;
@@ -244,7 +261,7 @@ bool VolumeWalk::continue_path(ContinuationStage stage, const MediumInteraction&
     if (c.n > 1) state_.split_allowance /= float(c.n);
     for (int k = 1; k < c.n; ++k) {
         PendingBranch b{state_, rng_->fork(uint64_t(k)), at_vertex != nullptr, at_vertex ? *at_vertex : MediumVertex(),
-                        policy_->branch_point()};
+                        recorder_ ? recorder_->branch_point() : 0};
         // A copy finds its own region: with the one it was made at, a copy's first distance
         // decision could skip the guided walk where its original did not (WalkGuide::sample_distance),
         // and splitting would draw other random numbers than before the region moved into the state.
@@ -255,9 +272,13 @@ bool VolumeWalk::continue_path(ContinuationStage stage, const MediumInteraction&
     return true;
 }
 
+void VolumeWalk::report_decision(DecisionKind kind, const DecisionRecord& record) {
+    if (records_decisions_) recorder_->record_decision(kind, record);
+}
+
 void VolumeWalk::add(const Color3& c) {
     result_ += c;
-    if (policy_) policy_->record_contribution(c);
+    if (recorder_) recorder_->record_contribution(c);
 }
 
 }  // namespace volguide

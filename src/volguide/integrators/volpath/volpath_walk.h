@@ -1,9 +1,10 @@
 #pragma once
 // volpath's walk of one camera sample (volpath.h gives the semantics): a small object over one
 // WalkState, with the medium step (distance decision), the scattering at a medium vertex (NEE and
-// direction), the surface step (emitter hit, NEE, BSDF sampling) as member functions. Guiding,
-// training and guided RR/splitting enter through one WalkPolicy (walk_policy.h; null: the analog
-// walk). Split copies of the path (guided splitting) wait on the walk's own stack and draw from
+// direction), the surface step (emitter hit, NEE, BSDF sampling) as member functions. Guiding and
+// guided RR/splitting enter through one WalkPolicy (walk_policy.h; null: the analog walk), and what
+// the walk reports of the path goes to one PathRecorder (path_recorder.h; null: nothing recorded).
+// Split copies of the path (guided splitting) wait on the walk's own stack and draw from
 // streams forked off the camera sample's; the first branch draws from the caller's sampler, so
 // that without splitting the walk is volpath's number for number.
 #include <limits>
@@ -13,6 +14,7 @@
 #include "volguide/core/sampler.h"
 #include "volguide/geometry/interaction.h"
 #include "volguide/integrators/volpath/equiangular_mis.h"
+#include "volguide/integrators/volpath/path_recorder.h"
 #include "volguide/integrators/volpath/volpath.h"
 #include "volguide/integrators/volpath/walk_policy.h"
 #include "volguide/render/bsdf.h"
@@ -48,8 +50,9 @@ struct MediumVertex {
 
 class VolumeWalk {
   public:
-    // scene, settings, sampler and policy (may be null) must outlive the walk.
-    VolumeWalk(const Scene& scene, const VolPathSettings& settings, Sampler& sampler, WalkPolicy* policy);
+    // scene, settings, sampler, policy and recorder (either may be null) must outlive the walk.
+    VolumeWalk(const Scene& scene, const VolPathSettings& settings, Sampler& sampler, WalkPolicy* policy,
+               PathRecorder* recorder = nullptr);
     // The camera sample's estimate along camera_ray: every branch's contributions.
     Color3 run(const Ray& camera_ray);
 
@@ -73,11 +76,17 @@ class VolumeWalk {
     bool surface_step();
     void emitter_hit();
     void sample_nee_surface(const BSDF& bsdf);
-    // The policy's continuation decision; copies made at a vertex (at_vertex) resume before its
-    // NEE and direction, the others trace the state's ray. False when the path ends.
+    // The policy's continuation decision, reported to the recorder, then continue_copies().
     bool continue_path(ContinuationStage stage, const MediumInteraction& mi, const Vec3f& w,
                        const MediumVertex* at_vertex);
-    // Every contribution goes through add(): the policy records it.
+    // The walk's part of a continuation decision c: the path's weight 1/q and its n - 1 copies;
+    // copies made at a vertex (at_vertex) resume before its NEE and direction, the others trace the
+    // state's ray. False when the path ends.
+    bool continue_copies(const Continuation& c, const MediumVertex* at_vertex);
+    // The DecisionRecord a sampling decision fills (null unless the recorder reads them), and its report.
+    DecisionRecord* decision_record(DecisionRecord& record) const { return records_decisions_ ? &record : nullptr; }
+    void report_decision(DecisionKind kind, const DecisionRecord& record);
+    // Every contribution goes through add(): the recorder records it.
     void add(const Color3& c);
     bool depth_ok(int d) const { return settings_.max_depth < 0 || d < settings_.max_depth; }
 
@@ -88,12 +97,14 @@ class VolumeWalk {
         Sampler sampler;
         bool at_vertex = false;  // resume at `vertex`, else trace state.ray
         MediumVertex vertex;
-        int record_point = 0;  // the policy's branch_point() when the copy was made
+        int record_point = 0;  // the recorder's branch_point() when the copy was made
     };
 
     const Scene& scene_;
     const VolPathSettings& settings_;
     WalkPolicy* policy_;
+    PathRecorder* recorder_;
+    const bool records_decisions_;  // a policy makes the decisions and the recorder reads them
     const bool guide_distance_;
     const BSDFContext ctx_;
     Sampler* rng_;             // the current branch's stream

@@ -23,24 +23,34 @@ void SelectionRecorder::begin(float pixel) {
     pending_.clear();
 }
 
-void SelectionRecorder::decision(SelectionDecision d, int leaf, float q_cur, float p_u, float p_g) {
+static_assert(int(DecisionKind::Distance) == int(SelectionDecision::Distance) &&
+              int(DecisionKind::Direction) == int(SelectionDecision::Direction) &&
+              int(DecisionKind::Surface) == int(SelectionDecision::Surface));
+
+void SelectionRecorder::record_decision(DecisionKind kind, const DecisionRecord& record) {
+    if (!record.mixture) {
+        ++unrecorded_;
+        return;
+    }
     Pending p;
     p.is_decision = true;
-    p.kind = uint8_t(d);
-    p.region = region(leaf);
-    p.q = q_cur;
-    p.p_u = p_u;
-    p.p_g = p_g;
+    p.kind = uint8_t(kind);
+    p.region = region(record.leaf);
+    p.q = record.pdf;
+    p.p_u = record.p_u;
+    p.p_g = record.p_g;
     p.before = total_;
     pending_.push_back(p);
 }
 
-void SelectionRecorder::continuation(int stage, int leaf, float estimate, float beta) {
+void SelectionRecorder::record_continuation(ContinuationStage stage, const GuideRegion& leaf_region, float estimate,
+                                            const Color3& throughput) {
+    const float beta = throughput.average();
     if (!(beta > 0.f) || !(estimate > 0.f)) return;
     Pending p;
     p.is_decision = false;
     p.kind = uint8_t(stage);
-    p.region = region(leaf);
+    p.region = region(leaf_region.leaf);
     p.estimate = estimate;
     p.beta = beta;
     p.before = total_;

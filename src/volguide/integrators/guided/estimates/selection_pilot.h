@@ -3,9 +3,9 @@
 // guided walk with the configured mixtures and without guided RR/splitting, on their own random
 // stream, recording per decision what guiding/selection.h needs. Not part of the image.
 //
-// SelectionRecorder follows one camera sample: every decision with its mixture densities at the
-// sample, every continuation point with the field's estimate there and the path weight, and the
-// contributions as they are added; at the end of the camera sample each decision's S (the sum of
+// SelectionRecorder (a PathRecorder of volpath's walk, path_recorder.h) follows one camera sample:
+// every decision with its mixture densities at the sample, every continuation point with the
+// field's estimate there and the path weight, and the contributions as they are added; at the end of the camera sample each decision's S (the sum of
 // the contributions after it) is known and its terms go to the thread's SelectionStatistics. The
 // pilot walks one branch per camera sample (no splitting), so S is a suffix sum.
 #include <cstdint>
@@ -16,27 +16,30 @@
 #include "volguide/core/ray.h"
 #include "volguide/core/sampler.h"
 #include "volguide/guiding/selection.h"
+#include "volguide/integrators/volpath/path_recorder.h"
 
 namespace volguide {
 
 class Scene;
 struct PreprocessContext;
 
-class SelectionRecorder {
+class SelectionRecorder final : public PathRecorder {
   public:
     // `regions`: the field's leaves + 1 (leaf -1 maps to the last, outside the field).
     SelectionRecorder(SelectionStatistics& stats, size_t regions) : stats_(stats), regions_(regions) {}
 
     // A new camera sample in a pixel of estimate `pixel` (> 0).
     void begin(float pixel);
-    // A decision in the region of `leaf` sampled with density q_cur, unguided/guided densities p_u, p_g.
-    void decision(SelectionDecision d, int leaf, float q_cur, float p_u, float p_g);
-    // A decision the walk made without a guided mixture (the cost model counts it).
-    void unrecorded_decision() { ++unrecorded_; }
-    // A continuation point of `stage` in the region of `leaf`: the field's estimate of what the
-    // path collects from here on per unit weight, and the path weight `beta` (channel averages).
-    void continuation(int stage, int leaf, float estimate, float beta);
-    void contribution(const Color3& c) { total_ += double(c.average()); }
+    bool records_decisions() const override { return true; }
+    // A decision in the region of record.leaf sampled with density record.pdf from the mixture of
+    // the unguided and guided densities p_u, p_g; one without a guided mixture only counts (the
+    // cost model counts it).
+    void record_decision(DecisionKind kind, const DecisionRecord& record) override;
+    // A continuation point of `stage` in the region of `region.leaf`: the field's estimate of what
+    // the path collects from here on per unit weight, and the path weight (channel averages).
+    void record_continuation(ContinuationStage stage, const GuideRegion& region, float estimate,
+                             const Color3& throughput) override;
+    void record_contribution(const Color3& c) override { total_ += double(c.average()); }
     // Adds the camera sample's terms to the statistics.
     void end();
 
@@ -58,7 +61,7 @@ class SelectionRecorder {
     std::vector<Pending> pending_;
 };
 
-// `spp` camera samples per pixel of `walk` (the guided walk with a recorder as its policy's), each
+// `spp` camera samples per pixel of `walk` (the guided walk with the recorder as its PathRecorder), each
 // on Sampler(seed, pixel, k, stream of the pilot), `pixel(film_uv)` the pixel estimate; the sums of
 // every recorder. Deterministic for any thread count (exact sums).
 SelectionStatistics run_selection_pilot(

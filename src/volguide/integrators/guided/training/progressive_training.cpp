@@ -25,7 +25,7 @@ struct Tile {
 };
 
 // Samples [first_sample, first_sample + spp) of every pixel of `tile`, each a walk of volpath with
-// the recorder as its policy, their training samples appended to `out` in pixel and sample order.
+// the recorder as its PathRecorder, their training samples appended to `out` in pixel and sample order.
 void trace_tile(const Scene& scene, const VolPathIntegrator& walk, const Tile& tile, int first_sample, int spp,
                 uint64_t seed, std::vector<RadianceSample>& out) {
     const Sensor& sensor = scene.sensor();
@@ -36,7 +36,7 @@ void trace_tile(const Scene& scene, const VolPathIntegrator& walk, const Tile& t
             for (int s = first_sample; s < first_sample + spp; ++s) {
                 FilmSample sample = film_sample(grid, seed, x, y, uint64_t(s), kTrainingStream);
                 const Ray ray = sensor.sample_ray(sample.film_uv, Point2f(0.5f, 0.5f)).first;
-                walk.walk(scene, sample.sampler, ray, &recorder);
+                walk.walk(scene, sample.sampler, ray, nullptr, &recorder);
                 recorder.finish(out);
             }
 }

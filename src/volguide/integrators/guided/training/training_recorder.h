@@ -1,6 +1,7 @@
 #pragma once
 // Turns one camera path into guiding-field training samples (theory.md §10.2). The walk (volpath's,
-// with the recorder as its policy, walk_policy.h: analog decisions) reports, in path order:
+// with the recorder as its PathRecorder, path_recorder.h; the decisions are the policy's, analog
+// or guided) reports, in path order:
 //   - every contribution it adds to the pixel estimate (NEE, emitter hits with their MIS weights);
 //   - at each real medium scattering vertex x_j, after sampling the next direction w_j with pdf p:
 //     the position, w_j and the throughput up to and including f_p / p;
@@ -30,11 +31,11 @@
 
 #include "volguide/core/color.h"
 #include "volguide/guiding/guiding_field.h"
-#include "volguide/integrators/volpath/walk_policy.h"
+#include "volguide/integrators/volpath/path_recorder.h"
 
 namespace volguide {
 
-class TrainingRecorder final : public WalkPolicy {
+class TrainingRecorder final : public PathRecorder {
 public:
     void clear();
     // A contribution the walk adds to the pixel (after its throughput and MIS weight).
@@ -42,7 +43,7 @@ public:
         if (current_ >= 0) suffix_[size_t(current_)] += value;
     }
     // A medium vertex: `pdf` is the density the next direction w was sampled with (phase sampling
-    // today, a guided mixture later) and `throughput` the path weight including f_p / pdf.
+    // or a guided mixture) and `throughput` the path weight including f_p / pdf.
     void record_medium_vertex(const Point3f& x, const Vec3f& w, float pdf, const Color3& throughput) override {
         vertices_.push_back({x, w, pdf, throughput, current_});
         suffix_.push_back(Color3(0.f));

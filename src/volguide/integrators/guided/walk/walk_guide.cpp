@@ -329,11 +329,7 @@ int WalkGuide::surface_sampler(const SurfaceInteraction& si, const BSDF& bsdf, c
     return index;
 }
 
-bool WalkGuide::rrs_acts(ContinuationStage stage, int leaf) const {
-    if (selection_.rrs_acts(int(stage), selection_region(leaf))) return true;
-    ++stats_.local().rrs_unselected;
-    return false;
-}
+void WalkGuide::count_rrs_unselected() const { ++stats_.local().rrs_unselected; }
 
 std::array<float, kSelectionDecisions> WalkGuide::configured_shares() const {
     return {1.f - settings_.distance_settings.c_T, 1.f - settings_.phase_prob, 1.f - settings_.bsdf_prob};
@@ -352,26 +348,19 @@ int WalkGuide::trusted_vertex_leaf(const MediumInteraction& mi, GuideRegion& reg
     return leaf_confidence(leaf, mi.coeffs.sigma_t) < kSkipConfidence ? -1 : leaf;
 }
 
-Color3 WalkGuide::inscattered_estimate(const MediumInteraction& mi, const Vec3f& d, GuideRegion& region) const {
-    const int leaf = mi.medium ? trusted_vertex_leaf(mi, region) : -1;
-    if (leaf < 0) return Color3(0.f);
+Color3 WalkGuide::leaf_inscattered(int leaf, const PhaseFunction& phase, const Vec3f& d) const {
     // The distance decisions' tables when they exist (one bilinear lookup instead of K x J lobes).
-    if (const LeafEstimates* tables = estimates_for(mi.medium->phase())) {
+    if (const LeafEstimates* tables = estimates_for(phase)) {
         Color3 Li(0.f), L(0.f);
         tables->lookup(leaf, d, Li, L);
         return Li;
     }
-    const auto it = inscatter_.find(mi.medium->phase().mean_cosine());
+    const auto it = inscatter_.find(phase.mean_cosine());
     return it == inscatter_.end() ? Color3(0.f) : it->second.inscattered(leaf, d);
 }
 
-Color3 WalkGuide::incident_estimate(const MediumInteraction& mi, const Vec3f& w, GuideRegion& region) const {
-    const int leaf = mi.medium ? trusted_vertex_leaf(mi, region) : -1;
-    if (leaf < 0) return Color3(0.f);
-    // The full L~, although NEE took the direct light at x: the continuation still collects the
-    // emitter hits MIS gives it (a sky), and the indirect part alone (tried with its own fluence)
-    // under-estimated: cloud 20 s, grr relMSE 0.00034 -> 0.00146, grrs s = 5 0.00022 -> 0.00052.
-    if (const LeafEstimates* tables = estimates_for(mi.medium->phase())) {  // L~ looking ahead along w
+Color3 WalkGuide::leaf_incident(int leaf, const PhaseFunction& phase, const Vec3f& w) const {
+    if (const LeafEstimates* tables = estimates_for(phase)) {  // L~ looking ahead along w
         Color3 Li(0.f), L(0.f);
         tables->lookup(leaf, w, Li, L);
         return L;

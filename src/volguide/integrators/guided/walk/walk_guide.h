@@ -154,8 +154,9 @@ class WalkGuide {
     // The selection's region of a leaf (-1: outside the field) and how many there are.
     size_t selection_region(int leaf) const { return leaf >= 0 ? size_t(leaf) : field_.leaves().size(); }
     size_t selection_regions() const { return field_.leaves().size() + 1; }
-    // Whether guided RR/splitting acts at `stage` in the region of `leaf`; counts the ones it does not.
-    bool rrs_acts(ContinuationStage stage, int leaf) const;
+    // Counts a continuation point where the learned selection switched guided RR/splitting off
+    // (guided_continuation.h decides).
+    void count_rrs_unselected() const;
     // The guided shares the configuration sets (what the pilot samples with): distance, direction, surface.
     std::array<float, kSelectionDecisions> configured_shares() const;
 
@@ -176,17 +177,14 @@ class WalkGuide {
                         std::optional<GuidedSurfaceSampler>& out) const;
     void count_surface_direction(bool guided) const;
 
-    // The field's estimates for guided RR and splitting (theory.md §9.3) at the medium vertex mi:
-    // L~_i(x, d) for the ray that reached it along d (what the vertex collects from here on), and
-    // L~(x, w) arriving from w (what the continuation along w collects). Both from the distance
-    // decisions' per-leaf tables when they exist. 0 (no guided decision:
-    // throughput RR) where the field has no valid leaf, and where the leaf's confidence is below
-    // kSkipConfidence: deep in a dense medium one estimate per leaf cannot follow radiance that
-    // varies on the scale of a free path, and RR by it compounds: guided RR alone took sss's
-    // image mean 7 % low at 512 spp (heavy-tailed weights from leaves estimated too dark), with
-    // relMSE 19x volpath's.
-    Color3 inscattered_estimate(const MediumInteraction& mi, const Vec3f& d, GuideRegion& region) const;
-    Color3 incident_estimate(const MediumInteraction& mi, const Vec3f& w, GuideRegion& region) const;
+    // The field's estimates at the valid leaf `leaf` for guided RR and splitting (theory.md §9.3;
+    // guided_continuation.h decides with them): L~_i(x, d) for a ray along d, and L~(x, w) arriving
+    // from w. Both from the distance decisions' per-leaf tables when they exist.
+    Color3 leaf_inscattered(int leaf, const PhaseFunction& phase, const Vec3f& d) const;
+    Color3 leaf_incident(int leaf, const PhaseFunction& phase, const Vec3f& w) const;
+    // The leaf at mi.p (vertex_leaf), kept in `region`, if its confidence at mi is at least
+    // kSkipConfidence, else -1.
+    int trusted_vertex_leaf(const MediumInteraction& mi, GuideRegion& region) const;
 
     WalkGuideStats stats() const;
     // The distance walk's regions per phase mean cosine and their total (0 without merging).
@@ -206,8 +204,6 @@ class WalkGuide {
                                    const DistanceSample& ds, const Color3& throughput, Sampler& sampler) const;
     // The leaf at x (-1 outside the field), without a descent when `region` (x's) holds it.
     int vertex_leaf(const Point3f& x, const GuideRegion& region) const;
-    // vertex_leaf(mi.p), kept in `region`, if its confidence at mi is at least kSkipConfidence, else -1.
-    int trusted_vertex_leaf(const MediumInteraction& mi, GuideRegion& region) const;
     // min(1, leaf_tau_max / (sigma_t average x leaf extent)); 1 when leaf_tau_max is 0 (off).
     float leaf_confidence(int leaf, const Color3& sigma_t) const;
     // Below this confidence a vertex neither builds the direction product nor walks the guided

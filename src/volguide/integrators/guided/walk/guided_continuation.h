@@ -1,0 +1,57 @@
+#pragma once
+// Guided Russian roulette and splitting's decision at a medium vertex (theory.md §9.3), made here
+// and nowhere else: volpath's walk asks its policy for a continuation once per vertex stage
+// (walk_policy.h's ContinuationStage) and GuidedWalkPolicy forwards to this class. The decision
+// reads
+//  - the field's estimate for the stage (estimate()): L~_i(x, d) after the distance decision (what
+//    the vertex collects from here on, d the ray's direction), L~(x, w) after the direction
+//    decision (what the continuation along w collects);
+//  - the learned selection's switch for the vertex's region (guiding/selection.h);
+//  - the pixel estimate I of the camera sample's pixel (estimates/pixel_estimate.h);
+// and hands them to RouletteSplitting's scene-free weight window (guiding/roulette_splitting.h):
+// its factor q, the number of continuations n drawn from it, and the outcome's count. The walk
+// applies the result: the path's weight 1/q and its copies (VolumeWalk::continue_path).
+#include "volguide/core/color.h"
+#include "volguide/core/sampler.h"
+#include "volguide/geometry/interaction.h"
+#include "volguide/guiding/roulette_splitting.h"
+#include "volguide/integrators/guided/walk/walk_guide.h"
+#include "volguide/integrators/volpath/walk_policy.h"
+
+namespace volguide {
+
+class GuidedContinuation {
+  public:
+    // `rrs` null: no guided RR/splitting; `pixel`: I of the camera sample's pixel (> 0 with rrs).
+    GuidedContinuation(const WalkGuide& guide, const RouletteSplitting* rrs, float pixel)
+        : guide_(guide), rrs_(rrs), pixel_(pixel) {}
+
+    // WalkPolicy::continuation's decision (its arguments there). Without rrs it decides nothing;
+    // `report` still reads the estimate and returns it in Continuation::estimate.
+    Continuation decide(ContinuationStage stage, const MediumInteraction& mi, const Vec3f& w,
+                        const Color3& throughput, int branches, float allowance, Sampler& sampler,
+                        GuideRegion& region, bool report) const;
+    // The camera sample's branch allowance (+inf without a budget or without rrs).
+    float branch_budget() const;
+    // Counts a finished camera sample's branches.
+    void end_camera_sample(int branches) const;
+
+    // The field's estimate for `stage` at the medium vertex mi (w: see ContinuationStage), from the
+    // distance decisions' per-leaf tables when they exist; the vertex's leaf is kept in `region`.
+    // 0 (no guided decision: throughput RR) where the field has no valid leaf, and where the
+    // leaf's confidence is below WalkGuide's skip threshold: deep in a dense medium one estimate
+    // per leaf cannot follow radiance that varies on the scale of a free path, and RR by it
+    // compounds into heavy-tailed weights from leaves estimated too dark.
+    Color3 estimate(ContinuationStage stage, const MediumInteraction& mi, const Vec3f& w, GuideRegion& region) const;
+
+  private:
+    // Whether guided RR/splitting acts at `stage` in the learned selection's region of `leaf`;
+    // counts the points where it does not.
+    bool selected(ContinuationStage stage, int leaf) const;
+
+    const WalkGuide& guide_;
+    const RouletteSplitting* rrs_;
+    float pixel_;
+};
+
+}  // namespace volguide

@@ -1,0 +1,58 @@
+#pragma once
+// What volpath's walk (volpath_walk.h) reports of one camera sample, apart from its decisions
+// (walk_policy.h): the path's events in path order, for whoever learns from them. Three recorders
+// plug in here: the guiding field's training (guided/training/training_recorder.h), Open PGL's path
+// segments (openpgl/openpgl_path_recorder.h) and the learned selection's pilot
+// (guided/estimates/selection_pilot.h). A recorder decides nothing: the walk draws the same random
+// numbers with or without one. The defaults record nothing; a recorder overrides what it keeps.
+// One recorder serves one walk at a time.
+#include "volguide/core/color.h"
+#include "volguide/geometry/interaction.h"
+#include "volguide/integrators/volpath/walk_policy.h"
+#include "volguide/render/bsdf.h"
+
+namespace volguide {
+
+class PathRecorder {
+  public:
+    virtual ~PathRecorder() = default;
+
+    // A contribution added to the estimate (after throughput and MIS weight).
+    virtual void record_contribution(const Color3& value) {}
+
+    // The path reached the medium vertex mi (before its NEE and direction decision).
+    virtual void record_medium_hit(const MediumInteraction& mi) {}
+    // The medium vertex x after its direction w was sampled with density pdf (throughput includes
+    // f_p / pdf).
+    virtual void record_medium_vertex(const Point3f& x, const Vec3f& w, float pdf, const Color3& throughput) {}
+    // The MIS-weighted NEE estimate at the medium vertex x towards the light d.
+    virtual void record_medium_nee(const Point3f& x, const Vec3f& d, const Color3& weight) {}
+
+    // The ray reached the pending intersection si (invalid: it left the scene), before its
+    // emission is added; and, at a surface, the BSDF's direction bs was sampled (wo: world space;
+    // throughput includes its weight). Path-segment recorders (Open PGL) need both.
+    virtual void record_surface_hit(const SurfaceInteraction& si) {}
+    virtual void record_surface_vertex(const SurfaceInteraction& si, const BSDFSample& bs, const Vec3f& wo,
+                                       const Color3& throughput) {}
+
+    // Whether the recorder reads the policy's decisions (record_decision, record_continuation):
+    // the walk asks the policy for their densities and estimates only then.
+    virtual bool records_decisions() const { return false; }
+    // A distance or direction decision the policy made (`record`: what it sampled from).
+    virtual void record_decision(DecisionKind kind, const DecisionRecord& record) {}
+    // A continuation point of `stage` at the vertex of `region`: the field's estimate of what the
+    // path collects from there per unit weight (channel average, > 0) and the path weight.
+    virtual void record_continuation(ContinuationStage stage, const GuideRegion& region, float estimate,
+                                     const Color3& throughput) {}
+
+    // A copy of the path made by a continuation decision waits and is walked after the current
+    // branch ended: branch_point() is called when it is made, resume_branch(its value) before it is
+    // walked, so that a recorder credits what the copy collects to the vertices before the split.
+    virtual int branch_point() { return 0; }
+    virtual void resume_branch(int point) {}
+
+    // The camera sample ended with `branches` branches.
+    virtual void end_camera_sample(int branches) {}
+};
+
+}  // namespace volguide
