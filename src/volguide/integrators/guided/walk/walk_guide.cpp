@@ -73,7 +73,6 @@ WalkGuide::WalkGuide(const Scene& scene, const GuidingField& field, const WalkGu
             d.samples = field.leaves()[i].samples;
         }
     }
-    surface_offset_ = 1e-4f * norm(field.tree().bounds().extents());
     leaf_extent_ = leaf_extents(field.tree());  // before the regions, which read it
     auto add = [&](const Medium* m) {
         if (!m) return;
@@ -96,9 +95,8 @@ WalkGuide::WalkGuide(const Scene& scene, const GuidingField& field, const WalkGu
 }
 
 float WalkGuide::leaf_confidence(int leaf, const Color3& sigma_t) const {
-    if (!(settings_.leaf_tau_max > 0.f) || leaf < 0) return 1.f;
-    const float tau = leaf_extent_[size_t(leaf)] * sigma_t.average();
-    return tau > settings_.leaf_tau_max ? settings_.leaf_tau_max / tau : 1.f;
+    if (leaf < 0) return 1.f;
+    return volguide::leaf_confidence(leaf_extent_[size_t(leaf)], sigma_t, settings_.leaf_tau_max);
 }
 
 const LeafEstimates* WalkGuide::estimates_for(const PhaseFunction& phase) const {
@@ -303,9 +301,8 @@ int WalkGuide::surface_sampler(const SurfaceInteraction& si, const BSDF& bsdf, c
     int index = -1;
     if (guides_surfaces() && !field_.empty() && bsdf.flags() == bsdf_flags::DiffuseReflection) {
         ++stats_.local().surface_vertices;
-        // The side the path arrives from (wi above the shading frame: its normal, else the back).
-        const Vec3f n = si.wi.z >= 0.f ? Vec3f(si.sh_frame.n) : -Vec3f(si.sh_frame.n);
-        index = field_.tree().leaf_at(si.p + n * surface_offset_);
+        const SurfaceLeaf beside = surface_leaf(field_, si);
+        index = beside.leaf;
         const float share = index >= 0 ? selection_.share(SelectionDecision::Surface, size_t(index))
                                        : LearnedSelection::kDefault;
         const GuidingLeaf* leaf = nullptr;
@@ -320,7 +317,7 @@ int WalkGuide::surface_sampler(const SurfaceInteraction& si, const BSDF& bsdf, c
             bsdf_prob = 1.f - (share != LearnedSelection::kDefault ? share : 1.f - bsdf_prob) * confidence;
             if (settings_.direction == DirectionGuiding::Incident)
                 guide = &leaf->vmm;
-            else if (cosine_product(leaf->vmm, n, guide_storage))
+            else if (cosine_product(leaf->vmm, beside.n, guide_storage))
                 guide = &guide_storage;
         }
     }

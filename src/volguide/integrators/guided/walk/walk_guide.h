@@ -208,7 +208,7 @@ class WalkGuide {
     int vertex_leaf(const Point3f& x, const GuideRegion& region) const;
     // vertex_leaf(mi.p), kept in `region`, if its confidence at mi is at least kSkipConfidence, else -1.
     int trusted_vertex_leaf(const MediumInteraction& mi, GuideRegion& region) const;
-    // min(1, leaf_tau_max / (sigma_t average x leaf extent)); 1 when leaf_tau_max is 0 (off).
+    // The confidence of `leaf` (distance_bins.h's leaf_confidence at its extent); 1 outside the field.
     float leaf_confidence(int leaf, const Color3& sigma_t) const;
     // Below this confidence a vertex neither builds the direction product nor walks the guided
     // bins from it: phase sampling and free flight (the guided share would be under a quarter).
@@ -221,7 +221,6 @@ class WalkGuide {
     std::map<float, DistanceRegions> regions_;   // by phase mean cosine (built on estimates_), if merging
     std::map<float, PhaseVmm> phase_vmms_;
     std::vector<float> leaf_extent_;  // cube root of each leaf's volume
-    float surface_offset_ = 0.f;      // how far off a surface its leaf is looked up
     // With direction_indirect: per leaf, vmm/valid replaced by vmm_indirect/valid_indirect (the
     // direction sampler reads a GuidingLeaf).
     std::vector<GuidingLeaf> direction_leaves_;
