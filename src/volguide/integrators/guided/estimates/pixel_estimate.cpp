@@ -57,7 +57,7 @@ Color3 march_camera_ray(const Scene& scene, const GuidingField& field, const Cac
         if (!hit) break;
         const BSDF& bsdf = *si.shape->bsdf();
         if (bsdf.is_null()) {
-            if (++null_crossings > 1024) break;
+            if (++null_crossings > kMaxNullCrossings) break;
             medium = medium_after(si, ray.d, medium);
             ray = si.spawn_ray(ray.d);
             continue;
