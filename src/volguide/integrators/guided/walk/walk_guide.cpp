@@ -14,51 +14,17 @@
 namespace volguide {
 
 WalkGuideStats& WalkGuideStats::operator+=(const WalkGuideStats& o) {
-    distance_queries += o.distance_queries;
-    distance_steps += o.distance_steps;
-    guided_strategy += o.guided_strategy;
-    guided_tracking += o.guided_tracking;
-    invalid_bins += o.invalid_bins;
-    nan_fallbacks += o.nan_fallbacks;
-    distance_outside_field += o.distance_outside_field;
-    direction_samples += o.direction_samples;
-    direction_guided += o.direction_guided;
-    direction_unguided_vertices += o.direction_unguided_vertices;
-    damped_bins += o.damped_bins;
-    distance_skipped += o.distance_skipped;
-    direction_damped_vertices += o.direction_damped_vertices;
-    surface_vertices += o.surface_vertices;
-    surface_guided_vertices += o.surface_guided_vertices;
-    surface_guided_samples += o.surface_guided_samples;
-    distance_unselected += o.distance_unselected;
-    direction_unselected += o.direction_unselected;
-    surface_unselected += o.surface_unselected;
-    rrs_unselected += o.rrs_unselected;
+#define VOLGUIDE_WALK_GUIDE_ADD(member, name, of) member += o.member;
+    VOLGUIDE_WALK_GUIDE_COUNTERS(VOLGUIDE_WALK_GUIDE_ADD)
+#undef VOLGUIDE_WALK_GUIDE_ADD
     return *this;
 }
 
 std::vector<std::pair<std::string, double>> WalkGuideStats::named() const {
     auto ratio = [](uint64_t a, uint64_t b) { return b ? double(a) / double(b) : 0.0; };
-    return {{"distance_queries", double(distance_queries)},
-            {"distance_average_steps", ratio(distance_steps, distance_queries)},
-            {"distance_guided_fraction", ratio(guided_strategy, distance_queries)},
-            {"distance_tracking_fraction", ratio(guided_tracking, distance_queries)},
-            {"distance_invalid_bin_fraction", ratio(invalid_bins, distance_steps)},
-            {"distance_nan_fallbacks", double(nan_fallbacks)},
-            {"distance_outside_field", double(distance_outside_field)},
-            {"direction_samples", double(direction_samples)},
-            {"direction_guided_fraction", ratio(direction_guided, direction_samples)},
-            {"direction_unguided_vertex_fraction", ratio(direction_unguided_vertices, direction_samples)},
-            {"distance_damped_bin_fraction", ratio(damped_bins, distance_steps)},
-            {"distance_skipped", double(distance_skipped)},
-            {"direction_damped_vertex_fraction", ratio(direction_damped_vertices, direction_samples)},
-            {"surface_vertices", double(surface_vertices)},
-            {"surface_guided_vertex_fraction", ratio(surface_guided_vertices, surface_vertices)},
-            {"surface_guided_sample_fraction", ratio(surface_guided_samples, surface_vertices)},
-            {"selection_distance_unguided", double(distance_unselected)},
-            {"selection_direction_unguided", double(direction_unselected)},
-            {"selection_surface_unguided", double(surface_unselected)},
-            {"selection_rrs_off", double(rrs_unselected)}};
+#define VOLGUIDE_WALK_GUIDE_NAMED(member, name, of) {name, ratio(member, uint64_t(of))},
+    return {VOLGUIDE_WALK_GUIDE_COUNTERS(VOLGUIDE_WALK_GUIDE_NAMED)};
+#undef VOLGUIDE_WALK_GUIDE_NAMED
 }
 
 WalkGuide::WalkGuide(const Scene& scene, const GuidingField& field, const WalkGuideSettings& settings)
