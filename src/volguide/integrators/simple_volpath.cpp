@@ -29,7 +29,8 @@ Color3 SimpleVolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const C
     Ray ray = camera.ray;
     const Medium* medium = scene.sensor().medium();
     int depth = 0;  // real scattering events
-    for (int steps = 0; steps < 100000; ++steps) {
+    int null_crossings = 0;
+    while (true) {
         if (max_depth_ >= 0 && depth >= max_depth_) break;
         SurfaceInteraction si;
         if (!scene.intersect(ray, si)) si = miss_interaction(ray);
@@ -64,7 +65,9 @@ Color3 SimpleVolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const C
         const Vec3f wo = si.to_world(bs.wo);
         medium = medium_after(si, wo, medium);
         ray = si.spawn_ray(wo);
-        if (!(bs.sampled_flags & bsdf_flags::Null)) {
+        if (bs.sampled_flags & bsdf_flags::Null) {
+            if (++null_crossings > kMaxNullCrossings) break;
+        } else {
             ++depth;
             if (depth > rr_depth_) {
                 const float q = std::min(throughput.max_value(), 0.95f);

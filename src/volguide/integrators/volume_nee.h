@@ -13,6 +13,13 @@ namespace volguide {
 class Scene;
 class Medium;
 
+// How many null surfaces (null BSDF, thindielectric's straight transmission) one path may cross
+// between real events before it ends, in every path loop (volpath's walk, simple_volpath, the
+// photon pass's transport, the pixel estimate's camera rays): a ray that keeps re-hitting the
+// surface it leaves, or caught between coincident null surfaces, would otherwise never end. Real
+// scenes' paths cross far fewer, so the cap only ends such stuck rays.
+constexpr int kMaxNullCrossings = 1024;
+
 // Mitsuba's is_medium_transition(): the shape declares an interior or an exterior medium.
 inline bool is_medium_transition(const Shape& shape) {
     return shape.interior_medium() != nullptr || shape.exterior_medium() != nullptr;

@@ -12,13 +12,16 @@
 
 namespace volguide {
 
-// What the caller sees at a tentative collision.
+// A tentative collision: what the walk's decision there (collision_policy.h) and the caller's
+// CollisionGuide see.
 struct TentativeCollision {
     float t;                // ray parameter
     float mu;               // the majorant-cell's rate (>= sigma_t in every channel for a true bound)
     Color3 sigma_t;         // true coefficients at ray(t)
-    Color3 sigma_s;
-    Color3 channel_weights;  // |throughput on entry x tracking weight so far|, normalised to sum 1
+    Color3 sigma_s;         // (a walk whose decision does not read it fills it in at the scatter only)
+    // The path's channel weights q: throughput on entry (as channel probabilities) x tracking weight
+    // so far. A CollisionGuide sees them as |q| normalised to sum 1.
+    Color3 channel_weights;
 };
 
 // The caller's side: P_s at each tentative collision, called in order of increasing t. A NaN is
@@ -29,18 +32,29 @@ public:
     virtual float scatter_probability(const TentativeCollision& c) = 0;
 };
 
-// Spectral tracking's scatter probability <|sigma_t q|> / (<|sigma_t q|> + <|sigma_n q|>), q the
-// channel weights: it keeps the throughput-weighted channel sum of the path weight unchanged at
-// every event, so chromatic weights stay bounded (a plain channel average would let the null
-// weights of thin channels exceed 1 at every null collision).
-inline float analog_scatter_probability(const TentativeCollision& c) {
+// Spectral tracking (Kutz et al. 2017) weighs the two events of a tentative collision by their
+// channel sums over the channel weights q: real = sum |sigma_t q|, null = sum |sigma_n q| with
+// sigma_n = mu - sigma_t (with absolute values it stays unbiased where mu < sigma_t).
+struct SpectralTrackingWeights {
+    float real, null;
+};
+inline SpectralTrackingWeights spectral_tracking_weights(const TentativeCollision& c) {
     const Color3& q = c.channel_weights;
-    float real = 0.f, null = 0.f;
+    SpectralTrackingWeights s{0.f, 0.f};
     for (int ch = 0; ch < 3; ++ch) {
-        real += std::abs(c.sigma_t[ch] * q[ch]);
-        null += std::abs((c.mu - c.sigma_t[ch]) * q[ch]);
+        s.real += std::abs(c.sigma_t[ch] * q[ch]);
+        s.null += std::abs((c.mu - c.sigma_t[ch]) * q[ch]);
     }
-    return real + null > 0.f ? real / (real + null) : 0.f;
+    return s;
+}
+
+// Spectral tracking's scatter probability real / (real + null): it keeps the throughput-weighted
+// channel sum of the path weight unchanged at every event, so chromatic weights stay bounded (a
+// plain channel average would let the null weights of thin channels exceed 1 at every null
+// collision).
+inline float analog_scatter_probability(const TentativeCollision& c) {
+    const SpectralTrackingWeights s = spectral_tracking_weights(c);
+    return s.real + s.null > 0.f ? s.real / (s.real + s.null) : 0.f;
 }
 
 }  // namespace volguide

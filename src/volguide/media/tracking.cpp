@@ -55,9 +55,9 @@ FreeFlightSample HeterogeneousMedium::track(const Ray& ray, float tmax, const Co
     // callback stays small. always_inline: GCC 12 otherwise keeps the guided instance's callback
     // out of line, a call per tentative collision (the parent's guided loop had none).
     CollisionDecision end{CollisionDecision::Event::Null};
-    CollisionSite scatter{};
+    TentativeCollision scatter{};
     for_each_tentative_collision(o, d, t0, t1, sampler, counts, [&](float t, float mu) __attribute__((always_inline)) {
-        CollisionSite c{t, mu, sigma_t_local(o + d * t), Color3(0.f), w * entry};
+        TentativeCollision c{t, mu, sigma_t_local(o + d * t), Color3(0.f), w * entry};
         if constexpr (Policy::reads_scattering) c.sigma_s = c.sigma_t * albedo_->eval(ray(t));
         end = policy(c, sampler);
         if (end.event == CollisionDecision::Event::Null) {

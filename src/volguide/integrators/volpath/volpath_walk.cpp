@@ -198,7 +198,7 @@ bool VolumeWalk::surface_step() {
     const Vec3f wo = si_.to_world(bs.wo);
     if (recorder_) recorder_->record_surface_vertex(si_, bs, wo, s.throughput);
     if (bs.sampled_flags & bsdf_flags::Null) {
-        if (++s.null_crossings > 1024) return false;  // a ray stuck on a surface
+        if (++s.null_crossings > kMaxNullCrossings) return false;  // a ray stuck on a surface
     } else {
         ++s.depth;
         s.last_vertex = si_;

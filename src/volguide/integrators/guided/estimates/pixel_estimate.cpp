@@ -8,6 +8,7 @@
 #include "volguide/guiding/surface_guide.h"
 #include "volguide/vmm/vmm.h"
 #include "volguide/integrators/guided/estimates/cache_estimate.h"
+#include "volguide/integrators/guided/walk/guided_surface_sampler.h"
 #include "volguide/integrators/camera_sample.h"
 #include "volguide/integrators/integrator.h"
 #include "volguide/integrators/volume_nee.h"
@@ -39,7 +40,6 @@ float field_irradiance_shape(const Vmm& v, const Vec3f& n) {
 Color3 march_camera_ray(const Scene& scene, const GuidingField& field, const CacheEstimator& estimator,
                         const PixelEstimateSettings& settings, Ray ray, Sampler& sampler) {
     const BSDFContext ctx;
-    const float leaf_offset = 1e-4f * norm(field.tree().bounds().extents());
     Color3 T(1.f), result(0.f);
     const Medium* medium = scene.sensor().medium();
     bool from_camera = true;  // no real surface event yet
@@ -57,7 +57,7 @@ Color3 march_camera_ray(const Scene& scene, const GuidingField& field, const Cac
         if (!hit) break;
         const BSDF& bsdf = *si.shape->bsdf();
         if (bsdf.is_null()) {
-            if (++null_crossings > 1024) break;
+            if (++null_crossings > kMaxNullCrossings) break;
             medium = medium_after(si, ray.d, medium);
             ray = si.spawn_ray(ray.d);
             continue;
@@ -84,8 +84,7 @@ Color3 march_camera_ray(const Scene& scene, const GuidingField& field, const Cac
         const float u1 = sampler.next_1d();
         const Color3 albedo = bsdf.sample(ctx, si, u1, sampler.next_2d()).second;
         if (albedo.is_black()) break;
-        const Vec3f n = si.wi.z >= 0.f ? Vec3f(si.sh_frame.n) : -Vec3f(si.sh_frame.n);
-        const int index = field.empty() ? -1 : field.tree().leaf_at(si.p + n * leaf_offset);
+        const auto [n, index] = surface_leaf(field, si);
         const GuidingLeaf* leaf = index >= 0 ? &field.leaves()[size_t(index)] : nullptr;
         if (leaf && leaf->valid && leaf->mostly_medium()) {
             result += T * albedo * leaf->fluence * (field_irradiance_shape(leaf->vmm, n) * InvPi);

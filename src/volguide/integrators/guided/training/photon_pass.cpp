@@ -129,7 +129,7 @@ void transport(const Scene& scene, const PhotonPassSettings& s, const Medium* st
         throughput *= weight;
         if (throughput.is_black() || !throughput.is_finite()) return;
         if (bs.sampled_flags & bsdf_flags::Null) {
-            if (++null_crossings > 1024) return;
+            if (++null_crossings > kMaxNullCrossings) return;
         } else {
             if (s.max_depth >= 0 && ++depth >= s.max_depth) return;
             if (depth > s.rr_depth) {

@@ -4,9 +4,8 @@
 // stretch before the field's bounds is a leafless span), cut at the medium's proxy segments
 // (majorant cells of a heterogeneous medium) and split so that no bin is optically thicker than
 // `max_tau`. Each bin carries its proxy coefficients and its leaf's L~_i and L~ looking along the
-// ray (channel averages, §7.8), and a confidence min(1, leaf_tau_max / tau_leaf) with tau_leaf the
-// bin's proxy extinction (channel average) times the leaf's extent (WalkGuide's rule for leaves
-// many mean free paths across; leaf_tau_max = 0: off). With `regions` (distance_regions.h, built on
+// ray (channel averages, §7.8), and its leaf's confidence (leaf_confidence below) at the bin's
+// proxy extinction. With `regions` (distance_regions.h, built on
 // the same estimates) the bins are the regions the ray crosses instead of the leaves.
 //
 // A source pulls the bins lazily (the incremental sampler stops at the collision): field values,
@@ -32,6 +31,15 @@ namespace volguide {
 
 // The cube root of each leaf's volume: the length that sets a leaf's optical size.
 std::vector<float> leaf_extents(const SpatialTree& tree);
+
+// The guiding confidence of a leaf (or region) of `extent` in a medium of extinction sigma_t:
+// min(1, tau_max / tau_leaf), tau_leaf = extent x sigma_t's channel average; 1 when tau_max is 0
+// (off). Why the guided decisions scale their guided share by it: WalkGuideSettings::leaf_tau_max.
+inline float leaf_confidence(float extent, const Color3& sigma_t, float tau_max) {
+    if (!(tau_max > 0.f)) return 1.f;
+    const float tau = extent * sigma_t.average();
+    return tau > tau_max ? tau_max / tau : 1.f;
+}
 
 class BinSource {
   public:
@@ -82,13 +90,10 @@ class BinSource {
         bin.L = L_;
         bin.valid = valid_;
         bin.confidence = 1.f;
-        if (leaf_ >= 0 && valid_ && leaf_tau_max_ > 0.f) {
+        if (leaf_ >= 0 && valid_) {
             const float extent = regions_ ? regions_->extent(leaf_) : leaf_extent_[size_t(leaf_)];
-            const float tau = extent * p.sigma_t.average();
-            if (tau > leaf_tau_max_) {
-                bin.confidence = leaf_tau_max_ / tau;
-                ++damped_;
-            }
+            bin.confidence = leaf_confidence(extent, p.sigma_t, leaf_tau_max_);
+            damped_ += bin.confidence < 1.f ? 1 : 0;
         }
         invalid_ += valid_ ? 0 : 1;
     }

@@ -14,51 +14,17 @@
 namespace volguide {
 
 WalkGuideStats& WalkGuideStats::operator+=(const WalkGuideStats& o) {
-    distance_queries += o.distance_queries;
-    distance_steps += o.distance_steps;
-    guided_strategy += o.guided_strategy;
-    guided_tracking += o.guided_tracking;
-    invalid_bins += o.invalid_bins;
-    nan_fallbacks += o.nan_fallbacks;
-    distance_outside_field += o.distance_outside_field;
-    direction_samples += o.direction_samples;
-    direction_guided += o.direction_guided;
-    direction_unguided_vertices += o.direction_unguided_vertices;
-    damped_bins += o.damped_bins;
-    distance_skipped += o.distance_skipped;
-    direction_damped_vertices += o.direction_damped_vertices;
-    surface_vertices += o.surface_vertices;
-    surface_guided_vertices += o.surface_guided_vertices;
-    surface_guided_samples += o.surface_guided_samples;
-    distance_unselected += o.distance_unselected;
-    direction_unselected += o.direction_unselected;
-    surface_unselected += o.surface_unselected;
-    rrs_unselected += o.rrs_unselected;
+#define VOLGUIDE_WALK_GUIDE_ADD(member, name, of) member += o.member;
+    VOLGUIDE_WALK_GUIDE_COUNTERS(VOLGUIDE_WALK_GUIDE_ADD)
+#undef VOLGUIDE_WALK_GUIDE_ADD
     return *this;
 }
 
 std::vector<std::pair<std::string, double>> WalkGuideStats::named() const {
     auto ratio = [](uint64_t a, uint64_t b) { return b ? double(a) / double(b) : 0.0; };
-    return {{"distance_queries", double(distance_queries)},
-            {"distance_average_steps", ratio(distance_steps, distance_queries)},
-            {"distance_guided_fraction", ratio(guided_strategy, distance_queries)},
-            {"distance_tracking_fraction", ratio(guided_tracking, distance_queries)},
-            {"distance_invalid_bin_fraction", ratio(invalid_bins, distance_steps)},
-            {"distance_nan_fallbacks", double(nan_fallbacks)},
-            {"distance_outside_field", double(distance_outside_field)},
-            {"direction_samples", double(direction_samples)},
-            {"direction_guided_fraction", ratio(direction_guided, direction_samples)},
-            {"direction_unguided_vertex_fraction", ratio(direction_unguided_vertices, direction_samples)},
-            {"distance_damped_bin_fraction", ratio(damped_bins, distance_steps)},
-            {"distance_skipped", double(distance_skipped)},
-            {"direction_damped_vertex_fraction", ratio(direction_damped_vertices, direction_samples)},
-            {"surface_vertices", double(surface_vertices)},
-            {"surface_guided_vertex_fraction", ratio(surface_guided_vertices, surface_vertices)},
-            {"surface_guided_sample_fraction", ratio(surface_guided_samples, surface_vertices)},
-            {"selection_distance_unguided", double(distance_unselected)},
-            {"selection_direction_unguided", double(direction_unselected)},
-            {"selection_surface_unguided", double(surface_unselected)},
-            {"selection_rrs_off", double(rrs_unselected)}};
+#define VOLGUIDE_WALK_GUIDE_NAMED(member, name, of) {name, ratio(member, uint64_t(of))},
+    return {VOLGUIDE_WALK_GUIDE_COUNTERS(VOLGUIDE_WALK_GUIDE_NAMED)};
+#undef VOLGUIDE_WALK_GUIDE_NAMED
 }
 
 WalkGuide::WalkGuide(const Scene& scene, const GuidingField& field, const WalkGuideSettings& settings)
@@ -73,7 +39,6 @@ WalkGuide::WalkGuide(const Scene& scene, const GuidingField& field, const WalkGu
             d.samples = field.leaves()[i].samples;
         }
     }
-    surface_offset_ = 1e-4f * norm(field.tree().bounds().extents());
     leaf_extent_ = leaf_extents(field.tree());  // before the regions, which read it
     auto add = [&](const Medium* m) {
         if (!m) return;
@@ -96,9 +61,8 @@ WalkGuide::WalkGuide(const Scene& scene, const GuidingField& field, const WalkGu
 }
 
 float WalkGuide::leaf_confidence(int leaf, const Color3& sigma_t) const {
-    if (!(settings_.leaf_tau_max > 0.f) || leaf < 0) return 1.f;
-    const float tau = leaf_extent_[size_t(leaf)] * sigma_t.average();
-    return tau > settings_.leaf_tau_max ? settings_.leaf_tau_max / tau : 1.f;
+    if (leaf < 0) return 1.f;
+    return volguide::leaf_confidence(leaf_extent_[size_t(leaf)], sigma_t, settings_.leaf_tau_max);
 }
 
 const LeafEstimates* WalkGuide::estimates_for(const PhaseFunction& phase) const {
@@ -303,9 +267,8 @@ int WalkGuide::surface_sampler(const SurfaceInteraction& si, const BSDF& bsdf, c
     int index = -1;
     if (guides_surfaces() && !field_.empty() && bsdf.flags() == bsdf_flags::DiffuseReflection) {
         ++stats_.local().surface_vertices;
-        // The side the path arrives from (wi above the shading frame: its normal, else the back).
-        const Vec3f n = si.wi.z >= 0.f ? Vec3f(si.sh_frame.n) : -Vec3f(si.sh_frame.n);
-        index = field_.tree().leaf_at(si.p + n * surface_offset_);
+        const SurfaceLeaf beside = surface_leaf(field_, si);
+        index = beside.leaf;
         const float share = index >= 0 ? selection_.share(SelectionDecision::Surface, size_t(index))
                                        : LearnedSelection::kDefault;
         const GuidingLeaf* leaf = nullptr;
@@ -320,7 +283,7 @@ int WalkGuide::surface_sampler(const SurfaceInteraction& si, const BSDF& bsdf, c
             bsdf_prob = 1.f - (share != LearnedSelection::kDefault ? share : 1.f - bsdf_prob) * confidence;
             if (settings_.direction == DirectionGuiding::Incident)
                 guide = &leaf->vmm;
-            else if (cosine_product(leaf->vmm, n, guide_storage))
+            else if (cosine_product(leaf->vmm, beside.n, guide_storage))
                 guide = &guide_storage;
         }
     }

@@ -82,29 +82,55 @@ struct WalkGuideSettings {
     float bsdf_prob = GuidedSurfaceSampler::kDefaultBsdfProbability;
 };
 
+// The guided decisions' counters, declared once: X(member, name, of) is a counter, the name --stats
+// reports it under, and the counter it is reported as a fraction of (1: reported as a count).
+// WalkGuideStats's members, their sum and named() are generated from this list.
+#define VOLGUIDE_WALK_GUIDE_COUNTERS(X)                                                                    \
+    /* guided distance decisions */                                                                        \
+    X(distance_queries, "distance_queries", 1)                                                             \
+    /* bins stepped through by them (tracking: tentative collisions) */                                    \
+    X(distance_steps, "distance_average_steps", distance_queries)                                          \
+    /* bin queries whose decisions followed the guided probabilities */                                    \
+    X(guided_strategy, "distance_guided_fraction", distance_queries)                                       \
+    /* queries by guided null-collision tracking (H2) */                                                   \
+    X(guided_tracking, "distance_tracking_fraction", distance_queries)                                     \
+    /* bins (tracking: collisions) stepped through without a valid leaf */                                 \
+    X(invalid_bins, "distance_invalid_bin_fraction", distance_steps)                                       \
+    /* bins (collisions) whose guided probability was not finite (§7.6) */                                 \
+    X(nan_fallbacks, "distance_nan_fallbacks", 1)                                                          \
+    /* segments that miss the field: ordinary free flight */                                               \
+    X(distance_outside_field, "distance_outside_field", 1)                                                 \
+    /* directions sampled at medium vertices */                                                            \
+    X(direction_samples, "direction_samples", 1)                                                           \
+    /* ... from the guiding VMM (the rest from the phase function) */                                      \
+    X(direction_guided, "direction_guided_fraction", direction_samples)                                    \
+    /* vertices without a valid leaf (phase only) */                                                       \
+    X(direction_unguided_vertices, "direction_unguided_vertex_fraction", direction_samples)                \
+    /* bins whose leaf is optically larger than leaf_tau_max */                                            \
+    X(damped_bins, "distance_damped_bin_fraction", distance_steps)                                         \
+    /* queries from a vertex in a leaf of confidence < kSkipConfidence */                                  \
+    X(distance_skipped, "distance_skipped", 1)                                                             \
+    /* vertices whose leaf is optically larger than leaf_tau_max */                                        \
+    X(direction_damped_vertices, "direction_damped_vertex_fraction", direction_samples)                    \
+    /* diffuse surface vertices offered to surface guiding */                                              \
+    X(surface_vertices, "surface_vertices", 1)                                                             \
+    /* ... that found a valid leaf (mixture sampling) */                                                   \
+    X(surface_guided_vertices, "surface_guided_vertex_fraction", surface_vertices)                         \
+    /* directions drawn from the surface guide */                                                          \
+    X(surface_guided_samples, "surface_guided_sample_fraction", surface_vertices)                          \
+    /* learned selection (guiding/selection.h): distance decisions made unguided (share 0) */              \
+    X(distance_unselected, "selection_distance_unguided", 1)                                               \
+    /* ... direction decisions made unguided */                                                            \
+    X(direction_unselected, "selection_direction_unguided", 1)                                             \
+    /* ... surface decisions made unguided */                                                              \
+    X(surface_unselected, "selection_surface_unguided", 1)                                                 \
+    /* ... continuation points where guided RR/splitting was switched off */                               \
+    X(rrs_unselected, "selection_rrs_off", 1)
+
 struct WalkGuideStats {
-    uint64_t distance_queries = 0;        // guided distance decisions
-    uint64_t distance_steps = 0;          // bins stepped through by them (tracking: tentative collisions)
-    uint64_t guided_strategy = 0;         // bin queries whose decisions followed the guided probabilities
-    uint64_t guided_tracking = 0;         // queries by guided null-collision tracking (H2)
-    uint64_t invalid_bins = 0;            // bins (tracking: collisions) stepped through without a valid leaf
-    uint64_t nan_fallbacks = 0;           // bins (collisions) whose guided probability was not finite (§7.6)
-    uint64_t distance_outside_field = 0;  // segments that miss the field: ordinary free flight
-    uint64_t direction_samples = 0;       // directions sampled at medium vertices
-    uint64_t direction_guided = 0;        // ... from the guiding VMM (the rest from the phase function)
-    uint64_t direction_unguided_vertices = 0;  // vertices without a valid leaf (phase only)
-    uint64_t distance_skipped = 0;  // queries from a vertex in a leaf of confidence < kSkipConfidence
-    uint64_t damped_bins = 0;       // bins whose leaf is optically larger than leaf_tau_max
-    uint64_t direction_damped_vertices = 0;  // vertices whose leaf is optically larger than leaf_tau_max
-    uint64_t surface_vertices = 0;         // diffuse surface vertices offered to surface guiding
-    uint64_t surface_guided_vertices = 0;  // ... that found a valid leaf (mixture sampling)
-    uint64_t surface_guided_samples = 0;   // directions drawn from the surface guide
-    // Learned selection (guiding/selection.h): decisions made unguided because their region's
-    // learned guided share is 0, and continuation points where it switched guided RR/splitting off.
-    uint64_t distance_unselected = 0;
-    uint64_t direction_unselected = 0;
-    uint64_t surface_unselected = 0;
-    uint64_t rrs_unselected = 0;
+#define VOLGUIDE_WALK_GUIDE_MEMBER(member, name, of) uint64_t member = 0;
+    VOLGUIDE_WALK_GUIDE_COUNTERS(VOLGUIDE_WALK_GUIDE_MEMBER)
+#undef VOLGUIDE_WALK_GUIDE_MEMBER
     WalkGuideStats& operator+=(const WalkGuideStats& o);
     // Named values for --stats.
     std::vector<std::pair<std::string, double>> named() const;
@@ -204,7 +230,7 @@ class WalkGuide {
                                    const DistanceSample& ds, const Color3& throughput, Sampler& sampler) const;
     // The leaf at x (-1 outside the field), without a descent when `region` (x's) holds it.
     int vertex_leaf(const Point3f& x, const GuideRegion& region) const;
-    // min(1, leaf_tau_max / (sigma_t average x leaf extent)); 1 when leaf_tau_max is 0 (off).
+    // The confidence of `leaf` (distance_bins.h's leaf_confidence at its extent); 1 outside the field.
     float leaf_confidence(int leaf, const Color3& sigma_t) const;
     // Below this confidence a vertex neither builds the direction product nor walks the guided
     // bins from it: phase sampling and free flight (the guided share would be under a quarter).
@@ -217,7 +243,6 @@ class WalkGuide {
     std::map<float, DistanceRegions> regions_;   // by phase mean cosine (built on estimates_), if merging
     std::map<float, PhaseVmm> phase_vmms_;
     std::vector<float> leaf_extent_;  // cube root of each leaf's volume
-    float surface_offset_ = 0.f;      // how far off a surface its leaf is looked up
     // With direction_indirect: per leaf, vmm/valid replaced by vmm_indirect/valid_indirect (the
     // direction sampler reads a GuidingLeaf).
     std::vector<GuidingLeaf> direction_leaves_;
