@@ -21,8 +21,9 @@
 //    `bins` per query and `regions` (0: leaves).
 //  - LeafTableLookup: one bin's read of L~_i and L~ from a leaf's 16x16 table (LeafEstimates::lookup,
 //    the ray's direction prepared once), random leaves of the demo field;
-//  - RouletteEstimate: the E[X] lookup of guided RR / splitting at a medium vertex (WalkGuide::
-//    inscattered_estimate: leaf descent + table lookup) at random points of the demo's fog;
+//  - RouletteEstimate: the E[X] lookup of guided RR / splitting at a medium vertex
+//    (GuidedContinuation::estimate at the distance stage: leaf descent + table lookup) at random
+//    points of the demo's fog;
 //  - LeafWalk{Cursor,Traverse}/{2000,50000}: the leaves crossed by a random ray through a kd-tree of
 //    the demo's photon positions split to ~2000 leaves (a benchmark scene's field) or ~50000, by the rope
 //    cursor the distance sampler uses and by the stack traversal; time per ray, `time_per_leaf`
@@ -43,6 +44,7 @@
 #include "volguide/guiding/guided_direction.h"
 #include "volguide/guiding/inscatter_cache.h"
 #include "volguide/integrators/guided/walk/distance_bins.h"
+#include "volguide/integrators/guided/walk/guided_continuation.h"
 #include "volguide/integrators/guided/guided_volpath.h"
 #include "volguide/integrators/guided/walk/walk_guide.h"
 #include "volguide/integrators/guided/training/photon_pass.h"
@@ -338,6 +340,7 @@ void BM_RouletteEstimate(benchmark::State& state) {
     settings.distance = DistanceGuiding::Incremental;  // the tables the estimates read
     settings.direction = DirectionGuiding::Product;
     const WalkGuide guide(scene, field, settings);
+    const GuidedContinuation continuation(guide, nullptr, 1.f);  // the estimate alone
     const BBox3f b = field.tree().bounds();
     std::vector<std::pair<MediumInteraction, Vec3f>> queries;
     for (int i = 0; i < 4096; ++i) {
@@ -355,7 +358,7 @@ void BM_RouletteEstimate(benchmark::State& state) {
     for (auto _ : state) {
         const auto& [mi, d] = queries[i++ & 4095];
         GuideRegion region;  // not known: a descent, as after an unguided distance decision
-        benchmark::DoNotOptimize(guide.inscattered_estimate(mi, d, region));
+        benchmark::DoNotOptimize(continuation.estimate(ContinuationStage::Distance, mi, d, region));
     }
 }
 
