@@ -9,7 +9,7 @@
 // lookup times the leaf's fluence.
 // The tables are an approximation of the estimates, so they only shape the distance sampler's
 // probabilities: the sampler's pdf is computed from the same values it sampled with, and the
-// weights use the true coefficients (theory.md §7.5) — unbiased at any resolution.
+// weights use the true coefficients (docs/theory.md §7.5) — unbiased at any resolution.
 #include <cstdint>
 #include <vector>
 

@@ -1,5 +1,5 @@
 #pragma once
-// Guided Russian roulette and splitting (theory.md §9): after a guided decision, the partial path's
+// Guided Russian roulette and splitting (docs/theory.md §9): after a guided decision, the partial path's
 // expected contribution E[X] = <w * Psi~> (w its weight, Psi~ the field's estimate of what the
 // continuation collects) is compared with the pixel's estimated value I. The ratio r = E[X] / I is
 // turned into an expected number of continuations q by the weight window of size s (eq. 9.1):

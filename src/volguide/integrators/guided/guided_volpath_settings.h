@@ -17,7 +17,7 @@
 
 namespace volguide {
 
-// How the field is trained: the photon pre-pass (theory.md §5.2, §10.1) or PPG-style from camera
+// How the field is trained: the photon pre-pass (docs/theory.md §5.2, §10.1) or PPG-style from camera
 // paths (§10.2, progressive_training.h).
 enum class TrainingMethod { Photons, Progressive };
 // How guided RR/splitting's pixel estimate I is made (pixel_estimate.h).

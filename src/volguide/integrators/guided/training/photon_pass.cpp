@@ -99,7 +99,7 @@ void transport(const Scene& scene, const PhotonPassSettings& s, const Medium* st
                 medium->sample_free_flight(ray, si.is_valid() ? si.t : ray.tmax, throughput, sampler);
             if (ff.scattered) {
                 ++out.collisions;
-                // Flux arriving at the collision over sigma_t, before the albedo (theory.md §5.2).
+                // Flux arriving at the collision over sigma_t, before the albedo (docs/theory.md §5.2).
                 const Color3 deposit = flux * throughput * ff.flight_weight;
                 // depth 0: straight from the emitter (null boundaries crossed do not count).
                 if (deposit.is_finite() && !deposit.is_black())
