@@ -34,10 +34,9 @@ enum class RouletteMode { Standard, Guided, GuidedSplitting };
 
 struct RouletteSplittingSettings {
     RouletteMode mode = RouletteMode::Standard;
-    // s >= 1: 1 the paper's q = E[X]/I, 5 ADRRS (the default: in the 60 s benchmark of 2026-11-24
-    // it beat s = 1 on five of the seven scenes, tied on shafts and fogbox, and kept the 99.9th
-    // percentile of branches per camera sample under the cap where s = 1 reached it, on sss and
-    // aniso).
+    // s >= 1: 1 the paper's q = E[X]/I, 5 ADRRS (the default: at equal time it beat or tied s = 1
+    // on the benchmark scenes and kept the branches per camera sample under the cap where s = 1
+    // reached it; measured: see bench/RESULTS.md (issue 35)).
     float window = 5.f;
     float q_min = 0.1f, q_max = 20.f;
     int max_branches = 64;  // path branches per camera sample, the original included

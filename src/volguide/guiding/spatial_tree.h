@@ -94,8 +94,8 @@ public:
     // exit axis set exactly to the face), ties broken by the ray's direction. The intervals are
     // contiguous, never empty, and cover the segment's overlap with the bounds (the last leaf is
     // extended to the bounds' exit); they equal traverse()'s up to float rounding of the crossing
-    // distances (a little cheaper per leaf than the stack: ~58 vs ~67 ns on a 2500-leaf tree,
-    // bench_guiding --benchmark_filter=LeafWalk).
+    // distances (a little cheaper per leaf than the stack, bench_guiding
+    // --benchmark_filter=LeafWalk; measured: see bench/RESULTS.md (issue 35)).
     class RayCursor {
     public:
         RayCursor(const SpatialTree& tree, const Ray& ray, float t0, float t1);

@@ -2,8 +2,9 @@
 // Products of vMF mixtures in single precision, for the sampling distributions built at every
 // path vertex (surface guide, docs/theory.md §3.4 / §3.6). The double-precision product_into (vmm.h) is
 // the reference; this one computes the same closed form in float with a float normalisation,
-// ~4x cheaper, to about 1e-6 relative in the weights away from the extremes (the test sweeps
-// kappa in [0, 32000]). A sampling mixture only has to be a normalised mixture whose samples
+// several times cheaper (bench/RESULTS.md (issue 35)), to about 1e-6 relative in the weights away from
+// the extremes (the test sweeps kappa in [0, 32000]). A sampling mixture only has to be a
+// normalised mixture whose samples
 // and pdf agree: its values shape probabilities and never enter weights directly.
 #include <array>
 #include <cmath>

@@ -36,8 +36,8 @@ struct BatchResult {
 // the camera's walk never needs it) is in the medium that encloses it (medium_enclosing), probed once
 // at 16 points it emits from -- per photon only if they disagree (a light straddling a boundary).
 // Started in vacuum instead, such a lamp's photons left every collision of its direct light out of
-// the field (fogbox's in-scattered estimate read 0.54 of the path-traced one). Training only: the
-// render's estimate never reads it.
+// the field (fogbox's in-scattered estimate read about half the path-traced one: see
+// docs/guiding-estimates.md). Training only: the render's estimate never reads it.
 class StartMedia {
 public:
     explicit StartMedia(const Scene& scene) : ambient_(ambient_medium(scene)) {

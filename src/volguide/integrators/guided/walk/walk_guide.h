@@ -155,9 +155,9 @@ struct DistanceScratch {
 
 // The decisions take the GuideRegion of the vertex they are made at (walk_policy.h): its kd leaf
 // when a decision before found it (-1: not known), so that the direction decision at a guided
-// scatter and the distance decision that leaves it need not descend the tree again (leaf_at was
-// ~1.5 % of aniso's guided profile), and the decisions update it. A leaf handed on is trusted only
-// where SpatialTree::leaf_at would provably return it (holds_point).
+// scatter and the distance decision that leaves it need not descend the tree again (leaf_at showed
+// in aniso's profile, bench/RESULTS.md (issue 35)), and the decisions update it. A leaf handed on is trusted
+// only where SpatialTree::leaf_at would provably return it (holds_point).
 class WalkGuide {
   public:
     // The field and the scene must outlive the guide.
