@@ -8,7 +8,7 @@
 //    (and InscatterCachePrepare: the preparation itself, with the cache's bytes per leaf);
 //  - memory per leaf (bytes of GuidingLeaf plus its tree nodes) as a counter;
 //  - Distance{Incremental,Tabulated}/{early,late,late chromatic}: one guided distance sample
-//    (theory.md §7.3 vs §7.2, default settings) on a 20-bin ray whose in-scattered radiance sits in
+//    (docs/theory.md §7.3 vs §7.2, default settings) on a 20-bin ray whose in-scattered radiance sits in
 //    the first / last three bins, grey sigma_t (/0, /1) or chromatic (/2), bins handed out from
 //    memory (the scene walk's cost is not included); `steps` is the mean number of bins the
 //    incremental sampler pulled (the tabulated one always reads 20).

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Equal-time benchmark (issue 5, theory.md section 12): every scene x method renders for the same
+"""Equal-time benchmark (issue 5, docs/theory.md §12): every scene x method renders for the same
 wall-clock budget (training included), is compared with the scene's reference, and the report goes to
 bench/results/<date>/: results.csv, table.md (the seed's layout), plots/ (relMSE vs time, log-log),
 index.html (images side by side, zoomed crops, false-colour error maps).
@@ -60,7 +60,7 @@ METHODS = {
 
 # Methods run only when named in --methods (comparisons of variants, not part of the default table).
 EXTRA_METHODS = {
-    # Heterogeneous media: the bins (theory.md §7.7 H1) instead of guided tracking (H2, the default).
+    # Heterogeneous media: the bins (docs/theory.md §7.7 H1) instead of guided tracking (H2, the default).
     "guided_volpath distance=incremental hetero_distance=bins": {
         "guided": {"distance": "incremental", "hetero_distance": "bins"}},
     # Ablations of the direction decision at surfaces and of the distance mixture's defensive share.

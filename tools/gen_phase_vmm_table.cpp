@@ -1,5 +1,5 @@
 // Generates src/volguide/vmm/phase_vmm_table.cpp: Henyey-Greenstein fits by K zonal vMF lobes at
-// g_i = i * max_g / (N - 1), i = 0..N-1 (theory.md §4.2-4.3). The sweep runs from max_g down to
+// g_i = i * max_g / (N - 1), i = 0..N-1 (docs/theory.md §4.2-4.3). The sweep runs from max_g down to
 // g_1. Candidates per entry: the best of 10 random starts, a warm start from the neighbour entry,
 // and the neighbour with its mean cosines scaled by g / g_next. Among the candidates whose RMS log
 // residual is within 1e-4 of the best, the one closest to the neighbour is kept: for small g the
@@ -52,7 +52,7 @@ int main(int argc, char** argv) {
     std::printf(
         "//   build/gen_phase_vmm_table --lobes %d --max-g %g > src/volguide/vmm/phase_vmm_table.cpp\n",
         lobes, max_g);
-    std::printf("// Henyey-Greenstein fits by %d zonal vMF lobes (theory.md §4.2), lobes sorted by kappa.\n",
+    std::printf("// Henyey-Greenstein fits by %d zonal vMF lobes (docs/theory.md §4.2), lobes sorted by kappa.\n",
                 lobes);
     std::printf(
         "// Columns: g, weights, kappas, mean cosines A3(kappa). Entry 0 (g = 0) is isotropic: kappa 0\n");

@@ -16,7 +16,7 @@
 //  - the guide's statistics show that it was really used (guided strategies, stepped bins; guided
 //    null-collision tracking in heterogeneous media, the bins with hetero_distance=bins; guided
 //    floor vertices);
-//  - guided RR and splitting (issue 8, theory.md §9): the same furnace and lit fog with rrs=grr and
+//  - guided RR and splitting (issue 8, docs/theory.md §9): the same furnace and lit fog with rrs=grr and
 //    rrs=grrs (windows s = 1 and 5, both pixel estimates, with and without guided sampling), and
 //    its statistics (kills, splits, the branch cap).
 #include <fmt/format.h>

@@ -1,4 +1,4 @@
-// The photon pre-pass and the guiding field it trains (issue 6, theory.md §5.2, §14.12):
+// The photon pre-pass and the guiding field it trains (issue 6, docs/theory.md §5.2, §14.12):
 //  - direction convention: photons from a point light deposit directions towards the light, so the
 //    fitted leaf mixtures point at it;
 //  - fluence: in a purely absorbing medium around a point light of intensity I the fluence is

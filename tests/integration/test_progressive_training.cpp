@@ -1,4 +1,4 @@
-// Progressive (PPG-style) training of the guiding field from camera paths (issue 6, theory.md §10.2):
+// Progressive (PPG-style) training of the guiding field from camera paths (issue 6, docs/theory.md §10.2):
 //  - direction convention (§14.12): a point light at +x in a thin isotropic medium; the fitted
 //    leaf mixtures point at it, as with photons;
 //  - fluence, analytic: inside an albedo-1 sphere in a uniform environment of radiance 1 the

@@ -1,4 +1,4 @@
-// Chi-square of the guided directional sampler (theory.md §8.2, §14.6) against its own full
+// Chi-square of the guided directional sampler (docs/theory.md §8.2, §14.6) against its own full
 // mixture pdf, with the weight check eval = exact HG: Product and Incident guides, alpha_f = 0
 // (pure VMM part) and 0.5, one- and four-lobe leaves, HG g in {0, 0.5, 0.9, -0.6}; the phase-only
 // fallback of an invalid leaf against the HG pdf; and a control that a wrong pdf is rejected.

@@ -1,4 +1,4 @@
-// Guided product distance sampling on a 1-D analytic ray (theory.md §14.7): exact estimates give a
+// Guided product distance sampling on a 1-D analytic ray (docs/theory.md §14.7): exact estimates give a
 // zero-variance estimator of L(0); noisy (log-normal) estimates with defensive mixing, clamping and
 // the filter stay unbiased (z-tests, grey and chromatic); sampled distances follow the pdf (chi-square).
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// Guided null-collision tracking (Medium::sample_free_flight with a CollisionGuide, theory.md §7.7 H2) is
+// Guided null-collision tracking (Medium::sample_free_flight with a CollisionGuide, docs/theory.md §7.7 H2) is
 // unbiased for any scatter probability that is positive where sigma_s is and below 1 where
 // mu > sigma_t: against quadrature on the tracking tests' procedural cloud (oracles.md §4),
 //   E[w 1{escaped}] = T_c(s),  E[w 1{scattered}] = int T_c sigma_s,c dt,  E[w 1{scattered} t] = int T_c sigma_s,c t dt,

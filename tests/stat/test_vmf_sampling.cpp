@@ -1,4 +1,4 @@
-// vMF lobe sampling (theory.md §3.2, §14.1): chi-square against the lobe's own pdf, and the
+// vMF lobe sampling (docs/theory.md §3.2, §14.1): chi-square against the lobe's own pdf, and the
 // sample mean cosine against A3(kappa) over the whole kappa range.
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-// Mixture sampling (theory.md §3.6, §14.6): chi-square of an 8-lobe mixture and of the product of
+// Mixture sampling (docs/theory.md §3.6, §14.6): chi-square of an 8-lobe mixture and of the product of
 // two 8-lobe mixtures (64 lobes) against their own pdfs.
 #include <gtest/gtest.h>
 
@@ -51,7 +51,7 @@ TEST(VmmSampling, ProductOfTwoEightLobeMixturesChiSquare) {
 }
 
 TEST(VmmSampling, RadianceTimesPhaseProductChiSquare) {
-    // The guided-direction product (theory.md §8): radiance VMM x HG(g = 0.7) VMM about a travel
+    // The guided-direction product (docs/theory.md §8): radiance VMM x HG(g = 0.7) VMM about a travel
     // direction, 8 x 3 lobes.
     auto radiance = random_mixture(5, 0.5f, 20.f);
     Vmm big;

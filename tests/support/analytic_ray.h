@@ -1,6 +1,6 @@
 #pragma once
 // A 1-D ray through piecewise-constant media with known in-scattered radiance per segment and a
-// surface at its end (theory.md §14.7): the exact solution of the VRE along the ray, and the guided
+// surface at its end (docs/theory.md §14.7): the exact solution of the VRE along the ray, and the guided
 // distance sampler's bins filled with exact or perturbed estimates.
 #include <array>
 #include <cmath>
@@ -57,7 +57,7 @@ struct AnalyticRay {
         return std::exp(-tau);
     }
 
-    // One-sample estimate of L(0) in channel c for a distance sample (theory.md (7.6)).
+    // One-sample estimate of L(0) in channel c for a distance sample (docs/theory.md (7.6)).
     double estimate(const DistanceSample& d, int c) const {
         if (d.event == DistanceEvent::Surface) return transmittance(end(), c) * L_surface[c] / d.pdf;
         const AnalyticSegment& s = segments[size_t(segment_at(d.t))];

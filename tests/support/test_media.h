@@ -1,7 +1,7 @@
 #pragma once
 // Minimal, independently written homogeneous medium and phase functions for testing integrators in
 // isolation from the media module: analytic transmittance, exponential free flights with a channel
-// chosen in proportion to the path throughput (spectral MIS, theory.md §2.6), Henyey-Greenstein with Mitsuba's convention.
+// chosen in proportion to the path throughput (spectral MIS, docs/theory.md §2.6), Henyey-Greenstein with Mitsuba's convention.
 // load_scene_with_test_media() loads a Mitsuba XML scene whose <medium type="homogeneous"> (sigma_t,
 // albedo, scale as float or rgb) and <phase type="isotropic|hg"> use these.
 #include <algorithm>

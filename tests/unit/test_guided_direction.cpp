@@ -1,4 +1,4 @@
-// Guided directional sampler (theory.md §8, §14.12): the mixture pdf integrates to one, sample
+// Guided directional sampler (docs/theory.md §8, §14.12): the mixture pdf integrates to one, sample
 // weights are f_p / pdf with the exact phase function, the product guide is V_L V_f / Z and close to
 // the true target f_p V_L / L_i, the fallbacks are exactly the phase function, and the direction
 // convention (wi = -ray.d, V_L towards the light) puts the product where f_p V_L is.
@@ -115,12 +115,12 @@ TEST(GuidedDirection, ProductGuideIsNormalisedLeafTimesOrientedPhaseVmm) {
 }
 
 TEST(GuidedDirection, ProductGuideApproximatesTheTrueTarget) {
-    // Target p = f_p V_L / integral(f_p V_L) (theory.md §8.1); the guide q uses the VMM fit V_f of
+    // Target p = f_p V_L / integral(f_p V_L) (docs/theory.md §8.1); the guide q uses the VMM fit V_f of
     // f_p instead. Tolerance: with Z' = integral(V_L V_f), the triangle inequality gives
     //   integral |q - p| <= 2 integral(V_L |V_f - f_p|) / Z',
     // a bound computed here from the fit's actual error, so the test neither hides a wrong
     // orientation (q would sit on another lobe: L1 near 2) nor demands more than the fit allows.
-    // The absolute caps keep the bound itself honest; they follow the fit's quality (theory.md
+    // The absolute caps keep the bound itself honest; they follow the fit's quality (docs/theory.md
     // §4.2: rmsLog 0.0025 at g = 0.5, 0.099 at g = 0.9, whose tails are fitted worst) with a margin
     // of ~1.5-4 over the measured L1 (0.0026 / 0.0023 at g = 0.5, 0.137 / 0.117 at g = 0.9,
     // 0.0045 / 0.0069 at g = -0.6 for the one- / four-lobe leaf; the bound is twice these).
@@ -150,7 +150,7 @@ TEST(GuidedDirection, ProductGuideApproximatesTheTrueTarget) {
                 sampler.product_integral();
             EXPECT_LE(l1, bound + 1e-3) << "g " << c.g << " leaf lobes " << leaf.vmm.size();
             EXPECT_LE(l1, c.cap) << "g " << c.g << " leaf lobes " << leaf.vmm.size();
-            // Phi Z estimates L_i (theory.md §5.6): the exact in-scattered integral of this V_L.
+            // Phi Z estimates L_i (docs/theory.md §5.6): the exact in-scattered integral of this V_L.
             EXPECT_NEAR(sampler.product_integral(), li, 0.1 * li) << "g " << c.g;  // measured <= 1 %
         }
 }
@@ -259,7 +259,7 @@ Means means(const GuidingLeaf& leaf, const HGPhase& phase, const Vec3f& wi, floa
 }  // namespace
 
 TEST(GuidedDirection, DirectionConventionForwardHgTowardsTheLight) {
-    // theory.md §14.12: forward HG (g = 0.9), ray travelling +x (wi = -x), light towards +x: the
+    // docs/theory.md §14.12: forward HG (g = 0.9), ray travelling +x (wi = -x), light towards +x: the
     // product concentrates near +x.
     const HGPhase phase(0.9f);
     const Vec3f wi(-1.f, 0.f, 0.f);

@@ -1,4 +1,4 @@
-// Guided product distance sampling (theory.md §7): normalisation of both samplers' mixture pdfs
+// Guided product distance sampling (docs/theory.md §7): normalisation of both samplers' mixture pdfs
 // (quadrature), incremental == tabulated for consistent estimates (§14.8), the sampled pdf equals the
 // evaluated one, steps = bins pulled, the filter (7.4) and the degenerate cases of §7.6.
 #include <gtest/gtest.h>

@@ -110,13 +110,13 @@ TEST(GuidingField, QueriesAreFluenceTimesMixture) {
     const Vec3f w = normalize(Vec3f(1.f, 0.3f, 0.f));
     const Color3 li = field.incident(x, w);
     EXPECT_FLOAT_EQ(li.g, leaf->fluence.g * leaf->vmm.pdf(w));
-    // Isotropic medium: in-scattered radiance is Phi / (4 pi) in every direction (theory.md §5.6).
+    // Isotropic medium: in-scattered radiance is Phi / (4 pi) in every direction (docs/theory.md §5.6).
     const PhaseVmm iso = hg_phase_vmm(0.f);
     for (const Vec3f& d : {Vec3f(1.f, 0.f, 0.f), Vec3f(0.f, 0.f, -1.f)}) {
         const Color3 ls = field.inscattered(x, d, iso);
         EXPECT_NEAR(ls.r, leaf->fluence.r * InvFourPi, 1e-4f * leaf->fluence.r);
     }
-    // Forward scattering (theory.md §1.1): for a ray travelling along d, L_i(d) = int f(d, w') L(w') dw'
+    // Forward scattering (docs/theory.md §1.1): for a ray travelling along d, L_i(d) = int f(d, w') L(w') dw'
     // with f centred on w' = d, so it is largest when d points towards the light (+x).
     const PhaseVmm fwd = hg_phase_vmm(0.8f);
     const Color3 towards = field.inscattered(x, Vec3f(1.f, 0.f, 0.f), fwd);

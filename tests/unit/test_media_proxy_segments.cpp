@@ -1,4 +1,4 @@
-// Proxy coefficients for guided distance sampling (theory.md §7.7 H1): segments tile the requested
+// Proxy coefficients for guided distance sampling (docs/theory.md §7.7 H1): segments tile the requested
 // interval in order, a homogeneous medium gives one exact segment, and a heterogeneous medium's
 // proxy optical depth (cell means) follows the true optical depth along rays through a cloud.
 #include <gtest/gtest.h>

@@ -181,8 +181,9 @@ void reuse_the_stack_of_loops_that_a_worker_ended() {
 // its task body has ended (TBB's fold_tree decrements the node's count, reads its parent, then
 // decrements its wait context), and the caller's wait sees that decrement inside libtbb, invisible to
 // ThreadSanitizer. CI's TSan stage reported a later write of the caller to that reused stack
-// (Determinism.GuidedSameImageForOneAndTwoThreads, 2026-11-25): the suppressions of that bookkeeping
-// match only while the worker's history still holds the read's stack, and it had been overwritten.
+// (Determinism.GuidedSameImageForOneAndTwoThreads, docs/reliability.md): the suppressions of that
+// bookkeeping match only while the worker's history still holds the read's stack, and it had been
+// overwritten.
 // The wrappers acquire what that bookkeeping released (core/parallel.h, acquire_tbb_frames). This
 // runs the scenario in a child process without suppressions (TSan then reports TBB's bookkeeping on
 // its own heap objects, which the suppressions cover at any history) and fails on any report of a
@@ -209,7 +210,7 @@ TEST(Parallel, TbbBookkeepingOnTheCallersStackIsOrderedBeforeItsReuse) {
 
 // Embree builds its BVH on TBB's threads, inside the uninstrumented libembree, and reads its device's
 // settings (std::strings written when the device was created) there: ThreadSanitizer cannot see that
-// hand-over, and reported the device's creation as racing with the build (CI, 2026-11-25). 2,000
+// hand-over, and reported the device's creation as racing with the build (CI; docs/reliability.md). 2,000
 // builds on four threads at once give the build many chances to run on a thread other than the
 // one that created the device (without the fix this reported in about half of the runs: a stress
 // test, not a certain one); the Accel tells TSan to ignore the device's creation and release

@@ -1,4 +1,4 @@
-// Guided Russian roulette and splitting (theory.md §9.2, §9.4): the weight-window factor (eq. 9.1),
+// Guided Russian roulette and splitting (docs/theory.md §9.2, §9.4): the weight-window factor (eq. 9.1),
 // stochastic rounding (E[n] = q, so n copies of weight 1/q estimate 1), the clamps, the branch cap
 // and the invalid-estimate guard, and the branch statistics.
 #include <gtest/gtest.h>

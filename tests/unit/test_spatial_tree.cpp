@@ -1,4 +1,4 @@
-// The guiding kd-tree (theory.md §5.3): leaves hold at most max_samples samples, leaves tile the
+// The guiding kd-tree (docs/theory.md §5.3): leaves hold at most max_samples samples, leaves tile the
 // bounds, point lookup agrees with the build's partition, ray traversal yields contiguous ordered
 // intervals that agree with point lookup, and rebuilding from the node array is exact.
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// vMF lobe identities (theory.md §3.1-3.5, §14.1-14.4): normalisation by quadrature, A3 and its
+// vMF lobe identities (docs/theory.md §3.1-3.5, §14.1-14.4): normalisation by quadrature, A3 and its
 // inverse, the closed-form product, exact and approximate convolution, and robustness at the
 // ends of the kappa range.
 #include <gtest/gtest.h>
@@ -144,7 +144,7 @@ TEST(VmfMeanCosine, DerivativeMatchesFiniteDifference) {
 }
 
 TEST(VmfMeanCosine, BanerjeeErrorsMatchTheTableOfTheory) {
-    // theory.md §3.3: r, true kappa, relative error of (3.2).
+    // docs/theory.md §3.3: r, true kappa, relative error of (3.2).
     struct Row {
         double r, kappa, err;
     };
@@ -170,7 +170,7 @@ TEST(VmfMeanCosine, InverseRoundTripsOverTheWholeRange) {
 }
 
 TEST(VmfProduct, ReferenceValuesOfTheory) {
-    // kappa1 = 5, kappa2 = 20, axes 1 rad apart: s12 = 0.10189, kappa12 = 23.088 (theory.md §14.3).
+    // kappa1 = 5, kappa2 = 20, axes 1 rad apart: s12 = 0.10189, kappa12 = 23.088 (docs/theory.md §14.3).
     VmfLobe a(kAxis, 5.f), b(rotate_away(kAxis, 1.0), 20.f);
     VmfProduct p = vmf_product(a, b);
     EXPECT_NEAR(p.scale, 0.10189, 5e-6);

@@ -1,4 +1,4 @@
-// Weighted EM with MAP priors (theory.md §5.4), stepwise EM (§5.5) and split/merge: recovery of a
+// Weighted EM with MAP priors (docs/theory.md §5.4), stepwise EM (§5.5) and split/merge: recovery of a
 // known 4-lobe mixture from 20 000 weighted samples, stepwise == batch, determinism, and the
 // adaptive lobe count.
 #include <gtest/gtest.h>

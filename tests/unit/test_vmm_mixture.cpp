@@ -1,4 +1,4 @@
-// Mixture identities (theory.md §3.6, §5.6): normalisation, lobe bookkeeping, products with their
+// Mixture identities (docs/theory.md §3.6, §5.6): normalisation, lobe bookkeeping, products with their
 // normaliser, convolution with zonal kernels (exact vs quadrature, A3 approximation vs exact),
 // and the moment-matched merge.
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// Henyey-Greenstein as a zonal vMF mixture (theory.md §4.2-4.4, §14.5): the fitter reproduces the
+// Henyey-Greenstein as a zonal vMF mixture (docs/theory.md §4.2-4.4, §14.5): the fitter reproduces the
 // reference K = 3 (and K = 4) fits, the generated table interpolates to mean cosine g +- 0.002,
 // g = 0 is one uniform lobe, g < 0 flips the axis, and in-scattered radiance of a vMF through the
 // phase mixture matches the exact HG integral near the peak.
@@ -17,7 +17,7 @@ struct Reference {
     double g;
     std::array<double, 4> w, kappa;
 };
-// theory.md §4.2, K = 3 (lobes sorted by kappa).
+// docs/theory.md §4.2, K = 3 (lobes sorted by kappa).
 const Reference kK3[] = {
     {0.10, {0.0187, 0.3504, 0.6309}, {1.421, 0.561, 0.133}},
     {0.30, {0.0494, 0.3898, 0.5608}, {4.671, 1.715, 0.392}},
@@ -67,7 +67,7 @@ TEST(HgFit, ReproducesTheFourLobeReference) {
 
 TEST(HgFit, ObjectiveMatchesTheReportedResidual) {
     ZonalFit fit = fit_hg_zonal(0.7);
-    EXPECT_NEAR(fit.rms_log, 0.0192, 5e-4);  // theory.md §4.2
+    EXPECT_NEAR(fit.rms_log, 0.0192, 5e-4);  // docs/theory.md §4.2
     EXPECT_NEAR(hg_fit_rms_log(0.7, fit), fit.rms_log, 1e-12);
     // A perturbed fit is worse: the optimum is a minimum.
     ZonalFit worse = fit;
@@ -140,7 +140,7 @@ TEST(PhaseVmmTable, NeighbouringEntriesAreContinuous) {
 }
 
 TEST(PhaseVmm, InScatteredRadianceOfAVmfWithinFivePercentNearThePeak) {
-    // L = one vMF lobe (kappa_L) around mu; L_i(w) = integral f_HG(w . w') L(w') dw' (theory.md
+    // L = one vMF lobe (kappa_L) around mu; L_i(w) = integral f_HG(w . w') L(w') dw' (docs/theory.md
     // §1.1). Near the peak (L_i >= half its maximum) the exact VMM convolution (eq. 3.4) and the
     // A3 approximation (eq. 5.1) must be within 5 % of the quadrature of the true HG.
     const Vec3f mu = normalize(Vec3f(0.1f, -0.3f, 0.9f));

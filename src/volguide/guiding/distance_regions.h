@@ -3,7 +3,7 @@
 // subtree whose leaves' distance estimates agree merged into one region.
 //
 // A distance decision that crosses a ray through the fog steps every leaf it crosses (a lookup, an
-// exponential and a rope step each: ~45 % of a guided sample on `shafts`, 11 leaves per query),
+// exponential and a rope step each: a large share of a guided sample, bench/RESULTS.md (issue 35)),
 // although neighbouring leaves often hold nearly the same L~_i and L~ for every direction — the
 // kd-tree splits by sample count, not by how the radiance changes. Here sibling subtrees are merged
 // bottom-up while the spread of their leaves' scalar estimates (max - min over the leaves, relative

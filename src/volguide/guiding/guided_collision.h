@@ -1,17 +1,17 @@
 #pragma once
-// The scatter probability of guided null-collision tracking (theory.md §7.7 H2) from a guiding
+// The scatter probability of guided null-collision tracking (docs/theory.md §7.7 H2) from a guiding
 // field. At a tentative collision x with majorant mu, the zero-variance choice weighs what each
 // branch would carry: scattering sigma_s L~_i(x, w), continuing (mu - sigma_t) L~(x, w) (the
 // radiance arriving from further along the ray), so
 //   P_G = <q sigma_s L~_i> / (<q sigma_s L~_i> + <q |mu - sigma_t| L~>),
 // where <q .> sums over the channels weighted by the path's channel weights q (throughput x
 // tracking weight, normalised): the zero-variance target of the throughput-weighted channel sum,
-// equal to channel averages for grey light and media (theory.md §7.8 uses plain averages; with
+// equal to channel averages for grey light and media (docs/theory.md §7.8 uses plain averages; with
 // them a chromatic medium's null weights would exceed 1 for thin channels at every collision).
 // No valid leaf (outside the field, an invalid leaf, no estimates) or a non-finite P_G:
 // P_G = P_a, the analog (spectral tracking) probability.
 //
-// Defensive mixing with P_a (theory.md §7.5), c_T = the analog strategy's share:
+// Defensive mixing with P_a (docs/theory.md §7.5), c_T = the analog strategy's share:
 //  - PerFlight (default; Variant A): the flight is a one-sample mixture of two whole trackings,
 //    analog with probability c_T and guided otherwise, with the path probability
 //    c_T prod P_a + (1 - c_T) prod P_G (each product over this flight's decisions). Drawn

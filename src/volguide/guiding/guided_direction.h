@@ -1,12 +1,12 @@
 #pragma once
-// Guided directional sampling at a medium vertex (theory.md §8): a one-sample defensive mixture
+// Guided directional sampling at a medium vertex (docs/theory.md §8): a one-sample defensive mixture
 //   p(wo) = alpha_f f_p(wi, wo) + (1 - alpha_f) V(wo)
 // of the phase function and a guide VMM V, where V is
 //   Incident: the leaf's incident-radiance VMM V_L alone;
 //   Product:  V_L(wo) V_f(wo) / Z, V_f the phase function's zonal VMM (phase_vmm.h) oriented along
 //             the travel direction -wi (K x J lobes, eq. 8.1); an isotropic phase gives V_L itself.
 // Directions: wi = -ray.d points back where the path came from (media/phase.h); wo is the new travel
-// direction, which is a direction towards the light for V_L (theory.md §1.1), so the target is
+// direction, which is a direction towards the light for V_L (docs/theory.md §1.1), so the target is
 // f_p(wi, wo) L(x, wo) with no sign flip on wo.
 //
 // The VMMs only shape probabilities: weights always use the exact phase function (§4.4). Without a
@@ -65,7 +65,7 @@ class GuidedDirectionSampler {
     DirectionGuiding mode() const { return mode_; }
     float phase_probability() const { return alpha_; }
     // Product mode: Z = integral of V_L V_f over the sphere, so Phi Z is the leaf's in-scattered
-    // radiance estimate for this vertex (theory.md §5.6); 0 otherwise.
+    // radiance estimate for this vertex (docs/theory.md §5.6); 0 otherwise.
     double product_integral() const { return product_integral_; }
     // The product guide VMM; null unless guiding by a product (g = 0 guides by V_L itself).
     const ProductVmm* product() const { return guide_ == Guide::Product ? &*product_ : nullptr; }

@@ -22,7 +22,7 @@ float scalar_sigma_t(const Color3& c) {
 
 // 1 - exp(-tau) for 0 <= tau < 0.5, the per-bin probability of thin bins: Taylor to degree 9 in
 // double (truncation < 3e-10 relative, below float rounding), rounded once to float — as exact as
-// libm's expm1f and ~3x cheaper per bin (bench_guiding BM_DistanceIncremental).
+// libm's expm1f and cheaper per bin (bench_guiding BM_DistanceIncremental; bench/RESULTS.md (issue 35)).
 float one_minus_exp_small(float tau) {
     const double x = tau;
     double p = 1.0 / 362880.0;

@@ -1,5 +1,5 @@
 #pragma once
-// Guided product distance sampling (theory.md §7): picks where a ray's next scattering event happens,
+// Guided product distance sampling (docs/theory.md §7): picks where a ray's next scattering event happens,
 // or that it reaches the end of the segment ("surface"), with probabilities shaped like the
 // zero-variance target T(0,t) sigma_s(t) L_i(t) / L(0) (7.1).
 //
@@ -21,7 +21,7 @@
 // G steps with the guided conditional probabilities P^G_k (7.2), clamped and filtered (7.4, 7.6).
 // The returned pdf is always the 4-term mixture (7.5), whichever strategy was drawn.
 //
-// CALLER CONTRACT (weights are not computed here; theory.md §1.4, §7.5 (7.6)):
+// CALLER CONTRACT (weights are not computed here; docs/theory.md §1.4, §7.5 (7.6)):
 //  - medium event at t:  beta *= T_hat(0, t) * sigma_s(x_t) / pdf         (per channel)
 //  - surface event:      beta *= T_hat(0, s) / pdf                        (pdf = P_surf)
 //  where T_hat is the caller's own unbiased transmittance (exact for piecewise-constant media,
@@ -69,7 +69,7 @@ struct DistanceBin {
 //    paper's form gives alpha L~_i / L~ — whatever the two lookups' disagreement makes it — and so
 //    sends guided flights past a bin that lets nothing through (zero-weight paths; in a dense medium
 //    at nearly every event). Not exact for consistent estimates beyond first order: the
-//    zero-variance oracle (theory.md §14.7) runs on Incident.
+//    zero-variance oracle (docs/theory.md §14.7) runs on Incident.
 enum class DistanceDenominator : uint8_t { Incident, Vre };
 
 struct GuidedDistanceSettings {

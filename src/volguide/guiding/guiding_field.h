@@ -1,9 +1,9 @@
 #pragma once
-// The guiding field (theory.md §5): a kd-tree over the media's bounds with, per leaf, a normalised
+// The guiding field (docs/theory.md §5): a kd-tree over the media's bounds with, per leaf, a normalised
 // VMM of incident radiance V_L (directions towards the light, §1.1) and the RGB fluence Phi, so that
 //   incident radiance      L~(x, w)   = Phi * V_L(w)
 //   in-scattered radiance  L~_i(x, w) = Phi * (V_L convolved with the phase VMM)(w), w = travel direction.
-// The field only shapes probabilities; weights never read it (theory.md §1.4).
+// The field only shapes probabilities; weights never read it (docs/theory.md §1.4).
 //
 // It is built from radiance samples the renderer produces (photon collisions or camera-path
 // vertices); it never sees the scene. Leaves are fitted in parallel, each from its own samples in
@@ -20,7 +20,7 @@ namespace volguide {
 
 // One training record: at `position`, radiance arrives from `direction` (towards the light).
 // `weight` is its fluence contribution: Phi_p / sigma_t for a photon collision (collision
-// estimator, theory.md §2.5, §5.2), or L^ / p(direction) for a camera-path vertex (§10.2).
+// estimator, docs/theory.md §2.5, §5.2), or L^ / p(direction) for a camera-path vertex (§10.2).
 // `count` is the sample's share of the PerSampleMean divisor: 1 per camera-path vertex; 0 for a
 // vertex's NEE sample, a second MIS strategy's sample of the same vertex (training_recorder.h).
 struct RadianceSample {
@@ -41,13 +41,13 @@ enum class FluenceEstimator {
 };
 
 enum class InscatterMode {
-    Exact,  // sum over lobe pairs of the exact vMF convolution value (theory.md eq. 3.4)
+    Exact,  // sum over lobe pairs of the exact vMF convolution value (docs/theory.md eq. 3.4)
     A3,     // the paper's single-lobe approximation A3(k') = A3(k1) A3(k2) (eq. 3.5 / 5.1)
 };
 
 struct GuidingFieldSettings {
     SpatialTreeSettings tree;  // tree.max_samples is `leaf_samples`
-    int lobes = 8;             // VMM components per leaf (theory.md §15)
+    int lobes = 8;             // VMM components per leaf (docs/theory.md §15)
     int min_samples = 64;      // fewer (positive-weight) samples: the leaf is invalid
     VmmFitSettings fit;        // fit.initial_lobes is overridden by `lobes`
     FluenceEstimator fluence = FluenceEstimator::PerVolume;

@@ -1,6 +1,6 @@
 #pragma once
 // The in-scattered radiance L~_i of every leaf of a guiding field for one phase function, prepared
-// once: the A3 approximation (theory.md eq. 5.1) convolves each leaf's incident VMM with the phase
+// once: the A3 approximation (docs/theory.md eq. 5.1) convolves each leaf's incident VMM with the phase
 // VMM, and that convolution (K x J lobes, each needing an inverse of A3) is the whole cost of a
 // query. Prepared per (field, phase), a query is one leaf lookup and K x J lobe evaluations, cheap
 // enough for the distance sampler's per-bin calls (issue 6, item 3).

@@ -2,14 +2,14 @@
 // What the guided distance decisions read in each kd leaf a ray crosses, for its direction w:
 // L~_i(w) (in-scattered, InscatterCache) and L~(w) (incident, looking ahead along the ray).
 //
-// Exact, both are sums of exponentials (K x J and K lobes): with fine leaves they were ~40 % of a
-// guided render (a ray crosses ~10 leaves per distance decision on `shafts`). Tabulated, each leaf
+// Exact, both are sums of exponentials (K x J and K lobes): with fine leaves, a large share of a
+// guided render (bench/RESULTS.md (issue 35)): a ray crosses many leaves per decision. Tabulated, each leaf
 // keeps an octahedral map of resolution R x R of the two (unit-fluence) shapes, sampled at texel
 // centres once after training (16-bit, relative to the leaf's maximum), and a query is one bilinear
 // lookup times the leaf's fluence.
 // The tables are an approximation of the estimates, so they only shape the distance sampler's
 // probabilities: the sampler's pdf is computed from the same values it sampled with, and the
-// weights use the true coefficients (theory.md §7.5) — unbiased at any resolution.
+// weights use the true coefficients (docs/theory.md §7.5) — unbiased at any resolution.
 #include <cstdint>
 #include <vector>
 

@@ -7,7 +7,7 @@ namespace volguide {
 
 float weight_window_factor(float r, float s) {
     // Window centre at r = 1, bounds 2/(1+s) and 2s/(1+s): below, RR to the lower bound; above,
-    // split to the upper bound (theory.md eq. 9.1). s = 1 collapses it to q = r.
+    // split to the upper bound (docs/theory.md eq. 9.1). s = 1 collapses it to q = r.
     const float lower = 2.f / (1.f + s), upper = s * lower;
     if (r < lower) return r / lower;
     if (r > upper) return r / upper;

@@ -1,5 +1,5 @@
 #pragma once
-// Guided Russian roulette and splitting (theory.md §9): after a guided decision, the partial path's
+// Guided Russian roulette and splitting (docs/theory.md §9): after a guided decision, the partial path's
 // expected contribution E[X] = <w * Psi~> (w its weight, Psi~ the field's estimate of what the
 // continuation collects) is compared with the pixel's estimated value I. The ratio r = E[X] / I is
 // turned into an expected number of continuations q by the weight window of size s (eq. 9.1):
@@ -34,10 +34,9 @@ enum class RouletteMode { Standard, Guided, GuidedSplitting };
 
 struct RouletteSplittingSettings {
     RouletteMode mode = RouletteMode::Standard;
-    // s >= 1: 1 the paper's q = E[X]/I, 5 ADRRS (the default: in the 60 s benchmark of 2026-11-24
-    // it beat s = 1 on five of the seven scenes, tied on shafts and fogbox, and kept the 99.9th
-    // percentile of branches per camera sample under the cap where s = 1 reached it, on sss and
-    // aniso).
+    // s >= 1: 1 the paper's q = E[X]/I, 5 ADRRS (the default: at equal time it beat or tied s = 1
+    // on the benchmark scenes and kept the branches per camera sample under the cap where s = 1
+    // reached it; measured: see bench/RESULTS.md (issue 35)).
     float window = 5.f;
     float q_min = 0.1f, q_max = 20.f;
     int max_branches = 64;  // path branches per camera sample, the original included

@@ -78,10 +78,10 @@ Entries gather_entries(const SelectionStatistics& stats, const SelectionSettings
 
 // Shrinkage: a region's second moments come from few samples of a heavy-tailed quantity, so
 // which regions look important is largely which ones happened to catch the rare large
-// contributions (at 2 spp, thin's distance decisions were switched off in 207 of 217 regions
-// against their cost, and relMSE doubled, while the model's prediction for all regions
-// together was right). Each region's mean per decision is pulled towards the mean pooled over
-// all regions, with the weight of prior_samples pilot decisions: few samples follow the scene's
+// contributions (at 2 spp, thin's distance decisions were switched off in nearly every region
+// against their cost and relMSE rose, bench/RESULTS.md (issue 35), while the model's prediction for
+// all regions together was right). Each region's mean per decision is pulled towards the mean
+// pooled over all regions, with the weight of prior_samples pilot decisions: few samples follow the scene's
 // overall verdict, many follow their own.
 void shrink_towards_pooled(Entries& entries, const PerDecision& pooled, float prior_samples) {
     const double n0 = std::max(0.f, prior_samples);

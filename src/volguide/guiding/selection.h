@@ -54,13 +54,14 @@ struct SelectionSettings {
     // moment per decision (shrinkage of noisy per-region estimates, fit()).
     float prior_samples = 256.f;
     // Extra cost of a guided decision, in units of an unguided one (distance, direction, surface):
-    // guided distance decisions switched off almost everywhere in thin fog saved 25 % of the render
-    // time at equal spp, which these units reproduce (bench/RESULTS.md, 2026-11-25). Without the
+    // guided distance decisions switched off almost everywhere in thin fog saved a quarter of the
+    // render time at equal spp, which these units reproduce (bench/RESULTS.md (issue 35)). Without the
     // shrinkage of fit() a short pilot's per-region moments are too noisy to weigh against a cost.
     std::array<float, kSelectionDecisions> kappa = {1.f, 0.25f, 0.25f};
     // Guided RR/splitting acts where measured / estimated is within [1/r, r]; 0: always (the
-    // default: with r = 3 the gate switched it off in 768 of aniso's leaves and relMSE rose 4.5x at
-    // equal spp — a leaf's estimate can be off by a factor and still split well).
+    // default: with r = 3 the gate switched it off in many of aniso's leaves and relMSE rose at
+    // equal spp, bench/RESULTS.md (issue 35): a leaf's estimate can be off by a factor and still split
+    // well).
     float rrs_ratio = 0.f;
 };
 

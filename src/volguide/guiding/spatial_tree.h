@@ -1,5 +1,5 @@
 #pragma once
-// The guiding field's spatial subdivision (theory.md §5.3): a kd-tree over the media's bounds whose
+// The guiding field's spatial subdivision (docs/theory.md §5.3): a kd-tree over the media's bounds whose
 // leaves hold at most `max_samples` training samples. A node splits at the sample mean of its
 // axis of largest positional variance; when that does not separate the samples (or the variance
 // is zero) it splits the longest axis at its midpoint; a node stops at `max_depth`.
@@ -12,7 +12,7 @@
 // to fit).
 //
 // Queries: the leaf containing a point, and the leaves a ray segment crosses in order with their
-// entry/exit distances (the guided distance sampler's bins, theory.md §7.3). Building is sequential
+// entry/exit distances (the guided distance sampler's bins, docs/theory.md §7.3). Building is sequential
 // and order-preserving, so the tree is a pure function of the samples in their given order.
 #include <cstdint>
 #include <span>
@@ -23,7 +23,7 @@
 namespace volguide {
 
 struct SpatialTreeSettings {
-    int max_samples = 2000;  // theory.md §15 ("leaf_samples")
+    int max_samples = 2000;  // docs/theory.md §15 ("leaf_samples")
     int max_depth = 32;
     // Subtrees of at least this many samples build their two halves concurrently. Only the build's
     // speed depends on it: the tree is the same for any value and any thread count.
@@ -94,8 +94,8 @@ public:
     // exit axis set exactly to the face), ties broken by the ray's direction. The intervals are
     // contiguous, never empty, and cover the segment's overlap with the bounds (the last leaf is
     // extended to the bounds' exit); they equal traverse()'s up to float rounding of the crossing
-    // distances (a little cheaper per leaf than the stack: ~58 vs ~67 ns on a 2500-leaf tree,
-    // bench_guiding --benchmark_filter=LeafWalk).
+    // distances (a little cheaper per leaf than the stack, bench_guiding
+    // --benchmark_filter=LeafWalk; measured: see bench/RESULTS.md (issue 35)).
     class RayCursor {
     public:
         RayCursor(const SpatialTree& tree, const Ray& ray, float t0, float t1);
@@ -114,7 +114,7 @@ public:
         float t_ = 0.f, t_end_ = 0.f;
     };
 
-    // Rope of a leaf face (theory.md §7.3's bins walk leaf to leaf): the deepest node whose region
+    // Rope of a leaf face (docs/theory.md §7.3's bins walk leaf to leaf): the deepest node whose region
     // holds everything just beyond that face, or kNoRope on the bounds. face = 2 axis + (1 for the
     // upper face).
     static constexpr uint32_t kNoRope = 0xffffffffu;

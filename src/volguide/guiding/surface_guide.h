@@ -1,10 +1,10 @@
 #pragma once
-// The guide distribution of a diffuse surface vertex (volguide extension of theory.md §5.7): the
+// The guide distribution of a diffuse surface vertex (volguide extension of docs/theory.md §5.7): the
 // incident-radiance VMM of the kd leaf around the vertex, optionally multiplied by a vMF stand-in
 // for the clamped cosine on the facing normal, normalised.
 //
 // Why the medium's field can guide surfaces: the field holds the incident radiance L(x, w) of the
-// media (theory.md §5.1), and radiance is continuous from a medium point to a surface point next
+// media (docs/theory.md §5.1), and radiance is continuous from a medium point to a surface point next
 // to it, for the directions of the facing hemisphere. A wall of a fog-filled room therefore sees
 // what the fog beside it sees; its leaf's VMM is the zero-variance target of the reflected
 // direction up to the BSDF (f cos / pi for a diffuse surface). Leaves without medium photons are
@@ -21,7 +21,7 @@ namespace volguide {
 // Concentration of the vMF that stands for the clamped cosine lobe (A3(kappa) = 2/3).
 float cosine_lobe_kappa();
 
-// out = V(w) vMF(w | n, cosine_lobe_kappa()) / Z, the lobe-wise closed-form product (theory.md
+// out = V(w) vMF(w | n, cosine_lobe_kappa()) / Z, the lobe-wise closed-form product (docs/theory.md
 // §3.4) in single precision (vmm_fast_product.h). False (out empty) when the product has no
 // finite positive mass: nothing to guide with.
 // n must be unit length.

@@ -1,5 +1,5 @@
 #pragma once
-// The decision at a tentative collision of a null-collision walk (theory.md §2.2, §7.7 H2): the
+// The decision at a tentative collision of a null-collision walk (docs/theory.md §2.2, §7.7 H2): the
 // medium walks the collisions at its majorant rate mu; a policy chooses at each one whether the
 // flight scatters there or continues, and with which probability. The walk owns the weights:
 //   scatter:   flight weight = w * factor,                       factor = 1 / (mu P_s)

@@ -1,5 +1,5 @@
 #pragma once
-// Guided null-collision tracking (theory.md §7.7 "H2"; the null-scattering path integral of Miller
+// Guided null-collision tracking (docs/theory.md §7.7 "H2"; the null-scattering path integral of Miller
 // et al. 2019, Kutz et al. 2017): tentative collisions at the majorant rate mu; at each one the
 // caller chooses the probability P_s of scattering there, and the weight compensates per channel:
 //   scatter:  w <- w * sigma_s(x) / (mu P_s),     continue:  w <- w * (mu - sigma_t(x)) / (mu (1 - P_s)).

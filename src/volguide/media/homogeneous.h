@@ -1,7 +1,7 @@
 #pragma once
 // Mitsuba's `homogeneous` medium: constant (possibly chromatic) sigma_t times `scale`, albedo a
 // constant or a volume (Mitsuba allows a spatially varying albedo here), a phase function.
-// Free flights are sampled in closed form with one-sample spectral MIS (theory.md §2.6): a
+// Free flights are sampled in closed form with one-sample spectral MIS (docs/theory.md §2.6): a
 // channel c is picked with probability P_c proportional to the path throughput,
 // t ~ sigma_t,c exp(-sigma_t,c t), and every channel is weighted with the mixture pdf
 // p(t) = sum_c P_c sigma_t,c exp(-sigma_t,c t)  (escape: P = sum_c P_c exp(-sigma_t,c tmax)).

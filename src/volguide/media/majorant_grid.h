@@ -4,7 +4,7 @@
 // for residual ratio tracking, the per-channel control extinction (the mean of sigma_t over the
 // cell's voxels) with the residual rate max_c (max_c - control_c). Where sigma_t < control the
 // residual factors exceed 1, which is unbiased; the mean beats the minimum as control because
-// cells touching empty space have a zero minimum (bench_media: 5x lower variance at 1.8x cost).
+// cells touching empty space have a zero minimum (bench_media; measured: see bench/RESULTS.md (issue 35)).
 // Bounds come from every voxel a lookup inside the cell can read.
 #include <vector>
 

@@ -3,7 +3,7 @@
 // `scale`), its phase function, and the unbiased estimators the integrators use:
 //  - sample_free_flight: closed-form distance sampling (homogeneous), or a null-collision walk
 //    over a majorant grid (heterogeneous) whose scatter decisions are spectral tracking's, or the
-//    caller's when it passes a CollisionGuide (guided null-collision tracking, theory.md §7.7 H2);
+//    caller's when it passes a CollisionGuide (guided null-collision tracking, docs/theory.md §7.7 H2);
 //  - transmittance: exact for homogeneous media (media/homogeneous_transmittance.h), ratio /
 //    residual ratio tracking for heterogeneous ones.
 // Every estimator is unbiased for any majorant that bounds sigma_t; a looser majorant only costs
@@ -45,7 +45,7 @@ struct FreeFlightSample {
     Color3 weight{1.f};
     // At a scattering event: the same ratio without sigma_s (weight = flight_weight * sigma_s), i.e.
     // the collision estimator's 1/sigma_t in expectation. The photon pass deposits with it: flux
-    // arriving at the collision, before the albedo (theory.md §5.2). On escape: equal to weight.
+    // arriving at the collision, before the albedo (docs/theory.md §5.2). On escape: equal to weight.
     Color3 flight_weight{1.f};
     MediumInteraction mi;  // valid when scattered
 
@@ -64,11 +64,11 @@ struct FreeFlightSample {
 };
 
 // A stretch of ray over which a medium is summarised by constants: the guided distance sampler's
-// proxy coefficients (theory.md §7.7 H1). They only shape probabilities, never weights.
+// proxy coefficients (docs/theory.md §7.7 H1). They only shape probabilities, never weights.
 struct ProxySegment {
     float t0, t1;
     Color3 sigma_t;  // per channel: exact (homogeneous) or the cell's mean (heterogeneous)
-    float albedo;    // scalar: mean sigma_s / mean sigma_t over the channels (theory.md §7.8)
+    float albedo;    // scalar: mean sigma_s / mean sigma_t over the channels (docs/theory.md §7.8)
 };
 
 class Medium : public Object {

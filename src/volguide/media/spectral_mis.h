@@ -1,5 +1,5 @@
 #pragma once
-// One-sample spectral MIS for chromatic media (theory.md §2.6): a free flight is sampled with one
+// One-sample spectral MIS for chromatic media (docs/theory.md §2.6): a free flight is sampled with one
 // colour channel's extinction, chosen with probability proportional to the path throughput, and
 // weighted per channel by (channel integrand) / (mixture density over the channels).
 //

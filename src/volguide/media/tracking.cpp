@@ -1,4 +1,4 @@
-// Null-collision estimators of the heterogeneous medium (theory.md §2.2-2.4, §2.6, §7.7 H2), all
+// Null-collision estimators of the heterogeneous medium (docs/theory.md §2.2-2.4, §2.6, §7.7 H2), all
 // driven by a DDA over the majorant grid in the sigma_t volume's local coordinates (t is the world ray
 // parameter throughout, so distances need no conversion).
 #include "volguide/media/collision_policy.h"

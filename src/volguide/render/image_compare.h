@@ -17,7 +17,7 @@ struct ImageDiff {
     double ratio = 0;           // mean / reference_mean (NaN when the reference mean is 0)
     size_t nonfinite = 0;       // pixel channels of the image that are NaN/Inf (excluded from the sums)
     // The same relMSEs after discarding the pixels with the top 0.01 % errors (per-pixel error = mean
-    // of its channels), as Herholz's evaluation scripts do (theory.md 12.1); equal to the untrimmed
+    // of its channels), as Herholz's evaluation scripts do (docs/theory.md §12.1); equal to the untrimmed
     // values below 10 000 pixels, where 0.01 % is less than one pixel.
     double relmse_1e2_trimmed = 0, relmse_1e3_trimmed = 0;
     size_t pixels = 0;  // pixels compared (all, unless min_reference left some out)

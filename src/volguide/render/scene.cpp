@@ -48,7 +48,7 @@ Scene::Scene(const Properties& root, std::shared_ptr<Integrator> integrator,
     for (const auto& s : shapes_) raw.push_back(s.get());
     accel_ = std::make_unique<Accel>(raw);
     for (const auto& e : emitters_) e->set_scene_bounds(bbox_);
-    // Photon emission picks lights by power (theory.md 5.2), known once the bounds are set.
+    // Photon emission picks lights by power (docs/theory.md §5.2), known once the bounds are set.
     std::vector<float> powers;
     float total = 0.f;
     for (const auto& e : emitters_) {

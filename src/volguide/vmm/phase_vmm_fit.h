@@ -1,5 +1,5 @@
 #pragma once
-// Offline fit of a Henyey-Greenstein phase function by K <= 4 zonal vMF lobes (theory.md §4.2):
+// Offline fit of a Henyey-Greenstein phase function by K <= 4 zonal vMF lobes (docs/theory.md §4.2):
 // minimise sum_n [ln(f_HG(cos t_n) + eps) - ln(sum_j w_j v(cos t_n; kappa_j) + eps)]^2 over a grid
 // of angles, eps = 1e-4 max f_HG, weights softmax-parameterised, log kappa as parameters,
 // Levenberg-Marquardt with analytic Jacobian, multi-start plus an optional warm start.
@@ -28,7 +28,7 @@ struct HgFitSettings {
     uint64_t seed = 1;
 };
 
-// HG density per unit solid angle at cos(angle to the forward axis) (theory.md §1.1).
+// HG density per unit solid angle at cos(angle to the forward axis) (docs/theory.md §1.1).
 double hg_density(double g, double cos_theta);
 
 // Best fit for 0 < g < 1 (the fit is symmetric: flip the axis for g < 0). `warm_start`, when

@@ -1,7 +1,7 @@
 // GENERATED FILE, do not edit. Regenerate from the repository root with
 //   cmake --build build --target gen_phase_vmm_table
 //   build/gen_phase_vmm_table --lobes 3 --max-g 0.99 > src/volguide/vmm/phase_vmm_table.cpp
-// Henyey-Greenstein fits by 3 zonal vMF lobes (theory.md §4.2), lobes sorted by kappa.
+// Henyey-Greenstein fits by 3 zonal vMF lobes (docs/theory.md §4.2), lobes sorted by kappa.
 // Columns: g, weights, kappas, mean cosines A3(kappa). Entry 0 (g = 0) is isotropic: kappa 0
 // with entry 1's weights, so that interpolation towards g = 0 only moves the kappas.
 #include "volguide/vmm/phase_vmm_table.h"

@@ -1,5 +1,5 @@
 #pragma once
-// Table of Henyey-Greenstein fits by zonal vMF mixtures over |g| (theory.md §4.3). The data lives in
+// Table of Henyey-Greenstein fits by zonal vMF mixtures over |g| (docs/theory.md §4.3). The data lives in
 // phase_vmm_table.cpp, generated offline by tools/gen_phase_vmm_table.cpp (see its header comment
 // for the command); phase_vmm.h interpolates it.
 #include <array>

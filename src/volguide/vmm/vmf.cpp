@@ -111,8 +111,9 @@ Vec3f VmfLobe::sample(Point2f u) const {
 
 namespace {
 // c~(kappa) for product lobes. Where 1 - exp(-2 kappa) >= 0.39 (kappa >= 0.25) it has no
-// cancellation, and glibc's exp costs half its expm1 (5 vs 10 ns): the value differs from
-// vmf_normalization's by double rounding only (the float lobe.norm by none in a 1000-point sweep).
+// cancellation, and glibc's exp is cheaper than its expm1 (bench/RESULTS.md (issue 35)): the value differs
+// from vmf_normalization's by double rounding only (the float lobe.norm by none in a 1000-point
+// sweep).
 double product_normalization(double kappa) {
     if (kappa >= 0.25 && kappa < kNormalizationSaturates) return kappa / (2.0 * kPi * (1.0 - std::exp(-2.0 * kappa)));
     return vmf_normalization(kappa);

@@ -1,5 +1,5 @@
 #pragma once
-// One von Mises-Fisher lobe on S^2 (theory.md §3.1-3.5): density, sampling, mean cosine A3 and its
+// One von Mises-Fisher lobe on S^2 (docs/theory.md §3.1-3.5): density, sampling, mean cosine A3 and its
 // inverse, the closed-form product of two lobes, and spherical convolution (exact value and the
 // A3-product approximation). Parameters are stored in float; everything whose precision matters
 // (normalisation, A3, products) is computed in double.
@@ -8,7 +8,7 @@
 
 namespace volguide {
 
-// Largest concentration any fit produces (Open PGL's cap, theory.md §3.3). Products may exceed it.
+// Largest concentration any fit produces (Open PGL's cap, docs/theory.md §3.3). Products may exceed it.
 inline constexpr float kVmfMaxKappa = 32000.f;
 // Below this concentration a lobe is treated as the uniform sphere (error < 1e-6 relative).
 inline constexpr float kVmfUniformKappa = 1e-6f;
@@ -20,7 +20,7 @@ double vmf_normalization(double kappa);
 // Mean cosine A3(kappa) = coth(kappa) - 1/kappa = E[mu . w] and its derivative.
 double vmf_mean_cosine(double kappa);
 double vmf_mean_cosine_derivative(double kappa);
-// Banerjee et al. 2005 closed-form start, r (3 - r^2) / (1 - r^2) (theory.md eq. 3.2).
+// Banerjee et al. 2005 closed-form start, r (3 - r^2) / (1 - r^2) (docs/theory.md eq. 3.2).
 double vmf_kappa_banerjee(double mean_cosine);
 // Exact inverse of A3 (Banerjee start + safeguarded Newton). r <= 0 gives 0; r is clamped to
 // A3(max_kappa), so the result is in [0, max_kappa].
@@ -54,7 +54,7 @@ struct VmfLobe {
 // Samples 1 - cos(theta) about the lobe axis (the part of Jakob's method that needs care).
 float vmf_sample_one_minus_cos(float kappa, float u);
 
-// v(w|a) v(w|b) = scale * v(w|lobe) (theory.md eq. 3.3); scale = integral of the product over S^2.
+// v(w|a) v(w|b) = scale * v(w|lobe) (docs/theory.md eq. 3.3); scale = integral of the product over S^2.
 struct VmfProduct {
     VmfLobe lobe;
     double scale = 0.0;

@@ -7,7 +7,7 @@
 // The exponential is a Cephes-style polynomial within 2 ulp of expf down to FLT_MIN, and 0 below
 // (denormal terms cost a microcode assist per operation; test_vmf_sum), so sums differ from
 // one-lobe-at-a-time sums by float rounding only. Mixture values only shape probabilities, and a sampler's decisions and its pdf read the same
-// values, so weights stay exact (theory.md §1.4).
+// values, so weights stay exact (docs/theory.md §1.4).
 //
 // Plain C++ with GCC/Clang vector extensions (SSE2 on x86-64, NEON on arm64: no -march needed), out of
 // line in vmf_sum.cpp: the four-float loads must not be inlined into callers whose arrays GCC sees

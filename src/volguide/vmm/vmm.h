@@ -1,5 +1,5 @@
 #pragma once
-// Mixture of von Mises-Fisher lobes with a fixed maximum lobe count (theory.md §3.6), stored as a
+// Mixture of von Mises-Fisher lobes with a fixed maximum lobe count (docs/theory.md §3.6), stored as a
 // structure of arrays so that evaluation streams through contiguous floats. A value type: no heap,
 // no virtuals; copying a 32-lobe mixture copies 0.8 KB.
 //
@@ -13,10 +13,10 @@
 
 namespace volguide {
 
-// Default capacity of a radiance mixture (theory.md §15: 8 lobes by default, at most 32).
+// Default capacity of a radiance mixture (docs/theory.md §15: 8 lobes by default, at most 32).
 inline constexpr int kVmmMaxLobes = 32;
 
-// Moment-matched merge of two weighted lobes (theory.md §3.6): weights add, the weighted mean
+// Moment-matched merge of two weighted lobes (docs/theory.md §3.6): weights add, the weighted mean
 // vectors r = w A3(kappa) mu add, and kappa = A3^-1(|r| / w).
 struct WeightedLobe {
     float weight = 0.f;
@@ -99,7 +99,7 @@ struct VmfMixture {
     }
     float pdf(const Vec3f& w) const { return eval(w); }
 
-    // Picks lobe k with probability weight_k and rescales u to [0, 1) for reuse (theory.md §3.6).
+    // Picks lobe k with probability weight_k and rescales u to [0, 1) for reuse (docs/theory.md §3.6).
     int select_lobe(float& u) const {
         for (int k = 0; k + 1 < count; ++k) {
             if (u < weight[k]) {
@@ -203,7 +203,7 @@ VmfMixture<A * B> product(const VmfMixture<A>& a, const VmfMixture<B>& b, double
 }
 
 // Convolution with a single rotation-invariant vMF kernel of concentration kernel_kappa, each lobe
-// approximated by A3(kappa') = A3(kappa) A3(kernel_kappa) (theory.md eq. 3.5).
+// approximated by A3(kappa') = A3(kappa) A3(kernel_kappa) (docs/theory.md eq. 3.5).
 template <int N>
 VmfMixture<N> convolve(const VmfMixture<N>& m, float kernel_kappa) {
     VmfMixture<N> out = m;
@@ -212,7 +212,7 @@ VmfMixture<N> convolve(const VmfMixture<N>& m, float kernel_kappa) {
     return out;
 }
 
-// Convolution with a zonal kernel (theory.md eq. 5.1): (f * L)(w) = integral f(w . w') L(w') dw'
+// Convolution with a zonal kernel (docs/theory.md eq. 5.1): (f * L)(w) = integral f(w . w') L(w') dw'
 // with f = sum_j w_j v(. | sign_j w, kappa_j). Lobe (k, j) has weight pi_k w_j, axis sign_j mu_k
 // and the A3-product concentration.
 template <int N, int J>
@@ -227,7 +227,7 @@ VmfMixture<N * J> convolve(const VmfMixture<N>& m, const ZonalMixture<J>& kernel
     return out;
 }
 
-// Exact value of the same convolution at direction w (theory.md eq. 3.4): sum_kj pi_k w_j s_kj.
+// Exact value of the same convolution at direction w (docs/theory.md eq. 3.4): sum_kj pi_k w_j s_kj.
 // Equals the normaliser Z of the product of m with kernel.oriented(w).
 template <int N, int J>
 double convolve_exact(const VmfMixture<N>& m, const ZonalMixture<J>& kernel, const Vec3f& w) {

@@ -1,9 +1,10 @@
 #pragma once
 // Products of vMF mixtures in single precision, for the sampling distributions built at every
-// path vertex (surface guide, theory.md §3.4 / §3.6). The double-precision product_into (vmm.h) is
+// path vertex (surface guide, docs/theory.md §3.4 / §3.6). The double-precision product_into (vmm.h) is
 // the reference; this one computes the same closed form in float with a float normalisation,
-// ~4x cheaper, to about 1e-6 relative in the weights away from the extremes (the test sweeps
-// kappa in [0, 32000]). A sampling mixture only has to be a normalised mixture whose samples
+// several times cheaper (bench/RESULTS.md (issue 35)), to about 1e-6 relative in the weights away from
+// the extremes (the test sweeps kappa in [0, 32000]). A sampling mixture only has to be a
+// normalised mixture whose samples
 // and pdf agree: its values shape probabilities and never enter weights directly.
 #include <array>
 #include <cmath>
@@ -30,7 +31,7 @@ inline float one_minus_cos_fast(float ax, float ay, float az, const Vec3f& b) {
 
 // The product lobe of lobe k of `a` with `b` (one_minus = 1 - mu_a . mu_b): writes it to out slot
 // `slot` with weight a.weight[k] * c(kappa_a) c(kappa_b) / c(kappa_12) (the scale without its
-// exponential) and returns the exponent kappa_12 - kappa_a - kappa_b <= 0 (theory.md eq. 3.3).
+// exponential) and returns the exponent kappa_12 - kappa_a - kappa_b <= 0 (docs/theory.md eq. 3.3).
 template <int A, int C>
 float product_lobe_fast(const VmfMixture<A>& a, int k, const VmfLobe& b, float one_minus, VmfMixture<C>& out,
                         int slot) {

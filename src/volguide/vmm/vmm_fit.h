@@ -1,5 +1,5 @@
 #pragma once
-// Weighted EM for a von Mises-Fisher mixture with MAP priors (theory.md §5.4), its stepwise/online
+// Weighted EM for a von Mises-Fisher mixture with MAP priors (docs/theory.md §5.4), its stepwise/online
 // variant on sufficient statistics (§5.5), and an optional split/merge pass (openpgl-notes §1.4).
 //
 // Everything is sequential over the samples in their given order, so a fit is a pure function of
@@ -11,7 +11,7 @@
 
 namespace volguide {
 
-// A direction (towards the light, theory.md §1.1) with a non-negative weight (radiance / pdf).
+// A direction (towards the light, docs/theory.md §1.1) with a non-negative weight (radiance / pdf).
 struct DirectionalSample {
     Vec3f direction;
     float weight = 1.f;
@@ -21,7 +21,7 @@ enum class VmmInit {
     // Weighted k-means++ seeding on the samples (deterministic: a counter-based hash of
     // init_seed drives the choices). Robust against lobes that start between two clusters.
     kmeanspp,
-    // Spherical Fibonacci lattice (Open PGL's initialisation; theory.md §5.4).
+    // Spherical Fibonacci lattice (Open PGL's initialisation; docs/theory.md §5.4).
     fibonacci,
 };
 
@@ -35,7 +35,7 @@ struct VmmFitSettings {
     int restarts = 1;
     int max_iterations = 100;
     double convergence = 0.0025;  // relative change of the weighted log-likelihood (|L| floored at N)
-    // MAP priors (theory.md §5.4 defaults): Dirichlet weight prior a; mean-cosine prior r0 with
+    // MAP priors (docs/theory.md §5.4 defaults): Dirichlet weight prior a; mean-cosine prior r0 with
     // strength b (pulls poorly supported lobes towards broad ones); kappa cap.
     double weight_prior = 0.1;
     double mean_cosine_prior = 0.0;
@@ -56,13 +56,13 @@ struct VmmFitSettings {
 };
 
 // Per-lobe sufficient statistics of the weighted E-step: sum u gamma_k and sum u gamma_k w,
-// with the weights u normalised so that a batch sums to its sample count (theory.md §5.4).
+// with the weights u normalised so that a batch sums to its sample count (docs/theory.md §5.4).
 struct VmmStatistics {
     int count = 0;
     std::array<double, kVmmMaxLobes> weight{};
     std::array<Vec3d, kVmmMaxLobes> direction{};
     double total = 0.0;  // sum of the normalised weights that entered the statistics
-    // Evidence the MAP priors are weighed against (N of theory.md §5.4). 0 means `total`. The
+    // Evidence the MAP priors are weighed against (N of docs/theory.md §5.4). 0 means `total`. The
     // stepwise fitter's statistics are batch averages, so it sets this to all samples seen.
     double sample_count = 0.0;
 
@@ -90,7 +90,7 @@ Vmm initial_vmm(std::span<const DirectionalSample> samples, const VmmFitSettings
 // E-step: statistics of `samples` under `vmm`; returns the weighted log-likelihood.
 double expectation(const Vmm& vmm, std::span<const DirectionalSample> samples, const VmmFitSettings& settings,
                    VmmStatistics& stats);
-// M-step with the MAP priors; N of theory.md §5.4 is stats.sample_count (or stats.total).
+// M-step with the MAP priors; N of docs/theory.md §5.4 is stats.sample_count (or stats.total).
 void maximization(Vmm& vmm, const VmmStatistics& stats, const VmmFitSettings& settings);
 
 // Batch EM. Starts from `vmm` if it has lobes (restarts then ignored), from initial_vmm otherwise.

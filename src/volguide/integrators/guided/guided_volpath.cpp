@@ -190,7 +190,7 @@ GuidingField GuidedVolPathIntegrator::train_by_photons(const Scene& scene, const
     return GuidingField::build(guiding_bounds(scene), photons.samples, settings_.field);
 }
 
-// The pixel estimate I (theory.md §9.5), once, from the finished field.
+// The pixel estimate I (docs/theory.md §9.5), once, from the finished field.
 void GuidedVolPathIntegrator::make_pixel_estimate(const Scene& scene, const PreprocessContext& context) {
     const auto start = std::chrono::steady_clock::now();
     if (context.progress) {

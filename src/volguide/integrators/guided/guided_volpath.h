@@ -1,7 +1,7 @@
 #pragma once
 // `guided_volpath`: volguide's zero-variance-based volume path guiding integrator (interface.md).
 //
-// preprocess() trains the guiding field, by the photon pre-pass (training=photons, theory.md §5.2,
+// preprocess() trains the guiding field, by the photon pre-pass (training=photons, docs/theory.md §5.2,
 // §10.1) or PPG-style from camera paths (training=progressive, §10.2, progressive_training.h:
 // training_iterations iterations of 2^k spp with volpath's walk, field rebuilt after each), or
 // loads it (`load_field`), then prepares the guided decisions and, for guided RR/splitting and the

@@ -17,7 +17,7 @@
 
 namespace volguide {
 
-// How the field is trained: the photon pre-pass (theory.md §5.2, §10.1) or PPG-style from camera
+// How the field is trained: the photon pre-pass (docs/theory.md §5.2, §10.1) or PPG-style from camera
 // paths (§10.2, progressive_training.h).
 enum class TrainingMethod { Photons, Progressive };
 // How guided RR/splitting's pixel estimate I is made (pixel_estimate.h).
@@ -33,8 +33,8 @@ struct GuidedVolPathSettings {
     // Photon collisions kept at most (0: no cap): dense media deposit tens per photon, and the
     // field's build and fit time grows with them (bench/RESULTS.md: training overran its budget in
     // dense scenes before this cap). Fewer deposits also make fewer, larger leaves (leaf_samples per
-    // leaf), so shorter distance walks: 2 M rendered better than 4 M on all eight benchmark scenes at
-    // 60 s, and 1 M split them (bench/RESULTS.md, 2026-11-25 afternoon).
+    // leaf), so shorter distance walks: 2 M rendered better than 4 M at equal time, and 1 M did not
+    // (measured: see bench/RESULTS.md, "all eight scenes at 60 s ... half the photon deposits").
     int64_t max_deposits = 2000000;
     // Focused photon emission (emission_focus.h): a pilot finds where each emitter lights a medium.
     bool photon_focus = true;

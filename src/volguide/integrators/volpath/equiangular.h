@@ -1,5 +1,5 @@
 #pragma once
-// Equiangular distance sampling (Kulla & Fajardo 2012; theory.md §11.2): along the ray o + t d,
+// Equiangular distance sampling (Kulla & Fajardo 2012; docs/theory.md §11.2): along the ray o + t d,
 // t in [0, tmax] (tmax may be infinite), the density proportional to 1 / |x_t - c|^2 towards a
 // point c on a light,
 //   t = Δ + D tan((1 - ξ) θa + ξ θb),  p(t) = D / ((θb - θa) (D^2 + (t - Δ)^2)),

@@ -11,7 +11,7 @@
 // heuristic over all three, so the weights sum to one for every (t, y): unbiased. The distance
 // sampler must expose its density for this, so in these segments the walk samples the distance
 // itself (homogeneous: one channel chosen in proportion to the throughput, mixture density over
-// the channels, theory.md §2.6) instead of calling Medium::sample_free_flight. In heterogeneous
+// the channels, docs/theory.md §2.6) instead of calling Medium::sample_free_flight. In heterogeneous
 // media the walk keeps plain free-flight sampling (volpath's preprocess warns): the tracking's
 // density is not available in closed form there.
 #include <optional>

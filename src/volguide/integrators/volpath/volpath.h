@@ -15,7 +15,7 @@
 //    and area lights, combined with distance sampling + NEE and with phase sampling by a three-way
 //    power heuristic (see equiangular_mis.h). Heterogeneous media keep distance sampling (warning).
 //  - `volume_only` (default false, a volguide extension): only light whose camera path scatters
-//    first in a medium — the "V" image of theory.md §12.2, which is the integral of T sigma_s L_i
+//    first in a medium — the "V" image of docs/theory.md §12.2, which is the integral of T sigma_s L_i
 //    along the camera ray (the reference of the guiding field's in-scattered estimate).
 //  - `forward_first_scatter` (default false, an inspection extension): the camera path's first
 //    medium scattering keeps its direction (a forward delta phase function, weight 1, no NEE there).

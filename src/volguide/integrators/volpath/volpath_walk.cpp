@@ -112,7 +112,7 @@ VolumeWalk::Step VolumeWalk::equiangular_step(const Medium& medium, float tmax, 
 
 bool VolumeWalk::at_medium_vertex(const MediumVertex& v) {
     // Distance-stage continuation: the vertex collects ~ L_i(x_j, w_{j-1}) from here on; every copy
-    // does its own NEE and direction (theory.md §9.3).
+    // does its own NEE and direction (docs/theory.md §9.3).
     if (policy_ && !continue_path(ContinuationStage::Distance, v.mi, state_.ray.d, &v)) return false;
     return scatter(v);
 }

@@ -6,7 +6,7 @@
 //  - direction, at a medium vertex and at a surface: prepared once per vertex, then the density
 //    NEE's MIS uses and the sampled continuation;
 //  - continuation, at a medium vertex after the distance and after the direction decision: how many
-//    copies of the path go on (guided RR and splitting, theory.md §9.3), within the camera sample's
+//    copies of the path go on (guided RR and splitting, docs/theory.md §9.3), within the camera sample's
 //    branch budget.
 // What the walk reports of the path (training, Open PGL's path segments, the selection pilot) is a
 // PathRecorder's (path_recorder.h), not the policy's: a walk takes one of each, either may be null.

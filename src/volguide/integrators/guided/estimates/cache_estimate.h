@@ -1,6 +1,6 @@
 #pragma once
 // What the guiding field predicts a camera sees through the media (issue 6's `estimate` mode and,
-// later, the ray-marched pixel estimate of guided RR and splitting, theory.md §9.5, eq. 9.2 without
+// later, the ray-marched pixel estimate of guided RR and splitting, docs/theory.md §9.5, eq. 9.2 without
 // the surface term): along the camera ray, through every medium and across null (index-matched)
 // surfaces up to the first real surface,
 //   inscattered:  integral of T(0, t) sigma_s(x_t) L~_i(x_t, d) dt

@@ -79,8 +79,8 @@ Color3 march_camera_ray(const Scene& scene, const GuidingField& field, const Cac
         // weight) times the irradiance there over pi, the irradiance from the field's leaf on that
         // side (both direct and indirect light, in closed form) or, without a valid leaf, from one
         // NEE sample (direct light only). Only a leaf that is mostly medium describes the light
-        // around the surface (GuidingLeaf::mostly_medium; sss: the floor read black, I's mean 0.57
-        // of the image's).
+        // around the surface (GuidingLeaf::mostly_medium; sss: the floor read black, I's mean well
+        // below the image's; bench/RESULTS.md (issue 35)).
         const float u1 = sampler.next_1d();
         const Color3 albedo = bsdf.sample(ctx, si, u1, sampler.next_2d()).second;
         if (albedo.is_black()) break;

@@ -1,5 +1,5 @@
 #pragma once
-// The pixel estimate I of guided Russian roulette and splitting (theory.md §9.5, eq. 9.2): the
+// The pixel estimate I of guided Russian roulette and splitting (docs/theory.md §9.5, eq. 9.2): the
 // value each pixel is expected to converge to, against which a partial path's expected
 // contribution is compared (roulette_splitting.h).
 //
@@ -19,7 +19,7 @@
 //
 // The estimate is stored per pixel as the channel average and floored at `floor_fraction` of the
 // image mean, so that a pixel the field thinks black cannot make every path through it split to
-// the cap (theory.md §13.13).
+// the cap (docs/theory.md §13.13).
 #include <algorithm>
 #include <cstdint>
 #include <functional>

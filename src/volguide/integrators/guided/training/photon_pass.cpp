@@ -36,8 +36,8 @@ struct BatchResult {
 // the camera's walk never needs it) is in the medium that encloses it (medium_enclosing), probed once
 // at 16 points it emits from -- per photon only if they disagree (a light straddling a boundary).
 // Started in vacuum instead, such a lamp's photons left every collision of its direct light out of
-// the field (fogbox's in-scattered estimate read 0.54 of the path-traced one). Training only: the
-// render's estimate never reads it.
+// the field (fogbox's in-scattered estimate read about half the path-traced one: see
+// docs/guiding-estimates.md). Training only: the render's estimate never reads it.
 class StartMedia {
 public:
     explicit StartMedia(const Scene& scene) : ambient_(ambient_medium(scene)) {
@@ -99,7 +99,7 @@ void transport(const Scene& scene, const PhotonPassSettings& s, const Medium* st
                 medium->sample_free_flight(ray, si.is_valid() ? si.t : ray.tmax, throughput, sampler);
             if (ff.scattered) {
                 ++out.collisions;
-                // Flux arriving at the collision over sigma_t, before the albedo (theory.md §5.2).
+                // Flux arriving at the collision over sigma_t, before the albedo (docs/theory.md §5.2).
                 const Color3 deposit = flux * throughput * ff.flight_weight;
                 // depth 0: straight from the emitter (null boundaries crossed do not count).
                 if (deposit.is_finite() && !deposit.is_black())

@@ -1,5 +1,5 @@
 #pragma once
-// The paper's training pre-pass (theory.md §5.2, §10.1): photons leave the lights (an emitter
+// The paper's training pre-pass (docs/theory.md §5.2, §10.1): photons leave the lights (an emitter
 // chosen in proportion to its power, position and direction by its emission sampling), travel by
 // the media's free-flight sampling and BSDF sampling (importance transport), and at every real
 // collision inside a medium deposit a radiance sample for the guiding field:

@@ -1,5 +1,5 @@
 #pragma once
-// PPG-style progressive training of the guiding field from camera paths (theory.md §10.2).
+// PPG-style progressive training of the guiding field from camera paths (docs/theory.md §10.2).
 //
 // Iteration k traces 2^k samples per pixel over the film with volpath's walk and a
 // TrainingRecorder (training_recorder.h), which turns every camera path's medium vertices into

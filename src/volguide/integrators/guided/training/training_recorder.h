@@ -1,5 +1,5 @@
 #pragma once
-// Turns one camera path into guiding-field training samples (theory.md §10.2). The walk (volpath's,
+// Turns one camera path into guiding-field training samples (docs/theory.md §10.2). The walk (volpath's,
 // with the recorder as its PathRecorder, path_recorder.h; the decisions are the policy's, analog
 // or guided) reports, in path order:
 //   - every contribution it adds to the pixel estimate (NEE, emitter hits with their MIS weights);
@@ -17,7 +17,7 @@
 // incident radiance L(x_j, w) dw: the sum of their weights estimates the fluence, their weighted
 // directions the directional distribution -- the same quantity the photon pass trains.
 //
-// Directions are where the radiance comes from (towards the light, theory.md §1.1): the sampled
+// Directions are where the radiance comes from (towards the light, docs/theory.md §1.1): the sampled
 // travel direction w_j, exactly the photon samples' -w_travel convention.
 //
 // Split paths (guided splitting, walk_policy.h's continuation) form a tree: a copy made at a

@@ -48,8 +48,8 @@ bool BinSource::next_span() {
     }
     if (got) {
         // One leaf ahead: its table is fetched from memory while this leaf's bins are decided
-        // (the lookups of a large field miss the cache: ~18 % of a guided render on `thin`
-        // with 2000 leaves). thin, 256 spp, distance=incremental: render 5.0 -> 4.8 s.
+        // (the lookups of a large field miss the cache, a visible share of a guided render on
+        // `thin`; measured: see bench/RESULTS.md (issue 35)).
         if (estimates_ && pull_leaf(ahead_)) {
             has_ahead_ = true;
             if (regions_)

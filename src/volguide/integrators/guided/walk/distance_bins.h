@@ -1,5 +1,5 @@
 #pragma once
-// The bins of a ray segment for the guided distance samplers (guiding/guided_distance.h, theory.md
+// The bins of a ray segment for the guided distance samplers (guiding/guided_distance.h, docs/theory.md
 // §7.6, §7.9): along (0, t_end) of a ray in one medium, the kd-tree leaves the ray crosses (a
 // stretch before the field's bounds is a leafless span), cut at the medium's proxy segments
 // (majorant cells of a heterogeneous medium) and split so that no bin is optically thicker than

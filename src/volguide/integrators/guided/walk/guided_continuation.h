@@ -1,5 +1,5 @@
 #pragma once
-// Guided Russian roulette and splitting's decision at a medium vertex (theory.md §9.3), made here
+// Guided Russian roulette and splitting's decision at a medium vertex (docs/theory.md §9.3), made here
 // and nowhere else: volpath's walk asks its policy for a continuation once per vertex stage
 // (walk_policy.h's ContinuationStage) and GuidedWalkPolicy forwards to this class. The decision
 // reads

@@ -247,7 +247,7 @@ void WalkGuide::direction_sampler(const MediumInteraction& mi, const PhaseFuncti
         } else if (share != LearnedSelection::kDefault) {
             // Learned: the share replaces the configured one, damped by the confidence as that
             // is (a short pilot does not see the heavy tails long walks in a dense medium get
-            // from a large guided share: densesphere read 4.4 SE low at 256 spp undamped).
+            // from a large guided share: densesphere read low undamped; bench/RESULTS.md (issue 35)).
             phase_prob = 1.f - share * confidence;
             if (share == 0.f) ++stats_.local().direction_unselected;
         } else if (confidence < 1.f) {

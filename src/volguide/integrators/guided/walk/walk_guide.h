@@ -1,5 +1,5 @@
 #pragma once
-// The guided decisions of `guided_volpath`'s walk (theory.md §7–8), between the guiding field and
+// The guided decisions of `guided_volpath`'s walk (docs/theory.md §7–8), between the guiding field and
 // volpath's walk, which calls them through GuidedWalkPolicy (guided_walk_policy.h, a WalkPolicy) in
 // place of free-flight, phase and BSDF sampling.
 //
@@ -14,7 +14,7 @@
 // sampled by the medium's own free flight from the exit point: two unbiased decisions in a row.
 //
 // Heterogeneous media with distance=incremental use guided null-collision tracking instead
-// (theory.md §7.7 H2; guiding/guided_collision.h): the medium's majorant walk with the guided
+// (docs/theory.md §7.7 H2; guiding/guided_collision.h): the medium's majorant walk with the guided
 // scatter probability at every tentative collision, weights from the true coefficients only
 // (no proxy, no separate transmittance estimate). `guided_tracking = false` keeps the bins (H1).
 //
@@ -70,7 +70,7 @@ struct WalkGuideSettings {
     float leaf_tau_max = 1.f;
     // Direction guiding from the leaves' indirect distribution (GuidingLeaf::vmm_indirect): NEE
     // already samples the light that comes straight from the emitters at every medium vertex, so
-    // the continuation's zero-variance target is f_p times the rest (theory.md §8.3). false: the
+    // the continuation's zero-variance target is f_p times the rest (docs/theory.md §8.3). false: the
     // full incident distribution (the paper's).
     bool direction_indirect = true;
     // Diffuse surface vertices guided by the leaf around them (guiding/surface_guide.h), whenever
@@ -155,9 +155,9 @@ struct DistanceScratch {
 
 // The decisions take the GuideRegion of the vertex they are made at (walk_policy.h): its kd leaf
 // when a decision before found it (-1: not known), so that the direction decision at a guided
-// scatter and the distance decision that leaves it need not descend the tree again (leaf_at was
-// ~1.5 % of aniso's guided profile), and the decisions update it. A leaf handed on is trusted only
-// where SpatialTree::leaf_at would provably return it (holds_point).
+// scatter and the distance decision that leaves it need not descend the tree again (leaf_at showed
+// in aniso's profile, bench/RESULTS.md (issue 35)), and the decisions update it. A leaf handed on is trusted
+// only where SpatialTree::leaf_at would provably return it (holds_point).
 class WalkGuide {
   public:
     // The field and the scene must outlive the guide.
@@ -203,7 +203,7 @@ class WalkGuide {
                         std::optional<GuidedSurfaceSampler>& out) const;
     void count_surface_direction(bool guided) const;
 
-    // The field's estimates at the valid leaf `leaf` for guided RR and splitting (theory.md §9.3;
+    // The field's estimates at the valid leaf `leaf` for guided RR and splitting (docs/theory.md §9.3;
     // guided_continuation.h decides with them): L~_i(x, d) for a ray along d, and L~(x, w) arriving
     // from w. Both from the distance decisions' per-leaf tables when they exist.
     Color3 leaf_inscattered(int leaf, const PhaseFunction& phase, const Vec3f& d) const;
