@@ -17,8 +17,8 @@
 //  - DistanceQuery/{0,30,50}: one whole guided distance decision as the renderer makes it (BinSource
 //    over the demo field's leaves, its 16x16 estimate tables, a homogeneous grey medium of the demo's
 //    fog density, the incremental sampler, default settings) from a random point in a random
-//    direction; the argument is distance_merge x 100 (0: leaves; else DistanceRegions). Counters:
-//    `bins` per query and `regions` (0: leaves).
+//    direction; the argument is distance_merge x 100 (0: leaves; else LeafGroups). Counters:
+//    `bins` per query and `leaf_groups` (0: leaves).
 //  - LeafTableLookup: one bin's read of L~_i and L~ from a leaf's 16x16 table (LeafEstimates::lookup,
 //    the ray's direction prepared once), random leaves of the demo field;
 //  - RouletteEstimate: the E[X] lookup of guided RR / splitting at a medium vertex
@@ -39,7 +39,7 @@
 #include "volguide/core/parallel.h"
 #include "volguide/core/sampler.h"
 #include "volguide/core/warp.h"
-#include "volguide/guiding/distance_regions.h"
+#include "volguide/guiding/leaf_groups.h"
 #include "volguide/guiding/guided_distance.h"
 #include "volguide/guiding/guided_direction.h"
 #include "volguide/guiding/inscatter_cache.h"
@@ -231,7 +231,7 @@ std::vector<DistanceBin> distance_bins(bool late, bool chromatic = false) {
     for (int k = 19; k >= 0; --k) {
         DistanceBin& b = bins[size_t(k)];
         const float T = std::exp(-0.3f * 0.5f);
-        L = b.albedo * (1.f - T) * b.Li + T * L;
+        L = b.albedo * (1.f - T) * b.inscattered + T * L;
         b.L = L;
     }
     return bins;
@@ -270,8 +270,8 @@ void BM_DistanceQuery(benchmark::State& state) {
     const LeafEstimates estimates(field, cache, 16);
     const std::vector<float> extents = leaf_extents(field.tree());
     const float merge = float(state.range(0)) / 100.f;
-    std::optional<DistanceRegions> regions;
-    if (merge > 0.f) regions.emplace(field.tree(), estimates, extents, merge);
+    std::optional<LeafGroups> groups;
+    if (merge > 0.f) groups.emplace(field.tree(), estimates, extents, merge);
     // The demo's fog: sigma_t 0.1 per unit over a room ~10 units across (a few tenths of an optical depth).
     const HomogeneousMedium medium(Color3(0.1f), std::make_shared<Volume>(VoxelGrid(Color3(0.8f)), Transform()),
                                    std::make_shared<IsotropicPhase>());
@@ -295,13 +295,13 @@ void BM_DistanceQuery(benchmark::State& state) {
         const size_t k = i & 4095;
         Sampler rng(3, 0, i++);
         BinSource source(rays[k], ends[k], medium, field, &estimates, proxies, 20.f, extents, 1.f,
-                         regions ? &*regions : nullptr);
+                         groups ? &*groups : nullptr);
         const DistanceSample d = sample_incremental_distance(source, rng, settings);
         bins += uint64_t(d.steps);
         benchmark::DoNotOptimize(d);
     }
     state.counters["bins"] = double(bins) / double(std::max<uint64_t>(i, 1));
-    state.counters["regions"] = regions ? double(regions->region_count()) : 0.0;
+    state.counters["leaf_groups"] = groups ? double(groups->group_count()) : 0.0;
     state.counters["leaves"] = double(field.tree().leaf_count());
 }
 
@@ -357,8 +357,8 @@ void BM_RouletteEstimate(benchmark::State& state) {
     size_t i = 0;
     for (auto _ : state) {
         const auto& [mi, d] = queries[i++ & 4095];
-        GuideRegion region;  // not known: a descent, as after an unguided distance decision
-        benchmark::DoNotOptimize(continuation.estimate(ContinuationStage::Distance, mi, d, region));
+        VertexLeaf vertex_leaf;  // not known: a descent, as after an unguided distance decision
+        benchmark::DoNotOptimize(continuation.estimate(ContinuationStage::Distance, mi, d, vertex_leaf));
     }
 }
 

@@ -118,7 +118,7 @@ std::vector<DistanceBin> make_bins(const GuidingField& field, const Slab& slab, 
         bin.albedo = slab.albedo;
         const GuidingLeaf& l = field.leaves()[size_t(leaf)];
         bin.valid = l.valid;
-        bin.Li = GuidingField::inscattered(l, ray.d, phase_vmm, InscatterMode::Exact).average();
+        bin.inscattered = GuidingField::inscattered(l, ray.d, phase_vmm, InscatterMode::Exact).average();
         bin.L = GuidingField::incident(l, ray.d).average();
         bins.push_back(bin);
         return true;
@@ -275,7 +275,7 @@ float pixel_estimate_from_bins(const std::vector<DistanceBin>& bins) {
     float I = 0.f, tau = 0.f;
     for (const DistanceBin& b : bins) {
         const float bin_tau = b.sigma_t.average() * (b.t1 - b.t0);
-        I += std::exp(-tau) * b.albedo * (1.f - std::exp(-bin_tau)) * b.Li;
+        I += std::exp(-tau) * b.albedo * (1.f - std::exp(-bin_tau)) * b.inscattered;
         tau += bin_tau;
     }
     return I;

@@ -37,14 +37,14 @@ Vec3f one_vector(const FloatArray& a, const char* name) {
 
 py::dict bins_dict(const std::vector<DistanceBin>& bins) {
     const py::ssize_t n = py::ssize_t(bins.size());
-    py::array_t<float> t0(n), t1(n), albedo(n), Li(n), L(n), confidence(n), sigma_t({n, py::ssize_t(3)});
+    py::array_t<float> t0(n), t1(n), albedo(n), inscattered(n), L(n), confidence(n), sigma_t({n, py::ssize_t(3)});
     py::array_t<bool> valid(n);
     for (py::ssize_t i = 0; i < n; ++i) {
         const DistanceBin& b = bins[size_t(i)];
         t0.mutable_at(i) = b.t0;
         t1.mutable_at(i) = b.t1;
         albedo.mutable_at(i) = b.albedo;
-        Li.mutable_at(i) = b.Li;
+        inscattered.mutable_at(i) = b.inscattered;
         L.mutable_at(i) = b.L;
         confidence.mutable_at(i) = b.confidence;
         valid.mutable_at(i) = b.valid;
@@ -55,7 +55,7 @@ py::dict bins_dict(const std::vector<DistanceBin>& bins) {
     out["t1"] = t1;
     out["sigma_t"] = sigma_t;
     out["albedo"] = albedo;
-    out["Li"] = Li;
+    out["inscattered"] = inscattered;
     out["L"] = L;
     out["valid"] = valid;
     out["confidence"] = confidence;
@@ -88,11 +88,11 @@ py::dict distance_pdf(const FieldHandle& h, const FloatArray& origin, const Floa
     const std::vector<float> extents = leaf_extents(h.field->tree());
     std::vector<ProxySegment> proxies;
     std::vector<DistanceBin> bins;
-    // distance_merge > 0: the walk steps regions of leaves (guiding/distance_regions.h), as the renderer does.
-    std::optional<DistanceRegions> regions;
-    if (distance_merge > 0.f) regions.emplace(h.field->tree(), estimates, extents, distance_merge);
+    // distance_merge > 0: the walk steps leaf groups (guiding/leaf_groups.h), as the renderer does.
+    std::optional<LeafGroups> groups;
+    if (distance_merge > 0.f) groups.emplace(h.field->tree(), estimates, extents, distance_merge);
     BinSource source(ray, t_end, *medium, *h.field, &estimates, proxies, defaults.max_bin_optical_depth, extents,
-                     defaults.leaf_tau_max, regions ? &*regions : nullptr);
+                     defaults.leaf_tau_max, groups ? &*groups : nullptr);
     DistanceBin bin;
     while (source(bin)) bins.push_back(bin);
 
@@ -141,8 +141,8 @@ void bind_distance(py::module_& m) {
               "The guided distance pdf along the ray's first segment (up to the first surface or t_max) in the "
               "medium the ray starts in: a dict with t, pdf (at t, default n midpoints of (0, t_end)), "
               "surface_probability (the mass of reaching t_end), t_end, g (the medium's mean cosine) and the bins "
-              "(t0, t1, sigma_t, albedo, Li, L, valid, confidence). sampler: tabulated or incremental. "
-              "distance_merge > 0: the bins are regions of leaves whose estimates agree (the renderer's "
+              "(t0, t1, sigma_t, albedo, inscattered, L, valid, confidence). sampler: tabulated or incremental. "
+              "distance_merge > 0: the bins are groups of leaves whose estimates agree (the renderer's "
               "distance_merge parameter).");
 }
 

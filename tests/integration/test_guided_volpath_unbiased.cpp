@@ -183,11 +183,11 @@ TEST(GuidedVolPathUnbiased, PointLitFogMatchesVolpath) {
     }
 }
 
-// Issue 20: the distance walk over merged regions of leaves (distance_merge) instead of single
+// Issue 20: the distance walk over leaf groups (distance_merge) instead of single
 // leaves: the furnace stays 1 (incremental and tabulated), and the point-lit fog matches volpath
-// (homogeneous; heterogeneous with the bins, H1, which the regions serve).
+// (homogeneous; heterogeneous with the bins, H1, which the leaf groups serve).
 TEST(GuidedVolPathUnbiased, DistanceRegionsAreUnbiased) {
-    TempDir dir("guided-regions");
+    TempDir dir("guided-leaf-groups");
     const std::string grid = write_furnace_grid(dir);
     const std::string merge = R"(<float name="distance_merge" value="0.5"/>)";
     for (const std::string distance : {"incremental", "tabulated"}) {
@@ -282,8 +282,8 @@ TEST(GuidedVolPathUnbiased, TransmittanceStrategiesAloneGiveUnitWeights) {
         for (int i = 0; i < 2000; ++i) {
             Sampler s(9, 0, uint64_t(i));
             const Ray ray(Point3f(0.f), warp::square_to_uniform_sphere(s.next_2d()));
-            GuideRegion region;  // the origin's leaf is not known
-            const FreeFlightSample f = guide.sample_distance(*medium, ray, 0.999f, Color3(1.f), s, region, scratch);
+            VertexLeaf vertex_leaf;  // the origin's leaf is not known
+            const FreeFlightSample f = guide.sample_distance(*medium, ray, 0.999f, Color3(1.f), s, vertex_leaf, scratch);
             scattered += f.scattered;
             ASSERT_NEAR(f.weight.r, 1.f, 2e-4f) << "query " << i << (f.scattered ? " scattered" : " passed");
         }
@@ -444,14 +444,14 @@ TEST(GuidedVolPathUnbiased, LearnedSelectionIsUnbiased) {
     expect_same_means(unguided, ref);
 
     const auto s = guide_stats(lit_fog_xml(false, grid, guided("incremental", "product", 200000, -1.f, selection)));
-    ASSERT_TRUE(s.count("selection_distance_regions_guided"));
-    EXPECT_GT(s.at("selection_distance_regions_guided") + s.at("selection_distance_regions_unguided"), 0.0);
-    EXPECT_GT(s.at("selection_direction_regions_guided") + s.at("selection_direction_regions_unguided"), 0.0);
+    ASSERT_TRUE(s.count("selection_distance_cells_guided"));
+    EXPECT_GT(s.at("selection_distance_cells_guided") + s.at("selection_distance_cells_unguided"), 0.0);
+    EXPECT_GT(s.at("selection_direction_cells_guided") + s.at("selection_direction_cells_unguided"), 0.0);
     EXPECT_GT(s.at("selection_seconds"), 0.0);
     const auto o = guide_stats(lit_fog_xml(false, grid, guided("incremental", "product", 200000, -1.f, off)));
-    // (A region whose guiding more than halves the variance keeps it even then: its share of the
+    // (A selection cell whose guiding more than halves the variance keeps it even then: its share of the
     // time cannot exceed 1.)
-    EXPECT_GT(o.at("selection_distance_regions_unguided"), o.at("selection_distance_regions_guided"));
+    EXPECT_GT(o.at("selection_distance_cells_unguided"), o.at("selection_distance_cells_guided"));
     EXPECT_GT(o.at("selection_distance_unguided"), 0.0);   // queries made by free flight
     EXPECT_GT(o.at("selection_direction_unguided"), 0.0);  // vertices sampled by the phase function
     // Without a selection nothing is counted as selected.

@@ -56,7 +56,7 @@ std::string rrs_integrator(const std::string& rrs, float window) {
 TEST(GuidedVsVolpathScenes, ShaftsGuidedRussianRoulette) { compare("shafts", 1024, 512, rrs_integrator("grr", 1.f)); }
 TEST(GuidedVsVolpathScenes, ShaftsPapersWindow) { compare("shafts", 1024, 512, rrs_integrator("grrs", 1.f)); }
 
-// Issue 20: the full system with the distance walk over merged regions (distance_merge).
+// Issue 20: the full system with the distance walk over leaf groups (distance_merge).
 TEST(GuidedVsVolpathScenes, ShaftsDistanceRegions) {
     compare("shafts", 1024, 512,
             R"(<scene version="3.0.0"><integrator type="guided_volpath"><integer name="max_depth" value="$max_depth"/>)"

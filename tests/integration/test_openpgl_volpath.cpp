@@ -9,7 +9,7 @@
 //  - the same seed gives the same image for 1 and 2 threads: Open PGL's training runs with
 //    deterministic = true (regions sort their samples before fitting), so the samples' arrival
 //    order from the threads does not matter.
-//  - untrained (training_spp = 0) it renders volpath's image bit for bit (the policy's analog path
+//  - untrained (training_spp = 0) it renders volpath's image bit for bit (the policy's unguided path
 //    draws exactly volpath's random numbers).
 #include <gtest/gtest.h>
 

@@ -49,7 +49,7 @@ std::unique_ptr<Scene> load_xml(const std::string& xml) {
     return load_scene(dir.write("scene.xml", xml));
 }
 
-// Sees every contribution the walk adds (a recorder of the analog walk: it decides nothing).
+// Sees every contribution the walk adds (a recorder of the unguided walk: it decides nothing).
 class MaxContribution final : public PathRecorder {
   public:
     void record_contribution(const Color3& value) override { max = std::max(max, double(value.max_value())); }

@@ -1,5 +1,5 @@
 // volpath's walk, its policy interface (walk_policy.h) and its recorder interface
-// (path_recorder.h): the default policy makes the analog decisions with exactly the random numbers
+// (path_recorder.h): the default policy makes the unguided decisions with exactly the random numbers
 // of the walk without a policy, and a recorder sees every contribution the walk adds and every
 // medium vertex it scatters at, without changing a number.
 #include <gtest/gtest.h>
@@ -42,7 +42,7 @@ class CountingRecorder final : public PathRecorder {
         EXPECT_FALSE(record.mixture);  // the default policy samples no mixture
         ++decisions;
     }
-    void record_continuation(ContinuationStage, const GuideRegion&, float, const Color3&) override {
+    void record_continuation(ContinuationStage, const VertexLeaf&, float, const Color3&) override {
         ++continuations;
     }
     void end_camera_sample(int branches) override {
@@ -105,8 +105,8 @@ TEST(WalkPolicy, DefaultPolicyIsTheAnalogWalkNumberForNumber) {
             const VolPathIntegrator volpath = volpath_with(equiangular);
             int differ = 0, nonzero = 0;
             for_each_sample(*scene, volpath, 4, [&](const Ray& ray, Sampler& a, Sampler& b) {
-                WalkPolicy analog;
-                const TwoWalks w = walk_twice(*scene, volpath, ray, a, b, &analog, nullptr);
+                WalkPolicy unguided;
+                const TwoWalks w = walk_twice(*scene, volpath, ray, a, b, &unguided, nullptr);
                 differ += !same_bits(w.plain, w.with_policy) || !w.same_dimension;
                 nonzero += w.plain.max_value() > 0.f;
             });
@@ -125,10 +125,10 @@ TEST(WalkPolicy, RecordingSeesEveryContributionAndMediumVertex) {
         Sampler b2 = b;
         CountingRecorder alone;
         const TwoWalks w = walk_twice(*scene, volpath, ray, a, b, nullptr, &alone);
-        WalkPolicy analog;
+        WalkPolicy unguided;
         CountingRecorder recorder;
         Sampler a2 = b2;
-        const TwoWalks w2 = walk_twice(*scene, volpath, ray, a2, b2, &analog, &recorder);
+        const TwoWalks w2 = walk_twice(*scene, volpath, ray, a2, b2, &unguided, &recorder);
         for (const auto& [walks, rec] : {std::pair{&w, &alone}, std::pair{&w2, &recorder}}) {
             EXPECT_TRUE(same_bits(walks->plain, walks->with_policy) && walks->same_dimension);
             // The same additions in the same order: the same sum.
@@ -156,10 +156,10 @@ TEST(WalkPolicy, DecisionReadingRecorderSeesEveryPolicyDecision) {
         const TwoWalks w = walk_twice(*scene, volpath, ray, a, b, nullptr, &without_policy);
         EXPECT_TRUE(same_bits(w.plain, w.with_policy) && w.same_dimension);
         EXPECT_EQ(without_policy.decisions, 0);
-        WalkPolicy analog;
+        WalkPolicy unguided;
         CountingRecorder recorder(true);
         Sampler a2 = b2;
-        const TwoWalks w2 = walk_twice(*scene, volpath, ray, a2, b2, &analog, &recorder);
+        const TwoWalks w2 = walk_twice(*scene, volpath, ray, a2, b2, &unguided, &recorder);
         EXPECT_TRUE(same_bits(w2.plain, w2.with_policy) && w2.same_dimension);
         // Every medium vertex had a distance and a direction decision (the last may have ended the
         // path), and the default continuation reports no estimate.

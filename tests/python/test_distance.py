@@ -30,7 +30,7 @@ def test_distance_pdf_is_a_distribution(trained, sampler):
     assert bins["t0"][0] == 0.0 and bins["t1"][-1] == pytest.approx(r["t_end"], rel=1e-5)
     assert np.array_equal(bins["t0"][1:], bins["t1"][:-1])
     np.testing.assert_allclose(bins["sigma_t"], 0.25, rtol=1e-6)
-    assert bins["valid"].any() and (bins["Li"][bins["valid"]] > 0).all()
+    assert bins["valid"].any() and (bins["inscattered"][bins["valid"]] > 0).all()
 
 
 def test_transmittance_only_is_the_exponential(trained):
@@ -58,7 +58,7 @@ def test_distance_regions_are_a_distribution_over_fewer_bins(trained):
     leaves = trained.distance_pdf(ORIGIN, DIRECTION, 10.0, sampler="incremental", n=4000)
     merged = trained.distance_pdf(ORIGIN, DIRECTION, 10.0, sampler="incremental", n=4000, distance_merge=1.0)
     assert len(leaves["bins"]["t0"]) > 1
-    assert len(merged["bins"]["t0"]) < len(leaves["bins"]["t0"])  # tolerance 1: one region crossed
+    assert len(merged["bins"]["t0"]) < len(leaves["bins"]["t0"])  # tolerance 1: one leaf group crossed
     integral = merged["pdf"].mean() * merged["t_end"]
     assert integral + merged["surface_probability"] == pytest.approx(1.0, abs=1e-2)
     with pytest.raises(ValueError, match="distance_merge"):

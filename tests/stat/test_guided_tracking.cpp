@@ -3,14 +3,14 @@
 // mu > sigma_t: against quadrature on the tracking tests' procedural cloud (oracles.md §4),
 //   E[w 1{escaped}] = T_c(s),  E[w 1{scattered}] = int T_c sigma_s,c dt,  E[w 1{scattered} t] = int T_c sigma_s,c t dt,
 // per channel, grey and chromatic, tight and 10x loose majorant, for
-//  - an arbitrary P_s (the analog one modulated along the ray),
+//  - an arbitrary P_s (the unguided one modulated along the ray),
 //  - the guided P_s of guided_volpath (GuidedCollisionProbability) on a synthetic guiding field
 //    that covers only part of the cloud (rays enter and leave it);
 // (per-flight mixing; per-collision mixing only at the tight majorant: its weights are heavy-tailed);
 // a P_s that is 0 over a stretch with sigma_s > 0 must fail the same z-tests (the tests can fail);
 // with P_s = P_a (grey) the walk is delta tracking: weight = albedo at scatters, 1 on escape, and
 // the same decisions as sample_free_flight from the same random numbers; P_s = 1 / 0 where the
-// other branch carries nothing are exact and finite; a NaN P_s falls back to the analog one; the
+// other branch carries nothing are exact and finite; a NaN P_s falls back to the unguided one; the
 // guide is asked once per tentative collision, in order, with the true coefficients there and
 // normalised channel weights, and only by media whose free flight is a null-collision walk.
 // z-tests use |z| < 4 (per-test alpha 6e-5).
@@ -43,11 +43,11 @@ private:
     std::function<float(const TentativeCollision&)> f_;
 };
 
-// Analog, modulated by a factor in [0.5, 1.5] that varies along the ray, with a floor where sigma_s > 0.
+// Unguided, modulated by a factor in [0.5, 1.5] that varies along the ray, with a floor where sigma_s > 0.
 float modulated(const TentativeCollision& c) {
     const float s = std::sin(7.f * c.t);
     const float floor = c.sigma_s.max_value() > 0.f ? 0.02f : 0.f;
-    return std::min((0.5f + s * s) * analog_scatter_probability(c) + floor, 0.97f);
+    return std::min((0.5f + s * s) * unguided_scatter_probability(c) + floor, 0.97f);
 }
 
 // Radiance from +y (varying with x), brighter above y = 0.6, over a box that holds part of the cloud.
@@ -169,7 +169,7 @@ static void check_field_guided(CollisionMixture mixture) {
             return std::make_unique<Counting>(GuidedCollisionProbability(field, &estimates, r.ray, t_end, 0.3f, mixture), &guided,
                                               &collisions);
         };
-        // Per flight, grey: at most the analog weight (albedo or 1) / c_T. Per collision the factors
+        // Per flight, grey: at most the unguided weight (albedo or 1) / c_T. Per collision the factors
         // compound (heavy tails where the field says nothing comes from ahead): tight majorant only.
         const bool per_flight = mixture == CollisionMixture::PerFlight;
         check_unbiased(*m, guide_for, 20000, 300 + channels, true,
@@ -198,7 +198,7 @@ TEST(GuidedTracking, AHoleInTheScatterProbabilityFails) {
 
 TEST(GuidedTracking, AnalogProbabilityIsDeltaTracking) {
     auto m = cloud_medium(1, Color3(0.7f), 4.f);
-    FunctionGuide analog(analog_scatter_probability);
+    FunctionGuide unguided(unguided_scatter_probability);
     int same = 0, total = 0, scattered = 0;
     for (const TestRay& r : test_rays())
         for (float ms : {1.f, 10.f}) {
@@ -206,7 +206,7 @@ TEST(GuidedTracking, AnalogProbabilityIsDeltaTracking) {
             for (int i = 0; i < 5000; ++i) {
                 Sampler s(7, uint64_t(ms), uint64_t(i)), s_ref(7, uint64_t(ms), uint64_t(i));
                 TrackingCounts counts;
-                const FreeFlightSample fs = m->sample_free_flight(r.ray, r.tmax, Color3(1.f), s, &analog, &counts);
+                const FreeFlightSample fs = m->sample_free_flight(r.ray, r.tmax, Color3(1.f), s, &unguided, &counts);
                 const FreeFlightSample ref = m->sample_free_flight(r.ray, r.tmax, Color3(1.f), s_ref);
                 ASSERT_EQ(counts.real_collisions, fs.scattered ? 1u : 0u);
                 const float expected = fs.scattered ? 0.7f : 1.f;

@@ -98,8 +98,8 @@ struct MediumVertex {
         mi.medium = &medium;
         policy = std::make_unique<OpenPglWalkPolicy>(settings, ts, field());
         Sampler s(3, 0, 0);
-        GuideRegion region;
-        policy->prepare_direction(mi, region, s);
+        VertexLeaf vertex_leaf;
+        policy->prepare_direction(mi, vertex_leaf, s);
     }
     TestHomogeneousMedium medium;
     OpenPglSettings settings;

@@ -15,7 +15,7 @@ namespace volguide::test {
 struct AnalyticSegment {
     double t0, t1;
     Color3 sigma_t, sigma_s;
-    Color3 Li;  // in-scattered radiance L_i, constant in the segment
+    Color3 inscattered;  // in-scattered radiance L_i, constant in the segment
 };
 
 struct AnalyticRay {
@@ -35,7 +35,7 @@ struct AnalyticRay {
                 const double st = s.sigma_t[c], T = std::exp(-st * (s.t1 - s.t0));
                 const double in =
                     st > 0 ? double(s.sigma_s[c]) / st * (1.0 - T) : double(s.sigma_s[c]) * (s.t1 - s.t0);
-                L[k][size_t(c)] = in * s.Li[c] + T * L[k + 1][size_t(c)];
+                L[k][size_t(c)] = in * s.inscattered[c] + T * L[k + 1][size_t(c)];
             }
         }
         return L;
@@ -61,7 +61,7 @@ struct AnalyticRay {
     double estimate(const DistanceSample& d, int c) const {
         if (d.event == DistanceEvent::Surface) return transmittance(end(), c) * L_surface[c] / d.pdf;
         const AnalyticSegment& s = segments[size_t(segment_at(d.t))];
-        return transmittance(d.t, c) * s.sigma_s[c] * s.Li[c] / d.pdf;
+        return transmittance(d.t, c) * s.sigma_s[c] * s.inscattered[c] / d.pdf;
     }
 
     // Channel average of the above: the quantity the scalar (channel-average) estimates describe.
@@ -85,10 +85,10 @@ struct AnalyticRay {
             b.t1 = float(s.t1);
             b.sigma_t = s.sigma_t;
             b.albedo = s.sigma_t.average() > 0.f ? s.sigma_s.average() / s.sigma_t.average() : 0.f;
-            b.Li = s.Li.average();
+            b.inscattered = s.inscattered.average();
             b.L = float((L[k][0] + L[k][1] + L[k][2]) / 3.0);
             if (perturb) {
-                b.Li *= perturb(k, 0);
+                b.inscattered *= perturb(k, 0);
                 b.L *= perturb(k, 1);
             }
             out.push_back(b);

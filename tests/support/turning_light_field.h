@@ -1,5 +1,5 @@
 #pragma once
-// A fitted guiding field over the box [0, 2] x [0, 1] x [0, 1] for the leaf-table and distance-region
+// A fitted guiding field over the box [0, 2] x [0, 1] x [0, 1] for the leaf-table and leaf-group
 // tests: radiance from a direction that turns with x (angle `turn` * x about +z, lifted by 0.3), a
 // vMF lobe of concentration `kappa` holding 70 % of it plus a uniform part, RGB weight (2, 1, 0.5),
 // 20000 samples; every leaf differs a little from its neighbours, as fitted leaves do.

@@ -47,7 +47,7 @@ std::vector<DistanceBin> random_bins(uint32_t seed, bool chromatic) {
         const float s = kind > 0.92f ? 1e-8f : 3.f * u(rng) * u(rng);
         b.sigma_t = chromatic ? Color3(s * (0.2f + 2.f * u(rng)), s, s * (0.2f + 2.f * u(rng))) : Color3(s);
         b.albedo = u(rng);
-        b.Li = u(rng) < 0.15f ? 0.f : 3.f * u(rng);
+        b.inscattered = u(rng) < 0.15f ? 0.f : 3.f * u(rng);
         b.L = u(rng) < 0.1f ? 0.f : 2.f * u(rng);  // 0 with Li > 0: the p_max case
         b.valid = u(rng) > 0.1f;
         bins.push_back(b);
@@ -63,7 +63,7 @@ void make_consistent(std::vector<DistanceBin>& bins, float L_surface) {
     for (size_t k = bins.size(); k-- > 0;) {
         DistanceBin& b = bins[k];
         const double T = std::exp(-double(b.sigma_t.average()) * (b.t1 - b.t0));
-        L = b.albedo * (1.0 - T) * b.Li + T * L;
+        L = b.albedo * (1.0 - T) * b.inscattered + T * L;
         b.L = float(L);
     }
 }
@@ -278,7 +278,7 @@ TEST(GuidedDistance, VreDenominatorMatchesHandComputation) {
                 1.0 - 0.18 / (0.18 * P_T + std::exp(-12.0)) * P_T, 1e-5);
     EXPECT_LT(incremental_surface_probability(one, vre(1.f, 0.9f)), 1e-4);
     // The clamp is max(p_max, 1 - T): a bright thick bin may go up to P^T, a bright thin one to p_max.
-    thick.Li = 100.f;
+    thick.inscattered = 100.f;
     EXPECT_NEAR(incremental_surface_probability(std::vector<DistanceBin>{thick}, vre(1.f, 0.9f)),
                 std::exp(-12.f) / 1.f, 1e-6);
     DistanceBin thin{0.f, 1.f, Color3(0.05f), 1.f, 1e6f, 1.f, true};
@@ -334,7 +334,7 @@ TEST(GuidedDistance, DegenerateCases) {
 
     DistanceBin b = base;
     EXPECT_NEAR(one(b), 1.f - 0.8f * (1.f - T) * 1.f / 2.f, 1e-6f);  // regular
-    b.Li = NAN;                                                      // NaN -> P^T, counted
+    b.inscattered = NAN;                                                      // NaN -> P^T, counted
     EXPECT_NEAR(one(b), T, 1e-6f);
     EXPECT_EQ(count_nans(b), 1);
     EXPECT_EQ(count_nans(base), 0);
@@ -349,10 +349,10 @@ TEST(GuidedDistance, DegenerateCases) {
     b.L = INFINITY;
     EXPECT_NEAR(one(b), 1.f - 0.9f, 1e-6f);
     b = base;
-    b.Li = 100.f;  // clamp
+    b.inscattered = 100.f;  // clamp
     EXPECT_NEAR(one(b), 1.f - 0.9f, 1e-6f);
     b = base;
-    b.Li = 0.f;  // numerator 0 -> P^G = 0, even with L = 0
+    b.inscattered = 0.f;  // numerator 0 -> P^G = 0, even with L = 0
     EXPECT_NEAR(one(b), 1.f, 1e-7f);
     b.L = 0.f;
     EXPECT_NEAR(one(b), 1.f, 1e-7f);
@@ -410,7 +410,7 @@ TEST(GuidedDistance, TabulatedAllDarkGoesToSurfaceAndInvalidBinsAreReachable) {
     const GuidedDistanceSettings s = settings(0.f, 0.9f, 1.f);
     EXPECT_EQ(TabulatedDistance(bins, 0.f, s).surface_probability(), 1.f);
     bins[1].valid = false;  // unknown: treated like the brightest valid bin (here 0) ...
-    bins[0].Li = 2.f;       // ... which now is 2
+    bins[0].inscattered = 2.f;       // ... which now is 2
     const TabulatedDistance tab(bins, 0.f, s);
     EXPECT_GT(tab.pdf(1.5f), 0.f);
 }

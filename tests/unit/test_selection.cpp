@@ -30,21 +30,21 @@ float pilot_sample(int i, int n) {
     return u < 0.75f ? u / 1.5f : 0.5f + (u - 0.75f) / 0.5f;
 }
 
-// Adds n decisions of `region` whose integrand is 2 on [lo, lo + 1/2) (S = f / q, I = 1).
-void add_toy(SelectionStatistics& stats, size_t region, float lo, int n, int first = 0, int step = 1) {
+// Adds n decisions of `cell` whose integrand is 2 on [lo, lo + 1/2) (S = f / q, I = 1).
+void add_toy(SelectionStatistics& stats, size_t cell, float lo, int n, int first = 0, int step = 1) {
     for (int i = first; i < n; i += step) {
         const float x = pilot_sample(i, n);
         const float p_u = 1.f, p_g = x < 0.5f ? 2.f : 0.f, q = 0.5f * (p_u + p_g);
         const float f = (x >= lo && x < lo + 0.5f) ? 2.f : 0.f;
         const double S = double(f) / double(q);
-        stats.add_decision(SelectionDecision::Direction, region, S * S, q, p_u, p_g);
+        stats.add_decision(SelectionDecision::Direction, cell, S * S, q, p_u, p_g);
     }
 }
 
 SelectionSettings plain_settings() {
     SelectionSettings s;
     s.min_samples = 32;
-    s.prior_samples = 0.f;  // no shrinkage: the regions' own estimates
+    s.prior_samples = 0.f;  // no shrinkage: the cells' own estimates
     return s;
 }
 
@@ -74,7 +74,7 @@ TEST(Selection, FitFollowsTheGuideWhereItIsRightAndDropsItWhereItIsWrong) {
     add_toy(stats, 2, 0.f, 10);  // too few samples
     for (int i = 0; i < 4000; ++i) stats.add_camera_sample(1.0);
     const LearnedSelection sel = LearnedSelection::fit(stats, plain_settings(), {0.5f, 0.5f, 0.5f});
-    ASSERT_EQ(sel.regions(), 4u);
+    ASSERT_EQ(sel.cells(), 4u);
     EXPECT_FLOAT_EQ(sel.share(SelectionDecision::Direction, 0), kSelectionShares.back());
     EXPECT_FLOAT_EQ(sel.share(SelectionDecision::Direction, 1), 0.f);
     EXPECT_EQ(sel.share(SelectionDecision::Direction, 2), LearnedSelection::kDefault);
@@ -160,8 +160,8 @@ TEST(Selection, BytesRoundTripAndMalformedOnesAreRejected) {
     const LearnedSelection sel = LearnedSelection::fit(stats, gated, {0.5f, 0.5f, 0.5f});
     const std::string bytes = sel.serialize();
     const LearnedSelection back = LearnedSelection::deserialize(bytes);
-    ASSERT_EQ(back.regions(), sel.regions());
-    for (size_t r = 0; r < sel.regions(); ++r) {
+    ASSERT_EQ(back.cells(), sel.cells());
+    for (size_t r = 0; r < sel.cells(); ++r) {
         for (int d = 0; d < kSelectionDecisions; ++d)
             EXPECT_EQ(back.share(SelectionDecision(d), r), sel.share(SelectionDecision(d), r));
         for (int s = 0; s < kSelectionStages; ++s) EXPECT_EQ(back.rrs_acts(s, r), sel.rrs_acts(s, r));
@@ -174,7 +174,7 @@ TEST(Selection, BytesRoundTripAndMalformedOnesAreRejected) {
     EXPECT_THROW(LearnedSelection::deserialize(bad_magic), std::runtime_error);
     std::string bad_share = bytes;
     const float two = 2.f;
-    std::memcpy(bad_share.data() + 16, &two, sizeof two);  // the first region's distance share
+    std::memcpy(bad_share.data() + 16, &two, sizeof two);  // the first cell's distance share
     EXPECT_THROW(LearnedSelection::deserialize(bad_share), std::runtime_error);
     std::string huge = bytes;
     const uint64_t n = uint64_t(1) << 60;

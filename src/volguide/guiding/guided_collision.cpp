@@ -12,7 +12,7 @@ GuidedCollisionProbability::GuidedCollisionProbability(const GuidingField& field
       direction_(estimates ? estimates->prepare(ray.d) : LeafEstimates::Direction{}),
       c_T_(c_T),
       mixture_(mixture),
-      analog_share_(c_T),
+      unguided_share_(c_T),
       cursor_(field.tree(), ray, 0.f, t_end) {}
 
 bool GuidedCollisionProbability::enter_leaf_at(float t) {
@@ -22,7 +22,7 @@ bool GuidedCollisionProbability::enter_leaf_at(float t) {
             cursor_done_ = true;
             return false;
         }
-        leaf_valid_ = estimates_ && estimates_->lookup(leaf, direction_, Li_, L_);
+        leaf_valid_ = estimates_ && estimates_->lookup(leaf, direction_, inscattered_, L_);
     }
     return t >= leaf_t0_;  // before the field's entry point there is no leaf
 }
@@ -31,19 +31,19 @@ float GuidedCollisionProbability::scatter_probability(const TentativeCollision& 
     ++collisions_;
     if (has_previous_ && mixture_ == CollisionMixture::PerFlight) {
         // Bayes: the previous collision was a null under both strategies' probabilities.
-        const float analog = analog_share_ * (1.f - previous_analog_);
-        const float total = analog + (1.f - analog_share_) * (1.f - previous_guided_);
-        if (total > 0.f) analog_share_ = analog / total;
+        const float unguided = unguided_share_ * (1.f - previous_unguided_);
+        const float total = unguided + (1.f - unguided_share_) * (1.f - previous_guided_);
+        if (total > 0.f) unguided_share_ = unguided / total;
     }
-    const float p_analog = analog_scatter_probability(c);
-    float p_guided = p_analog;
+    const float p_unguided = unguided_scatter_probability(c);
+    float p_guided = p_unguided;
     if (!enter_leaf_at(c.t) || !leaf_valid_) {
         ++unguided_;
     } else {
         float scatter = 0.f, null = 0.f;
         for (int ch = 0; ch < 3; ++ch) {
             const float q = c.channel_weights[ch];
-            scatter += q * std::abs(c.sigma_s[ch]) * Li_[ch];
+            scatter += q * std::abs(c.sigma_s[ch]) * inscattered_[ch];
             null += q * std::abs(c.mu - c.sigma_t[ch]) * L_[ch];
         }
         // No scattering (or no light from it): 0; nothing carried by a null (null = 0): 1.
@@ -54,9 +54,9 @@ float GuidedCollisionProbability::scatter_probability(const TentativeCollision& 
             ++nan_fallbacks_;
     }
     has_previous_ = true;
-    previous_analog_ = p_analog;
+    previous_unguided_ = p_unguided;
     previous_guided_ = p_guided;
-    return analog_share_ * p_analog + (1.f - analog_share_) * p_guided;
+    return unguided_share_ * p_unguided + (1.f - unguided_share_) * p_guided;
 }
 
 }  // namespace volguide

@@ -9,14 +9,14 @@
 // equal to channel averages for grey light and media (docs/theory.md §7.8 uses plain averages; with
 // them a chromatic medium's null weights would exceed 1 for thin channels at every collision).
 // No valid leaf (outside the field, an invalid leaf, no estimates) or a non-finite P_G:
-// P_G = P_a, the analog (spectral tracking) probability.
+// P_G = P_a, the unguided (spectral tracking) probability.
 //
-// Defensive mixing with P_a (docs/theory.md §7.5), c_T = the analog strategy's share:
+// Defensive mixing with P_a (docs/theory.md §7.5), c_T = the unguided strategy's share:
 //  - PerFlight (default; Variant A): the flight is a one-sample mixture of two whole trackings,
-//    analog with probability c_T and guided otherwise, with the path probability
+//    unguided with probability c_T and guided otherwise, with the path probability
 //    c_T prod P_a + (1 - c_T) prod P_G (each product over this flight's decisions). Drawn
-//    sequentially: P_s = c_k P_a + (1 - c_k) P_G with c_k the posterior probability of the analog
-//    strategy given the nulls so far (c_0 = c_T). The weight is then at most the analog weight / c_T.
+//    sequentially: P_s = c_k P_a + (1 - c_k) P_G with c_k the posterior probability of the unguided
+//    strategy given the nulls so far (c_0 = c_T). The weight is then at most the unguided weight / c_T.
 //  - PerCollision (Variant B): P_s = c_T P_a + (1 - c_T) P_G at every collision. Each factor is
 //    bounded by 1 / c_T, but they compound: where the field says nothing comes from ahead (L~ ~ 0)
 //    P_G ~ 1 at each of many collisions and the rare flights that pass carry weights ~ c_T^-n.
@@ -36,7 +36,7 @@ enum class CollisionMixture { PerFlight, PerCollision };
 
 class GuidedCollisionProbability final : public CollisionGuide {
   public:
-    // Guides collisions at t in (0, t_end) of `ray` (beyond: analog). `estimates` may be null.
+    // Guides collisions at t in (0, t_end) of `ray` (beyond: unguided). `estimates` may be null.
     // One object per flight: it infers the previous collision's outcome (a null) from the next call.
     GuidedCollisionProbability(const GuidingField& field, const LeafEstimates* estimates, const Ray& ray,
                                float t_end, float c_T,
@@ -58,14 +58,14 @@ class GuidedCollisionProbability final : public CollisionGuide {
     LeafEstimates::Direction direction_;  // the ray's place in the leaves' tables (computed once)
     float c_T_;
     CollisionMixture mixture_;
-    float analog_share_;         // c_k: the analog strategy's share at the current collision
+    float unguided_share_;         // c_k: the unguided strategy's share at the current collision
     bool has_previous_ = false;  // the previous collision's probabilities (it was a null)
-    float previous_analog_ = 0.f, previous_guided_ = 0.f;
+    float previous_unguided_ = 0.f, previous_guided_ = 0.f;
     SpatialTree::RayCursor cursor_;
     bool cursor_done_ = false;
     float leaf_t0_ = 0.f, leaf_t1_ = 0.f;  // the current leaf's interval (empty before the first)
     bool leaf_valid_ = false;
-    Color3 Li_{0.f}, L_{0.f};
+    Color3 inscattered_{0.f}, L_{0.f};
     uint64_t collisions_ = 0, unguided_ = 0, nan_fallbacks_ = 0;
 };
 

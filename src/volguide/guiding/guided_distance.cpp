@@ -120,14 +120,14 @@ IncrementalDistanceWalk::Bin IncrementalDistanceWalk::evaluate(const DistanceBin
     if (A < 1.f && has_prev_ && prev_valid_ && std::isfinite(prev_L_I_) &&
         prev_T_bar_ >= kFilterMinTransmittance) {
         const float extrapolated =
-            std::max(0.f, (prev_L_I_ - (1.f - prev_T_bar_) * prev_albedo_ * prev_Li_) / prev_T_bar_);
+            std::max(0.f, (prev_L_I_ - (1.f - prev_T_bar_) * prev_albedo_ * prev_inscattered_) / prev_T_bar_);
         p.L_I = (1.f - A) * extrapolated + A * bin.L;
     }
 
     if (!bin.valid) {
         p.P_G = p.P_T_bar;
     } else {
-        const float numerator = bin.albedo * p.P_T_bar * bin.Li;
+        const float numerator = bin.albedo * p.P_T_bar * bin.inscattered;
         float denominator = p.L_I;
         if (vre) denominator = numerator + p.T_bar * p.L_I;
         p.P_G =
@@ -183,7 +183,7 @@ void IncrementalDistanceWalk::advance(const DistanceBin& bin, const Bin& p) {
     prev_L_I_ = p.L_I;
     prev_T_bar_ = p.T_bar;
     prev_albedo_ = bin.albedo;
-    prev_Li_ = bin.Li;
+    prev_inscattered_ = bin.inscattered;
 }
 
 float IncrementalDistanceWalk::surface_probability() const {
@@ -222,9 +222,9 @@ TabulatedDistance::TabulatedDistance(std::span<const DistanceBin> bins, std::opt
                                      const GuidedDistanceSettings& settings)
     : bins_(bins), settings_(settings) {
     const size_t n = bins.size();
-    float max_valid_Li = 0.f;
+    float max_valid_inscattered = 0.f;
     for (const DistanceBin& b : bins)
-        if (b.valid && std::isfinite(b.Li)) max_valid_Li = std::max(max_valid_Li, b.Li);
+        if (b.valid && std::isfinite(b.inscattered)) max_valid_inscattered = std::max(max_valid_inscattered, b.inscattered);
 
     tau_.assign(n + 1, Color3(0.f));
     sigma_bar_.resize(n);
@@ -238,9 +238,9 @@ TabulatedDistance::TabulatedDistance(std::span<const DistanceBin> bins, std::opt
         sigma_bar_[k] = scalar_sigma_t(b.sigma_t);
         tau_[k + 1] = tau_[k] + b.sigma_t * length;
         if (length > 0.f) {
-            const double Li = b.valid ? b.Li : max_valid_Li;
+            const double inscattered = b.valid ? b.inscattered : max_valid_inscattered;
             const double W =
-                std::exp(-tau_bar) * b.albedo * -std::expm1(-double(sigma_bar_[k]) * length) * Li;
+                std::exp(-tau_bar) * b.albedo * -std::expm1(-double(sigma_bar_[k]) * length) * inscattered;
             if (std::isfinite(W))
                 mass[k] = std::max(0.0, W);
             else
@@ -255,9 +255,9 @@ TabulatedDistance::TabulatedDistance(std::span<const DistanceBin> bins, std::opt
     } else if (last) {
         const double T = std::exp(-double(scalar_sigma_t(last->sigma_t)) * (last->t1 - last->t0));
         if (!last->valid)
-            L_o = max_valid_Li;
+            L_o = max_valid_inscattered;
         else if (T >= kFilterMinTransmittance)
-            L_o = (last->L - (1.0 - T) * last->albedo * last->Li) / T;
+            L_o = (last->L - (1.0 - T) * last->albedo * last->inscattered) / T;
     }
     const double W_s = std::exp(-tau_bar) * L_o;
     if (std::isfinite(W_s))

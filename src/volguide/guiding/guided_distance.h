@@ -50,7 +50,7 @@ struct DistanceBin {
     Color3 sigma_t{0.f};       // proxy extinction per channel [1/length], constant in the bin (exact
                                // for piecewise-constant media; the super-voxel mean otherwise, §7.7)
     float albedo = 0.f;        // proxy scalar albedo = avg(sigma_s) / avg(sigma_t) of the bin, in [0, 1]
-    float Li = 0.f;            // L~_i(x(t0), omega): in-scattered radiance towards the ray's origin at
+    float inscattered = 0.f;          // L~_i(x(t0), omega): in-scattered radiance towards the ray's origin at
                                // the bin start [W m^-2 sr^-1] (the phase-convolved cache estimate)
     float L = 0.f;             // L~(x(t0), omega): incident radiance at the bin start looking forward
                                // along the ray, i.e. everything ahead on this ray [W m^-2 sr^-1]
@@ -156,7 +156,7 @@ class IncrementalDistanceWalk {
     // Previous bin, for the filter (7.4).
     bool has_prev_ = false;
     bool prev_valid_ = false;
-    float prev_L_I_ = 0.f, prev_T_bar_ = 0.f, prev_albedo_ = 0.f, prev_Li_ = 0.f;
+    float prev_L_I_ = 0.f, prev_T_bar_ = 0.f, prev_albedo_ = 0.f, prev_inscattered_ = 0.f;
 };
 
 // Maps one uniform number to a strategy with probabilities {c_T q_R, c_T q_G, c_T q_B, 1 - c_T}.

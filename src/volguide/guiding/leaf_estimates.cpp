@@ -99,36 +99,36 @@ void LeafEstimates::prefetch(int leaf, const Direction& d) const {
     d.prefetch(&texels_[size_t(leaf) * size_t(resolution_ * resolution_)]);
 }
 
-bool LeafEstimates::texel_averages(int leaf, float* Li, float* L) const {
+bool LeafEstimates::texel_averages(int leaf, float* inscattered, float* incident) const {
     const size_t n = size_t(resolution_ * resolution_);
-    std::fill(Li, Li + n, 0.f);
-    std::fill(L, L + n, 0.f);
+    std::fill(inscattered, inscattered + n, 0.f);
+    std::fill(incident, incident + n, 0.f);
     if (resolution_ == 0 || leaf < 0 || !headers_[size_t(leaf)].valid) return false;
     const Header& h = headers_[size_t(leaf)];
     const float phi = h.fluence.average();
     const EstimateTexel* t = &texels_[size_t(leaf) * n];
     for (size_t k = 0; k < n; ++k) {
-        Li[k] = phi * h.scale_inscattered * float(t[k].inscattered);
-        L[k] = phi * h.scale_incident * float(t[k].incident);
+        inscattered[k] = phi * h.scale_inscattered * float(t[k].inscattered);
+        incident[k] = phi * h.scale_incident * float(t[k].incident);
     }
     return true;
 }
 
-bool LeafEstimates::lookup(int leaf, const Direction& d, Color3& Li, Color3& L) const {
+bool LeafEstimates::lookup(int leaf, const Direction& d, Color3& inscattered, Color3& incident) const {
     if (leaf < 0) return false;
     if (resolution_ == 0) {
         const GuidingLeaf& gl = field_.leaves()[size_t(leaf)];
         if (!gl.valid) return false;
-        Li = inscatter_.inscattered(leaf, d.w);
-        L = GuidingField::incident(gl, d.w);
+        inscattered = inscatter_.inscattered(leaf, d.w);
+        incident = GuidingField::incident(gl, d.w);
         return true;
     }
     const Header& h = headers_[size_t(leaf)];
     if (!h.valid) return false;
-    float inscattered, incident;
-    d.interpolate(&texels_[size_t(leaf) * size_t(resolution_ * resolution_)], inscattered, incident);
-    Li = h.fluence * (h.scale_inscattered * inscattered);
-    L = h.fluence * (h.scale_incident * incident);
+    float inscattered_texel, incident_texel;
+    d.interpolate(&texels_[size_t(leaf) * size_t(resolution_ * resolution_)], inscattered_texel, incident_texel);
+    inscattered = h.fluence * (h.scale_inscattered * inscattered_texel);
+    incident = h.fluence * (h.scale_incident * incident_texel);
     return true;
 }
 

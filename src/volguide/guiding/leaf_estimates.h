@@ -20,7 +20,7 @@
 
 namespace volguide {
 
-// One texel of the 16-bit estimate tables (the leaves' here, the regions' in distance_regions.h):
+// One texel of the 16-bit estimate tables (the leaves' here, the regions' in leaf_groups.h):
 // L~_i and L~ relative to the table's maxima.
 struct EstimateTexel {
     uint16_t inscattered, incident;
@@ -56,13 +56,13 @@ class LeafEstimates {
     Direction prepare(const Vec3f& w) const;
 
     // L~_i(w) and L~(w) of a leaf; false (and nothing written) for an invalid leaf.
-    bool lookup(int leaf, const Direction& d, Color3& Li, Color3& L) const;
-    bool lookup(int leaf, const Vec3f& w, Color3& Li, Color3& L) const {
-        return lookup(leaf, prepare(w), Li, L);
+    bool lookup(int leaf, const Direction& d, Color3& inscattered, Color3& incident) const;
+    bool lookup(int leaf, const Vec3f& w, Color3& inscattered, Color3& incident) const {
+        return lookup(leaf, prepare(w), inscattered, incident);
     }
     // Channel averages of L~_i and L~ of `leaf` at each texel centre (resolution^2 values each, as
     // lookups read them); false (zeros written) for an invalid leaf or without tables.
-    bool texel_averages(int leaf, float* Li, float* L) const;
+    bool texel_averages(int leaf, float* inscattered, float* incident) const;
     // Hints the cache that `leaf` will be looked up soon.
     void prefetch(int leaf, const Direction& d) const;
 

@@ -41,7 +41,7 @@ T get(const std::string& in, size_t& at) {
 
 constexpr size_t kShares = kSelectionShares.size();
 
-// One region's second moments for one decision, in double (from exact sums: the same for any
+// One cell's second moments for one decision, in double (from exact sums: the same for any
 // order of the samples), and the share chosen for it.
 struct Entry {
     std::array<double, kShares> m{};
@@ -53,14 +53,14 @@ struct Entry {
 using Entries = std::vector<std::array<Entry, kSelectionDecisions>>;
 using PerDecision = std::array<std::array<double, kShares>, kSelectionDecisions>;
 
-// The pilot's moments per region and decision, each at the default share; `pooled`: their sum over
-// the regions.
+// The pilot's moments per cell and decision, each at the default share; `pooled`: their sum over
+// the cells.
 Entries gather_entries(const SelectionStatistics& stats, const SelectionSettings& settings,
                        const std::array<float, kSelectionDecisions>& default_share, PerDecision& pooled) {
     std::array<size_t, kSelectionDecisions> default_index{};
     for (int d = 0; d < kSelectionDecisions; ++d)
         default_index[size_t(d)] = nearest_share(default_share[size_t(d)]);
-    Entries entries(stats.regions());
+    Entries entries(stats.cells());
     pooled = {};
     for (size_t r = 0; r < entries.size(); ++r)
         for (int d = 0; d < kSelectionDecisions; ++d) {
@@ -76,29 +76,29 @@ Entries gather_entries(const SelectionStatistics& stats, const SelectionSettings
     return entries;
 }
 
-// Shrinkage: a region's second moments come from few samples of a heavy-tailed quantity, so
-// which regions look important is largely which ones happened to catch the rare large
-// contributions (at 2 spp, thin's distance decisions were switched off in nearly every region
+// Shrinkage: a cell's second moments come from few samples of a heavy-tailed quantity, so
+// which cells look important is largely which ones happened to catch the rare large
+// contributions (at 2 spp, thin's distance decisions were switched off in nearly every cell
 // against their cost and relMSE rose, bench/RESULTS.md (issue 35), while the model's prediction for
-// all regions together was right). Each region's mean per decision is pulled towards the mean
-// pooled over all regions, with the weight of prior_samples pilot decisions: few samples follow the scene's
+// all cells together was right). Each cell's mean per decision is pulled towards the mean
+// pooled over all cells, with the weight of prior_samples pilot decisions: few samples follow the scene's
 // overall verdict, many follow their own.
 void shrink_towards_pooled(Entries& entries, const PerDecision& pooled, float prior_samples) {
     const double n0 = std::max(0.f, prior_samples);
     std::array<double, kSelectionDecisions> pooled_count{};
-    for (const auto& region : entries)
-        for (int d = 0; d < kSelectionDecisions; ++d) pooled_count[size_t(d)] += region[size_t(d)].count;
-    for (auto& region : entries)
+    for (const auto& cell : entries)
+        for (int d = 0; d < kSelectionDecisions; ++d) pooled_count[size_t(d)] += cell[size_t(d)].count;
+    for (auto& cell : entries)
         for (int d = 0; d < kSelectionDecisions; ++d) {
-            Entry& e = region[size_t(d)];
+            Entry& e = cell[size_t(d)];
             if (!(pooled_count[size_t(d)] > 0.0) || !(e.count > 0.0)) continue;
             for (size_t k = 0; k < kShares; ++k) {
                 const double prior = pooled[size_t(d)][k] / pooled_count[size_t(d)];
                 e.m[k] = e.count * (e.m[k] + n0 * prior) / (e.count + n0);
             }
         }
-    for (auto& region : entries)
-        for (Entry& e : region)
+    for (auto& cell : entries)
+        for (Entry& e : cell)
             if (e.learned) e.chosen = size_t(std::min_element(e.m.begin(), e.m.end()) - e.m.begin());
 }
 
@@ -111,15 +111,15 @@ void choose_with_cost(Entries& entries, const SelectionStatistics& stats, const 
     for (int iteration = 0; iteration < 3; ++iteration) {
         const double V = stats.camera_moment();
         double T = double(stats.unrecorded_decisions());
-        for (const auto& region : entries)
+        for (const auto& cell : entries)
             for (int d = 0; d < kSelectionDecisions; ++d) {
-                const Entry& e = region[size_t(d)];
+                const Entry& e = cell[size_t(d)];
                 T += e.count + cost_of(d, e.chosen, e.count);
             }
         if (!(V > 0.0) || !(T > 0.0)) break;
-        for (auto& region : entries)
+        for (auto& cell : entries)
             for (int d = 0; d < kSelectionDecisions; ++d) {
-                Entry& e = region[size_t(d)];
+                Entry& e = cell[size_t(d)];
                 if (!e.learned) continue;
                 double best = std::numeric_limits<double>::infinity();
                 for (size_t k = 0; k < kShares; ++k) {
@@ -133,15 +133,15 @@ void choose_with_cost(Entries& entries, const SelectionStatistics& stats, const 
     }
 }
 
-// Region r's learned shares, and guided RR/splitting switched off at the stages where its estimate
+// Cell r's learned shares, and guided RR/splitting switched off at the stages where its estimate
 // and the measured radiance disagree by more than rrs_ratio.
-LearnedSelection::Region fitted_region(const std::array<Entry, kSelectionDecisions>& entries,
+LearnedSelection::Cell fitted_region(const std::array<Entry, kSelectionDecisions>& entries,
                                        const SelectionStatistics& stats, size_t r,
                                        const SelectionSettings& settings) {
-    LearnedSelection::Region region;
+    LearnedSelection::Cell cell;
     for (int d = 0; d < kSelectionDecisions; ++d) {
         const Entry& e = entries[size_t(d)];
-        if (e.learned) region.share[size_t(d)] = kSelectionShares[e.chosen];
+        if (e.learned) cell.share[size_t(d)] = kSelectionShares[e.chosen];
     }
     const double ratio = double(settings.rrs_ratio);
     for (int s = 0; s < kSelectionStages && ratio >= 1.0; ++s) {
@@ -149,9 +149,9 @@ LearnedSelection::Region fitted_region(const std::array<Entry, kSelectionDecisio
         if (c.count < uint64_t(std::max(1, settings.min_samples))) continue;
         const double est = c.estimate.value(), meas = c.measured.value();
         const bool agrees = est > 0.0 && meas >= est / ratio && meas <= est * ratio;
-        region.rrs[size_t(s)] = agrees ? 1 : 0;
+        cell.rrs[size_t(s)] = agrees ? 1 : 0;
     }
-    return region;
+    return cell;
 }
 
 }  // namespace
@@ -177,12 +177,12 @@ double ExactSum::value() const {
     return (double(hi_) * kTwo64 + double(lo_)) / kFixedScale;
 }
 
-SelectionStatistics::SelectionStatistics(size_t regions) : moments_(regions), calibration_(regions) {}
+SelectionStatistics::SelectionStatistics(size_t cells) : moments_(cells), calibration_(cells) {}
 
-void SelectionStatistics::add_decision(SelectionDecision d, size_t region, double s2, float q_cur, float p_u,
+void SelectionStatistics::add_decision(SelectionDecision d, size_t cell, double s2, float q_cur, float p_u,
                                        float p_g) {
-    if (region >= moments_.size() || !(q_cur > 0.f) || !std::isfinite(s2)) return;
-    Moments& m = moments_[region][size_t(d)];
+    if (cell >= moments_.size() || !(q_cur > 0.f) || !std::isfinite(s2)) return;
+    Moments& m = moments_[cell][size_t(d)];
     ++m.count;
     if (!(s2 > 0.0)) return;
     m.current.add(s2);
@@ -199,10 +199,10 @@ void SelectionStatistics::add_camera_sample(double s2) {
     if (std::isfinite(s2)) camera_moment_.add(s2);
 }
 
-void SelectionStatistics::add_continuation(int stage, size_t region, double estimate, double measured) {
-    if (region >= calibration_.size() || stage < 0 || stage >= kSelectionStages) return;
+void SelectionStatistics::add_continuation(int stage, size_t cell, double estimate, double measured) {
+    if (cell >= calibration_.size() || stage < 0 || stage >= kSelectionStages) return;
     if (!std::isfinite(estimate) || !std::isfinite(measured)) return;
-    Calibration& c = calibration_[region][size_t(stage)];
+    Calibration& c = calibration_[cell][size_t(stage)];
     ++c.count;
     c.estimate.add(estimate);
     c.measured.add(measured);
@@ -214,7 +214,7 @@ SelectionStatistics& SelectionStatistics::operator+=(const SelectionStatistics& 
         calibration_.resize(o.calibration_.size());
     }
     if (o.moments_.size() != moments_.size())
-        throw std::logic_error("SelectionStatistics: different region counts");
+        throw std::logic_error("SelectionStatistics: different cell counts");
     for (size_t r = 0; r < moments_.size(); ++r) {
         for (int d = 0; d < kSelectionDecisions; ++d) {
             Moments& a = moments_[r][size_t(d)];
@@ -239,28 +239,28 @@ SelectionStatistics& SelectionStatistics::operator+=(const SelectionStatistics& 
 
 LearnedSelection LearnedSelection::fit(const SelectionStatistics& stats, const SelectionSettings& settings,
                                        const std::array<float, kSelectionDecisions>& default_share) {
-    PerDecision pooled;  // sum over regions of M(share k)
+    PerDecision pooled;  // sum over cells of M(share k)
     Entries entries = gather_entries(stats, settings, default_share, pooled);
     shrink_towards_pooled(entries, pooled, settings.prior_samples);
     choose_with_cost(entries, stats, settings);
     LearnedSelection out;
-    out.regions_.resize(entries.size());
+    out.cells_.resize(entries.size());
     for (size_t r = 0; r < entries.size(); ++r)
-        out.regions_[r] = fitted_region(entries[r], stats, r, settings);
+        out.cells_[r] = fitted_region(entries[r], stats, r, settings);
     out.update_learned();
     return out;
 }
 
 void LearnedSelection::update_learned() {
     learned_ = {};
-    for (const Region& r : regions_)
+    for (const Cell& r : cells_)
         for (int d = 0; d < kSelectionDecisions; ++d)
             if (r.share[size_t(d)] != kDefault) learned_[size_t(d)] = true;
 }
 
 LearnedSelection::Summary LearnedSelection::summary() const {
     Summary s;
-    for (const Region& r : regions_) {
+    for (const Cell& r : cells_) {
         for (int d = 0; d < kSelectionDecisions; ++d) {
             if (r.share[size_t(d)] == kDefault) continue;
             s.mean_share[size_t(d)] += r.share[size_t(d)];
@@ -282,8 +282,8 @@ std::string LearnedSelection::serialize() const {
     std::string out;
     put(out, kMagic);
     put(out, kVersion);
-    put(out, uint64_t(regions_.size()));
-    for (const Region& r : regions_) {
+    put(out, uint64_t(cells_.size()));
+    for (const Cell& r : cells_) {
         for (float s : r.share) put(out, s);
         for (uint8_t b : r.rrs) put(out, b);
     }
@@ -298,8 +298,8 @@ LearnedSelection LearnedSelection::deserialize(const std::string& bytes) {
     constexpr size_t kRegionBytes = kSelectionDecisions * sizeof(float) + kSelectionStages;
     if (n > (bytes.size() - at) / kRegionBytes) throw std::runtime_error("learned selection: truncated");
     LearnedSelection out;
-    out.regions_.resize(size_t(n));
-    for (Region& r : out.regions_) {
+    out.cells_.resize(size_t(n));
+    for (Cell& r : out.cells_) {
         for (float& s : r.share) {
             s = get<float>(bytes, at);
             if (!(s == kDefault || (s >= 0.f && s <= 1.f)))

@@ -1,5 +1,5 @@
 #pragma once
-// Learned selection (issue 21): per region of the guiding field (its kd leaves, plus one region for
+// Learned selection (issue 21): per cell of the guiding field (its kd leaves, plus one cell for
 // everything outside the field), how much each guided decision is trusted — the guided share of the
 // distance decision's mixture (1 - c_T), of the medium direction mixture (1 - phase_prob) and of
 // the diffuse surface mixture (1 - bsdf_prob) — and whether guided RR/splitting acts there. Learned
@@ -11,19 +11,19 @@
 // and I the pixel estimate, the pixel's second moment attributable to it under share a is
 //   M(a) = E_cur[(S / I)^2 q_cur / q_a]
 // (the path's prefix weight cancels: S = beta f R / q_cur). SelectionStatistics sums these terms
-// per region and decision for every share of kSelectionShares at once (one sample serves all).
-// fit() then picks per region the share that minimises the render's variance x time:
+// per cell and decision for every share of kSelectionShares at once (one sample serves all).
+// fit() then picks per cell the share that minimises the render's variance x time:
 //   argmin_a  M_r(a) / V + n_r kappa [a > 0] / T,
 // V the pixel estimator's second moment (the pilot's sum of (X / I)^2 over camera samples, X the
 // camera sample's value; a decision's choice changes the second moment of what follows it by
 // M_r(a) - M_r(pilot's), and nothing before it; these changes do not add up over the decisions of
 // one path, each of whose M counts everything after it, so V stays the pilot's), T the
 // cost in decisions (each decision 1, a guided one 1 + kappa of its kind, SelectionSettings): the
-// marginal rule of minimising V x T over independent regions, iterated three times. A region that loses with guiding gets share 0:
+// marginal rule of minimising V x T over independent cells, iterated three times. A cell that loses with guiding gets share 0:
 // the walk then makes volpath's decision there and pays nothing for guiding (no walk over bins, no
 // product built).
 //
-// With rrs_ratio > 0 (off by default), guided RR/splitting acts in a region only where the field's
+// With rrs_ratio > 0 (off by default), guided RR/splitting acts in a cell only where the field's
 // estimate E of what a vertex collects agrees with what the pilot's paths collected there,
 // (sum S / beta) / (sum E) within [1 / rrs_ratio, rrs_ratio]: meant for leaves estimated too dark
 // (they kill the paths that carry their light) or too bright (splitting for nothing); measured, it
@@ -31,7 +31,7 @@
 //
 // Only probabilities change: any learned value gives an unbiased estimator. Sums are exact
 // (fixed point, 128-bit integers), so the result is independent of the order the pilot's samples
-// arrive in, hence of the thread count. Regions with fewer than min_samples pilot decisions keep the
+// arrive in, hence of the thread count. Cells with fewer than min_samples pilot decisions keep the
 // configured mixture (kDefault).
 #include <array>
 #include <cstdint>
@@ -49,14 +49,14 @@ inline constexpr std::array<float, 6> kSelectionShares = {0.f, 0.1f, 0.25f, 0.5f
 
 struct SelectionSettings {
     int pilot_spp = 2;  // camera samples per pixel of the pilot (0: no learned selection)
-    int min_samples = 32;  // pilot decisions a region needs before its choice is learned
-    // Weight, in pilot decisions, of the mean pooled over all regions in each region's mean second
-    // moment per decision (shrinkage of noisy per-region estimates, fit()).
+    int min_samples = 32;  // pilot decisions a cell needs before its choice is learned
+    // Weight, in pilot decisions, of the mean pooled over all cells in each cell's mean second
+    // moment per decision (shrinkage of noisy per-cell estimates, fit()).
     float prior_samples = 256.f;
     // Extra cost of a guided decision, in units of an unguided one (distance, direction, surface):
     // guided distance decisions switched off almost everywhere in thin fog saved a quarter of the
     // render time at equal spp, which these units reproduce (bench/RESULTS.md (issue 35)). Without the
-    // shrinkage of fit() a short pilot's per-region moments are too noisy to weigh against a cost.
+    // shrinkage of fit() a short pilot's per-cell moments are too noisy to weigh against a cost.
     std::array<float, kSelectionDecisions> kappa = {1.f, 0.25f, 0.25f};
     // Guided RR/splitting acts where measured / estimated is within [1/r, r]; 0: always (the
     // default: with r = 3 the gate switched it off in many of aniso's leaves and relMSE rose at
@@ -81,15 +81,15 @@ class ExactSum {
 class SelectionStatistics {
   public:
     SelectionStatistics() = default;
-    // `regions`: the field's leaves + 1 (the last: outside the field).
-    explicit SelectionStatistics(size_t regions);
-    size_t regions() const { return moments_.size(); }
+    // `cells`: the field's leaves + 1 (the last: outside the field).
+    explicit SelectionStatistics(size_t cells);
+    size_t cells() const { return moments_.size(); }
 
-    // One decision in `region` sampled with density q_cur, whose unguided and guided densities at
+    // One decision in `cell` sampled with density q_cur, whose unguided and guided densities at
     // the sample are p_u and p_g; s2 = (S / I)^2 of what followed it.
-    void add_decision(SelectionDecision d, size_t region, double s2, float q_cur, float p_u, float p_g);
+    void add_decision(SelectionDecision d, size_t cell, double s2, float q_cur, float p_u, float p_g);
     // One continuation point: the field's estimate there and the radiance measured after it (S / beta).
-    void add_continuation(int stage, size_t region, double estimate, double measured);
+    void add_continuation(int stage, size_t cell, double estimate, double measured);
     // Every decision of the pilot's walks, recorded or not (the cost model's unit).
     void add_unrecorded_decisions(uint64_t n) { unrecorded_ += n; }
     // A camera sample of value X in a pixel of estimate I: s2 = (X / I)^2.
@@ -106,8 +106,8 @@ class SelectionStatistics {
         ExactSum estimate, measured;
         uint64_t count = 0;
     };
-    const Moments& moments(SelectionDecision d, size_t region) const { return moments_[region][size_t(d)]; }
-    const Calibration& calibration(int stage, size_t region) const { return calibration_[region][size_t(stage)]; }
+    const Moments& moments(SelectionDecision d, size_t cell) const { return moments_[cell][size_t(d)]; }
+    const Calibration& calibration(int stage, size_t cell) const { return calibration_[cell][size_t(stage)]; }
     uint64_t unrecorded_decisions() const { return unrecorded_; }
     uint64_t camera_samples() const { return camera_samples_; }
     double camera_moment() const { return camera_moment_.value(); }
@@ -129,23 +129,23 @@ class LearnedSelection {
     static LearnedSelection fit(const SelectionStatistics& stats, const SelectionSettings& settings,
                                 const std::array<float, kSelectionDecisions>& default_share);
 
-    bool empty() const { return regions_.empty(); }
-    // Whether any region has a learned share for decision d (else every share is kDefault).
+    bool empty() const { return cells_.empty(); }
+    // Whether any cell has a learned share for decision d (else every share is kDefault).
     bool learned(SelectionDecision d) const { return learned_[size_t(d)]; }
-    size_t regions() const { return regions_.size(); }
-    // The learned guided share in `region` (kDefault: not learned; region beyond the table: kDefault).
-    float share(SelectionDecision d, size_t region) const {
-        return region < regions_.size() ? regions_[region].share[size_t(d)] : kDefault;
+    size_t cells() const { return cells_.size(); }
+    // The learned guided share in `cell` (kDefault: not learned; cell beyond the table: kDefault).
+    float share(SelectionDecision d, size_t cell) const {
+        return cell < cells_.size() ? cells_[cell].share[size_t(d)] : kDefault;
     }
-    // Whether guided RR/splitting acts at `stage` in `region` (true where not learned).
-    bool rrs_acts(int stage, size_t region) const {
-        return region >= regions_.size() || regions_[region].rrs[size_t(stage)] != 0;
+    // Whether guided RR/splitting acts at `stage` in `cell` (true where not learned).
+    bool rrs_acts(int stage, size_t cell) const {
+        return cell >= cells_.size() || cells_[cell].rrs[size_t(stage)] != 0;
     }
 
-    // Regions per decision with a learned share of 0 / > 0, and with guided RR/splitting switched off.
+    // Cells per decision with a learned share of 0 / > 0, and with guided RR/splitting switched off.
     struct Summary {
         std::array<uint64_t, kSelectionDecisions> unguided{}, guided{};
-        std::array<double, kSelectionDecisions> mean_share{};  // over the learned regions
+        std::array<double, kSelectionDecisions> mean_share{};  // over the learned cells
         uint64_t rrs_off = 0;
     };
     Summary summary() const;
@@ -155,15 +155,15 @@ class LearnedSelection {
     std::string serialize() const;
     static LearnedSelection deserialize(const std::string& bytes);
 
-    struct Region {
+    struct Cell {
         std::array<float, kSelectionDecisions> share{kDefault, kDefault, kDefault};
         std::array<uint8_t, kSelectionStages> rrs{1, 1};
     };
-    const std::vector<Region>& table() const { return regions_; }
+    const std::vector<Cell>& table() const { return cells_; }
 
   private:
     void update_learned();
-    std::vector<Region> regions_;
+    std::vector<Cell> cells_;
     std::array<bool, kSelectionDecisions> learned_{};
 };
 

@@ -8,7 +8,7 @@
 // A policy is a class with
 //   static constexpr bool reads_scattering;   // needs sigma_s before deciding (else only at a scatter)
 //   CollisionDecision operator()(const TentativeCollision&, Sampler&);
-// passed as a template argument so that the analog decision inlines into the walk; a guided walk
+// passed as a template argument so that the unguided decision inlines into the walk; a guided walk
 // pays one virtual call per collision, inside its CollisionGuide.
 #include <algorithm>
 #include <cmath>
@@ -42,7 +42,7 @@ struct SpectralTrackingPolicy {
 };
 
 // Guided null-collision tracking: P_s from the caller's CollisionGuide, which sees the channel
-// weights normalised (NaN: the analog probability; clamped to [0, 1]).
+// weights normalised (NaN: the unguided probability; clamped to [0, 1]).
 struct GuidedTrackingPolicy {
     static constexpr bool reads_scattering = true;
     CollisionGuide& guide;
@@ -50,7 +50,7 @@ struct GuidedTrackingPolicy {
         TentativeCollision seen = c;
         seen.channel_weights = channel_probabilities(c.channel_weights);
         float ps = guide.scatter_probability(seen);
-        ps = std::isnan(ps) ? analog_scatter_probability(seen) : std::clamp(ps, 0.f, 1.f);
+        ps = std::isnan(ps) ? unguided_scatter_probability(seen) : std::clamp(ps, 0.f, 1.f);
         // u in [0, 1): P_s = 0 never scatters and P_s = 1 always does, so each factor's division
         // is by a probability of at least ~1e-7 (weights stay finite).
         if (sampler.next_1d() < ps) return {CollisionDecision::Event::Scatter, 1.f / (c.mu * ps)};

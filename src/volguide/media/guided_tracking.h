@@ -4,7 +4,7 @@
 // caller chooses the probability P_s of scattering there, and the weight compensates per channel:
 //   scatter:  w <- w * sigma_s(x) / (mu P_s),     continue:  w <- w * (mu - sigma_t(x)) / (mu (1 - P_s)).
 // Absorption is folded into the weight (there is no absorption event). Unbiased for any P_s in
-// [0, 1] as long as P_s > 0 wherever sigma_s > 0 and P_s < 1 wherever mu > sigma_t; the analog
+// [0, 1] as long as P_s > 0 wherever sigma_s > 0 and P_s < 1 wherever mu > sigma_t; the unguided
 // choice below is spectral tracking's (for grey media: delta tracking with weight = albedo).
 #include <cmath>
 
@@ -25,7 +25,7 @@ struct TentativeCollision {
 };
 
 // The caller's side: P_s at each tentative collision, called in order of increasing t. A NaN is
-// replaced by the analog probability, values outside [0, 1] are clamped.
+// replaced by the unguided probability, values outside [0, 1] are clamped.
 class CollisionGuide {
 public:
     virtual ~CollisionGuide() = default;
@@ -52,7 +52,7 @@ inline SpectralTrackingWeights spectral_tracking_weights(const TentativeCollisio
 // channel sum of the path weight unchanged at every event, so chromatic weights stay bounded (a
 // plain channel average would let the null weights of thin channels exceed 1 at every null
 // collision).
-inline float analog_scatter_probability(const TentativeCollision& c) {
+inline float unguided_scatter_probability(const TentativeCollision& c) {
     const SpectralTrackingWeights s = spectral_tracking_weights(c);
     return s.real + s.null > 0.f ? s.real / (s.real + s.null) : 0.f;
 }

@@ -226,7 +226,7 @@ void GuidedVolPathIntegrator::learn_selection(const Scene& scene, const Preproce
         context.progress(p);
     }
     const SelectionStatistics stats = run_selection_pilot(
-        scene, settings_.selection.pilot_spp, guide_->selection_regions(),
+        scene, settings_.selection.pilot_spp, guide_->selection_cells(),
         [&](Point2f film_uv) { return pixel_estimate_.at(film_uv); },
         [&](Sampler& sampler, const Ray& ray, SelectionRecorder& recorder) {
             GuidedWalkPolicy policy(*guide_, nullptr, 0.f);
@@ -240,16 +240,16 @@ void GuidedVolPathIntegrator::learn_selection(const Scene& scene, const Preproce
     std::erase_if(training_stats_, [](const auto& s) { return s.first.rfind("selection_", 0) == 0; });
     training_stats_.insert(training_stats_.end(),
                            {{"selection_seconds", seconds},
-                            {"selection_distance_regions_guided", double(sum.guided[0])},
-                            {"selection_distance_regions_unguided", double(sum.unguided[0])},
-                            {"selection_direction_regions_guided", double(sum.guided[1])},
-                            {"selection_direction_regions_unguided", double(sum.unguided[1])},
-                            {"selection_surface_regions_guided", double(sum.guided[2])},
-                            {"selection_surface_regions_unguided", double(sum.unguided[2])},
+                            {"selection_distance_cells_guided", double(sum.guided[0])},
+                            {"selection_distance_cells_unguided", double(sum.unguided[0])},
+                            {"selection_direction_cells_guided", double(sum.guided[1])},
+                            {"selection_direction_cells_unguided", double(sum.unguided[1])},
+                            {"selection_surface_cells_guided", double(sum.guided[2])},
+                            {"selection_surface_cells_unguided", double(sum.unguided[2])},
                             {"selection_distance_mean_share", sum.mean_share[0]},
                             {"selection_direction_mean_share", sum.mean_share[1]},
                             {"selection_surface_mean_share", sum.mean_share[2]},
-                            {"selection_rrs_regions_off", double(sum.rrs_off)}});
+                            {"selection_rrs_cells_off", double(sum.rrs_off)}});
 }
 
 std::string GuidedVolPathIntegrator::prepass_state() const {
@@ -307,7 +307,7 @@ std::vector<std::pair<std::string, double>> GuidedVolPathIntegrator::statistics(
     if (guide_) {
         const auto walk = guide_->stats().named();
         stats.insert(stats.end(), walk.begin(), walk.end());
-        stats.emplace_back("distance_regions", double(guide_->distance_region_count()));
+        stats.emplace_back("leaf_groups", double(guide_->leaf_group_count()));
     }
     if (rrs_) {
         const auto rr = rrs_->stats().named();

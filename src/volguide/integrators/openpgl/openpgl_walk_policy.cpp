@@ -15,7 +15,7 @@ constexpr float kMaxGuidedMeanCosine = 0.99f;
 OpenPglWalkPolicy::OpenPglWalkPolicy(const OpenPglSettings& settings, OpenPglThreadState& ts, OpenPglField& field)
     : settings_(settings), ts_(ts), field_(field) {}
 
-void OpenPglWalkPolicy::prepare_direction(const MediumInteraction& mi, GuideRegion&, Sampler& sampler) {
+void OpenPglWalkPolicy::prepare_direction(const MediumInteraction& mi, VertexLeaf&, Sampler& sampler) {
     volume_ready_ = false;
     ++ts_.medium_vertices;
     if (!settings_.volume_guiding || settings_.phase_prob >= 1.f || !field_.trained()) return;

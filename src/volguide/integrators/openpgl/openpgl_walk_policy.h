@@ -37,7 +37,7 @@ class OpenPglWalkPolicy final : public WalkPolicy {
     // field: guides when trained().
     OpenPglWalkPolicy(const OpenPglSettings& settings, OpenPglThreadState& ts, OpenPglField& field);
 
-    void prepare_direction(const MediumInteraction& mi, GuideRegion& region, Sampler& sampler) override;
+    void prepare_direction(const MediumInteraction& mi, VertexLeaf& vertex_leaf, Sampler& sampler) override;
     float direction_pdf(const MediumInteraction& mi, const Vec3f& wo) const override;
     PhaseSample sample_direction(const MediumInteraction& mi, Sampler& sampler, DecisionRecord* record) override;
 

@@ -40,9 +40,9 @@ class PathRecorder {
     virtual bool records_decisions() const { return false; }
     // A distance or direction decision the policy made (`record`: what it sampled from).
     virtual void record_decision(DecisionKind kind, const DecisionRecord& record) {}
-    // A continuation point of `stage` at the vertex of `region`: the field's estimate of what the
+    // A continuation point of `stage` at the vertex of `vertex_leaf`: the field's estimate of what the
     // path collects from there per unit weight (channel average, > 0) and the path weight.
-    virtual void record_continuation(ContinuationStage stage, const GuideRegion& region, float estimate,
+    virtual void record_continuation(ContinuationStage stage, const VertexLeaf& vertex_leaf, float estimate,
                                      const Color3& throughput) {}
 
     // A copy of the path made by a continuation decision waits and is walked after the current

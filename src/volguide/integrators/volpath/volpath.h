@@ -58,7 +58,7 @@ public:
     explicit VolPathIntegrator(const Properties& props) : settings_(VolPathSettings::from(props)) {}
     explicit VolPathIntegrator(VolPathSettings s) : settings_(s) {}
     Color3 Li(const Scene& scene, Sampler& sampler, const CameraRay& camera) const override;
-    // The walk of one camera ray (volpath_walk.h) with `policy` (null: the analog walk) making the
+    // The walk of one camera ray (volpath_walk.h) with `policy` (null: the unguided walk) making the
     // decisions guiding or guided RR/splitting change (walk_policy.h), and `recorder` (null: none)
     // recording the path (path_recorder.h). Equiangular sampling is not combined with a policy
     // that guides distances; training recorders need equiangular = false (the recorder's NEE

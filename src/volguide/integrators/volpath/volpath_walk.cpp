@@ -81,7 +81,7 @@ VolumeWalk::Step VolumeWalk::medium_step(MediumVertex& v) {
         return equiangular_step(medium, tmax, v);
     DecisionRecord record;
     const FreeFlightSample ff = policy_ ? policy_->sample_distance(medium, state_.ray, tmax, state_.throughput, *rng_,
-                                                                  state_.region, decision_record(record))
+                                                                  state_.vertex_leaf, decision_record(record))
                                         : medium.sample_free_flight(state_.ray, tmax, state_.throughput, *rng_);
     report_decision(DecisionKind::Distance, record);
     state_.throughput *= ff.weight;
@@ -105,7 +105,7 @@ VolumeWalk::Step VolumeWalk::equiangular_step(const Medium& medium, float tmax, 
     if (state_.throughput.is_black()) return Step::End;
     if (!ff.scattered) return Step::Surface;
     v.mi = ff.mi;
-    state_.region = GuideRegion();  // the new vertex's is not known
+    state_.vertex_leaf = VertexLeaf();  // the new vertex's is not known
     ++state_.depth;
     return depth_ok(state_.depth) ? Step::Scatter : Step::End;
 }
@@ -131,7 +131,7 @@ bool VolumeWalk::scatter(const MediumVertex& v) {
     }
     if (recorder_) recorder_->record_medium_hit(mi);
     // One direction sampler per vertex, used by NEE's MIS and the continuation.
-    if (policy_) policy_->prepare_direction(mi, s.region, *rng_);
+    if (policy_) policy_->prepare_direction(mi, s.vertex_leaf, *rng_);
     if (mi.medium->sample_emitters()) {
         s.specular_chain = false;
         sample_nee_medium(v);
@@ -208,7 +208,7 @@ bool VolumeWalk::surface_step() {
     }
     s.medium = medium_after(si_, wo, s.medium);
     s.ray = si_.spawn_ray(wo);
-    s.region = GuideRegion();  // the ray leaves a surface, not the vertex the region belongs to
+    s.vertex_leaf = VertexLeaf();  // the ray leaves a surface, not the vertex the leaf belongs to
     need_intersection_ = true;
     return true;
 }
@@ -245,9 +245,9 @@ void VolumeWalk::sample_nee_surface(const BSDF& bsdf) {
 bool VolumeWalk::continue_path(ContinuationStage stage, const MediumInteraction& mi, const Vec3f& w,
                                const MediumVertex* at_vertex) {
     const Continuation c = policy_->continuation(stage, mi, w, state_.throughput, branches_, state_.split_allowance,
-                                                 *rng_, state_.region, records_decisions_);
+                                                 *rng_, state_.vertex_leaf, records_decisions_);
     if (records_decisions_ && c.estimate > 0.f)
-        recorder_->record_continuation(stage, state_.region, c.estimate, state_.throughput);
+        recorder_->record_continuation(stage, state_.vertex_leaf, c.estimate, state_.throughput);
     return continue_copies(c, at_vertex);
 }
 
@@ -262,10 +262,10 @@ bool VolumeWalk::continue_copies(const Continuation& c, const MediumVertex* at_v
     for (int k = 1; k < c.n; ++k) {
         PendingBranch b{state_, rng_->fork(uint64_t(k)), at_vertex != nullptr, at_vertex ? *at_vertex : MediumVertex(),
                         recorder_ ? recorder_->branch_point() : 0};
-        // A copy finds its own region: with the one it was made at, a copy's first distance
+        // A copy finds its own vertex leaf: with the one it was made at, a copy's first distance
         // decision could skip the guided walk where its original did not (WalkGuide::sample_distance),
-        // and splitting would draw other random numbers than before the region moved into the state.
-        b.state.region = GuideRegion();
+        // and splitting would draw other random numbers than before the vertex leaf moved into the state.
+        b.state.vertex_leaf = VertexLeaf();
         stack_.push_back(std::move(b));
     }
     branches_ += c.n - 1;

@@ -2,7 +2,7 @@
 // volpath's walk of one camera sample (volpath.h gives the semantics): a small object over one
 // WalkState, with the medium step (distance decision), the scattering at a medium vertex (NEE and
 // direction), the surface step (emitter hit, NEE, BSDF sampling) as member functions. Guiding and
-// guided RR/splitting enter through one WalkPolicy (walk_policy.h; null: the analog walk), and what
+// guided RR/splitting enter through one WalkPolicy (walk_policy.h; null: the unguided walk), and what
 // the walk reports of the path goes to one PathRecorder (path_recorder.h; null: nothing recorded).
 // Split copies of the path (guided splitting) wait on the walk's own stack and draw from
 // streams forked off the camera sample's; the first branch draws from the caller's sampler, so
@@ -37,7 +37,7 @@ struct WalkState {
     Interaction last_vertex;   // last real scattering vertex and the pdf of the direction it sampled
     float last_pdf = 1.f;
     EquiVertex last_equi;      // equiangular bookkeeping of the last medium vertex (MIS of hits)
-    GuideRegion region;        // the policy's region of the vertex the ray leaves from
+    VertexLeaf vertex_leaf;        // the policy's leaf of the vertex the ray leaves from
     // The branches this path may still become (the policy's branch budget, shared by a split's copies).
     float split_allowance = std::numeric_limits<float>::infinity();
 };

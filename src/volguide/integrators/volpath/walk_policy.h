@@ -10,16 +10,16 @@
 //    branch budget.
 // What the walk reports of the path (training, Open PGL's path segments, the selection pilot) is a
 // PathRecorder's (path_recorder.h), not the policy's: a walk takes one of each, either may be null.
-// The defaults are the analog decisions with exactly the random numbers the walk without a policy
+// The defaults are the unguided decisions with exactly the random numbers the walk without a policy
 // draws (free flight, phase and BSDF sampling, no continuation decision): a policy overrides what
 // it adds. A guiding backend is one policy class (guided/walk/guided_walk_policy.h for the guiding
 // field's WalkGuide, openpgl/openpgl_walk_policy.h). A policy object serves one walk at a time (it
 // keeps the prepared samplers and scratch between the calls of one vertex): not shared between
 // threads.
 //
-// What one decision hands to the next at the same vertex (the guiding structure's region of the
-// vertex, which the distance decision finds and the direction and continuation decisions reuse)
-// travels in a GuideRegion that the walk keeps with the vertex and clears when the path leaves it.
+// What one decision hands to the next at the same vertex (the vertex leaf: the guiding structure's leaf
+// around the vertex, which the distance decision finds and the direction and continuation decisions reuse)
+// travels in a VertexLeaf that the walk keeps with the vertex and clears when the path leaves it.
 #include <cstdint>
 #include <limits>
 #include <utility>
@@ -31,9 +31,9 @@
 
 namespace volguide {
 
-// The region of the guiding structure the path's current vertex lies in (for the guiding field:
-// its kd leaf), -1 when not known. Opaque to the walk: the policy fills and reads it.
-struct GuideRegion {
+// The vertex leaf: the leaf of the guiding structure the path's current vertex lies in (for the
+// guiding field: its kd leaf), -1 when not known. Opaque to the walk: the policy fills and reads it.
+struct VertexLeaf {
     int leaf = -1;
 };
 
@@ -57,7 +57,7 @@ enum class DecisionKind : uint8_t { Distance = 0, Direction = 1, Surface = 2 };
 
 // What a sampling decision drew from, when the walk asks for it (for the recorders): a one-sample
 // mixture of an unguided and a guided density whose parts are known, in the guiding structure's
-// region `leaf` (-1: outside it); mixture false: a decision without such a mixture.
+// leaf `leaf` (-1: outside it); mixture false: a decision without such a mixture.
 struct DecisionRecord {
     bool mixture = false;
     int leaf = -1;
@@ -69,19 +69,19 @@ class WalkPolicy {
     virtual ~WalkPolicy() = default;
 
     // Whether sample_distance departs from free flight (the walk's equiangular sampling, which
-    // needs the distance density, is not combined with such a policy). `region` is the ray
+    // needs the distance density, is not combined with such a policy). `vertex_leaf` is the ray
     // origin's on entry, the scattering vertex's on return. The sampling decisions fill `record`
     // when it is not null (the defaults leave it a decision without a mixture).
     virtual bool guides_distance() const { return false; }
     virtual FreeFlightSample sample_distance(const Medium& medium, const Ray& ray, float tmax,
-                                             const Color3& throughput, Sampler& sampler, GuideRegion& region,
+                                             const Color3& throughput, Sampler& sampler, VertexLeaf& vertex_leaf,
                                              DecisionRecord* record) {
         return medium.sample_free_flight(ray, tmax, throughput, sampler);
     }
 
     // The direction decision at the medium vertex mi (mi.medium set): prepare, then pdf and sample.
-    // prepare may draw from `sampler` (Open PGL's stochastic region lookup); the defaults draw nothing.
-    virtual void prepare_direction(const MediumInteraction& mi, GuideRegion& region, Sampler& sampler) {}
+    // prepare may draw from `sampler` (Open PGL's stochastic lookup of its own regions); the defaults draw nothing.
+    virtual void prepare_direction(const MediumInteraction& mi, VertexLeaf& vertex_leaf, Sampler& sampler) {}
     virtual float direction_pdf(const MediumInteraction& mi, const Vec3f& wo) const {
         return mi.medium->phase().pdf(mi.wi, wo);
     }
@@ -109,7 +109,7 @@ class WalkPolicy {
     // `report`: also read and return the estimate (Continuation::estimate) where no decision is made.
     virtual Continuation continuation(ContinuationStage stage, const MediumInteraction& mi, const Vec3f& w,
                                       const Color3& throughput, int branches, float allowance, Sampler& sampler,
-                                      GuideRegion& region, bool report) {
+                                      VertexLeaf& vertex_leaf, bool report) {
         return {};
     }
     // A camera sample's branch allowance: the walk gives each of a split's n copies 1/n of their

@@ -35,7 +35,7 @@ void SelectionRecorder::record_decision(DecisionKind kind, const DecisionRecord&
     Pending p;
     p.is_decision = true;
     p.kind = uint8_t(kind);
-    p.region = region(record.leaf);
+    p.cell = cell(record.leaf);
     p.q = record.pdf;
     p.p_u = record.p_u;
     p.p_g = record.p_g;
@@ -43,14 +43,14 @@ void SelectionRecorder::record_decision(DecisionKind kind, const DecisionRecord&
     pending_.push_back(p);
 }
 
-void SelectionRecorder::record_continuation(ContinuationStage stage, const GuideRegion& leaf_region, float estimate,
+void SelectionRecorder::record_continuation(ContinuationStage stage, const VertexLeaf& vertex_leaf, float estimate,
                                             const Color3& throughput) {
     const float beta = throughput.average();
     if (!(beta > 0.f) || !(estimate > 0.f)) return;
     Pending p;
     p.is_decision = false;
     p.kind = uint8_t(stage);
-    p.region = region(leaf_region.leaf);
+    p.cell = cell(vertex_leaf.leaf);
     p.estimate = estimate;
     p.beta = beta;
     p.before = total_;
@@ -64,9 +64,9 @@ void SelectionRecorder::end() {
         const double S = std::max(0.0, total_ - p.before);
         if (p.is_decision) {
             const double s = S / double(pixel_);
-            stats_.add_decision(SelectionDecision(p.kind), p.region, s * s, p.q, p.p_u, p.p_g);
+            stats_.add_decision(SelectionDecision(p.kind), p.cell, s * s, p.q, p.p_u, p.p_g);
         } else {
-            stats_.add_continuation(int(p.kind), p.region, double(p.estimate), S / double(p.beta));
+            stats_.add_continuation(int(p.kind), p.cell, double(p.estimate), S / double(p.beta));
         }
     }
     stats_.add_unrecorded_decisions(unrecorded_);
@@ -77,14 +77,14 @@ void SelectionRecorder::end() {
 }
 
 SelectionStatistics run_selection_pilot(
-    const Scene& scene, int spp, size_t regions, const std::function<float(Point2f)>& pixel,
+    const Scene& scene, int spp, size_t cells, const std::function<float(Point2f)>& pixel,
     const std::function<Color3(Sampler&, const Ray&, SelectionRecorder&)>& walk, const PreprocessContext& context) {
     const Sensor& sensor = scene.sensor();
     const int W = sensor.film().width(), H = sensor.film().height();
-    tbb::enumerable_thread_specific<SelectionStatistics> stats([&] { return SelectionStatistics(regions); });
+    tbb::enumerable_thread_specific<SelectionStatistics> stats([&] { return SelectionStatistics(cells); });
     parallel_for(tbb::blocked_range<int>(0, H), [&](const tbb::blocked_range<int>& rows) {
         SelectionStatistics& local = stats.local();
-        SelectionRecorder recorder(local, regions);
+        SelectionRecorder recorder(local, cells);
         for (int y = rows.begin(); y != rows.end(); ++y) {
             if (context.cancelled()) return;
             for (int x = 0; x < W; ++x)
@@ -100,7 +100,7 @@ SelectionStatistics run_selection_pilot(
                 }
         }
     });
-    SelectionStatistics total(regions);
+    SelectionStatistics total(cells);
     for (const SelectionStatistics& s : stats) total += s;  // integer sums: any order gives the same
     return total;
 }

@@ -25,36 +25,36 @@ struct PreprocessContext;
 
 class SelectionRecorder final : public PathRecorder {
   public:
-    // `regions`: the field's leaves + 1 (leaf -1 maps to the last, outside the field).
-    SelectionRecorder(SelectionStatistics& stats, size_t regions) : stats_(stats), regions_(regions) {}
+    // `cells`: the field's leaves + 1 (leaf -1 maps to the last, outside the field).
+    SelectionRecorder(SelectionStatistics& stats, size_t cells) : stats_(stats), cells_(cells) {}
 
     // A new camera sample in a pixel of estimate `pixel` (> 0).
     void begin(float pixel);
     bool records_decisions() const override { return true; }
-    // A decision in the region of record.leaf sampled with density record.pdf from the mixture of
+    // A decision in the cell of record.leaf sampled with density record.pdf from the mixture of
     // the unguided and guided densities p_u, p_g; one without a guided mixture only counts (the
     // cost model counts it).
     void record_decision(DecisionKind kind, const DecisionRecord& record) override;
-    // A continuation point of `stage` in the region of `region.leaf`: the field's estimate of what
+    // A continuation point of `stage` in the cell of `vertex_leaf.leaf`: the field's estimate of what
     // the path collects from here on per unit weight, and the path weight (channel averages).
-    void record_continuation(ContinuationStage stage, const GuideRegion& region, float estimate,
+    void record_continuation(ContinuationStage stage, const VertexLeaf& vertex_leaf, float estimate,
                              const Color3& throughput) override;
     void record_contribution(const Color3& c) override { total_ += double(c.average()); }
     // Adds the camera sample's terms to the statistics.
     void end();
 
   private:
-    size_t region(int leaf) const { return leaf >= 0 && size_t(leaf) + 1 < regions_ ? size_t(leaf) : regions_ - 1; }
+    size_t cell(int leaf) const { return leaf >= 0 && size_t(leaf) + 1 < cells_ ? size_t(leaf) : cells_ - 1; }
     struct Pending {
         bool is_decision = true;
         uint8_t kind = 0;  // SelectionDecision or stage
-        size_t region = 0;
+        size_t cell = 0;
         float q = 0.f, p_u = 0.f, p_g = 0.f;  // decision
         float estimate = 0.f, beta = 0.f;     // continuation
         double before = 0.0;                  // contributions before it
     };
     SelectionStatistics& stats_;
-    size_t regions_;
+    size_t cells_;
     float pixel_ = 1.f;
     double total_ = 0.0;
     uint64_t unrecorded_ = 0;
@@ -65,7 +65,7 @@ class SelectionRecorder final : public PathRecorder {
 // on Sampler(seed, pixel, k, stream of the pilot), `pixel(film_uv)` the pixel estimate; the sums of
 // every recorder. Deterministic for any thread count (exact sums).
 SelectionStatistics run_selection_pilot(
-    const Scene& scene, int spp, size_t regions, const std::function<float(Point2f)>& pixel,
+    const Scene& scene, int spp, size_t cells, const std::function<float(Point2f)>& pixel,
     const std::function<Color3(Sampler&, const Ray&, SelectionRecorder&)>& walk, const PreprocessContext& context);
 
 }  // namespace volguide

@@ -1,6 +1,6 @@
 #pragma once
 // Turns one camera path into guiding-field training samples (docs/theory.md §10.2). The walk (volpath's,
-// with the recorder as its PathRecorder, path_recorder.h; the decisions are the policy's, analog
+// with the recorder as its PathRecorder, path_recorder.h; the decisions are the policy's, unguided
 // or guided) reports, in path order:
 //   - every contribution it adds to the pixel estimate (NEE, emitter hits with their MIS weights);
 //   - at each real medium scattering vertex x_j, after sampling the next direction w_j with pdf p:

@@ -16,17 +16,17 @@ std::vector<float> leaf_extents(const SpatialTree& tree) {
 
 BinSource::BinSource(const Ray& ray, float t_end, const Medium& medium, const GuidingField& field,
                      const LeafEstimates* estimates, std::vector<ProxySegment>& proxies, float max_tau,
-                     const std::vector<float>& leaf_extent, float leaf_tau_max, const DistanceRegions* regions)
+                     const std::vector<float>& leaf_extent, float leaf_tau_max, const LeafGroups* groups)
     : leaf_extent_(leaf_extent),
       leaf_tau_max_(leaf_tau_max),
       ray_(ray),
       t_end_(t_end),
       medium_(medium),
       estimates_(estimates),
-      regions_(estimates ? regions : nullptr),
+      groups_(estimates ? groups : nullptr),
       proxies_(proxies),
       max_tau_(max_tau),
-      cursor_(regions_ ? regions_->tree() : field.tree(), ray, 0.f, t_end) {
+      cursor_(groups_ ? groups_->tree() : field.tree(), ray, 0.f, t_end) {
     proxies_.clear();  // scratch of the previous query: nothing may be read before the first span
     if (estimates_) direction_ = estimates_->prepare(ray.d);
 }
@@ -52,8 +52,8 @@ bool BinSource::next_span() {
         // `thin`; measured: see bench/RESULTS.md (issue 35)).
         if (estimates_ && pull_leaf(ahead_)) {
             has_ahead_ = true;
-            if (regions_)
-                regions_->prefetch(ahead_.leaf, direction_);
+            if (groups_)
+                groups_->prefetch(ahead_.leaf, direction_);
             else
                 estimates_->prefetch(ahead_.leaf, direction_);
         }
@@ -86,18 +86,18 @@ void BinSource::enter(int leaf_index, float t0, float t1) {
     medium_.proxy_segments(ray_, t0, t1, proxies_);
     proxy_ = size_t(-1);
     pieces_ = piece_ = 0;
-    Li_ = L_ = 0.f;
+    inscattered_ = L_ = 0.f;
     leaf_ = leaf_index;
-    if (regions_) {
-        valid_ = leaf_index >= 0 && regions_->lookup(leaf_index, direction_, Li_, L_);
-        if (!valid_) Li_ = L_ = 0.f;
+    if (groups_) {
+        valid_ = leaf_index >= 0 && groups_->lookup(leaf_index, direction_, inscattered_, L_);
+        if (!valid_) inscattered_ = L_ = 0.f;
         return;
     }
-    Color3 Li, L;
-    valid_ = estimates_ && estimates_->lookup(leaf_index, direction_, Li, L);
+    Color3 inscattered, incident;
+    valid_ = estimates_ && estimates_->lookup(leaf_index, direction_, inscattered, incident);
     if (valid_) {
-        Li_ = Li.average();
-        L_ = L.average();
+        inscattered_ = inscattered.average();
+        L_ = incident.average();
     }
 }
 

@@ -5,8 +5,8 @@
 // (majorant cells of a heterogeneous medium) and split so that no bin is optically thicker than
 // `max_tau`. Each bin carries its proxy coefficients and its leaf's L~_i and L~ looking along the
 // ray (channel averages, §7.8), and its leaf's confidence (leaf_confidence below) at the bin's
-// proxy extinction. With `regions` (distance_regions.h, built on
-// the same estimates) the bins are the regions the ray crosses instead of the leaves.
+// proxy extinction. With `groups` (leaf_groups.h, built on
+// the same estimates) the bins are the groups the ray crosses instead of the leaves.
 //
 // A source pulls the bins lazily (the incremental sampler stops at the collision): field values,
 // the expensive part, are read once per leaf, on entering it. Usage:
@@ -20,7 +20,7 @@
 #include <vector>
 
 #include "volguide/core/ray.h"
-#include "volguide/guiding/distance_regions.h"
+#include "volguide/guiding/leaf_groups.h"
 #include "volguide/guiding/guided_distance.h"
 #include "volguide/guiding/guiding_field.h"
 #include "volguide/guiding/leaf_estimates.h"
@@ -32,7 +32,7 @@ namespace volguide {
 // The cube root of each leaf's volume: the length that sets a leaf's optical size.
 std::vector<float> leaf_extents(const SpatialTree& tree);
 
-// The guiding confidence of a leaf (or region) of `extent` in a medium of extinction sigma_t:
+// The guiding confidence of a leaf (or group) of `extent` in a medium of extinction sigma_t:
 // min(1, tau_max / tau_leaf), tau_leaf = extent x sigma_t's channel average; 1 when tau_max is 0
 // (off). Why the guided decisions scale their guided share by it: WalkGuideSettings::leaf_tau_max.
 inline float leaf_confidence(float extent, const Color3& sigma_t, float tau_max) {
@@ -44,11 +44,11 @@ inline float leaf_confidence(float extent, const Color3& sigma_t, float tau_max)
 class BinSource {
   public:
     // The ray, medium, field, estimates (null: every bin invalid), `proxies` (caller-owned scratch,
-    // cleared here), `leaf_extent` and `regions` (null: the field's leaves; else built on
+    // cleared here), `leaf_extent` and `groups` (null: the field's leaves; else built on
     // `estimates`) must outlive the source.
     BinSource(const Ray& ray, float t_end, const Medium& medium, const GuidingField& field,
               const LeafEstimates* estimates, std::vector<ProxySegment>& proxies, float max_tau,
-              const std::vector<float>& leaf_extent, float leaf_tau_max, const DistanceRegions* regions = nullptr);
+              const std::vector<float>& leaf_extent, float leaf_tau_max, const LeafGroups* groups = nullptr);
 
     // The next bin; false after the last one (at t_end).
     bool operator()(DistanceBin& bin) {
@@ -70,7 +70,7 @@ class BinSource {
     }
     uint64_t invalid() const { return invalid_; }  // bins without a valid leaf so far
     uint64_t damped() const { return damped_; }    // bins with confidence < 1 (leaf_tau_max)
-    // The kd leaf (with regions: the region) of the bin returned last (-1 outside the field).
+    // The kd leaf (with leaf groups: the group) of the bin returned last (-1 outside the field).
     int leaf() const { return leaf_; }
 
   private:
@@ -86,12 +86,12 @@ class BinSource {
         bin.t1 = ++piece_ == pieces_ ? p.t1 : p.t0 + len * float(piece_);
         bin.sigma_t = p.sigma_t;
         bin.albedo = p.albedo;
-        bin.Li = Li_;
+        bin.inscattered = inscattered_;
         bin.L = L_;
         bin.valid = valid_;
         bin.confidence = 1.f;
         if (leaf_ >= 0 && valid_) {
-            const float extent = regions_ ? regions_->extent(leaf_) : leaf_extent_[size_t(leaf_)];
+            const float extent = groups_ ? groups_->extent(leaf_) : leaf_extent_[size_t(leaf_)];
             bin.confidence = leaf_confidence(extent, p.sigma_t, leaf_tau_max_);
             damped_ += bin.confidence < 1.f ? 1 : 0;
         }
@@ -109,7 +109,7 @@ class BinSource {
     float t_end_;
     const Medium& medium_;
     const LeafEstimates* estimates_;
-    const DistanceRegions* regions_;
+    const LeafGroups* groups_;
     std::vector<ProxySegment>& proxies_;
     float max_tau_;
     SpatialTree::RayCursor cursor_;
@@ -122,7 +122,7 @@ class BinSource {
     size_t proxy_ = size_t(-1);
     int pieces_ = 0, piece_ = 0;
     bool valid_ = false;
-    float Li_ = 0.f, L_ = 0.f;
+    float inscattered_ = 0.f, L_ = 0.f;
     int leaf_ = -1;
     uint64_t invalid_ = 0, damped_ = 0;
 };

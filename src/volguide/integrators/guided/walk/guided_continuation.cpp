@@ -6,14 +6,14 @@ namespace volguide {
 
 Continuation GuidedContinuation::decide(ContinuationStage stage, const MediumInteraction& mi, const Vec3f& w,
                                         const Color3& throughput, int branches, float allowance, Sampler& sampler,
-                                        GuideRegion& region, bool report) const {
+                                        VertexLeaf& vertex_leaf, bool report) const {
     Continuation c;
     if (!rrs_ && !report) return c;
-    const Color3 estimate = this->estimate(stage, mi, w, region);
+    const Color3 estimate = this->estimate(stage, mi, w, vertex_leaf);
     const bool usable = estimate.max_value() > 0.f;
     if (report && usable) c.estimate = estimate.average();
     if (!rrs_) return c;
-    if (usable && !selected(stage, region.leaf)) return c;  // learned: throughput RR
+    if (usable && !selected(stage, vertex_leaf.leaf)) return c;  // learned: throughput RR
     c.guided = usable;
     c.q = rrs_->factor(throughput, estimate, pixel_, branches, allowance);
     if (c.q == 1.f) return c;
@@ -31,8 +31,8 @@ void GuidedContinuation::end_camera_sample(int branches) const {
 }
 
 Color3 GuidedContinuation::estimate(ContinuationStage stage, const MediumInteraction& mi, const Vec3f& w,
-                                    GuideRegion& region) const {
-    const int leaf = mi.medium ? guide_.trusted_vertex_leaf(mi, region) : -1;
+                                    VertexLeaf& vertex_leaf) const {
+    const int leaf = mi.medium ? guide_.trusted_vertex_leaf(mi, vertex_leaf) : -1;
     if (leaf < 0) return Color3(0.f);
     const PhaseFunction& phase = mi.medium->phase();
     // After the direction decision the full L~, although NEE took the direct light at x: the
@@ -43,7 +43,7 @@ Color3 GuidedContinuation::estimate(ContinuationStage stage, const MediumInterac
 }
 
 bool GuidedContinuation::selected(ContinuationStage stage, int leaf) const {
-    if (guide_.selection().rrs_acts(int(stage), guide_.selection_region(leaf))) return true;
+    if (guide_.selection().rrs_acts(int(stage), guide_.selection_cell(leaf))) return true;
     guide_.count_rrs_unselected();
     return false;
 }

@@ -6,7 +6,7 @@
 //  - the field's estimate for the stage (estimate()): L~_i(x, d) after the distance decision (what
 //    the vertex collects from here on, d the ray's direction), L~(x, w) after the direction
 //    decision (what the continuation along w collects);
-//  - the learned selection's switch for the vertex's region (guiding/selection.h);
+//  - the learned selection's switch for the vertex's selection cell (guiding/selection.h);
 //  - the pixel estimate I of the camera sample's pixel (estimates/pixel_estimate.h);
 // and hands them to RouletteSplitting's scene-free weight window (guiding/roulette_splitting.h):
 // its factor q, the number of continuations n drawn from it, and the outcome's count. The walk
@@ -30,22 +30,22 @@ class GuidedContinuation {
     // `report` still reads the estimate and returns it in Continuation::estimate.
     Continuation decide(ContinuationStage stage, const MediumInteraction& mi, const Vec3f& w,
                         const Color3& throughput, int branches, float allowance, Sampler& sampler,
-                        GuideRegion& region, bool report) const;
+                        VertexLeaf& vertex_leaf, bool report) const;
     // The camera sample's branch allowance (+inf without a budget or without rrs).
     float branch_budget() const;
     // Counts a finished camera sample's branches.
     void end_camera_sample(int branches) const;
 
     // The field's estimate for `stage` at the medium vertex mi (w: see ContinuationStage), from the
-    // distance decisions' per-leaf tables when they exist; the vertex's leaf is kept in `region`.
+    // distance decisions' per-leaf tables when they exist; the vertex's leaf is kept in `vertex_leaf`.
     // 0 (no guided decision: throughput RR) where the field has no valid leaf, and where the
     // leaf's confidence is below WalkGuide's skip threshold: deep in a dense medium one estimate
     // per leaf cannot follow radiance that varies on the scale of a free path, and RR by it
     // compounds into heavy-tailed weights from leaves estimated too dark.
-    Color3 estimate(ContinuationStage stage, const MediumInteraction& mi, const Vec3f& w, GuideRegion& region) const;
+    Color3 estimate(ContinuationStage stage, const MediumInteraction& mi, const Vec3f& w, VertexLeaf& vertex_leaf) const;
 
   private:
-    // Whether guided RR/splitting acts at `stage` in the learned selection's region of `leaf`;
+    // Whether guided RR/splitting acts at `stage` in the learned selection's cell of `leaf`;
     // counts the points where it does not.
     bool selected(ContinuationStage stage, int leaf) const;
 

@@ -3,23 +3,23 @@
 namespace volguide {
 
 FreeFlightSample GuidedWalkPolicy::sample_distance(const Medium& medium, const Ray& ray, float tmax,
-                                                   const Color3& throughput, Sampler& sampler, GuideRegion& region,
+                                                   const Color3& throughput, Sampler& sampler, VertexLeaf& vertex_leaf,
                                                    DecisionRecord* record) {
     if (!guide_.guides_distance()) {
-        region = GuideRegion();  // the scattering vertex's is not known
+        vertex_leaf = VertexLeaf();  // the scattering vertex's is not known
         return medium.sample_free_flight(ray, tmax, throughput, sampler);
     }
     scratch_.record = record != nullptr;
-    FreeFlightSample fs = guide_.sample_distance(medium, ray, tmax, throughput, sampler, region, scratch_);
+    FreeFlightSample fs = guide_.sample_distance(medium, ray, tmax, throughput, sampler, vertex_leaf, scratch_);
     const DistanceScratch::Decision& d = scratch_.decision;
     if (record && d.mixture) *record = {true, d.leaf, d.pdf, d.p_u, d.p_g};
     return fs;
 }
 
-void GuidedWalkPolicy::prepare_direction(const MediumInteraction& mi, GuideRegion& region, Sampler&) {
+void GuidedWalkPolicy::prepare_direction(const MediumInteraction& mi, VertexLeaf& vertex_leaf, Sampler&) {
     direction_.reset();
-    if (guide_.guides_direction()) guide_.direction_sampler(mi, mi.medium->phase(), region, direction_);
-    direction_leaf_ = region.leaf;
+    if (guide_.guides_direction()) guide_.direction_sampler(mi, mi.medium->phase(), vertex_leaf, direction_);
+    direction_leaf_ = vertex_leaf.leaf;
 }
 
 float GuidedWalkPolicy::direction_pdf(const MediumInteraction& mi, const Vec3f& wo) const {

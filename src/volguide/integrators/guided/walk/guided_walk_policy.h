@@ -3,7 +3,7 @@
 // direction decisions (WalkGuide, walk_guide.h) and, with a RouletteSplitting, guided RR and
 // splitting against the pixel estimate I of the camera sample's pixel (GuidedContinuation,
 // guided_continuation.h, makes that decision; the policy forwards). Decisions the guide does not
-// make are the analog ones, with the same random numbers. One object per camera sample (it holds
+// make are the unguided ones, with the same random numbers. One object per camera sample (it holds
 // the vertex's prepared samplers and the distance decisions' scratch). What the walk records
 // (training, the selection pilot) is its PathRecorder's: the policy fills the DecisionRecord the
 // walk hands it with each decision's mixture densities, and reports the continuation's estimate
@@ -28,9 +28,9 @@ class GuidedWalkPolicy final : public WalkPolicy {
 
     bool guides_distance() const override { return guide_.guides_distance(); }
     FreeFlightSample sample_distance(const Medium& medium, const Ray& ray, float tmax, const Color3& throughput,
-                                     Sampler& sampler, GuideRegion& region, DecisionRecord* record) override;
+                                     Sampler& sampler, VertexLeaf& vertex_leaf, DecisionRecord* record) override;
 
-    void prepare_direction(const MediumInteraction& mi, GuideRegion& region, Sampler& sampler) override;
+    void prepare_direction(const MediumInteraction& mi, VertexLeaf& vertex_leaf, Sampler& sampler) override;
     float direction_pdf(const MediumInteraction& mi, const Vec3f& wo) const override;
     PhaseSample sample_direction(const MediumInteraction& mi, Sampler& sampler, DecisionRecord* record) override;
 
@@ -44,8 +44,8 @@ class GuidedWalkPolicy final : public WalkPolicy {
 
     Continuation continuation(ContinuationStage stage, const MediumInteraction& mi, const Vec3f& w,
                               const Color3& throughput, int branches, float allowance, Sampler& sampler,
-                              GuideRegion& region, bool report) override {
-        return continuation_.decide(stage, mi, w, throughput, branches, allowance, sampler, region, report);
+                              VertexLeaf& vertex_leaf, bool report) override {
+        return continuation_.decide(stage, mi, w, throughput, branches, allowance, sampler, vertex_leaf, report);
     }
     float branch_budget() const override { return continuation_.branch_budget(); }
     void end_camera_sample(int branches) override { continuation_.end_camera_sample(branches); }

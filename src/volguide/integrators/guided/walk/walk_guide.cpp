@@ -39,7 +39,7 @@ WalkGuide::WalkGuide(const Scene& scene, const GuidingField& field, const WalkGu
             d.samples = field.leaves()[i].samples;
         }
     }
-    leaf_extent_ = leaf_extents(field.tree());  // before the regions, which read it
+    leaf_extent_ = leaf_extents(field.tree());  // before the groups, which read it
     auto add = [&](const Medium* m) {
         if (!m) return;
         const float g = m->phase().mean_cosine();
@@ -48,8 +48,8 @@ WalkGuide::WalkGuide(const Scene& scene, const GuidingField& field, const WalkGu
         if (!estimates_.count(g) && settings_.distance != DistanceGuiding::Standard)
             estimates_.emplace(std::piecewise_construct, std::forward_as_tuple(g),
                                std::forward_as_tuple(field, inscatter_.at(g), settings_.estimate_table));
-        if (!regions_.count(g) && estimates_.count(g) && settings_.distance_merge > 0.f && settings_.estimate_table > 0)
-            regions_.emplace(std::piecewise_construct, std::forward_as_tuple(g),
+        if (!groups_.count(g) && estimates_.count(g) && settings_.distance_merge > 0.f && settings_.estimate_table > 0)
+            groups_.emplace(std::piecewise_construct, std::forward_as_tuple(g),
                              std::forward_as_tuple(field.tree(), estimates_.at(g), leaf_extent_,
                                                    settings_.distance_merge));
     };
@@ -70,47 +70,47 @@ const LeafEstimates* WalkGuide::estimates_for(const PhaseFunction& phase) const 
     return it == estimates_.end() ? nullptr : &it->second;
 }
 
-const DistanceRegions* WalkGuide::regions_for(const PhaseFunction& phase) const {
-    const auto it = regions_.find(phase.mean_cosine());
-    return it == regions_.end() ? nullptr : &it->second;
+const LeafGroups* WalkGuide::groups_for(const PhaseFunction& phase) const {
+    const auto it = groups_.find(phase.mean_cosine());
+    return it == groups_.end() ? nullptr : &it->second;
 }
 
-size_t WalkGuide::distance_region_count() const {
+size_t WalkGuide::leaf_group_count() const {
     size_t n = 0;
-    for (const auto& [g, r] : regions_) n += size_t(r.region_count());
+    for (const auto& [g, r] : groups_) n += size_t(r.group_count());
     return n;
 }
 
 FreeFlightSample WalkGuide::sample_distance(const Medium& medium, const Ray& ray, float tmax,
-                                            const Color3& throughput, Sampler& sampler, GuideRegion& region,
+                                            const Color3& throughput, Sampler& sampler, VertexLeaf& vertex_leaf,
                                             DistanceScratch& scratch) const {
     // A query from the vertex of the last guided scatter: its leaf is known. Where that leaf's
     // confidence is below kSkipConfidence the guided share would be small, and the guided walk
     // (a leaf lookup per bin) costs more than it can return: free flight, as for leaves without
     // estimates.
-    const int origin_leaf = region.leaf;
-    region.leaf = -1;
+    const int origin_leaf = vertex_leaf.leaf;
+    vertex_leaf.leaf = -1;
     scratch.decision = DistanceScratch::Decision();
     // The origin's leaf, kept on the free-flight paths below where the scattering vertex is in it
     // (deep in a dense medium it usually is): the direction decision there needs no descent.
     auto free_flight_from = [&](int origin) {
         FreeFlightSample fs = medium.sample_free_flight(ray, tmax, throughput, sampler);
-        if (origin >= 0 && fs.scattered && field_.tree().holds_point(origin, fs.mi.p)) region.leaf = origin;
+        if (origin >= 0 && fs.scattered && field_.tree().holds_point(origin, fs.mi.p)) vertex_leaf.leaf = origin;
         return fs;
     };
     if (origin_leaf >= 0 && leaf_confidence(origin_leaf, medium.eval(ray.o).sigma_t) < kSkipConfidence) {
         ++stats_.local().distance_skipped;
         return free_flight_from(origin_leaf);
     }
-    // Learned selection: the guided share of the origin's region (found by a descent when no
+    // Learned selection: the guided share of the origin's selection cell (found by a descent when no
     // decision before found it); 0: free flight, nothing guided is paid for.
     int origin = origin_leaf;
     float c_T = settings_.distance_settings.c_T;
     // (Only when some distance share was learned or the pilot records: heterogeneous media under
     // guided tracking record none, and a descent per decision would then be work for nothing.)
     if (selection_.learned(SelectionDecision::Distance) || scratch.record) {
-        if (origin < 0) origin = vertex_leaf(ray.o, GuideRegion());
-        const float share = selection_.share(SelectionDecision::Distance, selection_region(origin));
+        if (origin < 0) origin = leaf_of(ray.o, VertexLeaf());
+        const float share = selection_.share(SelectionDecision::Distance, selection_cell(origin));
         if (share == 0.f) {
             ++stats_.local().distance_unselected;
             return free_flight_from(origin);
@@ -129,7 +129,7 @@ FreeFlightSample WalkGuide::sample_distance(const Medium& medium, const Ray& ray
     const LeafEstimates* estimates = estimates_for(medium.phase());
     if (settings_.distance == DistanceGuiding::Incremental && settings_.guided_tracking &&
         medium.tracks_null_collisions()) {
-        // The whole segment: beyond the field the tracking falls back to the analog probability.
+        // The whole segment: beyond the field the tracking falls back to the unguided probability.
         GuidedCollisionProbability guide(field_, estimates, ray, t_end, c_T);
         FreeFlightSample fs = medium.sample_free_flight(ray, tmax, throughput, sampler, &guide);
         WalkGuideStats& st = stats_.local();
@@ -141,21 +141,21 @@ FreeFlightSample WalkGuide::sample_distance(const Medium& medium, const Ray& ray
         return fs;
     }
 
-    FreeFlightSample fs = binned_distance(medium, ray, tmax, t_end, estimates, c_T, throughput, sampler, region, scratch);
+    FreeFlightSample fs = binned_distance(medium, ray, tmax, t_end, estimates, c_T, throughput, sampler, vertex_leaf, scratch);
     scratch.decision.leaf = origin;
     return fs;
 }
 
 FreeFlightSample WalkGuide::binned_distance(const Medium& medium, const Ray& ray, float tmax, float t_end,
                                             const LeafEstimates* estimates, float c_T, const Color3& throughput,
-                                            Sampler& sampler, GuideRegion& region, DistanceScratch& scratch) const {
+                                            Sampler& sampler, VertexLeaf& vertex_leaf, DistanceScratch& scratch) const {
     DistanceScratch& s = scratch;
     GuidedDistanceSettings distance_settings = settings_.distance_settings;
     distance_settings.c_T = c_T;
     distance_settings.channel_split = channel_probabilities(throughput);  // spectral MIS (§2.6)
-    const DistanceRegions* regions = regions_for(medium.phase());
+    const LeafGroups* groups = groups_for(medium.phase());
     BinSource source(ray, t_end, medium, field_, estimates, s.proxies, settings_.max_bin_optical_depth,
-                     leaf_extent_, settings_.leaf_tau_max, regions);
+                     leaf_extent_, settings_.leaf_tau_max, groups);
     DistanceSample ds;
     if (settings_.distance == DistanceGuiding::Incremental) {
         ds = sample_incremental_distance(source, sampler, distance_settings);
@@ -176,7 +176,7 @@ FreeFlightSample WalkGuide::binned_distance(const Medium& medium, const Ray& ray
     st.damped_bins += source.damped();
     st.nan_fallbacks += uint64_t(ds.nan_fallbacks);
     if (ds.event == DistanceEvent::Medium && ds.pdf > 0.f)
-        region.leaf = regions && source.leaf() >= 0 ? regions->fine_leaf(source.leaf(), ray(ds.t)) : source.leaf();
+        vertex_leaf.leaf = groups && source.leaf() >= 0 ? groups->fine_leaf(source.leaf(), ray(ds.t)) : source.leaf();
     if (ds.pdf > 0.f && ds.pdf_transmittance >= 0.f && ds.pdf_guided >= 0.f) {
         s.decision.mixture = true;
         s.decision.pdf = ds.pdf;
@@ -223,23 +223,23 @@ FreeFlightSample WalkGuide::binned_flight(const Medium& medium, const Ray& ray, 
     return fs;
 }
 
-void WalkGuide::direction_sampler(const MediumInteraction& mi, const PhaseFunction& phase, GuideRegion& region,
+void WalkGuide::direction_sampler(const MediumInteraction& mi, const PhaseFunction& phase, VertexLeaf& vertex_leaf,
                                   std::optional<GuidedDirectionSampler>& out) const {
     const GuidingLeaf* leaf = nullptr;
     if (!field_.empty()) {
-        leaf = region.leaf >= 0 && field_.tree().holds_point(region.leaf, mi.p) ? &field_.leaves()[size_t(region.leaf)]
+        leaf = vertex_leaf.leaf >= 0 && field_.tree().holds_point(vertex_leaf.leaf, mi.p) ? &field_.leaves()[size_t(vertex_leaf.leaf)]
                                                                                : field_.leaf_at(mi.p);
     }
     // The distance decision that follows starts here: it then knows its origin leaf (and may skip
     // the guided walk in a leaf of low confidence) without a descent of its own.
-    if (leaf) region.leaf = int(leaf - field_.leaves().data());
+    if (leaf) vertex_leaf.leaf = int(leaf - field_.leaves().data());
     if (leaf && settings_.direction_indirect)
         leaf = &direction_leaves_[size_t(leaf - field_.leaves().data())];
     const auto it = phase_vmms_.find(phase.mean_cosine());
     float phase_prob = settings_.phase_prob;
     if (leaf) {
-        const float confidence = leaf_confidence(region.leaf, mi.coeffs.sigma_t);
-        const float share = selection_.share(SelectionDecision::Direction, size_t(region.leaf));
+        const float confidence = leaf_confidence(vertex_leaf.leaf, mi.coeffs.sigma_t);
+        const float share = selection_.share(SelectionDecision::Direction, size_t(vertex_leaf.leaf));
         if (confidence < kSkipConfidence) {
             // The product is not worth building: the phase function alone.
             phase_prob = 1.f;
@@ -298,16 +298,16 @@ std::array<float, kSelectionDecisions> WalkGuide::configured_shares() const {
     return {1.f - settings_.distance_settings.c_T, 1.f - settings_.phase_prob, 1.f - settings_.bsdf_prob};
 }
 
-int WalkGuide::vertex_leaf(const Point3f& x, const GuideRegion& region) const {
+int WalkGuide::leaf_of(const Point3f& x, const VertexLeaf& vertex_leaf) const {
     if (field_.empty()) return -1;
-    if (region.leaf >= 0 && field_.tree().holds_point(region.leaf, x)) return region.leaf;
+    if (vertex_leaf.leaf >= 0 && field_.tree().holds_point(vertex_leaf.leaf, x)) return vertex_leaf.leaf;
     return field_.tree().leaf_at(x);
 }
 
-int WalkGuide::trusted_vertex_leaf(const MediumInteraction& mi, GuideRegion& region) const {
-    const int leaf = vertex_leaf(mi.p, region);
+int WalkGuide::trusted_vertex_leaf(const MediumInteraction& mi, VertexLeaf& vertex_leaf) const {
+    const int leaf = leaf_of(mi.p, vertex_leaf);
     if (leaf < 0) return -1;
-    region.leaf = leaf;  // the decisions that follow at this vertex need no descent
+    vertex_leaf.leaf = leaf;  // the decisions that follow at this vertex need no descent
     return leaf_confidence(leaf, mi.coeffs.sigma_t) < kSkipConfidence ? -1 : leaf;
 }
 

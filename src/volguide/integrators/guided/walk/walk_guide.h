@@ -29,7 +29,7 @@
 #include <utility>
 #include <vector>
 
-#include "volguide/guiding/distance_regions.h"
+#include "volguide/guiding/leaf_groups.h"
 #include "volguide/guiding/guided_direction.h"
 #include "volguide/guiding/guided_distance.h"
 #include "volguide/guiding/guiding_field.h"
@@ -56,8 +56,8 @@ struct WalkGuideSettings {
     // Per-leaf octahedral tables of L~_i and L~ for the distance decisions (leaf_estimates.h):
     // resolution per side, 0 = exact VMM evaluation per leaf crossed.
     int estimate_table = 16;
-    // The distance walk steps regions of leaves whose tables agree within this relative tolerance
-    // (guiding/distance_regions.h) instead of single leaves: fewer bins per decision. 0: leaves.
+    // The distance walk steps groups of leaves whose tables agree within this relative tolerance
+    // (guiding/leaf_groups.h) instead of single leaves: fewer bins per decision. 0: leaves.
     // Needs the tables (estimate_table > 0).
     float distance_merge = 0.f;
     // Guiding confidence of a leaf: min(1, leaf_tau_max / tau_leaf), tau_leaf = sigma_t (channel
@@ -153,7 +153,7 @@ struct DistanceScratch {
     } decision;
 };
 
-// The decisions take the GuideRegion of the vertex they are made at (walk_policy.h): its kd leaf
+// The decisions take the VertexLeaf of the vertex they are made at (walk_policy.h): its kd leaf
 // when a decision before found it (-1: not known), so that the direction decision at a guided
 // scatter and the distance decision that leaves it need not descend the tree again (leaf_at showed
 // in aniso's profile, bench/RESULTS.md (issue 35)), and the decisions update it. A leaf handed on is trusted
@@ -169,17 +169,17 @@ class WalkGuide {
     bool guides_surfaces() const { return settings_.surface && guides_direction(); }
 
     // Medium::sample_free_flight's contract (weight, mi when scattered) with guided probabilities,
-    // from the vertex of `region` (ray.o); `region` becomes the scattering vertex's (-1: not known).
+    // from the vertex of `vertex_leaf` (ray.o); `vertex_leaf` becomes the scattering vertex's (-1: not known).
     FreeFlightSample sample_distance(const Medium& medium, const Ray& ray, float tmax, const Color3& throughput,
-                                     Sampler& sampler, GuideRegion& region, DistanceScratch& scratch) const;
+                                     Sampler& sampler, VertexLeaf& vertex_leaf, DistanceScratch& scratch) const;
 
-    // Learned selection (guiding/selection.h): per region, the guided share of each decision and
+    // Learned selection (guiding/selection.h): per selection cell, the guided share of each decision and
     // whether guided RR/splitting acts; empty (the default) keeps the configured mixtures.
     void set_selection(LearnedSelection selection) { selection_ = std::move(selection); }
     const LearnedSelection& selection() const { return selection_; }
-    // The selection's region of a leaf (-1: outside the field) and how many there are.
-    size_t selection_region(int leaf) const { return leaf >= 0 ? size_t(leaf) : field_.leaves().size(); }
-    size_t selection_regions() const { return field_.leaves().size() + 1; }
+    // The selection cell of a leaf (-1: outside the field) and how many there are.
+    size_t selection_cell(int leaf) const { return leaf >= 0 ? size_t(leaf) : field_.leaves().size(); }
+    size_t selection_cells() const { return field_.leaves().size() + 1; }
     // Counts a continuation point where the learned selection switched guided RR/splitting off
     // (guided_continuation.h decides).
     void count_rrs_unselected() const;
@@ -188,7 +188,7 @@ class WalkGuide {
 
     // Builds the direction sampler of a medium vertex in `out` (in place: it holds a ~3 KB product
     // mixture); phase only where the field has no valid leaf.
-    void direction_sampler(const MediumInteraction& mi, const PhaseFunction& phase, GuideRegion& region,
+    void direction_sampler(const MediumInteraction& mi, const PhaseFunction& phase, VertexLeaf& vertex_leaf,
                            std::optional<GuidedDirectionSampler>& out) const;
     // Counts one sampled direction (guided: drawn from the guiding part of the mixture).
     void count_direction(bool guided) const;
@@ -198,7 +198,7 @@ class WalkGuide {
     // null for none; its extinction sets the leaf's confidence as in the medium). `guide_storage`
     // holds the product guide and must outlive `out`. Leaves `out` a pure BSDF sampler where
     // there is nothing to guide with (not diffuse, no valid leaf, surfaces not guided).
-    // Returns the leaf beside the surface (-1: none), the region of learned selection.
+    // Returns the leaf beside the surface (-1: none), the learned selection's cell.
     int surface_sampler(const SurfaceInteraction& si, const BSDF& bsdf, const Medium* medium, Vmm& guide_storage,
                         std::optional<GuidedSurfaceSampler>& out) const;
     void count_surface_direction(bool guided) const;
@@ -208,28 +208,28 @@ class WalkGuide {
     // from w. Both from the distance decisions' per-leaf tables when they exist.
     Color3 leaf_inscattered(int leaf, const PhaseFunction& phase, const Vec3f& d) const;
     Color3 leaf_incident(int leaf, const PhaseFunction& phase, const Vec3f& w) const;
-    // The leaf at mi.p (vertex_leaf), kept in `region`, if its confidence at mi is at least
+    // The leaf at mi.p (vertex_leaf), kept in `vertex_leaf`, if its confidence at mi is at least
     // kSkipConfidence, else -1.
-    int trusted_vertex_leaf(const MediumInteraction& mi, GuideRegion& region) const;
+    int trusted_vertex_leaf(const MediumInteraction& mi, VertexLeaf& vertex_leaf) const;
 
     WalkGuideStats stats() const;
-    // The distance walk's regions per phase mean cosine and their total (0 without merging).
-    size_t distance_region_count() const;
+    // The distance walk's leaf groups per phase mean cosine and their total (0 without merging).
+    size_t leaf_group_count() const;
 
   private:
     const LeafEstimates* estimates_for(const PhaseFunction& phase) const;
-    const DistanceRegions* regions_for(const PhaseFunction& phase) const;
+    const LeafGroups* groups_for(const PhaseFunction& phase) const;
     // sample_distance's decision on the bins of (0, t_end) (distance_bins.h; t_end: where the ray
     // leaves the field or reaches tmax), weighted by binned_flight.
     FreeFlightSample binned_distance(const Medium& medium, const Ray& ray, float tmax, float t_end,
                                      const LeafEstimates* estimates, float c_T, const Color3& throughput,
-                                     Sampler& sampler, GuideRegion& region, DistanceScratch& scratch) const;
+                                     Sampler& sampler, VertexLeaf& vertex_leaf, DistanceScratch& scratch) const;
     // The weights of the bins' decision `ds` (the caller contract of guided_distance.h), and beyond
     // the field (t_end < tmax) the medium's own free flight.
     FreeFlightSample binned_flight(const Medium& medium, const Ray& ray, float tmax, float t_end,
                                    const DistanceSample& ds, const Color3& throughput, Sampler& sampler) const;
-    // The leaf at x (-1 outside the field), without a descent when `region` (x's) holds it.
-    int vertex_leaf(const Point3f& x, const GuideRegion& region) const;
+    // The leaf at x (-1 outside the field), without a descent when `vertex_leaf` (x's) holds it.
+    int leaf_of(const Point3f& x, const VertexLeaf& vertex_leaf) const;
     // The confidence of `leaf` (distance_bins.h's leaf_confidence at its extent); 1 outside the field.
     float leaf_confidence(int leaf, const Color3& sigma_t) const;
     // Below this confidence a vertex neither builds the direction product nor walks the guided
@@ -240,7 +240,7 @@ class WalkGuide {
     WalkGuideSettings settings_;
     std::map<float, InscatterCache> inscatter_;  // by phase mean cosine
     std::map<float, LeafEstimates> estimates_;   // by phase mean cosine (reads inscatter_)
-    std::map<float, DistanceRegions> regions_;   // by phase mean cosine (built on estimates_), if merging
+    std::map<float, LeafGroups> groups_;   // by phase mean cosine (built on estimates_), if merging
     std::map<float, PhaseVmm> phase_vmms_;
     std::vector<float> leaf_extent_;  // cube root of each leaf's volume
     // With direction_indirect: per leaf, vmm/valid replaced by vmm_indirect/valid_indirect (the

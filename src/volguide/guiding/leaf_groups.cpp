@@ -1,4 +1,4 @@
-#include "volguide/guiding/distance_regions.h"
+#include "volguide/guiding/leaf_groups.h"
 
 #include <algorithm>
 #include <cmath>
@@ -10,20 +10,20 @@ namespace volguide {
 
 namespace {
 
-// The scalar tables of a candidate region and, per texel, the range its leaves span.
+// The scalar tables of a candidate group and, per texel, the range its leaves span.
 struct Candidate {
     bool valid = false;
     double volume = 0.0;
     float extent = 0.f;
-    std::vector<float> Li, L;                      // volume-weighted averages
-    std::vector<float> Li_lo, Li_hi, L_lo, L_hi;  // per texel, over the leaves
+    std::vector<float> inscattered, L;                      // volume-weighted averages
+    std::vector<float> inscattered_lo, inscattered_hi, L_lo, L_hi;  // per texel, over the leaves
 };
 
 float max_of(const std::vector<float>& v) {
     return v.empty() ? 0.f : *std::max_element(v.begin(), v.end());
 }
 
-// Whether a and b may form one region: over the texels, the mean spread of their leaves' values
+// Whether a and b may form one group: over the texels, the mean spread of their leaves' values
 // (max - min, relative to max plus a floor of 1e-3 of the largest value) is at most `tolerance`,
 // for L~_i and for L~ alike. A mean, not a maximum: neighbouring leaves' fitted lobes differ a lot
 // in a few directions (a sibling pair's largest per-texel difference of L~ is ~0.6-0.8 on the
@@ -31,16 +31,16 @@ float max_of(const std::vector<float>& v) {
 bool agree(const Candidate& a, const Candidate& b, float tolerance) {
     if (a.valid != b.valid) return false;
     if (!a.valid) return true;
-    const float floor_i = 1e-3f * std::max(max_of(a.Li_hi), max_of(b.Li_hi));
+    const float floor_i = 1e-3f * std::max(max_of(a.inscattered_hi), max_of(b.inscattered_hi));
     const float floor_l = 1e-3f * std::max(max_of(a.L_hi), max_of(b.L_hi));
     double spread_i = 0.0, spread_l = 0.0;
-    for (size_t k = 0; k < a.Li.size(); ++k) {
-        const float li_lo = std::min(a.Li_lo[k], b.Li_lo[k]), li_hi = std::max(a.Li_hi[k], b.Li_hi[k]);
+    for (size_t k = 0; k < a.inscattered.size(); ++k) {
+        const float li_lo = std::min(a.inscattered_lo[k], b.inscattered_lo[k]), li_hi = std::max(a.inscattered_hi[k], b.inscattered_hi[k]);
         const float l_lo = std::min(a.L_lo[k], b.L_lo[k]), l_hi = std::max(a.L_hi[k], b.L_hi[k]);
         spread_i += (li_hi - li_lo) / (li_hi + floor_i);
         spread_l += (l_hi - l_lo) / (l_hi + floor_l);
     }
-    const double n = double(a.Li.size());
+    const double n = double(a.inscattered.size());
     return spread_i <= tolerance * n && spread_l <= tolerance * n;
 }
 
@@ -50,11 +50,11 @@ Candidate merge(const Candidate& a, const Candidate& b) {
     m.extent = std::max(a.extent, b.extent);
     if (!m.valid) return m;
     const double wa = m.volume > 0.0 ? a.volume / m.volume : 0.5, wb = 1.0 - wa;
-    for (size_t k = 0; k < m.Li.size(); ++k) {
-        m.Li[k] = float(wa * a.Li[k] + wb * b.Li[k]);
+    for (size_t k = 0; k < m.inscattered.size(); ++k) {
+        m.inscattered[k] = float(wa * a.inscattered[k] + wb * b.inscattered[k]);
         m.L[k] = float(wa * a.L[k] + wb * b.L[k]);
-        m.Li_lo[k] = std::min(a.Li_lo[k], b.Li_lo[k]);
-        m.Li_hi[k] = std::max(a.Li_hi[k], b.Li_hi[k]);
+        m.inscattered_lo[k] = std::min(a.inscattered_lo[k], b.inscattered_lo[k]);
+        m.inscattered_hi[k] = std::max(a.inscattered_hi[k], b.inscattered_hi[k]);
         m.L_lo[k] = std::min(a.L_lo[k], b.L_lo[k]);
         m.L_hi[k] = std::max(a.L_hi[k], b.L_hi[k]);
     }
@@ -63,28 +63,28 @@ Candidate merge(const Candidate& a, const Candidate& b) {
 
 }  // namespace
 
-DistanceRegions::DistanceRegions(const SpatialTree& fine, const LeafEstimates& estimates,
+LeafGroups::LeafGroups(const SpatialTree& fine, const LeafEstimates& estimates,
                                  const std::vector<float>& leaf_extent, float tolerance)
     : fine_(&fine) {
     const int R = estimates.resolution();
-    if (R <= 0) throw std::invalid_argument("distance regions need the leaves' estimate tables");
+    if (R <= 0) throw std::invalid_argument("distance groups need the leaves' estimate tables");
     if (leaf_extent.size() != size_t(fine.leaf_count()))
-        throw std::invalid_argument("distance regions: one extent per leaf expected");
+        throw std::invalid_argument("distance groups: one extent per leaf expected");
     texels_per_table_ = size_t(R * R);
     const std::vector<SpatialTree::Node>& nodes = fine.nodes();
 
     // Bottom-up: a subtree stays a candidate while its two halves agree; where they do not, each
-    // half that is still a candidate becomes a region.
-    std::unordered_map<uint32_t, Candidate> regions;  // by the fine node at the region's root
+    // half that is still a candidate becomes a group.
+    std::unordered_map<uint32_t, Candidate> groups;  // by the fine node at the group's root
     auto leaf_candidate = [&](int leaf) {
         Candidate c;
-        c.Li.assign(texels_per_table_, 0.f);
+        c.inscattered.assign(texels_per_table_, 0.f);
         c.L.assign(texels_per_table_, 0.f);
-        c.valid = estimates.texel_averages(leaf, c.Li.data(), c.L.data());
+        c.valid = estimates.texel_averages(leaf, c.inscattered.data(), c.L.data());
         const Vec3f e = fine.leaf_bounds(leaf).extents();
         c.volume = double(e.x) * double(e.y) * double(e.z);
         c.extent = leaf_extent[size_t(leaf)];
-        c.Li_lo = c.Li_hi = c.Li;
+        c.inscattered_lo = c.inscattered_hi = c.inscattered;
         c.L_lo = c.L_hi = c.L;
         return c;
     };
@@ -93,19 +93,19 @@ DistanceRegions::DistanceRegions(const SpatialTree& fine, const LeafEstimates& e
         if (n.is_leaf()) return leaf_candidate(int(n.child));
         std::optional<Candidate> lo = self(self, n.child), hi = self(self, n.child + 1);
         if (lo && hi && agree(*lo, *hi, tolerance)) return merge(*lo, *hi);
-        if (lo) regions.emplace(n.child, std::move(*lo));
-        if (hi) regions.emplace(n.child + 1, std::move(*hi));
+        if (lo) groups.emplace(n.child, std::move(*lo));
+        if (hi) groups.emplace(n.child + 1, std::move(*hi));
         return std::nullopt;
     };
-    if (std::optional<Candidate> root = visit(visit, 0u)) regions.emplace(0u, std::move(*root));
+    if (std::optional<Candidate> root = visit(visit, 0u)) groups.emplace(0u, std::move(*root));
 
-    // The regions' tree: the field's nodes above the regions, a leaf at each region's root.
+    // The groups' tree: the field's nodes above the groups, a leaf at each group's root.
     std::vector<SpatialTree::Node> out(1);
-    headers_.reserve(regions.size());
-    texels_.reserve(regions.size() * texels_per_table_);
+    headers_.reserve(groups.size());
+    texels_.reserve(groups.size() * texels_per_table_);
     auto emit = [&](auto&& self, uint32_t node, size_t at) -> void {
-        const auto it = regions.find(node);
-        if (it != regions.end()) {
+        const auto it = groups.find(node);
+        if (it != groups.end()) {
             const Candidate& c = it->second;
             SpatialTree::Node leaf;
             leaf.axis = 3;
@@ -115,12 +115,12 @@ DistanceRegions::DistanceRegions(const SpatialTree& fine, const LeafEstimates& e
             h.valid = c.valid;
             h.extent = c.extent;
             h.fine_node = node;
-            const float max_i = max_of(c.Li), max_l = max_of(c.L);
+            const float max_i = max_of(c.inscattered), max_l = max_of(c.L);
             h.scale_inscattered = max_i / 65535.f;
             h.scale_incident = max_l / 65535.f;
             headers_.push_back(h);
             for (size_t k = 0; k < texels_per_table_; ++k)
-                texels_.push_back(c.valid ? EstimateTexel{quantise_texel(c.Li[k], max_i), quantise_texel(c.L[k], max_l)}
+                texels_.push_back(c.valid ? EstimateTexel{quantise_texel(c.inscattered[k], max_i), quantise_texel(c.L[k], max_l)}
                                      : EstimateTexel{0, 0});
             return;
         }
