@@ -1,17 +1,26 @@
 # volguide — entry points (see docs/interface.md). Every target installs what is missing first.
 BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
-# Debian packages the build and tests need (python3-matplotlib and chromium: the benchmark report, its
-# plots and the headless check of its HTML page, exercised by the bench_harness test; python3-pybind11,
-# python3-numpy, python3-pytest: the Python module and its tests; slurm-wlm and munge: the single-node Slurm
-# cluster of the slurm_array test, docs/distributed.md; clang and libclang-rt-14-dev: libFuzzer and the
-# sanitizers of `make fuzz`, docs/reliability.md). Keep in sync with CMakeLists.txt.
-APT_PACKAGES := build-essential cmake pkg-config libembree-dev libtbb-dev libopenexr-dev \
+# Debian packages. DEMO_PACKAGES: what the CLI needs to build and run (`make demo` installs only
+# these). TEST_PACKAGES: the rest, for the test suite, the benchmarks and their report — GoogleTest and
+# Google Benchmark; python3-matplotlib and chromium: the benchmark report, its plots and the headless
+# check of its HTML page, exercised by the bench_harness test; python3-pybind11, python3-numpy,
+# python3-pytest: the Python module and its tests; slurm-wlm and munge: the single-node Slurm cluster of
+# the slurm_array test, docs/distributed.md; clang and libclang-rt-14-dev: libFuzzer and the sanitizers
+# of `make fuzz`, docs/reliability.md. Keep in sync with CMakeLists.txt.
+DEMO_PACKAGES := build-essential cmake pkg-config libembree-dev libtbb-dev libopenexr-dev \
   libpugixml-dev libtinyobjloader-dev libfmt-dev libcli11-dev nlohmann-json3-dev libstb-dev \
-  libgtest-dev libgmock-dev libbenchmark-dev libopenvdb-dev \
-  libboost-iostreams-dev python3 python3-matplotlib chromium \
+  libopenvdb-dev libboost-iostreams-dev
+TEST_PACKAGES := libgtest-dev libgmock-dev libbenchmark-dev python3 python3-matplotlib chromium \
   python3-dev python3-pybind11 python3-numpy python3-pytest slurm-wlm munge \
   clang libclang-rt-14-dev
+APT_PACKAGES := $(DEMO_PACKAGES) $(TEST_PACKAGES)
+# What a full build configures (tests, benchmarks, the Python module, the Open PGL peer) and what the
+# demo's build leaves out of a build directory it creates (it builds only the CLI).
+FULL_OPTIONS := -DVOLGUIDE_BUILD_TESTS=ON -DVOLGUIDE_BUILD_BENCH=ON -DVOLGUIDE_BUILD_PYTHON=ON \
+  -DVOLGUIDE_WITH_OPENPGL=ON
+DEMO_OPTIONS := -DVOLGUIDE_BUILD_TESTS=OFF -DVOLGUIDE_BUILD_BENCH=OFF -DVOLGUIDE_BUILD_PYTHON=OFF \
+  -DVOLGUIDE_WITH_OPENPGL=OFF
 # make bench QUICK=1: the reduced budget; TIME=seconds per render; BENCH_ARGS: any run_bench.py option.
 QUICK ?=
 TIME ?=
@@ -19,19 +28,24 @@ BENCH_ARGS ?=
 # CTest label expression for `make test`; CI runs everything.
 TEST_ARGS ?=
 
-.PHONY: deps build python test install demo bench bench-micro bench-distributed clean format fuzz test-sanitize
+.PHONY: deps deps-demo configure build python test install demo bench bench-micro bench-distributed clean format fuzz test-sanitize
 
 deps:
 	@scripts/install-deps.sh $(APT_PACKAGES)
 
-$(BUILD_DIR)/CMakeCache.txt:
-	cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=Release
+deps-demo:
+	@scripts/install-deps.sh $(DEMO_PACKAGES)
 
-build: deps $(BUILD_DIR)/CMakeCache.txt
+# Configured every time (seconds when nothing changed), so that a build directory the demo created
+# gets the tests, benchmarks, Python module and Open PGL too.
+configure: deps
+	cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=Release $(FULL_OPTIONS)
+
+build: configure
 	cmake --build $(BUILD_DIR) -j $(JOBS)
 
 # The Python module into $(BUILD_DIR)/python (use it with PYTHONPATH=$(BUILD_DIR)/python; docs/python.md).
-python: deps $(BUILD_DIR)/CMakeCache.txt
+python: configure
 	cmake --build $(BUILD_DIR) -j $(JOBS) --target python
 
 test: build
@@ -48,7 +62,11 @@ endif
 install: build
 	cmake --install $(BUILD_DIR) --prefix $(PREFIX)
 
-demo: build
+# The demo installs and builds only what the CLI needs (in a build directory of its own making: no
+# tests, benchmarks, Python module or Open PGL; an existing build directory is used as it is).
+demo: deps-demo
+	@[ -f $(BUILD_DIR)/CMakeCache.txt ] || cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=Release $(DEMO_OPTIONS)
+	cmake --build $(BUILD_DIR) -j $(JOBS) --target volguide_cli
 	@scripts/demo.sh $(BUILD_DIR)
 
 bench: build

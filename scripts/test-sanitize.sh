@@ -40,15 +40,15 @@ if [[ " $stages " == *" asan "* ]]; then
 fi
 
 if [[ " $stages " == *" tsan "* ]]; then
-  tsan_tests=(test_parallel test_render_loop test_photon_pass test_determinism)
   [[ -f $tsan/CMakeCache.txt ]] || cmake -S "$root" -B "$tsan" "${common[@]}" -DVOLGUIDE_SANITIZE=thread
-  cmake --build "$tsan" -j "$jobs" --target volguide_cli replay_sample "${tsan_tests[@]}"
+  cmake --build "$tsan" -j "$jobs" --target volguide_cli replay_sample tests_tsan
   # Debian's libtbb and libembree are not built with TSan: volguide's side of their hand-overs is
   # annotated (src/volguide/core/parallel.h), tests/sanitizers/tsan.supp lists what is left inside
   # them (docs/reliability.md). history_size=7: the longest per-thread history, so that the previous
   # access of a report has its stack (the suppressions match it).
   export TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1:history_size=7:suppressions=$root/tests/sanitizers/tsan.supp
-  # The gtest suites of those four files (ctest names are Suite.Test); Parallel checks the annotations.
-  ctest --test-dir "$tsan" --output-on-failure -j "$jobs" -R '^(Parallel|RenderLoop|PhotonPass|GuidedVolPath|Determinism)\.' \
+  # The gtest suites of those four files (tests_tsan, label tsan; ctest names are Suite.Test); Parallel
+  # checks the annotations.
+  ctest --test-dir "$tsan" --output-on-failure -j "$jobs" -L tsan -R '^(Parallel|RenderLoop|PhotonPass|GuidedVolPath|Determinism)\.' \
     --timeout 1500
 fi
