@@ -36,10 +36,11 @@ deps:
 deps-demo:
 	@scripts/install-deps.sh $(DEMO_PACKAGES)
 
-# Configured every time (seconds when nothing changed), so that a build directory the demo created
-# gets the tests, benchmarks, Python module and Open PGL too.
+# Configures a new build directory with everything; a directory the demo made (CLI only, marked
+# VOLGUIDE_DEMO_ONLY) is reconfigured with everything; any other is left with its own settings.
 configure: deps
-	cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=Release $(FULL_OPTIONS)
+	@if [ ! -f $(BUILD_DIR)/CMakeCache.txt ] || grep -q '^VOLGUIDE_DEMO_ONLY:BOOL=ON' $(BUILD_DIR)/CMakeCache.txt; then \
+	  cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=Release $(FULL_OPTIONS) -DVOLGUIDE_DEMO_ONLY=OFF; fi
 
 build: configure
 	cmake --build $(BUILD_DIR) -j $(JOBS)
@@ -65,7 +66,8 @@ install: build
 # The demo installs and builds only what the CLI needs (in a build directory of its own making: no
 # tests, benchmarks, Python module or Open PGL; an existing build directory is used as it is).
 demo: deps-demo
-	@[ -f $(BUILD_DIR)/CMakeCache.txt ] || cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=Release $(DEMO_OPTIONS)
+	@[ -f $(BUILD_DIR)/CMakeCache.txt ] || cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=Release $(DEMO_OPTIONS) \
+	  -DVOLGUIDE_DEMO_ONLY=ON
 	cmake --build $(BUILD_DIR) -j $(JOBS) --target volguide_cli
 	@scripts/demo.sh $(BUILD_DIR)
 

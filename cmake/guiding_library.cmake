@@ -8,7 +8,7 @@ include(CMakePackageConfigHelpers)
 
 # Version of the installed API (the package's version file). The field file format has its own
 # version, kFieldFormatVersion (guiding/field_io.h), checked on load.
-set(VOLGUIDE_API_VERSION 0.1.0)
+set(VOLGUIDE_API_VERSION 0.2.0)
 
 # Folders whose sources make up the library (the full library's glob leaves them out).
 set(VOLGUIDE_GUIDING_MODULES "guiding|vmm")

@@ -67,9 +67,9 @@ LeafGroups::LeafGroups(const SpatialTree& fine, const LeafEstimates& estimates,
                                  const std::vector<float>& leaf_extent, float tolerance)
     : fine_(&fine) {
     const int R = estimates.resolution();
-    if (R <= 0) throw std::invalid_argument("distance groups need the leaves' estimate tables");
+    if (R <= 0) throw std::invalid_argument("leaf groups need the leaves' estimate tables");
     if (leaf_extent.size() != size_t(fine.leaf_count()))
-        throw std::invalid_argument("distance groups: one extent per leaf expected");
+        throw std::invalid_argument("leaf groups: one extent per leaf expected");
     texels_per_table_ = size_t(R * R);
     const std::vector<SpatialTree::Node>& nodes = fine.nodes();
 

@@ -135,7 +135,7 @@ void choose_with_cost(Entries& entries, const SelectionStatistics& stats, const 
 
 // Cell r's learned shares, and guided RR/splitting switched off at the stages where its estimate
 // and the measured radiance disagree by more than rrs_ratio.
-LearnedSelection::Cell fitted_region(const std::array<Entry, kSelectionDecisions>& entries,
+LearnedSelection::Cell fitted_cell(const std::array<Entry, kSelectionDecisions>& entries,
                                        const SelectionStatistics& stats, size_t r,
                                        const SelectionSettings& settings) {
     LearnedSelection::Cell cell;
@@ -246,7 +246,7 @@ LearnedSelection LearnedSelection::fit(const SelectionStatistics& stats, const S
     LearnedSelection out;
     out.cells_.resize(entries.size());
     for (size_t r = 0; r < entries.size(); ++r)
-        out.cells_[r] = fitted_region(entries[r], stats, r, settings);
+        out.cells_[r] = fitted_cell(entries[r], stats, r, settings);
     out.update_learned();
     return out;
 }
@@ -295,8 +295,8 @@ LearnedSelection LearnedSelection::deserialize(const std::string& bytes) {
     if (get<uint32_t>(bytes, at) != kMagic) throw std::runtime_error("learned selection: not a selection table");
     if (get<uint32_t>(bytes, at) != kVersion) throw std::runtime_error("learned selection: unknown version");
     const uint64_t n = get<uint64_t>(bytes, at);
-    constexpr size_t kRegionBytes = kSelectionDecisions * sizeof(float) + kSelectionStages;
-    if (n > (bytes.size() - at) / kRegionBytes) throw std::runtime_error("learned selection: truncated");
+    constexpr size_t kCellBytes = kSelectionDecisions * sizeof(float) + kSelectionStages;
+    if (n > (bytes.size() - at) / kCellBytes) throw std::runtime_error("learned selection: truncated");
     LearnedSelection out;
     out.cells_.resize(size_t(n));
     for (Cell& r : out.cells_) {

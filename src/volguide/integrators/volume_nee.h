@@ -13,8 +13,8 @@ namespace volguide {
 class Scene;
 class Medium;
 
-// How many null surfaces (null BSDF, thindielectric's straight transmission) one path may cross
-// between real events before it ends, in every path loop (volpath's walk, simple_volpath, the
+// How many null surfaces (null BSDF, thindielectric's straight transmission) one path may cross in
+// all before it ends (counted over the whole path, not reset at real events), in every path loop (volpath's walk, simple_volpath, the
 // photon pass's transport, the pixel estimate's camera rays): a ray that keeps re-hitting the
 // surface it leaves, or caught between coincident null surfaces, would otherwise never end. Real
 // scenes' paths cross far fewer, so the cap only ends such stuck rays.

@@ -3,6 +3,7 @@
 #include "volguide/scene/loader.h"
 
 #include "volguide/integrators/integrator.h"
+#include "volguide/integrators/path.h"
 #include "volguide/render/bsdf.h"
 #include "volguide/scene/factories.h"
 
@@ -13,18 +14,18 @@ std::unique_ptr<Scene> load_scene(const std::string& path, const LoadOptions& op
 }
 
 std::unique_ptr<Scene> make_scene(const Properties& root) {
+    // Mitsuba's default integrator is `path` with its defaults; it is not the file's, so it carries
+    // no configuration (distributed parts record the file's integrator, none here).
     auto integrators = root.children("integrator");
-    if (integrators.size() > 1) fail(integrators[1]->loc, "only one top-level <integrator> is supported");
-    std::shared_ptr<Integrator> integrator;
-    if (integrators.empty()) {
-        integrator = std::dynamic_pointer_cast<Integrator>(
-            create_integrator(Properties("integrator", "path", root.location())));
-    } else {
+    std::shared_ptr<Integrator> integrator = std::make_shared<PathIntegrator>(PathSettings{});
+    if (!integrators.empty())
         integrator = std::dynamic_pointer_cast<Integrator>(std::get<ObjectPtr>(integrators[0]->value));
-        if (!integrator) fail(integrators[0]->loc, "<integrator> is not a integrator");
-    }
     auto bsdf = std::dynamic_pointer_cast<BSDF>(create_bsdf(Properties("bsdf", "diffuse", root.location())));
-    return std::make_unique<Scene>(root, std::move(integrator), bsdf);
+    // The scene checks its shapes, emitters and sensor first; the integrator's errors come after.
+    auto scene = std::make_unique<Scene>(root, integrator, bsdf);
+    if (integrators.size() > 1) fail(integrators[1]->loc, "only one top-level <integrator> is supported");
+    if (!integrator) fail(integrators[0]->loc, "<integrator> is not a integrator");
+    return scene;
 }
 
 }  // namespace volguide
