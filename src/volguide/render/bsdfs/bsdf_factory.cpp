@@ -23,12 +23,13 @@ ObjectPtr create_bsdf(const Properties& props) {
         {"twosided", make_twosided_bsdf},
         {"null", make_null_bsdf},
         {"mask", make_mask_bsdf},
+        {"normalmap", make_normalmap_bsdf},
     };
     for (const Entry& e : kTable)
         if (props.type() == e.name) return e.make(props);
     props.fail_here(
         "unsupported bsdf plugin '{}' (supported: diffuse, dielectric, thindielectric, roughdielectric, "
-        "conductor, roughconductor, plastic, roughplastic, twosided, null, mask)",
+        "conductor, roughconductor, plastic, roughplastic, twosided, null, mask, normalmap)",
         props.type());
 }
 

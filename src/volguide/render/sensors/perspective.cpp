@@ -113,10 +113,11 @@ PerspectiveCamera::PerspectiveCamera(std::shared_ptr<Film> film, const Transform
     configure(nullptr);
 }
 
-// thinlens: both parameters are required and positive (a zero aperture is the pinhole `perspective`).
+// thinlens: aperture_radius is required and positive (a zero aperture is the pinhole `perspective`);
+// focus_distance defaults to far_clip, as for every Mitsuba projective camera.
 void PerspectiveCamera::read_lens(const Properties& props) {
     aperture_radius_ = props.get_float("aperture_radius");
-    focus_distance_ = props.get_float("focus_distance");
+    focus_distance_ = props.get_float("focus_distance", far_clip_);
     if (!(aperture_radius_ > 0.f) || !std::isfinite(aperture_radius_))
         props.fail_at("aperture_radius", "thinlens: aperture_radius must be finite and > 0, got {}", aperture_radius_);
     if (!(focus_distance_ > 0.f) || !std::isfinite(focus_distance_))

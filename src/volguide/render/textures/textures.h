@@ -40,8 +40,13 @@ class BitmapTexture final : public Texture {
     float mean_ = 0.f;
 };
 
+// `rawconstant`: `value`, a float or a `<vector>` of three, used as is (no colour conversion or
+// clipping: normal maps, raw parameters).
+std::shared_ptr<Texture> make_rawconstant_texture(const Properties& props);
+
 // `bitmap` from the scene: filename (relative paths also tried next to the scene file),
-// filter_type (bilinear | nearest), wrap_mode (repeat | mirror | clamp), raw, to_uv.
+// filter_type (bilinear | nearest), wrap_mode (repeat | mirror | clamp), raw, to_uv,
+// format (variant | fp32: stored as float32; fp16: values rounded to half precision, as Mitsuba stores them).
 std::shared_ptr<Texture> make_bitmap_texture(const Properties& props);
 
 }  // namespace volguide
