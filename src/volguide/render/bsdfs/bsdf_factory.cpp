@@ -24,12 +24,13 @@ ObjectPtr create_bsdf(const Properties& props) {
         {"null", make_null_bsdf},
         {"mask", make_mask_bsdf},
         {"normalmap", make_normalmap_bsdf},
+        {"bumpmap", make_bumpmap_bsdf},
     };
     for (const Entry& e : kTable)
         if (props.type() == e.name) return e.make(props);
     props.fail_here(
         "unsupported bsdf plugin '{}' (supported: diffuse, dielectric, thindielectric, roughdielectric, "
-        "conductor, roughconductor, plastic, roughplastic, twosided, null, mask, normalmap)",
+        "conductor, roughconductor, plastic, roughplastic, twosided, null, mask, normalmap, bumpmap)",
         props.type());
 }
 

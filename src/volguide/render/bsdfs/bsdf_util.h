@@ -48,5 +48,6 @@ ObjectPtr make_twosided_bsdf(const Properties& props);
 ObjectPtr make_null_bsdf(const Properties& props);
 ObjectPtr make_mask_bsdf(const Properties& props);
 ObjectPtr make_normalmap_bsdf(const Properties& props);
+ObjectPtr make_bumpmap_bsdf(const Properties& props);
 
 }  // namespace volguide
