@@ -6,6 +6,7 @@ const std::vector<FuzzTarget>& fuzz_targets() {
     static const std::vector<FuzzTarget> targets = {
         {"scene", fuzz_scene}, {"vol", fuzz_vol}, {"vdb", fuzz_vdb},           {"field", fuzz_field},
         {"obj", fuzz_obj},     {"ply", fuzz_ply}, {"exr_part", fuzz_exr_part},
+        {"serialized", fuzz_serialized},
     };
     return targets;
 }

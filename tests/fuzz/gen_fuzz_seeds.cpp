@@ -13,6 +13,7 @@
 #include "volguide/guiding/field_io.h"
 #include "volguide/media/grid_data.h"
 #include "volguide/render/render_part.h"
+#include "support/serialized_writer.h"
 
 using namespace volguide;
 namespace fs = std::filesystem;
@@ -73,6 +74,23 @@ void write_part_seed(const fs::path& dir) {
     write_part((dir / "part_2x2.exr").string(), part);
 }
 
+// Mitsuba .serialized meshes (issue 40): v4 float32 with normals and uvs, v3 float64 without, and a
+// two-shape v4 file (the offset table with more than one entry).
+void write_serialized_seeds(const fs::path& dir) {
+    using namespace volguide::test;
+    const auto write = [&](const char* name, const std::string& bytes) {
+        std::ofstream(dir / name, std::ios::binary) << bytes;
+    };
+    write("quad_v4.serialized", serialized_file({serialized_quad()}, 4));
+    SerializedShape d = serialized_quad(1.f);
+    d.double_precision = true;
+    d.normals.clear();
+    d.uvs.clear();
+    d.face_normals = true;
+    write("quad_v3_double.serialized", serialized_file({d}, 3));
+    write("two_v4.serialized", serialized_file({serialized_quad(), d}, 4));
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -81,10 +99,11 @@ int main(int argc, char** argv) {
         return 2;
     }
     const fs::path root = argv[1];
-    for (const char* t : {"vol", "vdb", "field", "exr_part"}) fs::create_directories(root / t);
+    for (const char* t : {"vol", "vdb", "field", "exr_part", "serialized"}) fs::create_directories(root / t);
     write_vol_seeds(root / "vol");
     write_vdb_seed(root / "vdb");
     write_field_seed(root / "field");
     write_part_seed(root / "exr_part");
+    write_serialized_seeds(root / "serialized");
     return 0;
 }

@@ -78,6 +78,10 @@ std::vector<Case> cases() {
                    {2.5f, 0.5f, 1.5f},
                    true});
     out.push_back({"cube_inside", make_shape(ShapeProps("cube")), {0.2f, -0.5f, 0.3f}, true});
+    auto cylinder = make_shape(
+        ShapeProps("cylinder").p("p0", {0.f, 0.f, -1.f}).p("p1", {0.3f, 0.2f, 1.f}).f("radius", 0.6));
+    out.push_back({"cylinder", cylinder, {2.f, 0.5f, 0.3f}, true});
+    out.push_back({"cylinder_inside", cylinder, {0.1f, 0.f, 0.f}, true});
     namespace fs = std::filesystem;
     fs::path torus =
         fs::path(shared_dir()) / "mitsuba-data/tests/scenes/participating_media/meshes/torus1.obj";

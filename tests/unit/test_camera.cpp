@@ -225,7 +225,7 @@ TEST(Camera, RejectsBadParameters) {
         p.set("to_world", "transform", Transform(shear), kLoc);
         expect_input_error(p, "scale");
     }
-    expect_input_error(Properties("sensor", "thinlens", kLoc), "unsupported sensor");
+    expect_input_error(Properties("sensor", "radiancemeter", kLoc), "unsupported sensor plugin 'radiancemeter' (supported: perspective, thinlens, orthographic)");
 }
 
 TEST(Camera, PrincipalPointOffsetShiftsTheImage) {

@@ -10,11 +10,13 @@ ObjectPtr create_shape(const Properties& props) {
     const std::string& type = props.type();
     if (type == "obj") return create_obj_shape(props);
     if (type == "ply") return create_ply_shape(props);
+    if (type == "serialized") return create_serialized_shape(props);
     if (type == "rectangle") return create_rectangle_shape(props);
     if (type == "cube") return create_cube_shape(props);
     if (type == "sphere") return create_sphere_shape(props);
     if (type == "disk") return create_disk_shape(props);
-    props.fail_here("unsupported {} plugin '{}' (supported: obj, ply, rectangle, cube, sphere, disk)",
+    if (type == "cylinder") return create_cylinder_shape(props);
+    props.fail_here("unsupported {} plugin '{}' (supported: obj, ply, serialized, rectangle, cube, sphere, disk, cylinder)",
                     props.category(), type);
 }
 

@@ -14,8 +14,10 @@ FilmSample film_sample(const FilmGrid& grid, uint64_t seed, int x, int y, uint64
 }
 
 Color3 camera_sample_value(const Scene& scene, const Integrator& integrator, Point2f film_uv, Sampler& sampler) {
-    return camera_sample_value(scene.sensor(), film_uv,
-                               [&](const CameraRay& camera) { return integrator.Li(scene, sampler, camera); });
+    const Point2f aperture = scene.sensor().needs_aperture_sample() ? sampler.next_2d() : Point2f(0.5f, 0.5f);
+    return camera_sample_value(
+        scene.sensor(), film_uv, [&](const CameraRay& camera) { return integrator.Li(scene, sampler, camera); },
+        aperture);
 }
 
 }  // namespace volguide

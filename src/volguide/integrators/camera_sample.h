@@ -38,12 +38,15 @@ Point2f film_position(int x, int y, Vec2f u);
 
 // The value of a camera sample at film_uv: `radiance(camera_ray)` along the sensor's ray, times
 // the sensor's weight.
+// Without a sampler the aperture sample is the lens centre: a thin lens is seen as a pinhole (the
+// guiding pre-passes use this for estimates that only shape probabilities).
 template <typename Radiance>
-Color3 camera_sample_value(const Sensor& sensor, Point2f film_uv, Radiance&& radiance) {
-    const auto [ray, weight] = sensor.sample_ray(film_uv, Point2f(0.5f, 0.5f));
+Color3 camera_sample_value(const Sensor& sensor, Point2f film_uv, Radiance&& radiance,
+                           Point2f aperture = Point2f(0.5f, 0.5f)) {
+    const auto [ray, weight] = sensor.sample_ray(film_uv, aperture);
     return weight * radiance(CameraRay{ray, film_uv});
 }
-// With the integrator's Li.
+// With the integrator's Li; the sensor's aperture sample (if it needs one) is the sampler's next 2D.
 Color3 camera_sample_value(const Scene& scene, const Integrator& integrator, Point2f film_uv, Sampler& sampler);
 
 }  // namespace volguide

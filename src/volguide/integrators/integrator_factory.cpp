@@ -3,6 +3,7 @@
 
 #include <cstdio>
 
+#include "volguide/integrators/direct.h"
 #include "volguide/integrators/guided/guided_volpath.h"
 #include "volguide/integrators/integrator_configuration.h"
 #include "volguide/integrators/moment.h"
@@ -20,10 +21,13 @@ namespace {
 
 std::shared_ptr<Integrator> make_integrator(const Properties& props) {
     const std::string& type = props.type();
-    if (type == "path") return std::make_shared<PathIntegrator>(props);
+    // prb / prbvolpath are Mitsuba 3's differentiable renderers; their forward (primal) image is
+    // path's / volpath's, which is all volguide renders (no gradients).
+    if (type == "path" || type == "prb") return std::make_shared<PathIntegrator>(props);
     // volpathmis (Mitsuba's spectral-MIS variant) renders the same image as volpath; volguide's
     // media already weight chromatic extinction spectrally, so both map to one integrator.
-    if (type == "volpath" || type == "volpathmis") return std::make_shared<VolPathIntegrator>(props);
+    if (type == "volpath" || type == "volpathmis" || type == "prbvolpath") return std::make_shared<VolPathIntegrator>(props);
+    if (type == "direct") return std::make_shared<DirectIntegrator>(props);
     if (type == "simple_volpath") return std::make_shared<SimpleVolPathIntegrator>(props);
     if (type == "moment") return std::make_shared<MomentIntegrator>(props);
     if (type == "guided_volpath") return std::make_shared<GuidedVolPathIntegrator>(props);
@@ -37,7 +41,7 @@ std::shared_ptr<Integrator> make_integrator(const Properties& props) {
             "when configuring; `volguide --version` says whether it is built in)");
 #endif
     }
-    props.fail_here("unsupported integrator plugin '{}' (supported: path, volpath, volpathmis, simple_volpath, guided_volpath, openpgl_volpath, moment)", type);
+    props.fail_here("unsupported integrator plugin '{}' (supported: path, prb, volpath, volpathmis, prbvolpath, direct, simple_volpath, guided_volpath, openpgl_volpath, moment)", type);
 }
 
 }  // namespace

@@ -76,6 +76,15 @@ std::shared_ptr<Medium> make_homogeneous_medium(const Properties& props) {
     if (!mp.sigma_t->is_constant())
         props.fail_at("sigma_t", "homogeneous: sigma_t must be constant (use a heterogeneous medium for a grid)");
     const Color3 sigma_t = mp.sigma_t->grid().lookup(Point3f(0.5f)) * mp.scale;
+    // Mitsuba 3's flag only tells its volpath that the extinction is the same in every channel (it then
+    // skips the spectral reweighting); volguide always weights spectrally, which gives the same image
+    // when the extinction is gray. A chromatic extinction with the flag off renders something else in
+    // Mitsuba (one channel's free flights, unweighted), which volguide does not reproduce.
+    if (!props.get_bool("has_spectral_extinction", true) && !(sigma_t.r == sigma_t.g && sigma_t.g == sigma_t.b))
+        props.fail_at("has_spectral_extinction",
+                      "homogeneous: has_spectral_extinction=false needs a gray sigma_t (got {} {} {}): Mitsuba 3 "
+                      "then samples one channel's extinction without spectral weights, which volguide does not reproduce",
+                      sigma_t.r, sigma_t.g, sigma_t.b);
     return std::make_shared<HomogeneousMedium>(sigma_t, mp.albedo, mp.phase, mp.sample_emitters);
 }
 

@@ -49,6 +49,9 @@ public:
     // film_uv in [0,1]^2 over the film (x right, y down); aperture sample for thin lenses.
     // Returns the world-space ray and its importance weight (1 for pinhole cameras).
     virtual std::pair<Ray, Color3> sample_ray(Point2f film_uv, Point2f aperture) const = 0;
+    // Whether sample_ray uses its aperture sample (thin lens): only then does a camera sample draw one,
+    // so pinhole renders keep their random-number layout.
+    virtual bool needs_aperture_sample() const { return false; }
     const Film& film() const { return *film_; }
     int sample_count() const { return sample_count_; }
     // The sampler's `seed` (default 0); the CLI's --seed overrides it.

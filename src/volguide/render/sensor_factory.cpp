@@ -9,9 +9,9 @@
 namespace volguide {
 
 ObjectPtr create_sensor(const Properties& props) {
-    if (props.type() == "perspective") return std::make_shared<PerspectiveCamera>(props);
+    if (props.type() == "perspective" || props.type() == "thinlens") return std::make_shared<PerspectiveCamera>(props);
     if (props.type() == "orthographic") return std::make_shared<OrthographicCamera>(props);
-    props.fail_here("unsupported sensor plugin '{}' (supported: perspective, orthographic)", props.type());
+    props.fail_here("unsupported sensor plugin '{}' (supported: perspective, thinlens, orthographic)", props.type());
 }
 
 ObjectPtr create_film(const Properties& props) {

@@ -18,6 +18,10 @@ public:
     virtual float eval_1(const SurfaceInteraction& si) const { return eval(si).average(); }
     virtual Color3 mean() const = 0;
     virtual bool is_constant() const { return false; }
+    // Gradient of eval_1 with respect to (u, v), for bump mapping; textures without one (see
+    // has_gradient) return zero.
+    virtual bool has_gradient() const { return is_constant(); }
+    virtual Vec2f eval_1_grad(const SurfaceInteraction&) const { return Vec2f(0.f, 0.f); }
 };
 
 class ConstantTexture final : public Texture {

@@ -18,6 +18,15 @@ TriangleMesh read_obj(const std::string& path, bool flip_tex_coords, const Sourc
 // of 3 or 4 entries (quads split into two triangles). Other elements and properties are skipped.
 TriangleMesh read_ply(const std::string& path, const SourceLocation& loc);
 
+// Mitsuba's `.serialized` format (zlib-compressed, versions 3 and 4), shape `shape_index` of the file.
+// face_normals: the file asks for flat shading. Every size is checked against the file and
+// core/memory.h's budget before allocating.
+struct SerializedMesh {
+    TriangleMesh mesh;
+    bool face_normals = false;
+};
+SerializedMesh read_serialized(const std::string& path, int64_t shape_index, const SourceLocation& loc);
+
 // Resolves the `filename` parameter: as given, or relative to the directory of the scene file
 // that declared it. Fails with "file not found" otherwise.
 std::string resolve_filename(const Properties& props, const std::string& name = "filename");

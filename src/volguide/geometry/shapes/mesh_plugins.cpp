@@ -38,6 +38,16 @@ ObjectPtr create_ply_shape(const Properties& props) {
     return std::make_shared<MeshShape>(props, std::move(mesh), opts, file_name_of(path), true);
 }
 
+// Mitsuba's `.serialized` meshes: shape `shape_index` (default 0) of the file; a file's request for
+// face normals is honoured as `face_normals` (Mitsuba's loader does the same).
+ObjectPtr create_serialized_shape(const Properties& props) {
+    std::string path = resolve_filename(props);
+    MeshOptions opts = read_mesh_options(props);
+    SerializedMesh s = read_serialized(path, props.get_int("shape_index", 0), props.location_of("filename"));
+    if (s.face_normals) opts.face_normals = true;
+    return std::make_shared<MeshShape>(props, std::move(s.mesh), opts, file_name_of(path), true);
+}
+
 // Mitsuba 3's rectangle: [-1,1]^2 in the z=0 plane, normal +z, uv = (x+1)/2, (y+1)/2.
 ObjectPtr create_rectangle_shape(const Properties& props) {
     MeshOptions opts = read_mesh_options(props, /*accepts_face_normals=*/false);

@@ -22,12 +22,15 @@ ObjectPtr create_bsdf(const Properties& props) {
         {"roughplastic", make_rough_plastic_bsdf},
         {"twosided", make_twosided_bsdf},
         {"null", make_null_bsdf},
+        {"mask", make_mask_bsdf},
+        {"normalmap", make_normalmap_bsdf},
+        {"bumpmap", make_bumpmap_bsdf},
     };
     for (const Entry& e : kTable)
         if (props.type() == e.name) return e.make(props);
     props.fail_here(
         "unsupported bsdf plugin '{}' (supported: diffuse, dielectric, thindielectric, roughdielectric, "
-        "conductor, roughconductor, plastic, roughplastic, twosided, null)",
+        "conductor, roughconductor, plastic, roughplastic, twosided, null, mask, normalmap, bumpmap)",
         props.type());
 }
 

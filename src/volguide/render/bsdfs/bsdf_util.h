@@ -46,5 +46,8 @@ ObjectPtr make_plastic_bsdf(const Properties& props);
 ObjectPtr make_rough_plastic_bsdf(const Properties& props);
 ObjectPtr make_twosided_bsdf(const Properties& props);
 ObjectPtr make_null_bsdf(const Properties& props);
+ObjectPtr make_mask_bsdf(const Properties& props);
+ObjectPtr make_normalmap_bsdf(const Properties& props);
+ObjectPtr make_bumpmap_bsdf(const Properties& props);
 
 }  // namespace volguide

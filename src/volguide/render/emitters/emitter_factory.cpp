@@ -12,7 +12,8 @@ ObjectPtr create_emitter(const Properties& props) {
     if (type == "directional") return make_directional_emitter(props);
     if (type == "constant") return make_constant_emitter(props);
     if (type == "envmap") return make_envmap_emitter(props);
-    props.fail_here("unsupported {} plugin '{}'", props.category(), props.type());
+    props.fail_here("unsupported {} plugin '{}' (supported: area, point, spot, directional, constant, envmap)",
+                    props.category(), props.type());
 }
 
 }  // namespace volguide

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "volguide/core/warp.h"
+
 namespace volguide {
 
 namespace {
@@ -100,6 +102,7 @@ PerspectiveCamera::PerspectiveCamera(const Properties& props) : ProjectiveCamera
         props.fail_at("principal_point_offset_x", "principal point offsets must be finite");
     if (has_scale(to_world_))
         props.fail_at("to_world", "scale factors in the camera-to-world transform are not allowed");
+    if (props.type() == "thinlens") read_lens(props);
     configure(&props);
 }
 
@@ -110,21 +113,41 @@ PerspectiveCamera::PerspectiveCamera(std::shared_ptr<Film> film, const Transform
     configure(nullptr);
 }
 
+// thinlens: aperture_radius is required and positive (a zero aperture is the pinhole `perspective`);
+// focus_distance defaults to far_clip, as for every Mitsuba projective camera.
+void PerspectiveCamera::read_lens(const Properties& props) {
+    aperture_radius_ = props.get_float("aperture_radius");
+    focus_distance_ = props.get_float("focus_distance", far_clip_);
+    if (!(aperture_radius_ > 0.f) || !std::isfinite(aperture_radius_))
+        props.fail_at("aperture_radius", "thinlens: aperture_radius must be finite and > 0, got {}", aperture_radius_);
+    if (!(focus_distance_ > 0.f) || !std::isfinite(focus_distance_))
+        props.fail_at("focus_distance", "thinlens: focus_distance must be finite and > 0, got {}", focus_distance_);
+}
+
 void PerspectiveCamera::configure(const Properties*) {
     tan_half_x_ = float(std::tan(0.5 * to_rad(x_fov_)));
     origin_ = to_world_.apply_point(Point3f(0.f));
 }
 
-std::pair<Ray, Color3> PerspectiveCamera::sample_ray(Point2f film_uv, Point2f) const {
+std::pair<Ray, Color3> PerspectiveCamera::sample_ray(Point2f film_uv, Point2f aperture) const {
     const Point2f uv = film_uv + principal_point_offset_;
     // Film u = 0 is camera +x (left), v = 0 is camera +y (up); the near plane spans
     // x in [-1, 1] * tan_half_x and y in [-1, 1] * tan_half_x / aspect.
-    Vec3f local =
-        normalize(Vec3f((1.f - 2.f * uv.x) * tan_half_x_, (1.f - 2.f * uv.y) * tan_half_x_ / aspect_, 1.f));
+    Vec3f local((1.f - 2.f * uv.x) * tan_half_x_, (1.f - 2.f * uv.y) * tan_half_x_ / aspect_, 1.f);
+    Point3f lens(0.f);
+    if (aperture_radius_ > 0.f) {
+        // Thin lens: every ray through the lens point aims at the point of the focal plane (camera z =
+        // focus_distance) that the pinhole ray through this film position reaches; weight 1 (Mitsuba).
+        const Point2f disk = warp::square_to_uniform_disk_concentric(aperture);
+        lens = Point3f(disk.x * aperture_radius_, disk.y * aperture_radius_, 0.f);
+        local = local * focus_distance_ - Vec3f(lens.x, lens.y, 0.f);
+    }
+    local = normalize(local);
     float inv_z = 1.f / local.z;
     float near_t = near_clip_ * inv_z, far_t = far_clip_ * inv_z;
     Vec3f d = normalize(to_world_.apply_vector(local));
-    return {Ray(origin_ + d * near_t, d, far_t - near_t), Color3(1.f)};
+    const Point3f o = aperture_radius_ > 0.f ? to_world_.apply_point(lens) : origin_;
+    return {Ray(o + d * near_t, d, far_t - near_t), Color3(1.f)};
 }
 
 std::string PerspectiveCamera::to_string() const {

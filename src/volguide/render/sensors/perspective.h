@@ -1,5 +1,6 @@
 #pragma once
-// Mitsuba 3's `perspective` pinhole camera.
+// Mitsuba 3's `perspective` pinhole camera and its `thinlens` camera (the same film mapping, rays from a
+// disk-shaped aperture focused on the plane at focus_distance).
 #include <string>
 
 #include "volguide/render/sensors/projective_camera.h"
@@ -23,14 +24,18 @@ class PerspectiveCamera final : public ProjectiveCamera {
 
     std::pair<Ray, Color3> sample_ray(Point2f film_uv, Point2f aperture) const override;
     float x_fov() const { return x_fov_; }
+    bool needs_aperture_sample() const override { return aperture_radius_ > 0.f; }
     std::string to_string() const override;
 
   private:
     void configure(const Properties* props);
+    void read_lens(const Properties& props);
     float x_fov_;
     float tan_half_x_;                        // tan(x_fov / 2)
     Vec2f principal_point_offset_{0.f, 0.f};  // in film units (fractions of width and height)
     Point3f origin_;
+    float aperture_radius_ = 0.f;  // thinlens only; 0 = pinhole
+    float focus_distance_ = 0.f;
 };
 
 }  // namespace volguide

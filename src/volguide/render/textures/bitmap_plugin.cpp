@@ -1,10 +1,40 @@
 // The `bitmap` plugin: parameters and image loading (through read_image of render/image_io.h).
+#include <Imath/half.h>
+
 #include <filesystem>
 
 #include "volguide/render/image_io.h"
 #include "volguide/render/textures/textures.h"
 
 namespace volguide {
+
+namespace {
+
+// Mitsuba's `format`: the precision the texels are stored at. volguide stores float32, which is what
+// `variant` means for the RGB variants Mitsuba's references use; `fp16` rounds every value to half.
+void apply_storage_format(const Properties& props, Image& image) {
+    const std::string format = props.get_string("format", "variant");
+    if (format == "variant" || format == "fp32") return;
+    if (format != "fp16")
+        props.fail_at("format", "invalid bitmap format '{}': must be 'variant', 'fp16' or 'fp32'", format);
+    for (Color3& c : image.pixels) c = Color3(float(half(c.r)), float(half(c.g)), float(half(c.b)));
+}
+
+}  // namespace
+
+std::shared_ptr<Texture> make_rawconstant_texture(const Properties& props) {
+    const Properties::Entry* e = props.find("value");
+    if (!e) props.fail_here("rawconstant: missing required parameter 'value'");
+    Color3 v;
+    if (std::holds_alternative<Vec3f>(e->value)) {
+        const Vec3f x = props.get_vec3("value");
+        v = Color3(x.x, x.y, x.z);
+    } else {
+        v = Color3(props.get_float("value"));
+    }
+    if (!v.is_finite()) props.fail_at("value", "rawconstant: the value must be finite");
+    return std::make_shared<ConstantTexture>(v);
+}
 
 std::shared_ptr<Texture> make_bitmap_texture(const Properties& props) {
     const std::string filename = props.get_string("filename");
@@ -45,6 +75,7 @@ std::shared_ptr<Texture> make_bitmap_texture(const Properties& props) {
         props.fail_at("filename", "bitmap '{}': {}", path.string(), e.message());
     }
     if (image.width < 1 || image.height < 1) props.fail_at("filename", "bitmap '{}' is empty", filename);
+    apply_storage_format(props, image);
     return std::make_shared<BitmapTexture>(std::move(image), f, w, to_uv);
 }
 

@@ -37,6 +37,21 @@ Color3 BitmapTexture::lookup(Vec2f uv) const {
     return v0 * w0y + v1 * w1y;
 }
 
+Vec2f BitmapTexture::eval_1_grad(const SurfaceInteraction& si) const {
+    if (filter_ == BitmapFilter::Nearest) return Vec2f(0.f, 0.f);
+    const int w = image_.width, h = image_.height;
+    const Vec2f uv = to_uv_.apply(si.uv);
+    const float px = uv.x * float(w) - 0.5f, py = uv.y * float(h) - 0.5f;
+    const int x0 = int(std::floor(px)), y0 = int(std::floor(py));
+    const float w1x = px - float(x0), w1y = py - float(y0), w0x = 1.f - w1x, w0y = 1.f - w1y;
+    const int xa = wrap(x0, w), xb = wrap(x0 + 1, w), ya = wrap(y0, h), yb = wrap(y0 + 1, h);
+    const float f00 = image_.at(xa, ya).luminance(), f10 = image_.at(xb, ya).luminance();
+    const float f01 = image_.at(xa, yb).luminance(), f11 = image_.at(xb, yb).luminance();
+    const float dx = w0y * (f10 - f00) + w1y * (f11 - f01), dy = w0x * (f01 - f00) + w1x * (f11 - f10);
+    const float du = to_uv_.m[0][0] * dx + to_uv_.m[1][0] * dy, dv = to_uv_.m[0][1] * dx + to_uv_.m[1][1] * dy;
+    return Vec2f(du * float(w), dv * float(h));
+}
+
 Color3 BitmapTexture::eval(const SurfaceInteraction& si) const {
     return lookup(to_uv_.apply(si.uv));
 }

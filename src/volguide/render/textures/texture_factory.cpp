@@ -7,7 +7,8 @@ namespace volguide {
 ObjectPtr create_texture(const Properties& props) {
     if (props.type() == "checkerboard") return make_checkerboard_texture(props);
     if (props.type() == "bitmap") return make_bitmap_texture(props);
-    props.fail_here("unsupported texture plugin '{}' (supported: checkerboard, bitmap)", props.type());
+    if (props.type() == "rawconstant") return make_rawconstant_texture(props);
+    props.fail_here("unsupported texture plugin '{}' (supported: checkerboard, bitmap, rawconstant)", props.type());
 }
 
 }  // namespace volguide

@@ -26,6 +26,10 @@ class BitmapTexture final : public Texture {
     float eval_1(const SurfaceInteraction& si) const override { return eval(si).luminance(); }
     // Mitsuba's mean of a bitmap is the average luminance (a scalar), returned as gray.
     Color3 mean() const override { return Color3(mean_); }
+    // Mitsuba's: the derivative of the bilinear interpolation of the luminance (zero for `nearest`),
+    // through the transpose of to_uv's 2x2 block, in texels scaled by the resolution.
+    bool has_gradient() const override { return true; }
+    Vec2f eval_1_grad(const SurfaceInteraction& si) const override;
     std::string to_string() const override { return "BitmapTexture[]"; }
 
     Color3 lookup(Vec2f uv) const;  // after to_uv
@@ -40,8 +44,13 @@ class BitmapTexture final : public Texture {
     float mean_ = 0.f;
 };
 
+// `rawconstant`: `value`, a float or a `<vector>` of three, used as is (no colour conversion or
+// clipping: normal maps, raw parameters).
+std::shared_ptr<Texture> make_rawconstant_texture(const Properties& props);
+
 // `bitmap` from the scene: filename (relative paths also tried next to the scene file),
-// filter_type (bilinear | nearest), wrap_mode (repeat | mirror | clamp), raw, to_uv.
+// filter_type (bilinear | nearest), wrap_mode (repeat | mirror | clamp), raw, to_uv,
+// format (variant | fp32: stored as float32; fp16: values rounded to half precision, as Mitsuba stores them).
 std::shared_ptr<Texture> make_bitmap_texture(const Properties& props);
 
 }  // namespace volguide

@@ -1,6 +1,8 @@
 #pragma once
-// The `to_uv` parameter of textures: Mitsuba keeps the upper-left 3x3 block of the 4x4 XML
-// transform and applies it as a 2-D affine map (so a 4x4 translation column is ignored).
+// The `to_uv` parameter of textures, a 2-D affine map from the 4x4 XML transform: the upper-left 2x2
+// block and the translation column (a `<translate>` shifts the lookup, as Mitsuba 3's render test
+// texture_interp shows; releases before 3.6 dropped it), plus the third column, which is where a 3x3
+// `<matrix>` puts its 2-D translation.
 #include "volguide/core/properties.h"
 #include "volguide/core/vec.h"
 
@@ -15,7 +17,7 @@ struct UvTransform {
         const Transform tr = props.get_transform("to_uv");
         const Matrix4& mat = tr.matrix();
         for (int r = 0; r < 2; ++r)
-            for (int c = 0; c < 3; ++c) t.m[r][c] = float(mat.m[r][c]);
+            for (int c = 0; c < 3; ++c) t.m[r][c] = float(mat.m[r][c] + (c == 2 ? mat.m[r][3] : 0.0));
         return t;
     }
     Vec2f apply(const Vec2f& uv) const {
