@@ -1,4 +1,4 @@
-// rrs=ears (issue 38, docs/theory.md §9.7): efficiency-aware RR and splitting from the render's own
+// rrs=ears (issue 38, docs/theory.md §9.8): efficiency-aware RR and splitting from the render's own
 // statistics stays unbiased: the white furnace stays 1, and a dense high-albedo sphere and a fog sphere
 // inside a rough dielectric in a Cornell-like box (bench/scenes/glassfog.xml at 12 x 9) match volpath's
 // mean; and it really decides (roulette, splitting, learned points) within its branch budget.

@@ -1,5 +1,5 @@
 // rrs=ears's statistics (integrators/guided/estimates/continuation_stats.h, continuation_recorder.h;
-// docs/theory.md §9.7): the direction bins, the moments against known integrals, exact sums in any
+// docs/theory.md §9.8): the direction bins, the moments against known integrals, exact sums in any
 // order, the recorder's split-tree bookkeeping on a scripted camera sample, the factor and the branch
 // budget from known moments.
 #include <gtest/gtest.h>

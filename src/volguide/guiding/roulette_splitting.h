@@ -30,7 +30,7 @@
 
 namespace volguide {
 
-// Ears: efficiency-aware RR and splitting (docs/theory.md §9.7); its factor comes from learned
+// Ears: efficiency-aware RR and splitting (docs/theory.md §9.8); its factor comes from learned
 // statistics (the integrator's), and bound() applies the same clamps and branch bounds to it.
 enum class RouletteMode { Standard, Guided, GuidedSplitting, Ears };
 

@@ -1,5 +1,5 @@
 #pragma once
-// The recorder of rrs=ears (continuation_stats.h, docs/theory.md §9.7): follows one camera sample of the
+// The recorder of rrs=ears (continuation_stats.h, docs/theory.md §9.8): follows one camera sample of the
 // render's guided walk (a PathRecorder of volpath's walk, path_recorder.h) and, at its end, adds to the
 // thread's ContinuationStatistics what every continuation point collected and cost, and the camera
 // sample's relative value X / I to the film's PixelMoments.

@@ -1,5 +1,5 @@
 #pragma once
-// What efficiency-aware RR and splitting (rrs=ears, docs/theory.md §9.7) learns from the render's own
+// What efficiency-aware RR and splitting (rrs=ears, docs/theory.md §9.8) learns from the render's own
 // passes: per leaf of the guiding field x direction bin x continuation stage, the first and second
 // moments of what a medium vertex's continuation collects per unit path weight and its cost (the path
 // events it made); per camera sample its cost and branches, per pixel the moments of the relative
@@ -106,7 +106,7 @@ struct EarsSettings {
     double pixel_prior = 4.0;
 };
 
-// The frozen statistics a pass decides with (docs/theory.md §9.7).
+// The frozen statistics a pass decides with (docs/theory.md §9.8).
 class ContinuationSnapshot {
   public:
     ContinuationSnapshot() = default;  // nothing learned: every decision falls back

@@ -12,7 +12,7 @@
 // its factor q, the number of continuations n drawn from it, and the outcome's count. The walk
 // applies the result: the path's weight 1/q and its copies (VolumeWalk::continue_path).
 //
-// rrs=ears (docs/theory.md §9.7) decides instead from the learned statistics of the pass's frozen
+// rrs=ears (docs/theory.md §9.8) decides instead from the learned statistics of the pass's frozen
 // ContinuationSnapshot (estimates/continuation_stats.h): the factor of the vertex leaf's cell and the
 // direction bin of w, with the path's weight relative to I; RouletteSplitting bounds it. Where the
 // statistics are too few there is no decision (the walk's throughput roulette, rr_rule=bounded by
