@@ -100,7 +100,7 @@ struct EarsSettings {
     // The adaptive branch budget: a camera sample may cost about budget_factor x what an unsplit one
     // cost (the first pass, made before any statistics), in branches B = budget_factor x C_0 / c, c the
     // measured cost per branch; within [min_budget, max_branches]. fixed_budget >= 1 replaces it.
-    float budget_factor = 8.f, min_budget = 4.f, fixed_budget = 0.f;
+    float budget_factor = 2.f, min_budget = 2.f, fixed_budget = 0.f;
     int max_branches = 64;
     // The prior samples k of the learned pixel estimate (ContinuationSnapshot::pixel_estimate).
     double pixel_prior = 4.0;

@@ -1,5 +1,6 @@
 #include "volguide/integrators/guided/walk/guided_continuation.h"
 
+#include <algorithm>
 #include <limits>
 
 namespace volguide {
@@ -41,7 +42,10 @@ Continuation GuidedContinuation::decide_ears(ContinuationStage stage, const Medi
         return c;
     }
     c.guided = true;
-    c.q = rrs_->bound(q, branches, allowance);
+    // Roulette never harder than the bounded throughput rule's survival min(1, max beta): the learned
+    // M2 of a heavy-tailed continuation is underestimated from few samples, and ears' roulette alone
+    // made paths of weight > 1 that raised the variance per sample 3-4x (docs/theory.md §9.8).
+    c.q = rrs_->bound(std::max(q, std::min(1.f, throughput.max_value())), branches, allowance);
     draw(c, sampler);
     return c;
 }
