@@ -60,6 +60,11 @@ METHODS = {
 
 # Methods run only when named in --methods (comparisons of variants, not part of the default table).
 EXTRA_METHODS = {
+    # Efficiency-aware RR and splitting (issue 38, docs/theory.md §9.8) by itself (unguided distances
+    # and directions) and with the guided distance and direction decisions.
+    "guided_volpath rrs=ears": {"guided": {"rrs": "ears"}},
+    "guided_volpath distance=incremental direction=product rrs=ears": {
+        "guided": {"distance": "incremental", "direction": "product", "rrs": "ears"}},
     # Heterogeneous media: the bins (docs/theory.md §7.7 H1) instead of guided tracking (H2, the default).
     "guided_volpath distance=incremental hetero_distance=bins": {
         "guided": {"distance": "incremental", "hetero_distance": "bins"}},

@@ -88,3 +88,13 @@ TEST(Determinism, OnlineLearningSameImageForOneAndTwoThreads) {
                                        "determinism-online"),
                          "guided fogbox, online learning");
 }
+
+// rrs=ears (issue 38): the continuation statistics are exact sums, frozen between passes, so the
+// decisions, and the image, do not depend on the thread count. 8 spp: statistics after the passes of
+// 1, 1 and 2 spp, decisions in the passes after them (ears_min_samples 4).
+TEST(Determinism, EarsSameImageForOneAndTwoThreads) {
+    expect_deterministic(guided_fogbox(R"(<integer name="photons" value="200000"/><string name="rrs" value="ears"/>)"
+                                       R"(<integer name="ears_min_samples" value="4"/>)",
+                                       "determinism-ears"),
+                         "guided fogbox, rrs=ears");
+}

@@ -42,15 +42,18 @@ class CountingRecorder final : public PathRecorder {
         EXPECT_FALSE(record.mixture);  // the default policy samples no mixture
         ++decisions;
     }
-    void record_continuation(ContinuationStage, const VertexLeaf&, float, const Color3&) override {
+    void record_continuation(ContinuationStage, const VertexLeaf&, const Vec3f&, float estimate,
+                             const Color3&) override {
         ++continuations;
+        if (estimate > 0.f) ++estimated;
     }
     void end_camera_sample(int branches) override {
         EXPECT_EQ(branches, 1);  // no continuation decision: never a copy
         ++camera_samples;
     }
     Color3 contributions{0.f};
-    int contribution_calls = 0, medium_hits = 0, vertices = 0, camera_samples = 0, decisions = 0, continuations = 0;
+    int contribution_calls = 0, medium_hits = 0, vertices = 0, camera_samples = 0, decisions = 0, continuations = 0,
+        estimated = 0;
 
   private:
     bool decisions_;
@@ -162,9 +165,11 @@ TEST(WalkPolicy, DecisionReadingRecorderSeesEveryPolicyDecision) {
         const TwoWalks w2 = walk_twice(*scene, volpath, ray, a2, b2, &unguided, &recorder);
         EXPECT_TRUE(same_bits(w2.plain, w2.with_policy) && w2.same_dimension);
         // Every medium vertex had a distance and a direction decision (the last may have ended the
-        // path), and the default continuation reports no estimate.
+        // path); every vertex reached is a continuation point, and the default continuation reports
+        // no estimate.
         EXPECT_GE(recorder.decisions, 2 * recorder.vertices);
-        EXPECT_EQ(recorder.continuations, 0);
+        EXPECT_GE(recorder.continuations, recorder.vertices);
+        EXPECT_EQ(recorder.estimated, 0);
         decisions += recorder.decisions;
     });
     EXPECT_GT(decisions, 0);

@@ -22,6 +22,7 @@ RouletteSplittingStats& RouletteSplittingStats::operator+=(const RouletteSplitti
     extra_branches += o.extra_branches;
     cap_limited += o.cap_limited;
     budget_limited += o.budget_limited;
+    unlearned += o.unlearned;
     camera_samples += o.camera_samples;
     if (branch_histogram.size() < o.branch_histogram.size()) branch_histogram.resize(o.branch_histogram.size(), 0);
     for (size_t k = 0; k < o.branch_histogram.size(); ++k) branch_histogram[k] += o.branch_histogram[k];
@@ -57,9 +58,12 @@ std::vector<std::pair<std::string, double>> RouletteSplittingStats::named() cons
             {"rrs_extra_branches", double(extra_branches)},
             {"rrs_cap_limited", double(cap_limited)},
             {"rrs_budget_limited", double(budget_limited)},
+            {"rrs_unlearned", double(unlearned)},
             {"rrs_branches_per_camera_sample", ratio(branches, camera_samples)},
             {"rrs_branches_p999", double(branches_quantile(0.999))},
             {"rrs_branches_max", double(max_branches)},
+            // camera samples that reached the cap (the histogram's last bin)
+            {"rrs_cap_hits", branch_histogram.empty() ? 0.0 : double(branch_histogram.back())},
             {"rrs_pixel_estimate_seconds", pixel_estimate_seconds}};
 }
 
@@ -74,7 +78,18 @@ float RouletteSplitting::factor(const Color3& weight, const Color3& estimate, fl
         ++st.invalid_estimates;
         return 1.f;
     }
-    float q = weight_window_factor(expected / pixel, settings_.window);
+    return bounded(weight_window_factor(expected / pixel, settings_.window), branches, allowance, st);
+}
+
+float RouletteSplitting::bound(float q, int branches, float allowance) const {
+    RouletteSplittingStats& st = stats_.local();
+    ++st.decisions;
+    return bounded(q, branches, allowance, st);
+}
+
+void RouletteSplitting::count_unlearned() const { ++stats_.local().unlearned; }
+
+float RouletteSplitting::bounded(float q, int branches, float allowance, RouletteSplittingStats& st) const {
     q = std::clamp(q, settings_.q_min, splits() ? settings_.q_max : 1.f);
     // The continuations may not take the camera sample past its branch cap: n <= floor(q) + 1 and
     // this branch is one of them, so q <= max_branches - branches + 1 bounds n.

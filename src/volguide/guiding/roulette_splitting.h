@@ -30,7 +30,9 @@
 
 namespace volguide {
 
-enum class RouletteMode { Standard, Guided, GuidedSplitting };
+// Ears: efficiency-aware RR and splitting (docs/theory.md §9.8); its factor comes from learned
+// statistics (the integrator's), and bound() applies the same clamps and branch bounds to it.
+enum class RouletteMode { Standard, Guided, GuidedSplitting, Ears };
 
 struct RouletteSplittingSettings {
     RouletteMode mode = RouletteMode::Standard;
@@ -57,6 +59,7 @@ struct RouletteSplittingStats {
     uint64_t extra_branches = 0;     // sum of n - 1 over the splits
     uint64_t cap_limited = 0;        // decisions whose q was lowered by the branch cap
     uint64_t budget_limited = 0;     // decisions whose q was lowered by the branch's allowance
+    uint64_t unlearned = 0;          // ears: continuation points without enough statistics (no decision)
     uint64_t camera_samples = 0;
     // branch_histogram[k]: camera samples that made k branches (k = 0 unused; the last bin is the cap)
     std::vector<uint64_t> branch_histogram;
@@ -71,7 +74,9 @@ class RouletteSplitting {
   public:
     explicit RouletteSplitting(const RouletteSplittingSettings& settings);
     const RouletteSplittingSettings& settings() const { return settings_; }
-    bool splits() const { return settings_.mode == RouletteMode::GuidedSplitting; }
+    bool splits() const {
+        return settings_.mode == RouletteMode::GuidedSplitting || settings_.mode == RouletteMode::Ears;
+    }
 
     // The expected number of continuations of a path of weight `weight` whose continuation is
     // estimated at `estimate`, in a pixel estimated at `pixel` (> 0), when the camera sample has
@@ -79,6 +84,11 @@ class RouletteSplitting {
     // when off): 1 when the estimate is unusable (zero, not finite). Counts the decision.
     float factor(const Color3& weight, const Color3& estimate, float pixel, int branches,
                  float allowance = std::numeric_limits<float>::infinity()) const;
+    // A factor q computed elsewhere (ears) clamped to [q_min, q_max] and bounded as factor() bounds
+    // it (the cap, the allowance). Counts the decision.
+    float bound(float q, int branches, float allowance = std::numeric_limits<float>::infinity()) const;
+    // Counts a continuation point where the factor's statistics were too few (ears).
+    void count_unlearned() const;
     // A camera sample's allowance (the branch budget B, or +inf when off).
     float initial_allowance() const {
         return settings_.branch_budget >= 1.f ? settings_.branch_budget : std::numeric_limits<float>::infinity();
@@ -92,6 +102,7 @@ class RouletteSplitting {
     RouletteSplittingStats stats() const;
 
   private:
+    float bounded(float q, int branches, float allowance, RouletteSplittingStats& st) const;
     RouletteSplittingSettings settings_;
     double pixel_estimate_seconds_ = 0;
     mutable tbb::enumerable_thread_specific<RouletteSplittingStats> stats_;

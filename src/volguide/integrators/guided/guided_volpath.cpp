@@ -14,6 +14,7 @@
 #include "volguide/integrators/guided/estimates/selection_pilot.h"
 #include "volguide/render/image_io.h"
 #include "volguide/render/scene.h"
+#include "volguide/render/sensor.h"
 
 namespace volguide {
 
@@ -78,6 +79,12 @@ void GuidedVolPathIntegrator::build_from_field(const Scene& scene, const Preproc
         rrs_ = std::make_unique<RouletteSplitting>(settings_.roulette);
         rrs_->set_pixel_estimate_seconds(pixel_estimate_seconds_);
     }
+    ears_.reset();
+    if (rrs_ && settings_.roulette.mode == RouletteMode::Ears) {
+        const Film& film = scene.sensor().film();
+        ears_ = std::make_unique<ContinuationLearning>(guide_->selection_cells(), film.width(), film.height(),
+                                                       settings_.ears);
+    }
     if (learn) {
         if (given_prepass_ && !given_prepass_->selection.empty())
             guide_->set_selection(LearnedSelection::deserialize(given_prepass_->selection));
@@ -90,6 +97,7 @@ void GuidedVolPathIntegrator::build_from_field(const Scene& scene, const Preproc
 // every sample so far, a selection pilot), so updating after every pass of the render loop's 1, 1,
 // 2, 4, 8, 8, 8, ... spp would spend most of the learning on small steps late in the recording.
 void GuidedVolPathIntegrator::end_pass(int spp_done, double seconds) {
+    if (ears_) ears_->end_pass();
     if (online_recording_ && (spp_done >= 2 * online_updated_spp_ || spp_done >= settings_.online_spp))
         online_update(spp_done);
 }
@@ -271,8 +279,21 @@ void GuidedVolPathIntegrator::use_given_pixel_estimate() {
 Color3 GuidedVolPathIntegrator::guided_walk(const Scene& scene, Sampler& sampler, const Ray& ray, float pixel,
                                             PathRecorder* recorder) const {
     if (!guide_) return walk_.walk(scene, sampler, ray, nullptr, recorder);
-    GuidedWalkPolicy policy(*guide_, rrs_.get(), pixel);
+    GuidedWalkPolicy policy(*guide_, rrs_.get(), pixel, ears_ ? &ears_->snapshot() : nullptr);
     return walk_.walk(scene, sampler, ray, &policy, recorder);
+}
+
+Color3 GuidedVolPathIntegrator::render_walk(const Scene& scene, Sampler& sampler, const CameraRay& camera,
+                                            PathRecorder* recorder) const {
+    const float pixel = rrs_ ? pixel_estimate_.at(camera.film_uv) : 0.f;
+    if (!ears_) return guided_walk(scene, sampler, camera.ray, pixel, recorder);
+    // The statistics keep X / I; the decisions compare with the pass's learned estimate I'.
+    ContinuationRecorder& learning = ears_->recorder();
+    const long px = ears_->pixel(camera.film_uv);
+    learning.begin(recorder, px, pixel);
+    const Color3 L = guided_walk(scene, sampler, camera.ray, ears_->snapshot().pixel_estimate(px, pixel), &learning);
+    learning.end();
+    return L;
 }
 
 Color3 GuidedVolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const CameraRay& camera) const {
@@ -284,13 +305,13 @@ Color3 GuidedVolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const C
     if (online_recording_) {
         OnlineThread& t = online_threads_.local();
         const uint64_t key = sampler.key();
-        const Color3 L = recorded_Li(scene, sampler, camera, t.recorder);
+        const Color3 L = render_walk(scene, sampler, camera, &t.recorder);
         const size_t first = t.samples.size();
         t.recorder.finish(t.samples);
         t.paths.push_back({key, first, t.samples.size() - first});
         return L;
     }
-    return guided_walk(scene, sampler, camera.ray, rrs_ ? pixel_estimate_.at(camera.film_uv) : 0.f);
+    return render_walk(scene, sampler, camera, nullptr);
 }
 
 Color3 GuidedVolPathIntegrator::recorded_Li(const Scene& scene, Sampler& sampler, const CameraRay& camera,
@@ -312,6 +333,10 @@ std::vector<std::pair<std::string, double>> GuidedVolPathIntegrator::statistics(
     if (rrs_) {
         const auto rr = rrs_->stats().named();
         stats.insert(stats.end(), rr.begin(), rr.end());
+    }
+    if (ears_) {
+        const auto e = ears_->named();
+        stats.insert(stats.end(), e.begin(), e.end());
     }
     return stats;
 }

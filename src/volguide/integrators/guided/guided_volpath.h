@@ -20,6 +20,7 @@
 #include "volguide/guiding/guiding_field.h"
 #include "volguide/guiding/roulette_splitting.h"
 #include "volguide/integrators/guided/estimates/cache_estimate.h"
+#include "volguide/integrators/guided/estimates/continuation_recorder.h"
 #include "volguide/integrators/guided/prepass/guided_prepass.h"
 #include "volguide/integrators/guided/guided_volpath_settings.h"
 #include "volguide/integrators/guided/estimates/pixel_estimate.h"
@@ -66,12 +67,17 @@ private:
     std::unique_ptr<CacheEstimator> estimator_;  // estimate != none
     std::unique_ptr<WalkGuide> guide_;           // a guided distance, direction or RR decision
     std::unique_ptr<RouletteSplitting> rrs_;     // rrs != standard
+    // rrs=ears: what the render's passes learn (per field: an online update starts it afresh).
+    std::unique_ptr<ContinuationLearning> ears_;
     PixelEstimate pixel_estimate_;
     std::unique_ptr<GuidedPrepass> given_prepass_;  // use_prepass_state(): no training
     // The guided walk along ray, with guided RR/splitting (when rrs_) against the pixel value I;
     // `recorder` (null: none) records its training samples.
     Color3 guided_walk(const Scene& scene, Sampler& sampler, const Ray& ray, float pixel,
                        PathRecorder* recorder = nullptr) const;
+    // Li's guided walk of a camera sample, recorded by `recorder` (may be null) and, with rrs=ears,
+    // by the thread's ContinuationRecorder around it.
+    Color3 render_walk(const Scene& scene, Sampler& sampler, const CameraRay& camera, PathRecorder* recorder) const;
     // preprocess()'s steps: the field (loaded or trained) with its leaves' medium fractions, then
     // the pixel estimate I of guided RR/splitting.
     void load_or_train_field(const Scene& scene, const PreprocessContext& context);

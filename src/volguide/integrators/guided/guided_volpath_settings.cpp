@@ -37,7 +37,8 @@ constexpr Choice<DirectionGuiding> kDirection[] = {{"phase", DirectionGuiding::P
 constexpr Choice<bool> kDirectionRadiance[] = {{"indirect", true}, {"all", false}};
 constexpr Choice<RouletteMode> kRrs[] = {{"standard", RouletteMode::Standard},
                                          {"grr", RouletteMode::Guided},
-                                         {"grrs", RouletteMode::GuidedSplitting}};
+                                         {"grrs", RouletteMode::GuidedSplitting},
+                                         {"ears", RouletteMode::Ears}};
 constexpr Choice<PixelEstimateMethod> kPixelEstimate[] = {{"raymarch", PixelEstimateMethod::Raymarch},
                                                           {"render", PixelEstimateMethod::Render}};
 constexpr Choice<FieldEstimate> kEstimate[] = {{"none", FieldEstimate::None},
@@ -164,6 +165,26 @@ void read_roulette(const Properties& props, RouletteSplittingSettings& r) {
     if (!(r.branch_budget == 0.f || (r.branch_budget >= 1.f && std::isfinite(r.branch_budget))))
         props.fail_at("rrs_branch_budget", "guided_volpath: rrs_branch_budget must be 0 (off) or a finite value >= 1, got {}",
                       r.branch_budget);
+    if (r.mode == RouletteMode::Ears && props.has("rrs_window"))
+        props.fail_at("rrs_window", "guided_volpath: rrs_window does not apply to rrs=ears (no weight window)");
+}
+
+// rrs=ears (continuation_stats.h): ears_min_samples, ears_budget_factor (errors with another rrs); the
+// walk's throughput roulette, ears' fallback, is rr_rule=bounded unless rr_rule is given; the branch
+// budget is adaptive unless rrs_branch_budget is given.
+void read_ears(const Properties& props, GuidedVolPathSettings& s) {
+    if (s.roulette.mode != RouletteMode::Ears) {
+        for (const char* name : {"ears_min_samples", "ears_budget_factor"})
+            if (props.has(name)) props.fail_at(name, "guided_volpath: {} only applies to rrs=ears", name);
+        return;
+    }
+    EarsSettings& e = s.ears;
+    e.min_samples = uint64_t(int_in(props, "ears_min_samples", int(e.min_samples), 2, 1 << 30));
+    e.budget_factor = finite_at_least(props, "ears_budget_factor", e.budget_factor, 1.f);
+    e.fixed_budget = s.roulette.branch_budget;
+    e.max_branches = s.roulette.max_branches;
+    e.min_budget = std::min(e.min_budget, float(e.max_branches));
+    if (!props.has("rr_rule")) s.walk.rr_rule = RouletteRule::Bounded;
 }
 
 // Learned selection (guiding/selection.h): selection_spp (0: off), selection_min_samples,
@@ -237,6 +258,7 @@ GuidedVolPathSettings GuidedVolPathSettings::from(const Properties& props) {
     read_distance(props, s.walk, s.guide);
     read_direction(props, s.guide);
     read_roulette(props, s.roulette);
+    read_ears(props, s);
     read_selection(props, s.selection);
     read_pixel_estimate(props, s);
     s.estimate = read_choice<FieldEstimate>(props, "estimate", s.estimate, kEstimate);

@@ -11,6 +11,7 @@
 #include "volguide/guiding/guiding_field.h"
 #include "volguide/guiding/roulette_splitting.h"
 #include "volguide/guiding/selection.h"
+#include "volguide/integrators/guided/estimates/continuation_stats.h"
 #include "volguide/integrators/guided/estimates/pixel_estimate.h"
 #include "volguide/integrators/volpath/volpath.h"
 #include "volguide/integrators/guided/walk/walk_guide.h"
@@ -50,6 +51,8 @@ struct GuidedVolPathSettings {
     WalkGuideSettings guide;
     // The RR/splitting decision (roulette.mode) and rrs_window, rrs_q_min, rrs_q_max, rrs_max_branches.
     RouletteSplittingSettings roulette;
+    // rrs=ears: its statistics' thresholds and the adaptive branch budget (continuation_stats.h).
+    EarsSettings ears;
     // Learned selection (guiding/selection.h): the pilot's spp (default 2; 0: off) and the fit's parameters.
     SelectionSettings selection;
     PixelEstimateMethod pixel_estimate = PixelEstimateMethod::Raymarch;

@@ -246,19 +246,20 @@ bool VolumeWalk::continue_path(ContinuationStage stage, const MediumInteraction&
                                const MediumVertex* at_vertex) {
     const Continuation c = policy_->continuation(stage, mi, w, state_.throughput, branches_, state_.split_allowance,
                                                  *rng_, state_.vertex_leaf, records_decisions_);
-    if (records_decisions_ && c.estimate > 0.f)
-        recorder_->record_continuation(stage, state_.vertex_leaf, c.estimate, state_.throughput);
-    return continue_copies(c, at_vertex);
+    return continue_copies(c, stage, w, at_vertex);
 }
 
-bool VolumeWalk::continue_copies(const Continuation& c, const MediumVertex* at_vertex) {
+bool VolumeWalk::continue_copies(const Continuation& c, ContinuationStage stage, const Vec3f& w,
+                                 const MediumVertex* at_vertex) {
     if (c.guided) state_.rr_depth_done = state_.depth;  // replaces throughput RR at this depth
-    if (c.q == 1.f) return true;
-    if (c.n == 0) return false;
-    state_.throughput *= 1.f / c.q;
+    if (c.n == 0 && c.q != 1.f) return false;
+    if (c.q != 1.f) state_.throughput *= 1.f / c.q;
+    // The point is reported with its weight after the decision, before its copies (branch_point).
+    if (recorder_) recorder_->record_continuation(stage, state_.vertex_leaf, w, c.estimate, state_.throughput);
+    if (c.q == 1.f || c.n <= 1) return true;
     // The n copies share the path's allowance, so the live branches' allowances never sum to more
     // than the camera sample's budget.
-    if (c.n > 1) state_.split_allowance /= float(c.n);
+    state_.split_allowance /= float(c.n);
     for (int k = 1; k < c.n; ++k) {
         PendingBranch b{state_, rng_->fork(uint64_t(k)), at_vertex != nullptr, at_vertex ? *at_vertex : MediumVertex(),
                         recorder_ ? recorder_->branch_point() : 0};

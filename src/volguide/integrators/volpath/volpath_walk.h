@@ -79,10 +79,12 @@ class VolumeWalk {
     // The policy's continuation decision, reported to the recorder, then continue_copies().
     bool continue_path(ContinuationStage stage, const MediumInteraction& mi, const Vec3f& w,
                        const MediumVertex* at_vertex);
-    // The walk's part of a continuation decision c: the path's weight 1/q and its n - 1 copies;
-    // copies made at a vertex (at_vertex) resume before its NEE and direction, the others trace the
-    // state's ray. False when the path ends.
-    bool continue_copies(const Continuation& c, const MediumVertex* at_vertex);
+    // The walk's part of a continuation decision c of `stage` (w: see ContinuationStage): the path's
+    // weight 1/q, the point's report to the recorder, and its n - 1 copies; copies made at a vertex
+    // (at_vertex) resume before its NEE and direction, the others trace the state's ray. False when
+    // the path ends.
+    bool continue_copies(const Continuation& c, ContinuationStage stage, const Vec3f& w,
+                         const MediumVertex* at_vertex);
     // The DecisionRecord a sampling decision fills (null unless the recorder reads them), and its report.
     DecisionRecord* decision_record(DecisionRecord& record) const { return records_decisions_ ? &record : nullptr; }
     void report_decision(DecisionKind kind, const DecisionRecord& record);

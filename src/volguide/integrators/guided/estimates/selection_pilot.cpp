@@ -43,8 +43,8 @@ void SelectionRecorder::record_decision(DecisionKind kind, const DecisionRecord&
     pending_.push_back(p);
 }
 
-void SelectionRecorder::record_continuation(ContinuationStage stage, const VertexLeaf& vertex_leaf, float estimate,
-                                            const Color3& throughput) {
+void SelectionRecorder::record_continuation(ContinuationStage stage, const VertexLeaf& vertex_leaf, const Vec3f&,
+                                            float estimate, const Color3& throughput) {
     const float beta = throughput.average();
     if (!(beta > 0.f) || !(estimate > 0.f)) return;
     Pending p;

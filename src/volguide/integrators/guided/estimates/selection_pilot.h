@@ -37,8 +37,8 @@ class SelectionRecorder final : public PathRecorder {
     void record_decision(DecisionKind kind, const DecisionRecord& record) override;
     // A continuation point of `stage` in the cell of `vertex_leaf.leaf`: the field's estimate of what
     // the path collects from here on per unit weight, and the path weight (channel averages).
-    void record_continuation(ContinuationStage stage, const VertexLeaf& vertex_leaf, float estimate,
-                             const Color3& throughput) override;
+    void record_continuation(ContinuationStage stage, const VertexLeaf& vertex_leaf, const Vec3f& w,
+                             float estimate, const Color3& throughput) override;
     void record_contribution(const Color3& c) override { total_ += double(c.average()); }
     // Adds the camera sample's terms to the statistics.
     void end();

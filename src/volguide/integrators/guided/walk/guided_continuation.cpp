@@ -1,5 +1,6 @@
 #include "volguide/integrators/guided/walk/guided_continuation.h"
 
+#include <algorithm>
 #include <limits>
 
 namespace volguide {
@@ -7,6 +8,7 @@ namespace volguide {
 Continuation GuidedContinuation::decide(ContinuationStage stage, const MediumInteraction& mi, const Vec3f& w,
                                         const Color3& throughput, int branches, float allowance, Sampler& sampler,
                                         VertexLeaf& vertex_leaf, bool report) const {
+    if (ears_ && rrs_) return decide_ears(stage, mi, w, throughput, branches, allowance, sampler, vertex_leaf, report);
     Continuation c;
     if (!rrs_ && !report) return c;
     const Color3 estimate = this->estimate(stage, mi, w, vertex_leaf);
@@ -16,13 +18,46 @@ Continuation GuidedContinuation::decide(ContinuationStage stage, const MediumInt
     if (usable && !selected(stage, vertex_leaf.leaf)) return c;  // learned: throughput RR
     c.guided = usable;
     c.q = rrs_->factor(throughput, estimate, pixel_, branches, allowance);
-    if (c.q == 1.f) return c;
-    c.n = stochastic_round(c.q, sampler.next_1d());
-    rrs_->count_outcome(c.n);
+    draw(c, sampler);
     return c;
 }
 
+Continuation GuidedContinuation::decide_ears(ContinuationStage stage, const MediumInteraction& mi, const Vec3f& w,
+                                             const Color3& throughput, int branches, float allowance,
+                                             Sampler& sampler, VertexLeaf& vertex_leaf, bool report) const {
+    Continuation c;
+    // The field's estimate only for a recorder that reads it; either way the vertex leaf is found
+    // (kept in vertex_leaf, trusted or not: the statistics are the cell's, not the field's estimate).
+    if (report) {
+        const Color3 estimate = this->estimate(stage, mi, w, vertex_leaf);
+        if (estimate.max_value() > 0.f) c.estimate = estimate.average();
+    } else {
+        guide_.trusted_vertex_leaf(mi, vertex_leaf);
+    }
+    const float relative = throughput.average() / pixel_;
+    const float q = ears_->factor(stage, guide_.selection_cell(vertex_leaf.leaf), continuation_direction_bin(w),
+                                  relative);
+    if (q < 0.f) {
+        rrs_->count_unlearned();
+        return c;
+    }
+    c.guided = true;
+    // Roulette never harder than the bounded throughput rule's survival min(1, max beta): the learned
+    // M2 of a heavy-tailed continuation is underestimated from few samples, and ears' roulette alone
+    // made paths of weight > 1 that raised the variance per sample 3-4x (docs/theory.md §9.8).
+    c.q = rrs_->bound(std::max(q, std::min(1.f, throughput.max_value())), branches, allowance);
+    draw(c, sampler);
+    return c;
+}
+
+void GuidedContinuation::draw(Continuation& c, Sampler& sampler) const {
+    if (c.q == 1.f) return;
+    c.n = stochastic_round(c.q, sampler.next_1d());
+    rrs_->count_outcome(c.n);
+}
+
 float GuidedContinuation::branch_budget() const {
+    if (rrs_ && ears_) return ears_->branch_budget();
     return rrs_ ? rrs_->initial_allowance() : std::numeric_limits<float>::infinity();
 }
 

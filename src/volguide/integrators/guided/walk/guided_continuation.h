@@ -11,10 +11,17 @@
 // and hands them to RouletteSplitting's scene-free weight window (guiding/roulette_splitting.h):
 // its factor q, the number of continuations n drawn from it, and the outcome's count. The walk
 // applies the result: the path's weight 1/q and its copies (VolumeWalk::continue_path).
+//
+// rrs=ears (docs/theory.md §9.8) decides instead from the learned statistics of the pass's frozen
+// ContinuationSnapshot (estimates/continuation_stats.h): the factor of the vertex leaf's cell and the
+// direction bin of w, with the path's weight relative to I; RouletteSplitting bounds it. Where the
+// statistics are too few there is no decision (the walk's throughput roulette, rr_rule=bounded by
+// default with ears). The learned selection's gate does not apply: the factor weighs cost itself.
 #include "volguide/core/color.h"
 #include "volguide/core/sampler.h"
 #include "volguide/geometry/interaction.h"
 #include "volguide/guiding/roulette_splitting.h"
+#include "volguide/integrators/guided/estimates/continuation_stats.h"
 #include "volguide/integrators/guided/walk/walk_guide.h"
 #include "volguide/integrators/volpath/walk_policy.h"
 
@@ -22,9 +29,11 @@ namespace volguide {
 
 class GuidedContinuation {
   public:
-    // `rrs` null: no guided RR/splitting; `pixel`: I of the camera sample's pixel (> 0 with rrs).
-    GuidedContinuation(const WalkGuide& guide, const RouletteSplitting* rrs, float pixel)
-        : guide_(guide), rrs_(rrs), pixel_(pixel) {}
+    // `rrs` null: no guided RR/splitting; `pixel`: I of the camera sample's pixel (> 0 with rrs);
+    // `ears`: the pass's statistics (required with rrs=ears).
+    GuidedContinuation(const WalkGuide& guide, const RouletteSplitting* rrs, float pixel,
+                       const ContinuationSnapshot* ears = nullptr)
+        : guide_(guide), rrs_(rrs), pixel_(pixel), ears_(ears) {}
 
     // WalkPolicy::continuation's decision (its arguments there). Without rrs it decides nothing;
     // `report` still reads the estimate and returns it in Continuation::estimate.
@@ -45,6 +54,12 @@ class GuidedContinuation {
     Color3 estimate(ContinuationStage stage, const MediumInteraction& mi, const Vec3f& w, VertexLeaf& vertex_leaf) const;
 
   private:
+    // rrs=ears's decision (decide()'s arguments).
+    Continuation decide_ears(ContinuationStage stage, const MediumInteraction& mi, const Vec3f& w,
+                             const Color3& throughput, int branches, float allowance, Sampler& sampler,
+                             VertexLeaf& vertex_leaf, bool report) const;
+    // Draws n from c.q (q != 1) and counts the outcome.
+    void draw(Continuation& c, Sampler& sampler) const;
     // Whether guided RR/splitting acts at `stage` in the learned selection's cell of `leaf`;
     // counts the points where it does not.
     bool selected(ContinuationStage stage, int leaf) const;
@@ -52,6 +67,7 @@ class GuidedContinuation {
     const WalkGuide& guide_;
     const RouletteSplitting* rrs_;
     float pixel_;
+    const ContinuationSnapshot* ears_;
 };
 
 }  // namespace volguide

@@ -22,9 +22,11 @@ namespace volguide {
 
 class GuidedWalkPolicy final : public WalkPolicy {
   public:
-    // `rrs` null: no guided RR/splitting; `pixel`: I of the camera sample's pixel (> 0 with rrs).
-    GuidedWalkPolicy(const WalkGuide& guide, const RouletteSplitting* rrs, float pixel)
-        : guide_(guide), continuation_(guide, rrs, pixel) {}
+    // `rrs` null: no guided RR/splitting; `pixel`: I of the camera sample's pixel (> 0 with rrs);
+    // `ears`: the pass's continuation statistics (rrs=ears, guided_continuation.h).
+    GuidedWalkPolicy(const WalkGuide& guide, const RouletteSplitting* rrs, float pixel,
+                     const ContinuationSnapshot* ears = nullptr)
+        : guide_(guide), continuation_(guide, rrs, pixel, ears) {}
 
     bool guides_distance() const override { return guide_.guides_distance(); }
     FreeFlightSample sample_distance(const Medium& medium, const Ray& ray, float tmax, const Color3& throughput,
