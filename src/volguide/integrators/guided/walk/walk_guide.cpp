@@ -6,6 +6,7 @@
 #include "volguide/integrators/guided/walk/distance_bins.h"
 #include "volguide/guiding/guided_collision.h"
 #include "volguide/guiding/surface_guide.h"
+#include "volguide/media/majorant_tracking.h"
 #include "volguide/media/spectral_mis.h"
 #include "volguide/render/scene.h"
 #include "volguide/render/sensor.h"
@@ -131,7 +132,7 @@ FreeFlightSample WalkGuide::sample_distance(const Medium& medium, const Ray& ray
         medium.tracks_null_collisions()) {
         // The whole segment: beyond the field the tracking falls back to the unguided probability.
         GuidedCollisionProbability guide(field_, estimates, ray, t_end, c_T);
-        FreeFlightSample fs = medium.sample_free_flight(ray, tmax, throughput, sampler, &guide);
+        FreeFlightSample fs = guided_tracking(medium, ray, tmax, throughput, sampler, guide);
         WalkGuideStats& st = stats_.local();
         ++st.distance_queries;
         ++st.guided_tracking;
