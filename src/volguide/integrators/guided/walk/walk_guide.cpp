@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "volguide/integrators/guided/walk/distance_bins.h"
 #include "volguide/guiding/guided_collision.h"
@@ -330,6 +331,23 @@ Color3 WalkGuide::leaf_incident(int leaf, const PhaseFunction& phase, const Vec3
         return L;
     }
     return GuidingField::incident(field_.leaves()[size_t(leaf)], w);
+}
+
+float WalkGuide::guided_scatter_probability(int leaf, const PhaseFunction& phase, const Vec3f& w, float albedo,
+                                            float unguided) const {
+    constexpr float kNone = std::numeric_limits<float>::quiet_NaN();
+    if (leaf < 0) return kNone;
+    Color3 Li(0.f), L(0.f);
+    if (const LeafEstimates* tables = estimates_for(phase)) {
+        if (!tables->lookup(leaf, w, Li, L)) return kNone;
+    } else {
+        Li = leaf_inscattered(leaf, phase, w);
+        L = leaf_incident(leaf, phase, w);
+    }
+    const float scatter = albedo * unguided * Li.average(), total = L.average();
+    if (!(scatter > 0.f)) return scatter == 0.f && total > 0.f ? 0.f : kNone;
+    if (!std::isfinite(scatter) || !std::isfinite(total)) return kNone;
+    return scatter >= total ? 1.f : scatter / total;
 }
 
 void WalkGuide::count_surface_direction(bool guided) const {

@@ -208,6 +208,13 @@ class WalkGuide {
     // from w. Both from the distance decisions' per-leaf tables when they exist.
     Color3 leaf_inscattered(int leaf, const PhaseFunction& phase, const Vec3f& d) const;
     Color3 leaf_incident(int leaf, const PhaseFunction& phase, const Vec3f& w) const;
+    // The guided volume scattering probability of a segment leaving the valid leaf `leaf` along w
+    // (docs/theory.md §7.10): P_G = albedo (1 - T) <L~_i(w)> / <L~(w)>, clamped to [0, 1], with
+    // `unguided` = 1 - T the segment's unguided scattering probability, from the leaf's tables
+    // (one lookup). NaN (the caller takes the unguided probability) for leaf < 0 or where the
+    // estimates say nothing (L~ and L~_i both 0, or not finite). It shapes a probability only.
+    float guided_scatter_probability(int leaf, const PhaseFunction& phase, const Vec3f& w, float albedo,
+                                     float unguided) const;
     // The leaf at mi.p (vertex_leaf), kept in `vertex_leaf`, if its confidence at mi is at least
     // kSkipConfidence, else -1.
     int trusted_vertex_leaf(const MediumInteraction& mi, VertexLeaf& vertex_leaf) const;
