@@ -59,4 +59,52 @@ HomogeneousVsp::Sample HomogeneousVsp::sample(float P, float u_decide, float u_c
     return out;
 }
 
+namespace {
+// |w| weighted by the channel shares q: the scalar a candidate is resampled by.
+float shared_magnitude(const Color3& w, const Color3& q) {
+    return q.r * std::abs(w.r) + q.g * std::abs(w.g) + q.b * std::abs(w.b);
+}
+}  // namespace
+
+FreeFlightSample resampled_segment_flight(const Medium& medium, const Ray& ray, float tmax, const Color3& throughput,
+                                          const SegmentProbability& probability, Sampler& sampler) {
+    const Color3 q = channel_probabilities(throughput);
+    // The walk: ratio tracking's T^ before each collision, and a one-slot reservoir over the scatter
+    // candidates w_i = T^_i sigma_s(t_i) / mu_i by |w_i|_q.
+    Color3 tr(1.f);
+    float total = 0.f;  // sum of |w_i|_q
+    struct Slot {
+        float t = 0.f, mu = 0.f, magnitude = 0.f;
+        Color3 sigma_t{0.f}, tr{0.f};
+    } slot;
+    medium.sample_majorant_walk(ray, tmax, sampler, [&](const MajorantCollision& c) {
+        const Color3 sigma_s = c.sigma_t * medium.albedo(ray(c.t));
+        const float m = shared_magnitude(tr * sigma_s, q) / c.mu;
+        if (m > 0.f) {
+            total += m;
+            if (sampler.next_1d() * total < m) slot = {c.t, c.mu, m, c.sigma_t, tr};
+        }
+        tr *= Color3(1.f) - c.sigma_t * (1.f / c.mu);
+        return !tr.is_black();  // T^ = 0: nothing passes and the candidates beyond carry nothing
+    });
+    // The decision: scatter (one of the candidates) with P, pass with 1 - P.
+    const float pass = shared_magnitude(tr, q);
+    float P = probability(std::clamp(1.f - pass, 0.f, 1.f));
+    if (!(total > 0.f)) P = 0.f;
+    else if (!(pass > 0.f)) P = 1.f;
+    else P = std::clamp(P, kResampledMinProbability, 1.f - kResampledMinProbability);
+    FreeFlightSample fs;
+    fs.t = tmax;
+    if (!(sampler.next_1d() < P)) {
+        fs.weight = fs.flight_weight = P < 1.f ? tr * (1.f / (1.f - P)) : Color3(0.f);
+        return fs;
+    }
+    const Point3f p = ray(slot.t);
+    fs.scatter_at(ray, slot.t, p, &medium, {slot.sigma_t, slot.sigma_t * medium.albedo(p)});
+    // w_k / (P |w_k|_q / total), without sigma_s for the flight weight.
+    fs.flight_weight = slot.tr * (total / (slot.mu * slot.magnitude * P));
+    fs.weight = fs.flight_weight * fs.mi.coeffs.sigma_s;
+    return fs;
+}
+
 }  // namespace volguide

@@ -9,7 +9,13 @@
 // with P > 0 where P_u > 0 and P < 1 where the segment transmits:
 //   scatter at t:  flight weight T(t) / (P p(t | scatter)),    pass:  T(s) / (1 - P).
 // With P = P_u the decision is free flight's (the same distribution and weights).
+//
+// Heterogeneous (and any) media: resampled_segment_flight below walks the segment's tentative
+// collisions under the majorant (Medium::sample_majorant_walk) and resamples them.
 #include "volguide/core/color.h"
+#include "volguide/core/function_ref.h"
+#include "volguide/core/sampler.h"
+#include "volguide/media/medium.h"
 
 namespace volguide {
 
@@ -43,5 +49,19 @@ class HomogeneousVsp {
     float unguided_;
     bool opaque_;      // every T_c(s) = 0
 };
+
+// The segment decision over any medium's majorant walk (docs/theory.md §7.10): the walk visits every
+// tentative collision t_i of (0, s) (rate mu_i) with ratio tracking's T^_i before it; the scatter
+// candidates w_i = T^_i sigma_s(t_i) / mu_i (sum_i w_i f(t_i) is unbiased for int T sigma_s f) go
+// through a one-slot reservoir by |w_i|_q (channel shares q of the throughput), the pass candidate is
+// T^(s). Then: scatter at the kept candidate k with probability P, weight w_k sum_j |w_j|_q /
+// (|w_k|_q P), else pass with weight T^(s) / (1 - P). P = probability(1 - |T^(s)|_q) (its argument:
+// the unguided scattering probability's estimate, clamped to [0, 1]), held in [kResampledMinProbability,
+// 1 - kResampledMinProbability] where both branches carry something, 0 / 1 where only one does.
+// Medium::sample_free_flight's contract.
+using SegmentProbability = FunctionRef<float(float)>;
+constexpr float kResampledMinProbability = 0.02f;
+FreeFlightSample resampled_segment_flight(const Medium& medium, const Ray& ray, float tmax, const Color3& throughput,
+                                          const SegmentProbability& probability, Sampler& sampler);
 
 }  // namespace volguide

@@ -121,11 +121,9 @@ FreeFlightSample WalkGuide::sample_distance(const Medium& medium, const Ray& ray
         if (share != LearnedSelection::kDefault) c_T = 1.f - share;
     }
     if (settings_.distance == DistanceGuiding::Vsp) {
-        if (!medium.is_homogeneous()) {
-            ++stats_.local().vsp_free_flight;
-            return free_flight_from(origin);
-        }
         if (origin < 0) origin = leaf_of(ray.o, VertexLeaf());
+        if (!medium.is_homogeneous())
+            return vsp_resampled(medium, ray, tmax, origin, c_T, throughput, sampler, vertex_leaf);
         return vsp_distance(medium, ray, tmax, origin, c_T, throughput, sampler, vertex_leaf, scratch);
     }
     float b0, b1;
@@ -195,6 +193,33 @@ FreeFlightSample WalkGuide::vsp_distance(const Medium& medium, const Ray& ray, f
     const float pu = vs.scattered ? vsp.unguided() * cond : 1.f - vsp.unguided();
     const float pg = vs.scattered ? guided * cond : 1.f - guided;
     if (vs.pdf > 0.f && P < 1.f) scratch.decision = {true, origin, vs.pdf, pu, pg};  // P = 1: forced, not the mixture
+    return fs;
+}
+
+FreeFlightSample WalkGuide::vsp_resampled(const Medium& medium, const Ray& ray, float tmax, int origin, float c_T,
+                                          const Color3& throughput, Sampler& sampler, VertexLeaf& vertex_leaf) const {
+    // The albedo field at the origin (the extinction there may be 0 on the medium's boundary).
+    const float albedo = medium.albedo(ray.o).average();  // shapes P_G only
+    const PhaseFunction& phase = medium.phase();
+    WalkGuideStats& stats = stats_.local();
+    ++stats.distance_queries;
+    ++stats.vsp_queries;
+    if (std::isnan(guided_scatter_probability(origin, phase, ray.d, albedo, 1.f))) {
+        ++stats.vsp_unguided;
+        return medium.sample_free_flight(ray, tmax, throughput, sampler);
+    }
+    ++stats.vsp_resampled;
+    const float confidence = leaf_confidence(origin, medium.eval(ray.o).sigma_t);
+    const float c = std::max(1.f - (1.f - c_T) * confidence, kVspMinUnguided);
+    auto probability = [&](float unguided) {
+        const float guided = guided_scatter_probability(origin, phase, ray.d, albedo, unguided);
+        return std::isnan(guided) ? unguided : c * unguided + (1.f - c) * guided;
+    };
+    FreeFlightSample fs = resampled_segment_flight(medium, ray, tmax, throughput, probability, sampler);
+    if (fs.scattered) {
+        ++stats.vsp_scattered;
+        if (field_.tree().holds_point(origin, fs.mi.p)) vertex_leaf.leaf = origin;
+    }
     return fs;
 }
 

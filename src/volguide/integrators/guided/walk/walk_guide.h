@@ -44,8 +44,8 @@ namespace volguide {
 
 class Scene;
 
-// Vsp: one decision per segment from the vertex's leaf (vsp_distance.h, docs/theory.md §7.10);
-// homogeneous media only, heterogeneous ones keep free flight under it.
+// Vsp: one decision per segment from the vertex's leaf (vsp_distance.h, docs/theory.md §7.10): in
+// closed form in homogeneous media, by resampling the segment's tentative collisions otherwise.
 enum class DistanceGuiding { Standard, Incremental, Tabulated, Vsp };
 
 struct WalkGuideSettings {
@@ -108,8 +108,8 @@ struct WalkGuideSettings {
     X(vsp_scattered, "distance_vsp_scattered_fraction", vsp_queries)                                       \
     /* ... made with the unguided probability (no valid leaf or estimate at the origin) */                 \
     X(vsp_unguided, "distance_vsp_unguided_fraction", vsp_queries)                                         \
-    /* distance=vsp in a heterogeneous medium: free flight (not implemented there) */                     \
-    X(vsp_free_flight, "distance_vsp_heterogeneous_free_flights", 1)                                       \
+    /* ... by resampling the segment's tentative collisions (heterogeneous media) */                      \
+    X(vsp_resampled, "distance_vsp_resampled_fraction", vsp_queries)                                       \
     /* directions sampled at medium vertices */                                                            \
     X(direction_samples, "direction_samples", 1)                                                           \
     /* ... from the guiding VMM (the rest from the phase function) */                                      \
@@ -246,6 +246,9 @@ class WalkGuide {
     FreeFlightSample vsp_distance(const Medium& medium, const Ray& ray, float tmax, int origin, float c_T,
                                   const Color3& throughput, Sampler& sampler, VertexLeaf& vertex_leaf,
                                   DistanceScratch& scratch) const;
+    // The same in any medium by resampling the segment's tentative collisions (resampled_segment_flight).
+    FreeFlightSample vsp_resampled(const Medium& medium, const Ray& ray, float tmax, int origin, float c_T,
+                                   const Color3& throughput, Sampler& sampler, VertexLeaf& vertex_leaf) const;
     // The weights of the bins' decision `ds` (the caller contract of guided_distance.h), and beyond
     // the field (t_end < tmax) the medium's own free flight.
     FreeFlightSample binned_flight(const Medium& medium, const Ray& ray, float tmax, float t_end,
