@@ -19,6 +19,8 @@
 //    fog density, the incremental sampler, default settings) from a random point in a random
 //    direction; the argument is distance_merge x 100 (0: leaves; else LeafGroups). Counters:
 //    `bins` per query and `leaf_groups` (0: leaves).
+//  - SegmentDecision/{0,1,2}: one distance decision from a medium vertex of known leaf in the demo's
+//    homogeneous fog: free flight, distance="vsp" (one lookup per segment), the incremental bins;
 //  - LeafTableLookup: one bin's read of L~_i and L~ from a leaf's 16x16 table (LeafEstimates::lookup,
 //    the ray's direction prepared once), random leaves of the demo field;
 //  - RouletteEstimate: the E[X] lookup of guided RR / splitting at a medium vertex
@@ -325,6 +327,57 @@ void BM_LeafTableLookup(benchmark::State& state) {
     }
 }
 
+// Issue 37: one distance decision in the demo scene's homogeneous fog from a medium vertex whose leaf
+// the direction decision found (VertexLeaf known, as in the walk), along a random direction to the
+// field's bounds: range(0) = 0 the medium's free flight, 1 distance="vsp" (WalkGuide::sample_distance:
+// one table lookup, the segment decision), 2 distance="incremental" (the bins, for comparison).
+void BM_SegmentDecision(benchmark::State& state) {
+    const Scene& scene = demo_scene();
+    const GuidingField& field = demo_field();
+    const Medium* medium = nullptr;
+    for (const auto& shape : scene.shapes())
+        if (!medium) medium = shape->interior_medium();
+    if (!medium) medium = scene.sensor().medium();
+    if (!medium || !medium->is_homogeneous()) {
+        state.SkipWithError("the demo scene has no homogeneous medium");
+        return;
+    }
+    WalkGuideSettings settings;
+    settings.distance = state.range(0) == 2 ? DistanceGuiding::Incremental : DistanceGuiding::Vsp;
+    settings.direction = DirectionGuiding::Product;
+    const WalkGuide guide(scene, field, settings);
+    const BBox3f b = field.tree().bounds();
+    struct Query {
+        Ray ray;
+        float end;
+        int leaf;
+    };
+    std::vector<Query> queries;
+    for (int i = 0; i < 4096; ++i) {
+        Sampler s(7, 0, uint64_t(i));
+        const Vec3f e = b.extents();
+        const Ray ray(b.lo + Vec3f(e.x * s.next_1d(), e.y * s.next_1d(), e.z * s.next_1d()),
+                      warp::square_to_uniform_sphere(s.next_2d()));
+        float t0, t1;
+        b.ray_intersect(ray, t0, t1);
+        queries.push_back({ray, t1, field.tree().leaf_at(ray.o)});
+    }
+    DistanceScratch scratch;
+    uint64_t i = 0, scattered = 0;
+    for (auto _ : state) {
+        const Query& q = queries[i & 4095];
+        Sampler rng(3, 0, i++);
+        VertexLeaf vertex_leaf{q.leaf};
+        const FreeFlightSample f =
+            state.range(0) == 0 ? medium->sample_free_flight(q.ray, q.end, Color3(1.f), rng)
+                                : guide.sample_distance(*medium, q.ray, q.end, Color3(1.f), rng, vertex_leaf, scratch);
+        scattered += f.scattered;
+        benchmark::DoNotOptimize(f);
+    }
+    state.counters["scattered"] = double(scattered) / double(std::max<uint64_t>(i, 1));
+    state.SetLabel(state.range(0) == 0 ? "free flight" : state.range(0) == 1 ? "vsp" : "incremental bins");
+}
+
 void BM_RouletteEstimate(benchmark::State& state) {
     const Scene& scene = demo_scene();
     const GuidingField& field = demo_field();
@@ -419,6 +472,7 @@ BENCHMARK(BM_GuidedDirection<DirectionGuiding::Product, Pdf>)->Name("BM_GuidedDi
 BENCHMARK(BM_GuidedDirection<DirectionGuiding::Incident, Pdf>)->Name("BM_GuidedDirectionPdf/incident");
 BENCHMARK(BM_DistanceQuery)->Arg(0)->Arg(30)->Arg(50);
 BENCHMARK(BM_LeafTableLookup);
+BENCHMARK(BM_SegmentDecision)->Arg(0)->Arg(1)->Arg(2);
 BENCHMARK(BM_RouletteEstimate);
 BENCHMARK(BM_LeafWalk<true>)->Name("BM_LeafWalkCursor")->Arg(2000)->Arg(50000);
 BENCHMARK(BM_LeafWalk<false>)->Name("BM_LeafWalkTraverse")->Arg(2000)->Arg(50000);

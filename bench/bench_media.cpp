@@ -52,7 +52,7 @@ static void BM_FreeFlight(benchmark::State& state) {
     uint64_t i = 0, scattered = 0;
     for (auto _ : state) {
         Sampler s(7, 0, i);
-        FreeFlightSample fs = m->sample_free_flight(rs[i % rs.size()], Infinity, Color3(1.f), s, nullptr, &counts);
+        FreeFlightSample fs = m->sample_free_flight(rs[i % rs.size()], Infinity, Color3(1.f), s, &counts);
         scattered += fs.scattered;
         benchmark::DoNotOptimize(fs);
         ++i;

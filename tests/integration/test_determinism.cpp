@@ -98,3 +98,10 @@ TEST(Determinism, EarsSameImageForOneAndTwoThreads) {
                                        "determinism-ears"),
                          "guided fogbox, rrs=ears");
 }
+
+// Issue 37: distance="vsp" (one decision per segment from the vertex's leaf).
+TEST(Determinism, VspDistanceSameImageForOneAndTwoThreads) {
+    expect_deterministic(guided_fogbox(R"(<integer name="photons" value="200000"/><string name="distance" value="vsp"/>)",
+                                       "determinism-vsp"),
+                         "guided fogbox, distance=vsp");
+}

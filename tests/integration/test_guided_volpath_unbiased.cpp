@@ -29,6 +29,8 @@
 #include "volguide/core/warp.h"
 #include "volguide/integrators/guided/guided_volpath.h"
 #include "volguide/integrators/moment.h"
+#include "volguide/integrators/guided/walk/guided_continuation.h"
+#include "volguide/integrators/guided/walk/guided_vertex.h"
 #include "volguide/integrators/guided/walk/walk_guide.h"
 
 using namespace volguide;
@@ -293,6 +295,84 @@ TEST(GuidedVolPathUnbiased, TransmittanceStrategiesAloneGiveUnitWeights) {
     }
 }
 
+// Issue 37: the per-vertex object (GuidedVertex) answers what the decisions it replaces answered,
+// from one leaf lookup and one product: the direction density of WalkGuide::direction_sampler's
+// sampler, the continuation's estimate of GuidedContinuation::estimate, and the segment's guided
+// scattering probability of WalkGuide::guided_scatter_probability at its leaf (in [0, 1] or NaN).
+// With c_T = 1, distance="vsp" is free flight: grey albedo-1 weights are exactly 1.
+TEST(GuidedVolPathUnbiased, GuidedVertexAnswersAsTheDecisionsItReplaces) {
+    TempDir dir("guided-vertex");
+    std::string xml = furnace_xml(false, "", guided("vsp", "product", 100000));
+    const std::string chromatic = R"(value="2, 1, 3")";
+    xml.replace(xml.find(chromatic), chromatic.size(), R"(value="2")");
+    auto scene = load_scene(dir.write("s.xml", xml));
+    auto& moment = dynamic_cast<MomentIntegrator&>(const_cast<Integrator&>(scene->integrator()));
+    PreprocessContext ctx;
+    ctx.seed = 1;
+    moment.preprocess(*scene, ctx);
+    const auto& integrator = dynamic_cast<const GuidedVolPathIntegrator&>(moment.nested());
+    const Medium* medium = nullptr;
+    for (const auto& shape : scene->shapes())
+        if (shape->interior_medium()) medium = shape->interior_medium();
+    ASSERT_NE(medium, nullptr);
+    WalkGuideSettings ws;
+    ws.distance = DistanceGuiding::Vsp;
+    ws.direction = DirectionGuiding::Product;
+    const WalkGuide guide(*scene, integrator.field(), ws);
+    const GuidedContinuation continuation(guide, nullptr, 0.f);
+    int with_leaf = 0, with_probability = 0;
+    for (int i = 0; i < 500; ++i) {
+        Sampler s(4, 0, uint64_t(i));
+        MediumInteraction mi;
+        mi.p = Point3f(warp::square_to_uniform_sphere(s.next_2d()) * (0.9f * s.next_1d()));
+        mi.wi = warp::square_to_uniform_sphere(s.next_2d());
+        mi.medium = medium;
+        mi.coeffs = medium->eval(mi.p);
+        VertexLeaf vl, vl_ref;
+        GuidedVertex vertex(guide);
+        vertex.init(mi, vl);
+        std::optional<GuidedDirectionSampler> ref;
+        guide.direction_sampler(mi, medium->phase(), vl_ref, ref);
+        ASSERT_EQ(vl.leaf, vl_ref.leaf);
+        ASSERT_EQ(vertex.guided(), ref->guided());
+        with_leaf += vl.leaf >= 0;
+        const Vec3f w = warp::square_to_uniform_sphere(s.next_2d());
+        ASSERT_EQ(vertex.direction_pdf(w), ref->pdf(w));
+        for (ContinuationStage stage : {ContinuationStage::Distance, ContinuationStage::Direction}) {
+            VertexLeaf vc{vl.leaf};
+            ASSERT_EQ(vertex.estimate(stage, w), continuation.estimate(stage, mi, w, vc));
+        }
+        const float p = vertex.scatter_probability(w, 1.f, 0.6f);
+        VertexLeaf vt{vl.leaf};
+        const float want = guide.guided_scatter_probability(guide.trusted_vertex_leaf(mi, vt), medium->phase(), w, 1.f, 0.6f);
+        if (std::isnan(want)) {
+            ASSERT_TRUE(std::isnan(p));
+        } else {
+            ASSERT_EQ(p, want);
+            ASSERT_GE(p, 0.f);
+            ASSERT_LE(p, 1.f);
+            ++with_probability;
+        }
+    }
+    EXPECT_GT(with_leaf, 400);
+    EXPECT_GT(with_probability, 300);
+
+    ws.distance_settings.c_T = 1.f;
+    const WalkGuide unguided(*scene, integrator.field(), ws);
+    DistanceScratch scratch;
+    int scattered = 0;
+    for (int i = 0; i < 2000; ++i) {
+        Sampler s(9, 0, uint64_t(i));
+        const Ray ray(Point3f(0.f), warp::square_to_uniform_sphere(s.next_2d()));
+        VertexLeaf vertex_leaf;
+        const FreeFlightSample f = unguided.sample_distance(*medium, ray, 0.999f, Color3(1.f), s, vertex_leaf, scratch);
+        scattered += f.scattered;
+        ASSERT_NEAR(f.weight.r, 1.f, 2e-4f) << "query " << i << (f.scattered ? " scattered" : " passed");
+    }
+    EXPECT_GT(scattered, 1000);
+    EXPECT_GT(unguided.stats().vsp_queries, 1000u);
+}
+
 namespace {
 
 std::string rrs_xml(const std::string& mode, float window = 1.f, const std::string& pixel_estimate = "raymarch",
@@ -486,4 +566,32 @@ TEST(GuidedVolPathUnbiased, OnlineLearningIsUnbiased) {
                                  R"(<integer name="online_spp" value="40"/>)";
     const auto s40 = guide_stats(lit_fog_xml(false, grid, guided("incremental", "product", 200000, -1.f, online40)), 40);
     EXPECT_EQ(s40.at("online_updates"), 7.0);
+}
+
+// Issue 37: distance="vsp" (one decision per segment, docs/theory.md §7.10): the white furnace stays 1
+// (homogeneous: the closed-form decision; heterogeneous: the resampled tentative collisions), the
+// point-lit fog's image means match volpath's (homogeneous and heterogeneous), and the statistics
+// show the segment decision was made from the field (vsp queries, few unguided ones, the
+// heterogeneous ones resampled).
+TEST(GuidedVolPathUnbiased, VspDistanceIsUnbiased) {
+    TempDir dir("guided-vsp");
+    const std::string grid = write_furnace_grid(dir);
+    for (bool het : {false, true}) {
+        SCOPED_TRACE(het ? "heterogeneous" : "homogeneous");
+        Rendered r = render_scene_xml(furnace_xml(het, grid, guided("vsp", "product", 100000)), 1024, 21, false);
+        expect_constant_image(r, 1.0);
+        Rendered ref = render_scene_xml(lit_fog_xml(het, grid, R"(<integrator type="volpath"/>)"), 1024, 5, false);
+        Rendered g = render_scene_xml(lit_fog_xml(het, grid, guided("vsp", "product", 200000)), 1024, 8, false);
+        expect_same_means(g, ref);
+    }
+    const auto s = guide_stats(lit_fog_xml(false, grid, guided("vsp", "product", 200000)));
+    EXPECT_GT(s.at("distance_vsp_queries"), 100.0);
+    EXPECT_LT(s.at("distance_vsp_unguided_fraction"), 0.5);
+    EXPECT_GT(s.at("distance_vsp_scattered_fraction"), 0.05);
+    EXPECT_LT(s.at("distance_vsp_scattered_fraction"), 0.95);
+    EXPECT_EQ(s.at("distance_vsp_resampled_fraction"), 0.0);
+    const auto h = guide_stats(lit_fog_xml(true, grid, guided("vsp", "product", 200000)));
+    EXPECT_GT(h.at("distance_vsp_queries"), 100.0);
+    EXPECT_GT(h.at("distance_vsp_resampled_fraction"), 0.5);
+    EXPECT_GT(h.at("distance_vsp_scattered_fraction"), 0.05);
 }

@@ -56,6 +56,15 @@ std::string rrs_integrator(const std::string& rrs, float window) {
 TEST(GuidedVsVolpathScenes, ShaftsGuidedRussianRoulette) { compare("shafts", 1024, 512, rrs_integrator("grr", 1.f)); }
 TEST(GuidedVsVolpathScenes, ShaftsPapersWindow) { compare("shafts", 1024, 512, rrs_integrator("grrs", 1.f)); }
 
+// Issue 37: the full system with distance="vsp" (one decision per segment) on the homogeneous fogbox
+// (closed form) and the heterogeneous cloud (the segment's tentative collisions resampled).
+static std::string vsp_integrator() {
+    return R"(<scene version="3.0.0"><integrator type="guided_volpath"><integer name="max_depth" value="$max_depth"/>)"
+           R"(<string name="distance" value="vsp"/></integrator></scene>)";
+}
+TEST(GuidedVsVolpathScenes, FogboxVspDistance) { compare("fogbox", 1024, 512, vsp_integrator()); }
+TEST(GuidedVsVolpathScenes, CloudVspDistance) { compare("cloud", 1024, 512, vsp_integrator()); }
+
 // Issue 20: the full system with the distance walk over leaf groups (distance_merge).
 TEST(GuidedVsVolpathScenes, ShaftsDistanceRegions) {
     compare("shafts", 1024, 512,

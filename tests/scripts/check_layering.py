@@ -38,7 +38,7 @@ EXCEPTIONS = {
     ("guiding/guided_direction.h", "media/phase.h"):
         "the direction decisions take a PhaseFunction; header-only, installed with the guiding library",
     ("guiding/guided_collision.h", "media/guided_tracking.h"):
-        "the guided scatter probability shared with media/tracking.cpp; header-only, installed",
+        "the tentative collision the guided scatter probability reads; header-only, installed",
     # A shape owns its BSDF, emitter and media (as Mitsuba 3's Shape does) and reads them from its
     # <bsdf>, <emitter> and interior/exterior children: shape.h declares them incomplete, only the
     # constructor that casts the children needs their definitions.

@@ -1,4 +1,5 @@
-// Guided null-collision tracking (Medium::sample_free_flight with a CollisionGuide, docs/theory.md §7.7 H2) is
+// Guided null-collision tracking (media/majorant_tracking.h's guided_tracking over the medium's majorant
+// walk, docs/theory.md §7.7 H2) is
 // unbiased for any scatter probability that is positive where sigma_s is and below 1 where
 // mu > sigma_t: against quadrature on the tracking tests' procedural cloud (oracles.md §4),
 //   E[w 1{escaped}] = T_c(s),  E[w 1{scattered}] = int T_c sigma_s,c dt,  E[w 1{scattered} t] = int T_c sigma_s,c t dt,
@@ -12,7 +13,8 @@
 // the same decisions as sample_free_flight from the same random numbers; P_s = 1 / 0 where the
 // other branch carries nothing are exact and finite; a NaN P_s falls back to the unguided one; the
 // guide is asked once per tentative collision, in order, with the true coefficients there and
-// normalised channel weights, and only by media whose free flight is a null-collision walk.
+// normalised channel weights; spectral tracking over the walk the medium hands out is its own free
+// flight, bit for bit.
 // z-tests use |z| < 4 (per-test alpha 6e-5).
 #include <gtest/gtest.h>
 
@@ -24,6 +26,7 @@
 #include "support/media_test_util.h"
 #include "support/running_stats.h"
 #include "volguide/guiding/guided_collision.h"
+#include "volguide/media/majorant_tracking.h"
 #include "volguide/vmm/phase_vmm.h"
 
 using namespace volguide;
@@ -34,14 +37,7 @@ namespace {
 constexpr double kZ = 4.0;
 constexpr double kFloor = 1e-6;
 
-class FunctionGuide final : public CollisionGuide {
-public:
-    explicit FunctionGuide(std::function<float(const TentativeCollision&)> f) : f_(std::move(f)) {}
-    float scatter_probability(const TentativeCollision& c) override { return f_(c); }
-
-private:
-    std::function<float(const TentativeCollision&)> f_;
-};
+using ScatterFn = std::function<float(const TentativeCollision&)>;
 
 // Unguided, modulated by a factor in [0.5, 1.5] that varies along the ray, with a floor where sigma_s > 0.
 float modulated(const TentativeCollision& c) {
@@ -74,7 +70,7 @@ struct Expectations {
 
 // Runs n guided flights per ray and majorant scale and z-tests the three expectations per channel.
 // Returns the largest |z| seen (for the can-fail test).
-double check_unbiased(HeterogeneousMedium& m, const std::function<std::unique_ptr<CollisionGuide>(const TestRay&)>& guide_for,
+double check_unbiased(HeterogeneousMedium& m, const std::function<ScatterFn(const TestRay&)>& guide_for,
                       int n, uint64_t seed, bool expect_pass = true,
                       std::initializer_list<float> majorant_scales = {1.f, 10.f}, float max_weight = Infinity) {
     double worst = 0.0;
@@ -87,8 +83,8 @@ double check_unbiased(HeterogeneousMedium& m, const std::function<std::unique_pt
             Expectations e;
             for (int i = 0; i < n; ++i) {
                 Sampler s(seed + ri, uint64_t(ms), uint64_t(i));
-                auto guide = guide_for(r);
-                const FreeFlightSample fs = m.sample_free_flight(r.ray, r.tmax, Color3(1.f), s, guide.get());
+                ScatterFn guide = guide_for(r);
+                const FreeFlightSample fs = guided_tracking(m, r.ray, r.tmax, Color3(1.f), s, guide);
                 EXPECT_TRUE(fs.weight.is_finite());
                 EXPECT_LE(fs.weight.max_value(), max_weight);
                 if (fs.scattered) {
@@ -128,7 +124,7 @@ double check_unbiased(HeterogeneousMedium& m, const std::function<std::unique_pt
     return worst;
 }
 
-std::unique_ptr<CollisionGuide> modulated_guide(const TestRay&) { return std::make_unique<FunctionGuide>(modulated); }
+ScatterFn modulated_guide(const TestRay&) { return modulated; }
 
 }  // namespace
 
@@ -151,23 +147,17 @@ static void check_field_guided(CollisionMixture mixture) {
         SCOPED_TRACE(channels == 1 ? "grey" : "chromatic");
         auto m = cloud_medium(channels, channels == 1 ? Color3(0.8f) : Color3(0.9f, 0.5f, 0.99f), 4.f);
         uint64_t guided = 0, collisions = 0;
-        auto guide_for = [&](const TestRay& r) -> std::unique_ptr<CollisionGuide> {
+        auto guide_for = [&](const TestRay& r) -> ScatterFn {
             float b0, b1;
             const float t_end = field.tree().bounds().ray_intersect(r.ray, b0, b1) ? std::min(r.tmax, b1) : 0.f;
-            struct Counting final : CollisionGuide {
-                GuidedCollisionProbability p;
-                uint64_t *guided, *collisions;
-                Counting(GuidedCollisionProbability q, uint64_t* g, uint64_t* c) : p(q), guided(g), collisions(c) {}
-                float scatter_probability(const TentativeCollision& c) override {
-                    const uint64_t before = p.unguided_collisions();
-                    const float ps = p.scatter_probability(c);
-                    ++*collisions;
-                    *guided += p.unguided_collisions() == before;
-                    return ps;
-                }
+            auto p = std::make_shared<GuidedCollisionProbability>(field, &estimates, r.ray, t_end, 0.3f, mixture);
+            return [p, &guided, &collisions](const TentativeCollision& c) {
+                const uint64_t before = p->unguided_collisions();
+                const float ps = p->scatter_probability(c);
+                ++collisions;
+                guided += p->unguided_collisions() == before;
+                return ps;
             };
-            return std::make_unique<Counting>(GuidedCollisionProbability(field, &estimates, r.ray, t_end, 0.3f, mixture), &guided,
-                                              &collisions);
         };
         // Per flight, grey: at most the unguided weight (albedo or 1) / c_T. Per collision the factors
         // compound (heavy tails where the field says nothing comes from ahead): tight majorant only.
@@ -187,18 +177,18 @@ TEST(GuidedTracking, FieldGuidedProbabilityPerCollisionMixture) { check_field_gu
 TEST(GuidedTracking, AHoleInTheScatterProbabilityFails) {
     // P_s = 0 over a stretch of each ray where sigma_s > 0: that scattering mass is missing.
     auto m = cloud_medium(1, Color3(0.7f), 4.f);
-    auto hole = [](const TestRay&) -> std::unique_ptr<CollisionGuide> {
-        return std::make_unique<FunctionGuide>([](const TentativeCollision& c) {
+    auto hole = [](const TestRay&) -> ScatterFn {
+        return [](const TentativeCollision& c) {
             const float ps = modulated(c);
             return std::sin(7.f * c.t) > 0.7f ? 0.f : ps;
-        });
+        };
     };
     EXPECT_GT(check_unbiased(*m, hole, 20000, 100, /*expect_pass=*/false), 2.0 * kZ);
 }
 
 TEST(GuidedTracking, AnalogProbabilityIsDeltaTracking) {
     auto m = cloud_medium(1, Color3(0.7f), 4.f);
-    FunctionGuide unguided(unguided_scatter_probability);
+    ScatterFn unguided = unguided_scatter_probability;
     int same = 0, total = 0, scattered = 0;
     for (const TestRay& r : test_rays())
         for (float ms : {1.f, 10.f}) {
@@ -206,7 +196,7 @@ TEST(GuidedTracking, AnalogProbabilityIsDeltaTracking) {
             for (int i = 0; i < 5000; ++i) {
                 Sampler s(7, uint64_t(ms), uint64_t(i)), s_ref(7, uint64_t(ms), uint64_t(i));
                 TrackingCounts counts;
-                const FreeFlightSample fs = m->sample_free_flight(r.ray, r.tmax, Color3(1.f), s, &unguided, &counts);
+                const FreeFlightSample fs = guided_tracking(*m, r.ray, r.tmax, Color3(1.f), s, unguided, &counts);
                 const FreeFlightSample ref = m->sample_free_flight(r.ray, r.tmax, Color3(1.f), s_ref);
                 ASSERT_EQ(counts.real_collisions, fs.scattered ? 1u : 0u);
                 const float expected = fs.scattered ? 0.7f : 1.f;
@@ -232,11 +222,11 @@ TEST(GuidedTracking, CertainDecisionsAreExactAndFinite) {
     const Ray ray(Point3f(0.1f, 1.f, 1.f), Vec3f(1.f, 0.f, 0.f));  // 1.9 inside the box
     const double transmittance = std::exp(-1.5 * 1.9);
     auto dense = constant(Color3(0.6f, 0.3f, 0.9f));
-    FunctionGuide always([](const TentativeCollision&) { return 1.f; });
+    ScatterFn always = [](const TentativeCollision&) { return 1.f; };
     RunningStats escaped;
     for (int i = 0; i < 20000; ++i) {
         Sampler s(11, 0, uint64_t(i));
-        const FreeFlightSample fs = dense->sample_free_flight(ray, Infinity, Color3(1.f), s, &always);
+        const FreeFlightSample fs = guided_tracking(*dense, ray, Infinity, Color3(1.f), s, always);
         ASSERT_TRUE(fs.weight.is_finite());
         if (fs.scattered) {
             ASSERT_NEAR(fs.weight.r, 0.6f, 1e-5f);
@@ -249,13 +239,13 @@ TEST(GuidedTracking, CertainDecisionsAreExactAndFinite) {
     EXPECT_LT(escaped.z(transmittance), kZ) << escaped.mean() << " vs " << transmittance;
 
     auto black = constant(Color3(0.f));
-    FunctionGuide never([](const TentativeCollision&) { return 0.f; });
-    FunctionGuide nan([](const TentativeCollision&) { return std::nanf(""); });
-    for (FunctionGuide* g : {&never, &nan}) {
+    ScatterFn never = [](const TentativeCollision&) { return 0.f; };
+    ScatterFn nan = [](const TentativeCollision&) { return std::nanf(""); };
+    for (ScatterFn* g : {&never, &nan}) {
         RunningStats tr;
         for (int i = 0; i < 20000; ++i) {
             Sampler s(12, 0, uint64_t(i));
-            const FreeFlightSample fs = black->sample_free_flight(ray, Infinity, Color3(1.f), s, g);
+            const FreeFlightSample fs = guided_tracking(*black, ray, Infinity, Color3(1.f), s, *g);
             ASSERT_FALSE(fs.scattered && g == &never);
             ASSERT_TRUE(fs.weight.is_finite());
             tr.add(fs.scattered ? 0.0 : fs.weight.r);
@@ -268,9 +258,9 @@ TEST(GuidedTracking, CertainDecisionsAreExactAndFinite) {
 TEST(GuidedTracking, TheGuideSeesEveryTentativeCollision) {
     auto m = cloud_medium(3, Color3(0.9f, 0.5f, 0.99f), 4.f);
     EXPECT_TRUE(m->tracks_null_collisions());
-    struct Recording final : CollisionGuide {
+    struct Recording {
         std::vector<TentativeCollision> seen;
-        float scatter_probability(const TentativeCollision& c) override {
+        float operator()(const TentativeCollision& c) {
             seen.push_back(c);
             return modulated(c);
         }
@@ -283,13 +273,13 @@ TEST(GuidedTracking, TheGuideSeesEveryTentativeCollision) {
                 Sampler s(13, uint64_t(ms), uint64_t(i));
                 Recording guide;
                 TrackingCounts counts;
-                const Medium& medium = *m;  // the virtual call the walk guide makes
-                const FreeFlightSample fs = medium.sample_free_flight(r.ray, r.tmax, Color3(0.3f, 1.f, 0.6f), s, &guide);
+                const Medium& medium = *m;  // the virtual walk the walk guide calls
+                const FreeFlightSample fs = guided_tracking(medium, r.ray, r.tmax, Color3(0.3f, 1.f, 0.6f), s, guide);
                 // the same call with counters (and the same random numbers)
                 Sampler s_counted(13, uint64_t(ms), uint64_t(i));
                 Recording counted_guide;
                 const FreeFlightSample fs_counted =
-                    m->sample_free_flight(r.ray, r.tmax, Color3(0.3f, 1.f, 0.6f), s_counted, &counted_guide, &counts);
+                    guided_tracking(medium, r.ray, r.tmax, Color3(0.3f, 1.f, 0.6f), s_counted, counted_guide, &counts);
                 ASSERT_EQ(fs.t, fs_counted.t);
                 ASSERT_EQ(fs.weight, fs_counted.weight);
                 ASSERT_EQ(guide.seen.size(), counts.null_collisions + counts.real_collisions);
@@ -320,4 +310,34 @@ TEST(GuidedTracking, TheGuideSeesEveryTentativeCollision) {
     m->set_majorant_scale(1.f);
     EXPECT_GT(scattered, 100u);
     EXPECT_GT(collisions, 10 * scattered);  // the loose majorant adds many nulls
+}
+
+TEST(GuidedTracking, SpectralTrackingOverTheHandedWalkIsTheFreeFlight) {
+    // The walk Medium::sample_majorant_walk hands out is the one the medium's own free flight inlines:
+    // spectral tracking as its callback gives the same flights from the same random numbers.
+    auto m = cloud_medium(3, Color3(0.9f, 0.5f, 0.99f), 4.f);
+    const Medium& medium = *m;
+    int scattered = 0, total = 0;
+    for (const TestRay& r : test_rays())
+        for (float ms : {1.f, 10.f}) {
+            m->set_majorant_scale(ms);
+            for (int i = 0; i < 2000; ++i) {
+                const Color3 throughput(0.3f, 1.f, 0.6f);
+                Sampler s(17, uint64_t(ms), uint64_t(i)), s_ref(17, uint64_t(ms), uint64_t(i));
+                const FreeFlightSample fs = track_collisions(
+                    medium, r.ray, r.tmax, throughput, s, SpectralTrackingPolicy{}, nullptr,
+                    [&](auto&& collide) { medium.sample_majorant_walk(r.ray, r.tmax, s, collide); });
+                const FreeFlightSample ref = medium.sample_free_flight(r.ray, r.tmax, throughput, s_ref);
+                ASSERT_EQ(fs.scattered, ref.scattered);
+                ASSERT_EQ(fs.t, ref.t);
+                ASSERT_EQ(fs.weight, ref.weight);
+                ASSERT_EQ(fs.flight_weight, ref.flight_weight);
+                ASSERT_EQ(s.next_1d(), s_ref.next_1d());  // the same random numbers consumed
+                scattered += fs.scattered;
+                ++total;
+            }
+        }
+    m->set_majorant_scale(1.f);
+    EXPECT_GT(scattered, total / 10);
+    EXPECT_LT(scattered, total);
 }

@@ -1,7 +1,7 @@
 // Homogeneous media: the closed-form free-flight sampler with one-sample spectral MIS must give
 // E[w 1{scattered} f(t)] = int_0^s T_c(t) sigma_s,c f(t) dt and E[w 1{escaped}] = T_c(s) per channel
-// (z-tests), and transmittance() is exact. The free flight has no tentative collisions: a
-// CollisionGuide passed to it is not consulted.
+// (z-tests), and transmittance() is exact. The free flight is sampled in closed form; the
+// majorant walk it hands to callers is one segment at the largest channel's rate.
 #include <gtest/gtest.h>
 
 #include "support/running_stats.h"
@@ -130,26 +130,37 @@ TEST(MediaHomogeneous, ExactTransmittance) {
     EXPECT_TRUE(m->is_homogeneous());
 }
 
-TEST(MediaHomogeneous, ClosedFormDoesNotConsultACollisionGuide) {
-    struct AlwaysScatter final : CollisionGuide {
-        int calls = 0;
-        float scatter_probability(const TentativeCollision&) override {
-            ++calls;
-            return 1.f;
-        }
-    } guide;
+TEST(MediaHomogeneous, MajorantWalkIsOneSegmentAtTheLargestChannel) {
+    // The walk hands over a Poisson process of rate max sigma_t on (0, tmax) with the true sigma_t:
+    // ratio tracking over it, prod (1 - sigma_t / mu), is unbiased for exp(-sigma_t s) per channel.
     auto m = make_medium(Color3(0.5f, 1.f, 2.f), Color3(0.7f));
     EXPECT_FALSE(m->tracks_null_collisions());
     const Medium& medium = *m;
     const Ray ray(Point3f(0.f), Vec3f(0.f, 1.f, 0.f));
-    for (int i = 0; i < 1000; ++i) {
-        Sampler s(5, 0, uint64_t(i)), s_ref(5, 0, uint64_t(i));
-        const FreeFlightSample fs = medium.sample_free_flight(ray, 1.5f, Color3(0.2f, 1.f, 3.f), s, &guide);
-        const FreeFlightSample ref = medium.sample_free_flight(ray, 1.5f, Color3(0.2f, 1.f, 3.f), s_ref);
-        ASSERT_EQ(fs.scattered, ref.scattered);
-        ASSERT_EQ(fs.t, ref.t);
-        ASSERT_EQ(fs.weight, ref.weight);
-        ASSERT_EQ(fs.flight_weight, ref.flight_weight);
+    const float s = 1.5f;
+    RunningStats tr[3], count;
+    for (int i = 0; i < 40000; ++i) {
+        Sampler sampler(5, 0, uint64_t(i));
+        Color3 w(1.f);
+        int n = 0;
+        float previous = 0.f;
+        medium.sample_majorant_walk(ray, s, sampler, [&](const MajorantCollision& c) {
+            EXPECT_GT(c.t, previous);
+            EXPECT_LT(c.t, s);
+            EXPECT_EQ(c.mu, 2.f);
+            EXPECT_EQ(c.sigma_t, Color3(0.5f, 1.f, 2.f));
+            previous = c.t;
+            ++n;
+            w *= Color3(1.f) - c.sigma_t * (1.f / c.mu);
+            return true;
+        });
+        for (int c = 0; c < 3; ++c) tr[c].add(w[c]);
+        count.add(n);
     }
-    EXPECT_EQ(guide.calls, 0);
+    for (int c = 0; c < 3; ++c) {
+        const double want = std::exp(-double(Color3(0.5f, 1.f, 2.f)[c]) * s);
+        EXPECT_LT(tr[c].z(want, 1e-6), 4.0) << "channel " << c << ": " << tr[c].mean() << " vs " << want;
+    }
+    EXPECT_LT(count.z(2.0 * s), 4.0) << count.mean();  // Poisson mean mu s
+    EXPECT_NEAR(m->albedo(Point3f(0.f)).g, 0.7f, 1e-6f);
 }

@@ -58,9 +58,8 @@ public:
         phase_ = std::move(phase);
     }
     MediumCoefficients eval(const Point3f&) const override { return coeffs_; }
-    using Medium::sample_free_flight;
-    FreeFlightSample sample_free_flight(const Ray& ray, float tmax, const Color3& throughput, Sampler& sampler,
-                                        CollisionGuide*) const override {
+    FreeFlightSample sample_free_flight(const Ray& ray, float tmax, const Color3& throughput,
+                                        Sampler& sampler) const override {
         FreeFlightSample ff;
         // Channel c with probability q_c proportional to |throughput_c| (uniform if all vanish).
         Color3 q(std::abs(throughput.r), std::abs(throughput.g), std::abs(throughput.b));
@@ -91,6 +90,14 @@ public:
             ff.weight = ff.flight_weight = p > 0.f ? tr * (1.f / p) : Color3(0.f);
         }
         return ff;
+    }
+    void sample_majorant_walk(const Ray&, float tmax, Sampler& sampler, MajorantCallback collide) const override {
+        walk_constant_majorant(coeffs_.sigma_t, tmax, sampler, collide);
+    }
+    Color3 albedo(const Point3f&) const override {
+        const Color3& st = coeffs_.sigma_t;
+        return {st.r > 0.f ? coeffs_.sigma_s.r / st.r : 0.f, st.g > 0.f ? coeffs_.sigma_s.g / st.g : 0.f,
+                st.b > 0.f ? coeffs_.sigma_s.b / st.b : 0.f};
     }
     Color3 transmittance(const Ray&, float tmax, Sampler&) const override { return tr_at(tmax); }
     void proxy_segments(const Ray&, float t0, float t1, std::vector<ProxySegment>& out) const override {

@@ -34,7 +34,7 @@ namespace volguide {
 
 enum class CollisionMixture { PerFlight, PerCollision };
 
-class GuidedCollisionProbability final : public CollisionGuide {
+class GuidedCollisionProbability {
   public:
     // Guides collisions at t in (0, t_end) of `ray` (beyond: unguided). `estimates` may be null.
     // One object per flight: it infers the previous collision's outcome (a null) from the next call.
@@ -42,7 +42,10 @@ class GuidedCollisionProbability final : public CollisionGuide {
                                float t_end, float c_T,
                                CollisionMixture mixture = CollisionMixture::PerFlight);
 
-    float scatter_probability(const TentativeCollision& c) override;
+    // P_s at the tentative collision c (called in order of increasing t; media/majorant_tracking.h's
+    // guided_tracking takes it as its scatter probability).
+    float scatter_probability(const TentativeCollision& c);
+    float operator()(const TentativeCollision& c) { return scatter_probability(c); }
 
     // Counters of this query.
     uint64_t collisions() const { return collisions_; }

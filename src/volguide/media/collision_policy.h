@@ -8,8 +8,9 @@
 // A policy is a class with
 //   static constexpr bool reads_scattering;   // needs sigma_s before deciding (else only at a scatter)
 //   CollisionDecision operator()(const TentativeCollision&, Sampler&);
-// passed as a template argument so that the unguided decision inlines into the walk; a guided walk
-// pays one virtual call per collision, inside its CollisionGuide.
+// passed as a template argument so that the unguided decision inlines into the walk (media/
+// majorant_tracking.h's track_collisions); a guided walk pays one indirect call per collision, the
+// medium's majorant walk handing the collision to the caller.
 #include <algorithm>
 #include <cmath>
 
@@ -41,15 +42,17 @@ struct SpectralTrackingPolicy {
     }
 };
 
-// Guided null-collision tracking: P_s from the caller's CollisionGuide, which sees the channel
-// weights normalised (NaN: the unguided probability; clamped to [0, 1]).
+// Guided null-collision tracking: P_s from the caller's scatter probability (a callable
+// float(const TentativeCollision&)), which sees the channel weights normalised (NaN: the unguided
+// probability; clamped to [0, 1]).
+template <class ScatterProbability>
 struct GuidedTrackingPolicy {
     static constexpr bool reads_scattering = true;
-    CollisionGuide& guide;
+    ScatterProbability& probability;
     CollisionDecision operator()(const TentativeCollision& c, Sampler& sampler) const {
         TentativeCollision seen = c;
         seen.channel_weights = channel_probabilities(c.channel_weights);
-        float ps = guide.scatter_probability(seen);
+        float ps = probability(seen);
         ps = std::isnan(ps) ? unguided_scatter_probability(seen) : std::clamp(ps, 0.f, 1.f);
         // u in [0, 1): P_s = 0 never scatters and P_s = 1 always does, so each factor's division
         // is by a probability of at least ~1e-7 (weights stay finite).

@@ -12,24 +12,16 @@
 
 namespace volguide {
 
-// A tentative collision: what the walk's decision there (collision_policy.h) and the caller's
-// CollisionGuide see.
+// A tentative collision: what the walk's decision there (collision_policy.h) and a guided
+// scatter probability (majorant_tracking.h's guided_tracking) see.
 struct TentativeCollision {
     float t;                // ray parameter
     float mu;               // the majorant-cell's rate (>= sigma_t in every channel for a true bound)
     Color3 sigma_t;         // true coefficients at ray(t)
     Color3 sigma_s;         // (a walk whose decision does not read it fills it in at the scatter only)
     // The path's channel weights q: throughput on entry (as channel probabilities) x tracking weight
-    // so far. A CollisionGuide sees them as |q| normalised to sum 1.
+    // so far. A guided scatter probability sees them as |q| normalised to sum 1.
     Color3 channel_weights;
-};
-
-// The caller's side: P_s at each tentative collision, called in order of increasing t. A NaN is
-// replaced by the unguided probability, values outside [0, 1] are clamped.
-class CollisionGuide {
-public:
-    virtual ~CollisionGuide() = default;
-    virtual float scatter_probability(const TentativeCollision& c) = 0;
 };
 
 // Spectral tracking (Kutz et al. 2017) weighs the two events of a tentative collision by their

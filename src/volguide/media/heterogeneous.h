@@ -12,7 +12,8 @@
 // into the weight: real collisions always scatter); a null collision has P_n = 1 - P_c and
 // w <- w sigma_n / (mu P_n). For grey sigma_t this is delta tracking with weight = albedo.
 // With absolute values the estimator stays unbiased even where mu < sigma_t (only noisier).
-// Guided tracking (media/guided_tracking.h): the same walk with the caller's scatter probability.
+// The walk is also handed to callers (sample_majorant_walk): guided tracking (media/majorant_tracking.h)
+// is the same walk with the caller's scatter probability.
 // Transmittance: ratio tracking, or residual ratio tracking with the per-cell per-channel mean
 // as control (default); both unbiased for any majorant. Both stop small estimates by unbiased
 // Russian roulette (survival max|T| / 0.05 once max|T| < 0.05).
@@ -27,13 +28,6 @@ namespace volguide {
 
 enum class TransmittanceEstimator { Ratio, ResidualRatio };
 
-// Event counters of one tracking call (for benchmarks and tests).
-struct TrackingCounts {
-    uint64_t null_collisions = 0;
-    uint64_t real_collisions = 0;
-    uint64_t cells = 0;  // majorant cells visited
-};
-
 class HeterogeneousMedium final : public Medium {
 public:
     HeterogeneousMedium(std::shared_ptr<Volume> sigma_t, float scale, std::shared_ptr<Volume> albedo,
@@ -45,14 +39,17 @@ public:
     void set_transmittance_estimator(TransmittanceEstimator e) { estimator_ = e; }
 
     MediumCoefficients eval(const Point3f& p) const override;
-    using Medium::sample_free_flight;
-    FreeFlightSample sample_free_flight(const Ray& ray, float tmax, const Color3& throughput, Sampler& sampler,
-                                        CollisionGuide* guide) const override {
-        return sample_free_flight(ray, tmax, throughput, sampler, guide, nullptr);
+    FreeFlightSample sample_free_flight(const Ray& ray, float tmax, const Color3& throughput,
+                                        Sampler& sampler) const override {
+        return sample_free_flight(ray, tmax, throughput, sampler, nullptr);
     }
     // The same with event counters (optional): real = the scatter, null = the other collisions.
     FreeFlightSample sample_free_flight(const Ray& ray, float tmax, const Color3& throughput, Sampler& sampler,
-                                        CollisionGuide* guide, TrackingCounts* counts) const;
+                                        TrackingCounts* counts) const;
+    // The walk of for_each_tentative_collision below, handed to the caller (one indirect call per
+    // collision; the medium's own estimators use the walk inlined).
+    void sample_majorant_walk(const Ray& ray, float tmax, Sampler& sampler, MajorantCallback collide) const override;
+    Color3 albedo(const Point3f& p) const override { return albedo_->eval(p); }
     bool tracks_null_collisions() const override { return true; }
     Color3 transmittance(const Ray& ray, float tmax, Sampler& sampler) const override;
     void proxy_segments(const Ray& ray, float t0, float t1, std::vector<ProxySegment>& out) const override;
@@ -92,12 +89,6 @@ private:
             }
         }
     }
-
-    // The free flight of sample_free_flight: the tentative collisions' decisions from `policy`
-    // (media/collision_policy.h), the weights and the scattering vertex from the walk.
-    template <class Policy>
-    FreeFlightSample track(const Ray& ray, float tmax, const Color3& throughput, Sampler& sampler,
-                           const Policy& policy, TrackingCounts* counts) const;
 
     // The ray in the sigma_t volume's local coordinates (t unchanged) clipped to the unit cube
     // and (0, tmax); false when it misses.

@@ -28,8 +28,12 @@ void HomogeneousMedium::proxy_segments(const Ray& ray, float t0, float t1, std::
     out.push_back({t0, t1, sigma_t_, albedo});
 }
 
+void HomogeneousMedium::sample_majorant_walk(const Ray&, float tmax, Sampler& sampler, MajorantCallback collide) const {
+    walk_constant_majorant(sigma_t_, tmax, sampler, collide);
+}
+
 FreeFlightSample HomogeneousMedium::sample_free_flight(const Ray& ray, float tmax, const Color3& throughput,
-                                                       Sampler& sampler, CollisionGuide*) const {
+                                                       Sampler& sampler) const {
     float u_channel = sampler.next_1d();
     const float u_t = sampler.next_1d();
     const Color3 probs = grey_ ? Color3(1.f / 3.f) : channel_probabilities(throughput);

@@ -5,7 +5,7 @@
 // channel c is picked with probability P_c proportional to the path throughput,
 // t ~ sigma_t,c exp(-sigma_t,c t), and every channel is weighted with the mixture pdf
 // p(t) = sum_c P_c sigma_t,c exp(-sigma_t,c t)  (escape: P = sum_c P_c exp(-sigma_t,c tmax)).
-// Transmittance is exact (media/homogeneous_transmittance.h).
+// Transmittance is exact (media/homogeneous_transmittance.h). Its majorant walk is one segment.
 #include "volguide/media/medium.h"
 #include "volguide/media/volume.h"
 
@@ -18,10 +18,12 @@ public:
                       bool sample_emitters = true);
 
     MediumCoefficients eval(const Point3f& p) const override;
-    using Medium::sample_free_flight;
-    // Closed form: there are no tentative collisions, so `guide` is not consulted.
-    FreeFlightSample sample_free_flight(const Ray& ray, float tmax, const Color3& throughput, Sampler& sampler,
-                                        CollisionGuide* guide) const override;
+    // Closed form (one-sample spectral MIS, above).
+    FreeFlightSample sample_free_flight(const Ray& ray, float tmax, const Color3& throughput,
+                                        Sampler& sampler) const override;
+    // One majorant segment (0, tmax) at the largest channel of sigma_t (walk_constant_majorant).
+    void sample_majorant_walk(const Ray& ray, float tmax, Sampler& sampler, MajorantCallback collide) const override;
+    Color3 albedo(const Point3f& p) const override { return albedo_at(p); }
     bool tracks_null_collisions() const override { return false; }
     Color3 transmittance(const Ray& ray, float tmax, Sampler& sampler) const override;
     void proxy_segments(const Ray& ray, float t0, float t1, std::vector<ProxySegment>& out) const override;

@@ -2,17 +2,22 @@
 // Participating media. A Medium owns its coefficients (homogeneous values or grid volumes, times
 // `scale`), its phase function, and the unbiased estimators the integrators use:
 //  - sample_free_flight: closed-form distance sampling (homogeneous), or a null-collision walk
-//    over a majorant grid (heterogeneous) whose scatter decisions are spectral tracking's, or the
-//    caller's when it passes a CollisionGuide (guided null-collision tracking, docs/theory.md §7.7 H2);
+//    over a majorant grid (heterogeneous) whose scatter decisions are spectral tracking's;
 //  - transmittance: exact for homogeneous media (media/homogeneous_transmittance.h), ratio /
-//    residual ratio tracking for heterogeneous ones.
+//    residual ratio tracking for heterogeneous ones;
+//  - sample_majorant_walk (pbrt-v4's SampleT_maj shape): the tentative collisions of the majorant
+//    walk handed to the caller one at a time, for decisions the medium does not make itself
+//    (guided null-collision tracking, media/majorant_tracking.h; the per-segment scatter decision).
 // Every estimator is unbiased for any majorant that bounds sigma_t; a looser majorant only costs
-// time. Integrators never see null collisions; a CollisionGuide sees them one at a time.
+// time.
+#include <cmath>
+#include <cstdint>
 #include <memory>
 #include <vector>
 
 #include "volguide/core/bbox.h"
 #include "volguide/core/color.h"
+#include "volguide/core/function_ref.h"
 #include "volguide/core/object.h"
 #include "volguide/core/ray.h"
 #include "volguide/core/sampler.h"
@@ -22,7 +27,6 @@
 namespace volguide {
 
 class Medium;
-class CollisionGuide;
 
 struct MediumCoefficients {
     Color3 sigma_t;  // extinction (1/length), already multiplied by `scale`
@@ -71,6 +75,39 @@ struct ProxySegment {
     float albedo;    // scalar: mean sigma_s / mean sigma_t over the channels (docs/theory.md §7.8)
 };
 
+// A tentative collision of a majorant walk: its ray parameter, the majorant rate mu of the
+// majorant segment it lies in (a homogeneous medium is one segment, a heterogeneous one a segment
+// per majorant cell crossed) and the true extinction there. The collisions form a Poisson process
+// of rate mu along the ray, so the density of the first one at t is mu T_maj(t): weights computed as
+// ratios against mu need no majorant transmittance.
+struct MajorantCollision {
+    float t;
+    float mu;
+    Color3 sigma_t;
+};
+// Called at each tentative collision in order of increasing t; returns false to end the walk. It may
+// draw from the walk's sampler (the walk draws the next collision's optical depth after it returns).
+using MajorantCallback = FunctionRef<bool(const MajorantCollision&)>;
+
+// The majorant walk of constant extinction over (0, tmax): one segment at mu = the largest channel
+// of sigma_t (exact for grey sigma_t; chromatic ones see null collisions for the thinner channels).
+inline void walk_constant_majorant(const Color3& sigma_t, float tmax, Sampler& sampler, MajorantCallback collide) {
+    const float mu = sigma_t.max_value();
+    if (!(mu > 0.f)) return;
+    float t = 0.f;
+    while (true) {
+        t += -std::log1p(-sampler.next_1d()) / mu;
+        if (!(t < tmax) || !collide(MajorantCollision{t, mu, sigma_t})) return;
+    }
+}
+
+// Event counters of one tracking call (for benchmarks and tests).
+struct TrackingCounts {
+    uint64_t null_collisions = 0;
+    uint64_t real_collisions = 0;
+    uint64_t cells = 0;  // majorant cells visited
+};
+
 class Medium : public Object {
 public:
     const PhaseFunction& phase() const { return *phase_; }
@@ -82,17 +119,18 @@ public:
     // infinite (then the ray must scatter or be absorbed, or leave the medium's bounds).
     // `throughput` is the path's current throughput: chromatic media choose the channel that drives
     // the decision in proportion to it (media/spectral_mis.h); it does not scale the returned weight.
-    // `guide` (may be null): where tracks_null_collisions(), the scatter probability at each
-    // tentative collision (media/guided_tracking.h; it must outlive the call); media sampled in
-    // closed form do not consult it.
     virtual FreeFlightSample sample_free_flight(const Ray& ray, float tmax, const Color3& throughput,
-                                                Sampler& sampler, CollisionGuide* guide) const = 0;
-    FreeFlightSample sample_free_flight(const Ray& ray, float tmax, const Color3& throughput,
-                                        Sampler& sampler) const {
-        return sample_free_flight(ray, tmax, throughput, sampler, nullptr);
-    }
-    // Whether free flights walk tentative collisions (a null-collision walk a CollisionGuide can
-    // steer) rather than being sampled in closed form.
+                                                Sampler& sampler) const = 0;
+    // The majorant walk over t in (0, tmax), tmax finite or not: `collide` at each tentative
+    // collision until it returns false or the walk leaves (0, tmax) or the medium's bounds. The
+    // walk draws one random number per collision (the optical depth to the next) before the first
+    // and after each collision that continues. Deciding, weighting and counting are the callback's.
+    virtual void sample_majorant_walk(const Ray& ray, float tmax, Sampler& sampler, MajorantCallback collide) const = 0;
+    // The single-scattering albedo sigma_s / sigma_t at p (sigma_s = sigma_t * albedo): what a
+    // majorant walk's callback multiplies in at a scatter.
+    virtual Color3 albedo(const Point3f& p) const = 0;
+    // Whether free flights walk tentative collisions (a null-collision walk) rather than being
+    // sampled in closed form.
     virtual bool tracks_null_collisions() const = 0;
     // Unbiased estimate of the transmittance over t in (0, tmax).
     virtual Color3 transmittance(const Ray& ray, float tmax, Sampler& sampler) const = 0;

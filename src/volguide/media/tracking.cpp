@@ -1,10 +1,11 @@
-// Null-collision estimators of the heterogeneous medium (docs/theory.md §2.2-2.4, §2.6, §7.7 H2), all
+// Null-collision estimators of the heterogeneous medium (docs/theory.md §2.2-2.4, §2.6), all
 // driven by a DDA over the majorant grid in the sigma_t volume's local coordinates (t is the world ray
 // parameter throughout, so distances need no conversion).
 #include "volguide/media/collision_policy.h"
 #include "volguide/media/dda.h"
 #include "volguide/media/heterogeneous.h"
 #include "volguide/media/homogeneous_transmittance.h"
+#include "volguide/media/majorant_tracking.h"
 #include "volguide/media/spectral_mis.h"
 
 namespace volguide {
@@ -29,64 +30,36 @@ inline bool roulette(Color3& tr, Sampler& s) {
 
 }  // namespace
 
+// Spectral tracking over the walk inlined (one instance of the template walk with the policy).
 FreeFlightSample HeterogeneousMedium::sample_free_flight(const Ray& ray, float tmax, const Color3& throughput,
-                                                         Sampler& sampler, CollisionGuide* guide,
-                                                         TrackingCounts* counts) const {
-    if (guide) return track(ray, tmax, throughput, sampler, GuidedTrackingPolicy{*guide}, counts);
-    return track(ray, tmax, throughput, sampler, SpectralTrackingPolicy{}, counts);
-}
-
-// The event probabilities weigh each channel by the path weight, i.e. the throughput on entry (as
-// channel probabilities) times the tracking weight w accumulated here; w alone is returned.
-template <class Policy>
-FreeFlightSample HeterogeneousMedium::track(const Ray& ray, float tmax, const Color3& throughput, Sampler& sampler,
-                                            const Policy& policy, TrackingCounts* counts) const {
-    FreeFlightSample fs;
-    fs.t = tmax;
+                                                         Sampler& sampler, TrackingCounts* counts) const {
     Point3f o;
     Vec3f d;
     float t0, t1;
-    if (!local_segment(ray, tmax, o, d, t0, t1)) return fs;
-
-    const Color3 entry = channel_probabilities(throughput);
-    Color3 w(1.f);
-    // The decision that ended the walk (Null: none did, the ray reached the segment's end) and, for
-    // a scatter, its collision: the scatter is recorded after the walk, so that the per-collision
-    // callback stays small. always_inline: GCC 12 otherwise keeps the guided instance's callback
-    // out of line, a call per tentative collision (the parent's guided loop had none).
-    CollisionDecision end{CollisionDecision::Event::Null};
-    TentativeCollision scatter{};
-    for_each_tentative_collision(o, d, t0, t1, sampler, counts, [&](float t, float mu) __attribute__((always_inline)) {
-        TentativeCollision c{t, mu, sigma_t_local(o + d * t), Color3(0.f), w * entry};
-        if constexpr (Policy::reads_scattering) c.sigma_s = c.sigma_t * albedo_->eval(ray(t));
-        end = policy(c, sampler);
-        if (end.event == CollisionDecision::Event::Null) {
-            if (counts) ++counts->null_collisions;
-            w = w * (Color3(mu) - c.sigma_t) * end.factor;
-            if (!w.is_black()) return true;
-            end.event = CollisionDecision::Event::Vanish;  // sigma_t = mu in every channel that carried weight
-        }
-        if (end.event == CollisionDecision::Event::Scatter) scatter = c;
-        return false;
-    });
-    switch (end.event) {
-        case CollisionDecision::Event::Scatter: {
-            if (counts) ++counts->real_collisions;
-            const Point3f p = ray(scatter.t);
-            if constexpr (!Policy::reads_scattering) scatter.sigma_s = scatter.sigma_t * albedo_->eval(p);
-            fs.scatter_at(ray, scatter.t, p, this, {scatter.sigma_t, scatter.sigma_s});
-            fs.flight_weight = w * end.factor;
-            fs.weight = fs.flight_weight * scatter.sigma_s;
-            break;
-        }
-        case CollisionDecision::Event::Vanish:  // nothing can be carried further
-            fs.weight = fs.flight_weight = Color3(0.f);
-            break;
-        case CollisionDecision::Event::Null:
-            fs.weight = fs.flight_weight = w;
-            break;
+    if (!local_segment(ray, tmax, o, d, t0, t1)) {
+        FreeFlightSample fs;
+        fs.t = tmax;
+        return fs;
     }
-    return fs;
+    return track_collisions(*this, ray, tmax, throughput, sampler, SpectralTrackingPolicy{}, counts,
+                            [&](auto&& collide) __attribute__((always_inline)) {
+                                for_each_tentative_collision(o, d, t0, t1, sampler, counts,
+                                                             [&](float t, float mu) __attribute__((always_inline)) {
+                                                                 return collide(
+                                                                     MajorantCollision{t, mu, sigma_t_local(o + d * t)});
+                                                             });
+                            });
+}
+
+void HeterogeneousMedium::sample_majorant_walk(const Ray& ray, float tmax, Sampler& sampler,
+                                               MajorantCallback collide) const {
+    Point3f o;
+    Vec3f d;
+    float t0, t1;
+    if (!local_segment(ray, tmax, o, d, t0, t1)) return;
+    for_each_tentative_collision(o, d, t0, t1, sampler, nullptr, [&](float t, float mu) {
+        return collide(MajorantCollision{t, mu, sigma_t_local(o + d * t)});
+    });
 }
 
 Color3 HeterogeneousMedium::transmittance(const Ray& ray, float tmax, Sampler& sampler) const {

@@ -25,7 +25,8 @@ constexpr Choice<TrainingMethod> kTraining[] = {{"photons", TrainingMethod::Phot
                                                 {"progressive", TrainingMethod::Progressive}};
 constexpr Choice<DistanceGuiding> kDistance[] = {{"standard", DistanceGuiding::Standard},
                                                  {"incremental", DistanceGuiding::Incremental},
-                                                 {"tabulated", DistanceGuiding::Tabulated}};
+                                                 {"tabulated", DistanceGuiding::Tabulated},
+                                                 {"vsp", DistanceGuiding::Vsp}};
 constexpr Choice<DistanceDenominator> kDenominator[] = {{"vre", DistanceDenominator::Vre},
                                                         {"incident", DistanceDenominator::Incident}};
 // Heterogeneous media under distance=incremental: guided null-collision tracking (H2) or the bins (H1).

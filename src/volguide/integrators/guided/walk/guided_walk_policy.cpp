@@ -17,23 +17,21 @@ FreeFlightSample GuidedWalkPolicy::sample_distance(const Medium& medium, const R
 }
 
 void GuidedWalkPolicy::prepare_direction(const MediumInteraction& mi, VertexLeaf& vertex_leaf, Sampler&) {
-    direction_.reset();
-    if (guide_.guides_direction()) guide_.direction_sampler(mi, mi.medium->phase(), vertex_leaf, direction_);
-    direction_leaf_ = vertex_leaf.leaf;
+    vertex_.init(mi, vertex_leaf);
 }
 
-float GuidedWalkPolicy::direction_pdf(const MediumInteraction& mi, const Vec3f& wo) const {
-    return direction_ ? direction_->pdf(wo) : mi.medium->phase().pdf(mi.wi, wo);
+float GuidedWalkPolicy::direction_pdf(const MediumInteraction&, const Vec3f& wo) const {
+    return vertex_.direction_pdf(wo);
 }
 
 PhaseSample GuidedWalkPolicy::sample_direction(const MediumInteraction& mi, Sampler& sampler,
                                                DecisionRecord* record) {
-    if (!direction_) return mi.medium->phase().sample(mi.wi, sampler.next_2d());
+    if (!vertex_.has_direction_sampler()) return mi.medium->phase().sample(mi.wi, sampler.next_2d());
     const float u_strategy = sampler.next_1d();
-    const GuidedDirectionSampler::Sample g = direction_->sample(sampler.next_2d(), u_strategy);
+    const GuidedDirectionSampler::Sample g = vertex_.sample_direction(sampler.next_2d(), u_strategy);
     guide_.count_direction(g.guided);
-    if (record && direction_->guided() && g.pdf > 0.f)
-        *record = {true, direction_leaf_, g.pdf, mi.medium->phase().pdf(mi.wi, g.wo), direction_->guide_pdf(g.wo)};
+    if (record && vertex_.guided() && g.pdf > 0.f)
+        *record = {true, vertex_.leaf(), g.pdf, mi.medium->phase().pdf(mi.wi, g.wo), vertex_.guide_pdf(g.wo)};
     PhaseSample ps;
     ps.wo = g.wo;
     ps.pdf = g.pdf;

@@ -14,6 +14,7 @@
 #include "volguide/guiding/roulette_splitting.h"
 #include "volguide/integrators/guided/walk/guided_continuation.h"
 #include "volguide/integrators/guided/walk/guided_surface_sampler.h"
+#include "volguide/integrators/guided/walk/guided_vertex.h"
 #include "volguide/integrators/guided/walk/walk_guide.h"
 #include "volguide/integrators/volpath/walk_policy.h"
 #include "volguide/vmm/vmm.h"
@@ -26,7 +27,7 @@ class GuidedWalkPolicy final : public WalkPolicy {
     // `ears`: the pass's continuation statistics (rrs=ears, guided_continuation.h).
     GuidedWalkPolicy(const WalkGuide& guide, const RouletteSplitting* rrs, float pixel,
                      const ContinuationSnapshot* ears = nullptr)
-        : guide_(guide), continuation_(guide, rrs, pixel, ears) {}
+        : guide_(guide), continuation_(guide, rrs, pixel, ears), vertex_(guide) {}
 
     bool guides_distance() const override { return guide_.guides_distance(); }
     FreeFlightSample sample_distance(const Medium& medium, const Ray& ray, float tmax, const Color3& throughput,
@@ -56,9 +57,8 @@ class GuidedWalkPolicy final : public WalkPolicy {
     const WalkGuide& guide_;
     GuidedContinuation continuation_;
     DistanceScratch scratch_;
-    int direction_leaf_ = -1;  // the current medium vertex's leaf (-1: none), for the DecisionRecord
+    GuidedVertex vertex_;      // the current medium vertex's guided decisions
     int surface_leaf_ = -1;    // the leaf beside the current surface vertex
-    std::optional<GuidedDirectionSampler> direction_;  // of the current medium vertex
     std::optional<GuidedSurfaceSampler> surface_;      // of the current surface vertex
     Vmm surface_guide_{Vmm::Uninitialized{}};          // the product guide surface_ reads
 };

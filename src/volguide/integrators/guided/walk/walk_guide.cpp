@@ -2,10 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "volguide/integrators/guided/walk/distance_bins.h"
+#include "volguide/integrators/guided/walk/vsp_distance.h"
 #include "volguide/guiding/guided_collision.h"
 #include "volguide/guiding/surface_guide.h"
+#include "volguide/media/majorant_tracking.h"
 #include "volguide/media/spectral_mis.h"
 #include "volguide/render/scene.h"
 #include "volguide/render/sensor.h"
@@ -117,6 +120,12 @@ FreeFlightSample WalkGuide::sample_distance(const Medium& medium, const Ray& ray
         }
         if (share != LearnedSelection::kDefault) c_T = 1.f - share;
     }
+    if (settings_.distance == DistanceGuiding::Vsp) {
+        if (origin < 0) origin = leaf_of(ray.o, VertexLeaf());
+        if (!medium.is_homogeneous())
+            return vsp_resampled(medium, ray, tmax, origin, c_T, throughput, sampler, vertex_leaf);
+        return vsp_distance(medium, ray, tmax, origin, c_T, throughput, sampler, vertex_leaf, scratch);
+    }
     float b0, b1;
     const bool crosses = !field_.empty() && field_.tree().bounds().ray_intersect(ray, b0, b1) && b1 > 0.f;
     // The guided part: (0, t_end); beyond the field's bounds the medium's own free flight.
@@ -131,7 +140,7 @@ FreeFlightSample WalkGuide::sample_distance(const Medium& medium, const Ray& ray
         medium.tracks_null_collisions()) {
         // The whole segment: beyond the field the tracking falls back to the unguided probability.
         GuidedCollisionProbability guide(field_, estimates, ray, t_end, c_T);
-        FreeFlightSample fs = medium.sample_free_flight(ray, tmax, throughput, sampler, &guide);
+        FreeFlightSample fs = guided_tracking(medium, ray, tmax, throughput, sampler, guide);
         WalkGuideStats& st = stats_.local();
         ++st.distance_queries;
         ++st.guided_tracking;
@@ -143,6 +152,74 @@ FreeFlightSample WalkGuide::sample_distance(const Medium& medium, const Ray& ray
 
     FreeFlightSample fs = binned_distance(medium, ray, tmax, t_end, estimates, c_T, throughput, sampler, vertex_leaf, scratch);
     scratch.decision.leaf = origin;
+    return fs;
+}
+
+FreeFlightSample WalkGuide::vsp_distance(const Medium& medium, const Ray& ray, float tmax, int origin, float c_T,
+                                         const Color3& throughput, Sampler& sampler, VertexLeaf& vertex_leaf,
+                                         DistanceScratch& scratch) const {
+    const MediumCoefficients at_origin = medium.eval(ray.o);
+    const HomogeneousVsp vsp(at_origin.sigma_t, tmax, channel_probabilities(throughput));
+    const float st = at_origin.sigma_t.average();
+    const float albedo = st > 0.f ? at_origin.sigma_s.average() / st : 0.f;  // shapes P_G only
+    float guided = guided_scatter_probability(origin, medium.phase(), ray.d, albedo, vsp.unguided());
+    WalkGuideStats& stats = stats_.local();
+    ++stats.distance_queries;
+    ++stats.vsp_queries;
+    if (std::isnan(guided)) {
+        ++stats.vsp_unguided;
+        return medium.sample_free_flight(ray, tmax, throughput, sampler);  // the same decision, unguided
+    }
+    // Defensive: the unguided share at least kVspMinUnguided, raised by a leaf of low confidence
+    // as the bins' guided share is lowered (WalkGuideSettings::leaf_tau_max).
+    const float confidence = leaf_confidence(origin, at_origin.sigma_t);
+    const float c = std::max(1.f - (1.f - c_T) * confidence, kVspMinUnguided);
+    const float P = vsp.probability(guided, c);
+    const float u_decide = sampler.next_1d(), u_channel = sampler.next_1d(), u_t = sampler.next_1d();
+    const HomogeneousVsp::Sample vs = vsp.sample(P, u_decide, u_channel, u_t);
+    FreeFlightSample fs;
+    fs.t = vs.t;
+    fs.weight = fs.flight_weight = vs.flight_weight;
+    if (vs.scattered) {
+        ++stats.vsp_scattered;
+        const Point3f p = ray(vs.t);
+        fs.scatter_at(ray, vs.t, p, &medium, medium.eval(p));
+        fs.weight = fs.flight_weight * fs.mi.coeffs.sigma_s;
+        if (field_.tree().holds_point(origin, p)) vertex_leaf.leaf = origin;
+    }
+    // The mixture's parts for the selection pilot: the density (or probability) of the outcome
+    // under the unguided and the guided decision.
+    const float cond = vs.scattered ? vsp.conditional_pdf(vs.t) : 1.f;
+    const float pu = vs.scattered ? vsp.unguided() * cond : 1.f - vsp.unguided();
+    const float pg = vs.scattered ? guided * cond : 1.f - guided;
+    if (vs.pdf > 0.f && P < 1.f) scratch.decision = {true, origin, vs.pdf, pu, pg};  // P = 1: forced, not the mixture
+    return fs;
+}
+
+FreeFlightSample WalkGuide::vsp_resampled(const Medium& medium, const Ray& ray, float tmax, int origin, float c_T,
+                                          const Color3& throughput, Sampler& sampler, VertexLeaf& vertex_leaf) const {
+    // The albedo field at the origin (the extinction there may be 0 on the medium's boundary).
+    const float albedo = medium.albedo(ray.o).average();  // shapes P_G only
+    const PhaseFunction& phase = medium.phase();
+    WalkGuideStats& stats = stats_.local();
+    ++stats.distance_queries;
+    ++stats.vsp_queries;
+    if (std::isnan(guided_scatter_probability(origin, phase, ray.d, albedo, 1.f))) {
+        ++stats.vsp_unguided;
+        return medium.sample_free_flight(ray, tmax, throughput, sampler);
+    }
+    ++stats.vsp_resampled;
+    const float confidence = leaf_confidence(origin, medium.eval(ray.o).sigma_t);
+    const float c = std::max(1.f - (1.f - c_T) * confidence, kVspMinUnguided);
+    auto probability = [&](float unguided) {
+        const float guided = guided_scatter_probability(origin, phase, ray.d, albedo, unguided);
+        return std::isnan(guided) ? unguided : c * unguided + (1.f - c) * guided;
+    };
+    FreeFlightSample fs = resampled_segment_flight(medium, ray, tmax, throughput, probability, sampler);
+    if (fs.scattered) {
+        ++stats.vsp_scattered;
+        if (field_.tree().holds_point(origin, fs.mi.p)) vertex_leaf.leaf = origin;
+    }
     return fs;
 }
 
@@ -329,6 +406,23 @@ Color3 WalkGuide::leaf_incident(int leaf, const PhaseFunction& phase, const Vec3
         return L;
     }
     return GuidingField::incident(field_.leaves()[size_t(leaf)], w);
+}
+
+float WalkGuide::guided_scatter_probability(int leaf, const PhaseFunction& phase, const Vec3f& w, float albedo,
+                                            float unguided) const {
+    constexpr float kNone = std::numeric_limits<float>::quiet_NaN();
+    if (leaf < 0) return kNone;
+    Color3 Li(0.f), L(0.f);
+    if (const LeafEstimates* tables = estimates_for(phase)) {
+        if (!tables->lookup(leaf, w, Li, L)) return kNone;
+    } else {
+        Li = leaf_inscattered(leaf, phase, w);
+        L = leaf_incident(leaf, phase, w);
+    }
+    const float scatter = albedo * unguided * Li.average(), total = L.average();
+    if (!(scatter > 0.f)) return scatter == 0.f && total > 0.f ? 0.f : kNone;
+    if (!std::isfinite(scatter) || !std::isfinite(total)) return kNone;
+    return scatter >= total ? 1.f : scatter / total;
 }
 
 void WalkGuide::count_surface_direction(bool guided) const {

@@ -44,7 +44,9 @@ namespace volguide {
 
 class Scene;
 
-enum class DistanceGuiding { Standard, Incremental, Tabulated };
+// Vsp: one decision per segment from the vertex's leaf (vsp_distance.h, docs/theory.md §7.10): in
+// closed form in homogeneous media, by resampling the segment's tentative collisions otherwise.
+enum class DistanceGuiding { Standard, Incremental, Tabulated, Vsp };
 
 struct WalkGuideSettings {
     DistanceGuiding distance = DistanceGuiding::Standard;
@@ -100,6 +102,14 @@ struct WalkGuideSettings {
     X(nan_fallbacks, "distance_nan_fallbacks", 1)                                                          \
     /* segments that miss the field: ordinary free flight */                                               \
     X(distance_outside_field, "distance_outside_field", 1)                                                 \
+    /* distance=vsp: segment decisions (homogeneous media) */                                              \
+    X(vsp_queries, "distance_vsp_queries", 1)                                                              \
+    /* ... that scattered inside the segment */                                                            \
+    X(vsp_scattered, "distance_vsp_scattered_fraction", vsp_queries)                                       \
+    /* ... made with the unguided probability (no valid leaf or estimate at the origin) */                 \
+    X(vsp_unguided, "distance_vsp_unguided_fraction", vsp_queries)                                         \
+    /* ... by resampling the segment's tentative collisions (heterogeneous media) */                      \
+    X(vsp_resampled, "distance_vsp_resampled_fraction", vsp_queries)                                       \
     /* directions sampled at medium vertices */                                                            \
     X(direction_samples, "direction_samples", 1)                                                           \
     /* ... from the guiding VMM (the rest from the phase function) */                                      \
@@ -208,6 +218,13 @@ class WalkGuide {
     // from w. Both from the distance decisions' per-leaf tables when they exist.
     Color3 leaf_inscattered(int leaf, const PhaseFunction& phase, const Vec3f& d) const;
     Color3 leaf_incident(int leaf, const PhaseFunction& phase, const Vec3f& w) const;
+    // The guided volume scattering probability of a segment leaving the valid leaf `leaf` along w
+    // (docs/theory.md §7.10): P_G = albedo (1 - T) <L~_i(w)> / <L~(w)>, clamped to [0, 1], with
+    // `unguided` = 1 - T the segment's unguided scattering probability, from the leaf's tables
+    // (one lookup). NaN (the caller takes the unguided probability) for leaf < 0 or where the
+    // estimates say nothing (L~ and L~_i both 0, or not finite). It shapes a probability only.
+    float guided_scatter_probability(int leaf, const PhaseFunction& phase, const Vec3f& w, float albedo,
+                                     float unguided) const;
     // The leaf at mi.p (vertex_leaf), kept in `vertex_leaf`, if its confidence at mi is at least
     // kSkipConfidence, else -1.
     int trusted_vertex_leaf(const MediumInteraction& mi, VertexLeaf& vertex_leaf) const;
@@ -224,6 +241,14 @@ class WalkGuide {
     FreeFlightSample binned_distance(const Medium& medium, const Ray& ray, float tmax, float t_end,
                                      const LeafEstimates* estimates, float c_T, const Color3& throughput,
                                      Sampler& sampler, VertexLeaf& vertex_leaf, DistanceScratch& scratch) const;
+    // distance=vsp's decision over (0, tmax) in a homogeneous medium from the origin's leaf `origin`
+    // (-1: none; then free flight), c_T the unguided share.
+    FreeFlightSample vsp_distance(const Medium& medium, const Ray& ray, float tmax, int origin, float c_T,
+                                  const Color3& throughput, Sampler& sampler, VertexLeaf& vertex_leaf,
+                                  DistanceScratch& scratch) const;
+    // The same in any medium by resampling the segment's tentative collisions (resampled_segment_flight).
+    FreeFlightSample vsp_resampled(const Medium& medium, const Ray& ray, float tmax, int origin, float c_T,
+                                   const Color3& throughput, Sampler& sampler, VertexLeaf& vertex_leaf) const;
     // The weights of the bins' decision `ds` (the caller contract of guided_distance.h), and beyond
     // the field (t_end < tmax) the medium's own free flight.
     FreeFlightSample binned_flight(const Medium& medium, const Ray& ray, float tmax, float t_end,
@@ -235,6 +260,9 @@ class WalkGuide {
     // Below this confidence a vertex neither builds the direction product nor walks the guided
     // bins from it: phase sampling and free flight (the guided share would be under a quarter).
     static constexpr float kSkipConfidence = 0.25f;
+    // distance=vsp's least unguided share: P stays above a tenth of free flight's where the field
+    // says nothing scatters (a leaf's estimate is one value for a whole segment).
+    static constexpr float kVspMinUnguided = 0.1f;
 
     const GuidingField& field_;
     WalkGuideSettings settings_;
