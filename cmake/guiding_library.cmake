@@ -15,6 +15,7 @@ set(VOLGUIDE_GUIDING_MODULES "guiding|vmm")
 file(GLOB VOLGUIDE_GUIDING_SOURCES CONFIGURE_DEPENDS
   ${CMAKE_SOURCE_DIR}/src/volguide/guiding/*.cpp ${CMAKE_SOURCE_DIR}/src/volguide/vmm/*.cpp)
 add_library(volguide_guiding STATIC ${VOLGUIDE_GUIDING_SOURCES})
+volguide_unity_build(volguide_guiding)
 target_include_directories(volguide_guiding PUBLIC
   $<BUILD_INTERFACE:${CMAKE_SOURCE_DIR}/src> $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
 # TBB is public: roulette_splitting.h keeps its statistics in a tbb::enumerable_thread_specific.

@@ -12,11 +12,11 @@ using namespace volguide::test;
 
 namespace {
 
-struct Rendered {
+struct AnalyticImage {
     Image mean, var;
 };
 
-Rendered render(const TempDir& dir, const std::string& xml, int spp) {
+AnalyticImage render_analytic(const TempDir& dir, const std::string& xml, int spp) {
     std::string scene = dir.write("scene.xml", xml);
     CliResult r = run_cli({"render", scene, "-o", dir.file("out.exr"), "--spp", std::to_string(spp), "--seed", "3",
                            "--quiet"});
@@ -28,7 +28,7 @@ Rendered render(const TempDir& dir, const std::string& xml, int spp) {
 // must the mean of every 6x6 block of pixels (5 standard errors), with standard errors from the
 // per-sample variances. Blocks rather than single pixels: one pixel's sample variance is unreliable
 // for these heavy-tailed estimators, a block's sum of 36 variances is not.
-void expect_constant_image(const Rendered& img, int spp, double expected) {
+void expect_constant_image(const AnalyticImage& img, int spp, double expected) {
     ImageMean m = image_mean(img.mean, img.var, spp);
     EXPECT_NEAR(m.mean, expected, 4 * m.stderr_ + 1e-6) << "image mean " << m.mean << " ± " << m.stderr_;
     const int block = 6;
@@ -73,7 +73,7 @@ TEST(AnalyticScenes, InsideEmissiveDiffuseSphereIsOne) {
     </shape>
 </scene>)";
     const int spp = 1024;
-    expect_constant_image(render(dir, xml, spp), spp, 1.0);
+    expect_constant_image(render_analytic(dir, xml, spp), spp, 1.0);
 }
 
 // A smooth dielectric sphere in a uniform environment of radiance 1 is invisible on average.
@@ -90,5 +90,5 @@ TEST(AnalyticScenes, DielectricSphereInConstantEnvironmentIsOne) {
     </shape>
 </scene>)";
     const int spp = 1024;
-    expect_constant_image(render(dir, xml, spp), spp, 1.0);
+    expect_constant_image(render_analytic(dir, xml, spp), spp, 1.0);
 }

@@ -20,7 +20,7 @@ namespace volguide {
 namespace {
 
 // The cube of medium `medium` (XML of a <medium id="m">), optionally an opaque wall at z = 3.
-std::string cube_scene(const std::string& medium, bool wall) {
+std::string cache_cube_scene(const std::string& medium, bool wall) {
     return R"(<scene version="3.0.0">
     <integrator type="volpath"/>
     <sensor type="perspective"><transform name="to_world"><lookat origin="0, 0, -6" target="0, 0, 0" up="0, 1, 0"/></transform>
@@ -66,7 +66,7 @@ void expect_close(Color3 got, Color3 want, float rel) {
 
 TEST(CacheEstimate, HomogeneousCubeMatchesTheClosedForm) {
     test::TempDir dir("cache-estimate");
-    auto scene = load_scene(dir.write("s.xml", cube_scene(kHomogeneous, false)));
+    auto scene = load_scene(dir.write("s.xml", cache_cube_scene(kHomogeneous, false)));
     const Color3 phi(2.f, 3.f, 1.f);
     const GuidingField field = uniform_field(phi);
     ASSERT_EQ(field.tree().leaf_count(), 2);
@@ -92,7 +92,7 @@ TEST(CacheEstimate, HomogeneousCubeMatchesTheClosedForm) {
 
 TEST(CacheEstimate, OpaqueSurfaceEndsTheMarch) {
     test::TempDir dir("cache-estimate-wall");
-    auto scene = load_scene(dir.write("s.xml", cube_scene(kHomogeneous, true)));
+    auto scene = load_scene(dir.write("s.xml", cache_cube_scene(kHomogeneous, true)));
     const Color3 phi(1.f);
     const GuidingField field = uniform_field(phi);
     CacheEstimator estimator(*scene, field);
@@ -111,7 +111,7 @@ TEST(CacheEstimate, ConstantGridMatchesTheHomogeneousMedium) {
         <volume name="sigma_t" type="gridvolume"><string name="filename" value="d.vol"/>
             <transform name="to_world"><scale value="2"/><translate x="-1" y="-1" z="-1"/></transform></volume>
         <rgb name="albedo" value="0.8, 0.5, 0.9"/><float name="scale" value="1.5"/></medium>)";
-    auto scene = load_scene(dir.write("s.xml", cube_scene(medium, false)));
+    auto scene = load_scene(dir.write("s.xml", cache_cube_scene(medium, false)));
     const Color3 phi(2.f, 3.f, 1.f);
     const GuidingField field = uniform_field(phi);
     CacheEstimator estimator(*scene, field);

@@ -24,7 +24,7 @@ namespace fs = std::filesystem;
 namespace volguide {
 namespace {
 
-struct CliResult {
+struct CliRun {
     int code = -1;
     std::string out, err;
 };
@@ -50,11 +50,11 @@ class Cli : public ::testing::Test {
         if (!HasFailure()) fs::remove_all(dir_);
     }
     // Runs the CLI in the test directory (arguments are passed through the shell as given).
-    CliResult run(const std::string& args) {
+    CliRun run(const std::string& args) {
         std::string cmd =
             "cd '" + dir_.string() + "' && '" + test::cli_path() + "' " + args + " >stdout.txt 2>stderr.txt";
         int status = std::system(cmd.c_str());
-        CliResult r;
+        CliRun r;
         r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
         r.out = slurp(dir_ / "stdout.txt");
         r.err = slurp(dir_ / "stderr.txt");
@@ -78,7 +78,7 @@ TEST_F(Cli, UsageErrorsExitWithTwo) {
           "render s.xml --bogus", "render s.xml -o out.jpg", "render s.xml --threads 0",
           "render s.xml --time -1", "diff a.exr", "info", "diff a.exr b.exr --error-image e.txt", "convert a.exr", "convert a.exr b.jpg",
           "render s.xml --reference r.png"}) {
-        CliResult r = run(args);
+        CliRun r = run(args);
         EXPECT_EQ(r.code, 2) << "args: " << args << "\nstderr: " << r.err;
         EXPECT_FALSE(r.err.empty()) << args;
         EXPECT_TRUE(r.out.empty()) << args;
@@ -97,14 +97,14 @@ TEST_F(Cli, DiffMetrics) {
     const double rel2 = (33 * d * d / 1.01 + 3 * 1 / 1.01) / n, rel3 = (33 * d * d / 1.001 + 3 / 1.001) / n;
     const double mse = (33 * d * d + 3) / n, mean = 33 * double(1.1f) / n;
 
-    CliResult text = run("diff i.exr r.exr");
+    CliRun text = run("diff i.exr r.exr");
     ASSERT_EQ(text.code, 0) << text.err;
     EXPECT_NE(text.out.find("relMSE(1e-2): "), std::string::npos) << text.out;
     EXPECT_NE(text.out.find("relMSE(1e-3): "), std::string::npos);
     EXPECT_NE(text.out.find("MSE: "), std::string::npos);
     EXPECT_NE(text.out.find("ratio: "), std::string::npos);
 
-    CliResult js = run("diff i.exr r.exr --json --error-image err.exr");
+    CliRun js = run("diff i.exr r.exr --json --error-image err.exr");
     ASSERT_EQ(js.code, 0) << js.err;
     auto j = nlohmann::json::parse(js.out);
     EXPECT_NEAR(j["relmse_1e-2"].get<double>(), rel2, 1e-9);
@@ -127,19 +127,19 @@ TEST_F(Cli, DiffMetrics) {
     EXPECT_GT(heat.at(0, 0).r, heat.at(1, 0).r);
 
     write_exr(path("small.exr").string(), Image(2, 2));
-    CliResult mismatch = run("diff i.exr small.exr");
+    CliRun mismatch = run("diff i.exr small.exr");
     EXPECT_EQ(mismatch.code, 1);
     EXPECT_EQ(mismatch.err.rfind("volguide: i.exr: ", 0), 0u) << mismatch.err;
     EXPECT_EQ(count_lines(mismatch.err), 1) << mismatch.err;
 
-    CliResult missing = run("diff nothere.exr r.exr");
+    CliRun missing = run("diff nothere.exr r.exr");
     EXPECT_EQ(missing.code, 1);
     EXPECT_EQ(missing.err.rfind("volguide: ", 0), 0u);
     EXPECT_EQ(count_lines(missing.err), 1) << missing.err;
 }
 
 // A sphere (Mitsuba's default diffuse material) under a constant environment: noisy, cheap.
-const char* kScene = R"(<scene version="3.0.0">
+const char* kCliScene = R"(<scene version="3.0.0">
     <default name="spp" value="4"/>
     <integrator type="moment">
         <integrator type="path"/>
@@ -166,8 +166,8 @@ const char* kScene = R"(<scene version="3.0.0">
 )";
 
 TEST_F(Cli, RenderWritesImageVarianceAndStats) {
-    write("s.xml", kScene);
-    CliResult r = run("render s.xml --spp 8 --seed 3 --threads 1 --stats st.json --quiet");
+    write("s.xml", kCliScene);
+    CliRun r = run("render s.xml --spp 8 --seed 3 --threads 1 --stats st.json --quiet");
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_TRUE(r.err.empty()) << r.err;  // --quiet
     EXPECT_NE(r.out.find("spp: 8"), std::string::npos) << r.out;
@@ -187,7 +187,7 @@ TEST_F(Cli, RenderWritesImageVarianceAndStats) {
     EXPECT_EQ(st["samples"].get<uint64_t>(), 16u * 12u * 8u);
 
     // Same seed, two threads: the same bits.
-    CliResult r2 = run("render s.xml -o two.exr --spp 8 --seed 3 --threads 2 --quiet");
+    CliRun r2 = run("render s.xml -o two.exr --spp 8 --seed 3 --threads 2 --quiet");
     ASSERT_EQ(r2.code, 0) << r2.err;
     Image two = read_image(path("two.exr").string());
     ASSERT_EQ(two.pixels.size(), img.pixels.size());
@@ -198,7 +198,7 @@ TEST_F(Cli, RenderWritesImageVarianceAndStats) {
     EXPECT_NE(std::memcmp(other.pixels.data(), img.pixels.data(), img.pixels.size() * sizeof(Color3)), 0);
 
     // -D sets a <default>; PNG preview output; several outputs from one render.
-    CliResult d = run("render s.xml -D spp=2 -o prev.png -o both.exr --stats d.json --quiet");
+    CliRun d = run("render s.xml -D spp=2 -o prev.png -o both.exr --stats d.json --quiet");
     ASSERT_EQ(d.code, 0) << d.err;
     EXPECT_EQ(nlohmann::json::parse(slurp(path("d.json")))["spp"].get<int>(), 2);
     std::string png = slurp(path("prev.png"));
@@ -211,19 +211,19 @@ TEST_F(Cli, RenderWritesImageVarianceAndStats) {
 // --variance writes the per-sample variance for an integrator that is not `moment`: the same image
 // moment's would be (same seed, same samples).
 TEST_F(Cli, VarianceFlagWritesTheVarianceOfAnyIntegrator) {
-    std::string plain = kScene;
+    std::string plain = kCliScene;
     const std::string moment = R"(<integrator type="moment">
         <integrator type="path"/>
     </integrator>)";
     const size_t at = plain.find(moment);
     ASSERT_NE(at, std::string::npos);
     plain.replace(at, moment.size(), R"(<integrator type="path"/>)");
-    write("m.xml", kScene);
+    write("m.xml", kCliScene);
     write("p.xml", plain);
     ASSERT_EQ(run("render m.xml --spp 8 --seed 3 --quiet").code, 0);
     ASSERT_EQ(run("render p.xml --spp 8 --seed 3 --quiet").code, 0);
     EXPECT_FALSE(fs::exists(path("p_var.exr")));
-    CliResult r = run("render p.xml --spp 8 --seed 3 --variance --quiet");
+    CliRun r = run("render p.xml --spp 8 --seed 3 --variance --quiet");
     ASSERT_EQ(r.code, 0) << r.err;
     ASSERT_TRUE(fs::exists(path("p_var.exr")));
     const Image a = read_image(path("m_var.exr").string()), b = read_image(path("p_var.exr").string());
@@ -242,23 +242,23 @@ TEST_F(Cli, ConvertScalesByExposure) {
     Image b = read_image(path("b.exr").string());
     EXPECT_FLOAT_EQ(b.at(2, 1).r, 0.5f);
     EXPECT_FLOAT_EQ(b.at(2, 1).b, 2.f);
-    CliResult png = run("convert a.exr a.png");
+    CliRun png = run("convert a.exr a.png");
     ASSERT_EQ(png.code, 0) << png.err;
     EXPECT_NEAR(read_image(path("a.png").string()).at(0, 0).g, 0.5f, 0.01f);  // sRGB round trip
-    CliResult missing = run("convert nothere.exr x.png");
+    CliRun missing = run("convert nothere.exr x.png");
     EXPECT_EQ(missing.code, 1);
     EXPECT_EQ(count_lines(missing.err), 1) << missing.err;
 }
 
 TEST_F(Cli, ReferenceGivesRelMseAndAConvergenceCurve) {
-    write("s.xml", kScene);
+    write("s.xml", kCliScene);
     ASSERT_EQ(run("render s.xml -o ref.exr --spp 64 --seed 9 --quiet").code, 0);
-    CliResult r = run("render s.xml -o img.exr --spp 10 --seed 3 --reference ref.exr --stats st.json --quiet");
+    CliRun r = run("render s.xml -o img.exr --spp 10 --seed 3 --reference ref.exr --stats st.json --quiet");
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_NE(r.out.find("relMSE vs reference: "), std::string::npos) << r.out;
     auto st = nlohmann::json::parse(slurp(path("st.json")));
     // The final figure is exactly what `diff` computes from the written images.
-    CliResult d = run("diff img.exr ref.exr --json");
+    CliRun d = run("diff img.exr ref.exr --json");
     ASSERT_EQ(d.code, 0) << d.err;
     auto dj = nlohmann::json::parse(d.out);
     EXPECT_DOUBLE_EQ(st["reference"]["relmse_1e-2"].get<double>(), dj["relmse_1e-2"].get<double>());
@@ -277,14 +277,14 @@ TEST_F(Cli, ReferenceGivesRelMseAndAConvergenceCurve) {
 
     // A reference of another size is an input error before rendering.
     write_exr(path("small.exr").string(), Image(2, 2));
-    CliResult bad = run("render s.xml -o x.exr --reference small.exr --quiet");
+    CliRun bad = run("render s.xml -o x.exr --reference small.exr --quiet");
     EXPECT_EQ(bad.code, 1);
     EXPECT_EQ(bad.err.rfind("volguide: small.exr: ", 0), 0u) << bad.err;
     EXPECT_FALSE(fs::exists(path("x.exr")));
 }
 
 TEST_F(Cli, InterruptWritesTheCompletedPasses) {
-    write("s.xml", kScene);
+    write("s.xml", kCliScene);
     for (int attempt = 0; attempt < 4; ++attempt) {
         fs::remove(path("int.exr"));
         pid_t pid = fork();
@@ -327,37 +327,37 @@ TEST_F(Cli, InterruptWritesTheCompletedPasses) {
 }
 
 TEST_F(Cli, InputErrorsAreOneLineWithExitOne) {
-    write("s.xml", kScene);
-    CliResult unknown = run("render s.xml -D nosuch=1");
+    write("s.xml", kCliScene);
+    CliRun unknown = run("render s.xml -D nosuch=1");
     EXPECT_EQ(unknown.code, 1);
     EXPECT_EQ(unknown.err.rfind("volguide: ", 0), 0u) << unknown.err;
     EXPECT_EQ(count_lines(unknown.err), 1) << unknown.err;
     EXPECT_FALSE(fs::exists(path("s.exr")));  // nothing written on error
 
     write("broken.xml", "<scene version=\"3.0.0\">\n  <shape type=\"nosuchshape\"/>\n</scene>\n");
-    CliResult broken = run("render broken.xml");
+    CliRun broken = run("render broken.xml");
     EXPECT_EQ(broken.code, 1);
     EXPECT_NE(broken.err.find("broken.xml:2"), std::string::npos) << broken.err;
     EXPECT_EQ(count_lines(broken.err), 1) << broken.err;
     EXPECT_FALSE(fs::exists(path("broken.exr")));
 
-    CliResult missing = run("render missing.xml");
+    CliRun missing = run("render missing.xml");
     EXPECT_EQ(missing.code, 1);
     EXPECT_EQ(missing.err.rfind("volguide: missing.xml", 0), 0u) << missing.err;
     EXPECT_EQ(count_lines(missing.err), 1);
 }
 
 TEST_F(Cli, InfoPrintsTheFilmMemory) {
-    write("s.xml", kScene);
-    CliResult r = run("info s.xml");
+    write("s.xml", kCliScene);
+    CliRun r = run("info s.xml");
     ASSERT_EQ(r.code, 0) << r.err;
     // 16 x 12 pixels at 128 bytes each.
     EXPECT_NE(r.out.find("film memory: 24.0 KiB (the limit is "), std::string::npos) << r.out;
 }
 
 TEST_F(Cli, InfoSummarisesTheScene) {
-    write("s.xml", kScene);
-    CliResult r = run("info s.xml");
+    write("s.xml", kCliScene);
+    CliRun r = run("info s.xml");
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_NE(r.out.find("resolution: 16 x 12"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("spp: 4"), std::string::npos) << r.out;

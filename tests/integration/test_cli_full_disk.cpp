@@ -18,7 +18,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const char* kScene = R"(<scene version="3.0.0">
+const char* kFullDiskScene = R"(<scene version="3.0.0">
     <sensor type="perspective">
         <transform name="to_world"><lookat origin="0, 0, 4" target="0, 0, 0" up="0, 1, 0"/></transform>
         <film type="hdrfilm"><integer name="width" value="64"/><integer name="height" value="64"/></film>
@@ -73,7 +73,7 @@ class FullOutput : public testing::TestWithParam<std::vector<std::string>> {};
 
 TEST_P(FullOutput, ExitsOneAndLeavesNothingBehind) {
     TempDir dir("full-disk");
-    dir.write("s.xml", kScene);
+    dir.write("s.xml", kFullDiskScene);
     // 2 KiB: the scene (a few hundred bytes) is read, not written; every output is larger.
     std::vector<std::string> args = {"render", "s.xml", "--quiet", "--threads", "1"};
     for (const std::string& a : GetParam()) args.push_back(a);
@@ -99,7 +99,7 @@ INSTANTIATE_TEST_SUITE_P(Cli, FullOutput,
 // every usage error, and /dev is left as it was.
 TEST(FullOutputDevice, DevFullIsAUsageError) {
     TempDir dir("dev-full");
-    const std::string scene = dir.write("s.xml", kScene);
+    const std::string scene = dir.write("s.xml", kFullDiskScene);
     const CliResult r = run_cli({"render", scene, "--quiet", "-o", "/dev/full"});
     EXPECT_EQ(r.exit_code, 2) << r.err;
     EXPECT_NE(r.err.find("/dev/full"), std::string::npos) << r.err;

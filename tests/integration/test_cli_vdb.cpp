@@ -55,7 +55,7 @@ void write_density_vdb(const std::string& path, const std::string& name, double 
 
 // A cube [-1, 1]^3 filled with the medium, seen against a white environment. `volume` holds the
 // gridvolume's parameters.
-std::string cube_scene(const std::string& volume) {
+std::string vdb_cube_scene(const std::string& volume) {
     return R"(<scene version="3.0.0">
     <integrator type="volpath"><integer name="max_depth" value="8"/></integrator>
     <sensor type="perspective">
@@ -80,7 +80,7 @@ const std::string kUnitCubeToCube =
     R"(            <transform name="to_world"><scale value="2"/><translate x="-1" y="-1" z="-1"/></transform>
 )";
 
-Image render(const TempDir& dir, const std::string& scene_name, const std::string& xml) {
+Image render_vdb(const TempDir& dir, const std::string& scene_name, const std::string& xml) {
     std::string scene = dir.write(scene_name + ".xml", xml);
     std::string out = dir.file(scene_name + ".exr");
     CliResult r = run_cli({"render", scene, "-o", out, "--seed", "7", "--quiet"});
@@ -105,11 +105,11 @@ TEST(CliVdb, VdbMediumRendersLikeTheSameVolData) {
     write_density_vdb(dir.file("placed.vdb"), "smoke", -1.0, 2.0);  // the cube itself
 
     const std::string file = R"(            <string name="filename" value=")";
-    Image vol = render(dir, "vol", cube_scene(file + "d.vol\"/>\n" + kUnitCubeToCube));
-    Image vdb = render(dir, "vdb", cube_scene(file + "unit.vdb\"/>\n" + kUnitCubeToCube));
+    Image vol = render_vdb(dir, "vol", vdb_cube_scene(file + "d.vol\"/>\n" + kUnitCubeToCube));
+    Image vdb = render_vdb(dir, "vdb", vdb_cube_scene(file + "unit.vdb\"/>\n" + kUnitCubeToCube));
     Image placed =
-        render(dir, "placed",
-               cube_scene(file + "placed.vdb\"/>\n" + R"(            <string name="grid" value="smoke"/>
+        render_vdb(dir, "placed",
+               vdb_cube_scene(file + "placed.vdb\"/>\n" + R"(            <string name="grid" value="smoke"/>
             <boolean name="use_grid_bbox" value="true"/>
 )"));
     ASSERT_EQ(vol.pixels.size(), vdb.pixels.size());
@@ -137,7 +137,7 @@ TEST(CliVdb, MissingGridNameExitsOneWithFileLineAndNoOutput) {
     write_density_vdb(dir.file("smoke.vdb"), "smoke", 0.0, 1.0);
     // The filename is on line 12 of the scene.
     std::string scene =
-        dir.write("scene.xml", cube_scene(R"(            <string name="filename" value="smoke.vdb"/>
+        dir.write("scene.xml", vdb_cube_scene(R"(            <string name="filename" value="smoke.vdb"/>
 )"));
     std::string out = dir.write("out.exr", "sentinel");
     CliResult r = run_cli({"render", scene, "-o", out, "--quiet"});

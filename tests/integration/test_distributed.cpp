@@ -24,12 +24,12 @@ namespace fs = std::filesystem;
 namespace volguide {
 namespace {
 
-struct CliRun {
+struct ChunkRun {
     int code = -1;
     std::string out, err;
 };
 
-std::string slurp(const fs::path& p) {
+std::string slurp_file(const fs::path& p) {
     std::ifstream f(p, std::ios::binary);
     std::stringstream s;
     s << f.rdbuf();
@@ -40,7 +40,7 @@ std::string slurp(const fs::path& p) {
 // splitting (so the training file carries a pixel estimate too) and a gaussian filter (pixels
 // are sum(w L) / sum(w) over neighbouring samples). $albedo and $photons make other scenes and
 // other integrator configurations.
-const char* kScene = R"(<scene version="3.0.0">
+const char* kDistributedScene = R"(<scene version="3.0.0">
     <default name="photons" value="20000"/>
     <default name="albedo" value="0.9"/>
     <default name="selection" value="0"/>
@@ -75,7 +75,7 @@ const char* kScene = R"(<scene version="3.0.0">
 
 // The same without a pre-pass (volpath), for the parts of an unguided render.
 std::string volpath_scene() {
-    std::string s = kScene;
+    std::string s = kDistributedScene;
     const size_t a = s.find("<integrator type=\"guided_volpath\">");
     const size_t b = s.find("</integrator>", a) + std::string("</integrator>").size();
     return s.replace(a, b - a, "<integrator type=\"volpath\"><integer name=\"max_depth\" value=\"8\"/></integrator>");
@@ -89,23 +89,23 @@ class Distributed : public ::testing::Test {
                 "_" + std::to_string(::getpid()));
         fs::remove_all(dir_);
         fs::create_directories(dir_);
-        write("s.xml", kScene);
+        write("s.xml", kDistributedScene);
     }
     void TearDown() override {
         if (!HasFailure()) fs::remove_all(dir_);
     }
-    CliRun run(const std::string& args) {
+    ChunkRun run(const std::string& args) {
         const std::string cmd =
             "cd '" + dir_.string() + "' && '" + test::cli_path() + "' " + args + " >stdout.txt 2>stderr.txt";
         const int status = std::system(cmd.c_str());
-        CliRun r;
+        ChunkRun r;
         r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-        r.out = slurp(dir_ / "stdout.txt");
-        r.err = slurp(dir_ / "stderr.txt");
+        r.out = slurp_file(dir_ / "stdout.txt");
+        r.err = slurp_file(dir_ / "stderr.txt");
         return r;
     }
     void ok(const std::string& args) {
-        const CliRun r = run(args);
+        const ChunkRun r = run(args);
         ASSERT_EQ(r.code, 0) << args << "\n" << r.err;
     }
     void write(const std::string& name, const std::string& text) { std::ofstream(dir_ / name) << text; }
@@ -145,7 +145,7 @@ double strict_relmse(const Image& a, const Image& b) {
 TEST_F(Distributed, TrainThenRenderWithFieldKeepsTheLearnedSelection) {
     ok("render s.xml -D selection=8 --seed 5 --spp 4 --threads 2 -o full.exr --quiet");
     ok("train s.xml -D selection=8 -o f.vgt --seed 5 --threads 1 --quiet");
-    const CliRun r =
+    const ChunkRun r =
         run("render s.xml -D selection=8 --field f.vgt --seed 5 --spp 4 --threads 2 -o with_field.exr --quiet");
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_TRUE(identical(image("full.exr"), image("with_field.exr")));
@@ -157,7 +157,7 @@ TEST_F(Distributed, TrainThenRenderWithFieldKeepsTheLearnedSelection) {
 TEST_F(Distributed, TrainThenRenderWithFieldGivesTheRendersImage) {
     ok("render s.xml --seed 5 --spp 4 --threads 2 -o full.exr --quiet");
     ok("train s.xml -o f.vgt --seed 5 --threads 1 --quiet");
-    const CliRun r = run("render s.xml --field f.vgt --seed 5 --spp 4 --threads 2 -o with_field.exr --quiet");
+    const ChunkRun r = run("render s.xml --field f.vgt --seed 5 --spp 4 --threads 2 -o with_field.exr --quiet");
     ASSERT_EQ(r.code, 0) << r.err;
     // The same field and pixel estimate, the same samples: the same image, bit for bit.
     EXPECT_TRUE(identical(image("full.exr"), image("with_field.exr")));
@@ -165,7 +165,7 @@ TEST_F(Distributed, TrainThenRenderWithFieldGivesTheRendersImage) {
     EXPECT_EQ(part("full.exr").info.field, part("with_field.exr").info.field);
     EXPECT_NE(part("full.exr").info.field, "none");
     // `info --field` reads training files too: what it was trained for, and the field.
-    const CliRun info = run("info --field f.vgt");
+    const ChunkRun info = run("info --field f.vgt");
     ASSERT_EQ(info.code, 0) << info.err;
     EXPECT_NE(info.out.find("field fingerprint: " + part("full.exr").info.field), std::string::npos) << info.out;
     EXPECT_NE(info.out.find("leaves: "), std::string::npos) << info.out;
@@ -177,31 +177,31 @@ TEST_F(Distributed, TrainThenRenderWithFieldGivesTheRendersImage) {
 
 TEST_F(Distributed, FieldsOfOtherScenesConfigurationsOrCorruptFilesAreRejected) {
     ok("train s.xml -o f.vgt --seed 5 --quiet");
-    const CliRun scene = run("render s.xml -D albedo=0.5 --field f.vgt --spp 1 -o x.exr --quiet");
+    const ChunkRun scene = run("render s.xml -D albedo=0.5 --field f.vgt --spp 1 -o x.exr --quiet");
     EXPECT_EQ(scene.code, 1);
     EXPECT_EQ(scene.err.rfind("volguide: f.vgt: trained for another scene", 0), 0u) << scene.err;
-    const CliRun config = run("render s.xml -D photons=30000 --field f.vgt --spp 1 -o x.exr --quiet");
+    const ChunkRun config = run("render s.xml -D photons=30000 --field f.vgt --spp 1 -o x.exr --quiet");
     EXPECT_EQ(config.code, 1);
     EXPECT_EQ(config.err.rfind("volguide: f.vgt: trained with another integrator configuration", 0), 0u)
         << config.err;
     EXPECT_NE(config.err.find("photons=30000"), std::string::npos) << config.err;
 
-    std::string bytes = slurp(path("f.vgt"));
+    std::string bytes = slurp_file(path("f.vgt"));
     bytes[bytes.size() / 2] ^= 0x5a;
     write("corrupt.vgt", bytes);
-    const CliRun corrupt = run("render s.xml --field corrupt.vgt --spp 1 -o x.exr --quiet");
+    const ChunkRun corrupt = run("render s.xml --field corrupt.vgt --spp 1 -o x.exr --quiet");
     EXPECT_EQ(corrupt.code, 1);
     EXPECT_EQ(corrupt.err.rfind("volguide: corrupt.vgt: training file checksum mismatch", 0), 0u) << corrupt.err;
-    write("short.vgt", slurp(path("f.vgt")).substr(0, 100));
+    write("short.vgt", slurp_file(path("f.vgt")).substr(0, 100));
     EXPECT_EQ(run("render s.xml --field short.vgt --spp 1 -o x.exr --quiet").code, 1);
     write("notafield.vgt", "hello");
-    const CliRun magic = run("render s.xml --field notafield.vgt --spp 1 -o x.exr --quiet");
+    const ChunkRun magic = run("render s.xml --field notafield.vgt --spp 1 -o x.exr --quiet");
     EXPECT_EQ(magic.code, 1);
     EXPECT_NE(magic.err.find("not a volguide training file"), std::string::npos) << magic.err;
     EXPECT_FALSE(fs::exists(path("x.exr")));
 
     write("v.xml", volpath_scene());
-    const CliRun none = run("train v.xml -o v.vgt --quiet");
+    const ChunkRun none = run("train v.xml -o v.vgt --quiet");
     EXPECT_EQ(none.code, 1);
     EXPECT_NE(none.err.find("has no pre-pass"), std::string::npos) << none.err;
     EXPECT_FALSE(fs::exists(path("v.vgt")));
@@ -214,7 +214,7 @@ TEST_F(Distributed, ChunksMergeIntoTheSingleProcessRender) {
     ok("render s.xml --field f.vgt --seed 7 --samples 3:2 --threads 2 -o c1.exr --quiet");
     ok("render s.xml --field f.vgt --seed 7 --samples 5:4 --threads 2 -o c2.exr --quiet");
     EXPECT_EQ(format_ranges(part("c1.exr").info.samples), "3:2");
-    const CliRun merged = run("merge c2.exr c0.exr c1.exr -o merged.exr");
+    const ChunkRun merged = run("merge c2.exr c0.exr c1.exr -o merged.exr");
     ASSERT_EQ(merged.code, 0) << merged.err;
     EXPECT_NE(merged.out.find("samples: 0:9"), std::string::npos) << merged.out;
     EXPECT_EQ(merged.out.find("gaps"), std::string::npos) << merged.out;
@@ -263,13 +263,13 @@ TEST_F(Distributed, MismatchedPartsAreRejectedAndGapsReported) {
     for (const Case& c : {Case{"overlap.exr", "samples 1:1 are also in a.exr"}, Case{"seed.exr", "another seed"},
                           Case{"field.exr", "another guiding field"}, Case{"scene.exr", "another scene"},
                           Case{"plain.exr", "not a part of a volguide render"}}) {
-        const CliRun r = run(std::string("merge a.exr ") + c.part + " -o m.exr");
+        const ChunkRun r = run(std::string("merge a.exr ") + c.part + " -o m.exr");
         EXPECT_EQ(r.code, 1) << c.part;
         EXPECT_EQ(r.err.rfind(std::string("volguide: ") + c.part + ": ", 0), 0u) << r.err;
         EXPECT_NE(r.err.find(c.message), std::string::npos) << r.err;
         EXPECT_FALSE(fs::exists(path("m.exr"))) << c.part;
     }
-    const CliRun gap = run("merge a.exr gap.exr -o m.exr");
+    const ChunkRun gap = run("merge a.exr gap.exr -o m.exr");
     ASSERT_EQ(gap.code, 0) << gap.err;
     EXPECT_NE(gap.out.find("gaps: 2:2"), std::string::npos) << gap.out;
     EXPECT_NE(gap.err.find("missing"), std::string::npos) << gap.err;
@@ -296,10 +296,10 @@ TEST_F(Distributed, SigtermLeavesAPartialChunkThatMerges) {
         int status = 0;
         waitpid(pid, &status, 0);
         ASSERT_TRUE(WIFEXITED(status));
-        const std::string err = slurp(path("tail_stderr.txt"));
+        const std::string err = slurp_file(path("tail_stderr.txt"));
         if (WEXITSTATUS(status) == 1 && err.find("before the first pass") != std::string::npos) continue;
         ASSERT_EQ(WEXITSTATUS(status), 0) << err;
-        EXPECT_NE(slurp(path("tail_stdout.txt")).find("interrupted"), std::string::npos);
+        EXPECT_NE(slurp_file(path("tail_stdout.txt")).find("interrupted"), std::string::npos);
         for (const auto& entry : fs::directory_iterator(dir_))
             EXPECT_EQ(entry.path().string().find(".tmp"), std::string::npos) << entry.path();
         const RenderPart tail = part("tail.exr");
@@ -338,9 +338,9 @@ TEST_F(Distributed, SigtermDuringTrainingWritesNothing) {
         if (WIFSIGNALED(status) && WTERMSIG(status) == SIGTERM) continue;
         ASSERT_TRUE(WIFEXITED(status));
         EXPECT_EQ(WEXITSTATUS(status), 1);
-        EXPECT_NE(slurp(path("train_stderr.txt")).find("big.vgt: interrupted during training; nothing was written"),
+        EXPECT_NE(slurp_file(path("train_stderr.txt")).find("big.vgt: interrupted during training; nothing was written"),
                   std::string::npos)
-            << slurp(path("train_stderr.txt"));
+            << slurp_file(path("train_stderr.txt"));
         EXPECT_FALSE(fs::exists(path("big.vgt")));
         return;
     }
@@ -351,7 +351,7 @@ TEST_F(Distributed, UsageErrors) {
     for (const char* args : {"render s.xml --samples 3", "render s.xml --samples 0:0", "render s.xml --samples a:b",
                              "render s.xml --samples 0:4 --spp 4", "train s.xml", "merge a.exr",
                              "merge a.exr -o m.png"}) {
-        const CliRun r = run(args);
+        const ChunkRun r = run(args);
         EXPECT_EQ(r.code, 2) << args << "\n" << r.err;
     }
 }

@@ -37,7 +37,7 @@ std::string sensor_xml(const std::string& origin, float fov, int w, int h) {
                        fov, origin, w, h);
 }
 
-std::string furnace_xml(const std::string& integrator) {
+std::string ears_furnace_xml(const std::string& integrator) {
     return R"(<scene version="3.0.0"><integrator type="moment">)" + integrator + R"(</integrator>
     <emitter type="constant"><rgb name="radiance" value="1"/></emitter>
     <medium type="homogeneous" id="m"><rgb name="sigma_t" value="2, 1, 3"/><rgb name="albedo" value="1"/>
@@ -47,7 +47,7 @@ std::string furnace_xml(const std::string& integrator) {
 }
 
 // densesphere's medium (sigma_t 8, albedo 0.995, g 0.6) back-lit by an area light, on a floor.
-std::string dense_sphere_xml(const std::string& integrator) {
+std::string ears_dense_sphere_xml(const std::string& integrator) {
     return R"(<scene version="3.0.0"><integrator type="moment">)" + integrator + R"(</integrator>
     <medium type="homogeneous" id="dense"><float name="sigma_t" value="8"/><float name="albedo" value="0.995"/>
         <phase type="hg"><float name="g" value="0.6"/></phase></medium>
@@ -105,7 +105,7 @@ void expect_ears_decided(const std::map<std::string, double>& s, bool roulette =
 TEST(Ears, WhiteFurnaceStaysOne) {
     for (const char* guide : {kGuided, kUnguided}) {
         SCOPED_TRACE(guide);
-        const StatsRender r = render_with_stats(furnace_xml(ears_integrator(guide)), 1024, 21);
+        const StatsRender r = render_with_stats(ears_furnace_xml(ears_integrator(guide)), 1024, 21);
         expect_constant_image(r.image, 1.0);
         // Every path collects 1 per unit weight in a pixel of value 1: little to roulette.
         expect_ears_decided(r.stats, false);
@@ -115,11 +115,11 @@ TEST(Ears, WhiteFurnaceStaysOne) {
 
 TEST(Ears, DenseSphereMatchesVolpath) {
     Rendered ref = render_scene_xml(
-        dense_sphere_xml(R"(<integrator type="volpath"><integer name="max_depth" value="64"/></integrator>)"), 1024,
+        ears_dense_sphere_xml(R"(<integrator type="volpath"><integer name="max_depth" value="64"/></integrator>)"), 1024,
         5, false);
     for (const char* guide : {kGuided, kUnguided}) {
         SCOPED_TRACE(guide);
-        const StatsRender g = render_with_stats(dense_sphere_xml(ears_integrator(guide)), 1024, 6);
+        const StatsRender g = render_with_stats(ears_dense_sphere_xml(ears_integrator(guide)), 1024, 6);
         expect_same_means(g.image, ref);
         expect_ears_decided(g.stats);
     }
@@ -140,7 +140,7 @@ TEST(Ears, FogInRoughDielectricMatchesVolpath) {
 // throughput roulette unless rr_rule is given.
 TEST(Ears, FixedBudgetAndSettings) {
     const StatsRender r = render_with_stats(
-        furnace_xml(ears_integrator(kGuided, R"(<float name="rrs_branch_budget" value="2"/>)")), 256, 22);
+        ears_furnace_xml(ears_integrator(kGuided, R"(<float name="rrs_branch_budget" value="2"/>)")), 256, 22);
     EXPECT_LE(r.stats.at("rrs_branches_max"), 2.0);
     EXPECT_EQ(r.stats.at("ears_branch_budget"), 2.0);
     TempDir dir("ears-settings");
@@ -148,7 +148,7 @@ TEST(Ears, FixedBudgetAndSettings) {
                             R"(<string name="rrs" value="ears"/><float name="rrs_window" value="5"/>)",
                             R"(<string name="rrs" value="ears"/><integer name="ears_min_samples" value="1"/>)"}) {
         SCOPED_TRACE(bad);
-        const std::string xml = furnace_xml(std::string(R"(<integrator type="guided_volpath">)") + bad + "</integrator>");
+        const std::string xml = ears_furnace_xml(std::string(R"(<integrator type="guided_volpath">)") + bad + "</integrator>");
         EXPECT_THROW(load_scene(dir.write("bad.xml", xml)), std::exception);
     }
 }

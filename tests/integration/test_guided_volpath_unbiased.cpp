@@ -68,7 +68,7 @@ std::string guided(const std::string& distance, const std::string& direction, in
                        extra);
 }
 
-std::string furnace_xml(bool heterogeneous, const std::string& grid, const std::string& integrator) {
+std::string guided_furnace_xml(bool heterogeneous, const std::string& grid, const std::string& integrator) {
     return fmt::format(R"(<scene version="3.0.0">
     <integrator type="moment">{}</integrator>
     <emitter type="constant"><rgb name="radiance" value="1"/></emitter>
@@ -153,7 +153,7 @@ TEST(GuidedVolPathUnbiased, WhiteFurnaceEveryCombination) {
             // the heavy tail noted above, so this combination gets 4096 spp.
             const bool heavy =
                 het && std::string(c.distance) == "incremental" && std::string(c.direction) == "incident";
-            Rendered r = render_scene_xml(furnace_xml(het, grid, guided(c.distance, c.direction, 100000)),
+            Rendered r = render_scene_xml(guided_furnace_xml(het, grid, guided(c.distance, c.direction, 100000)),
                                           heavy ? 4096 : 1024, 17, /*test_media=*/false);
             expect_constant_image(r, 1.0);
         }
@@ -164,7 +164,7 @@ TEST(GuidedVolPathUnbiased, WhiteFurnaceEveryCombination) {
         for (const std::string distance : {"incremental", "tabulated"}) {
             SCOPED_TRACE(fmt::format("leaf_tau_max {} {}", tau_max, distance));
             Rendered r = render_scene_xml(
-                furnace_xml(false, grid, guided(distance, "product", 100000, tau_max)), 1024, 18, false);
+                guided_furnace_xml(false, grid, guided(distance, "product", 100000, tau_max)), 1024, 18, false);
             expect_constant_image(r, 1.0);
         }
 }
@@ -194,7 +194,7 @@ TEST(GuidedVolPathUnbiased, DistanceRegionsAreUnbiased) {
     const std::string merge = R"(<float name="distance_merge" value="0.5"/>)";
     for (const std::string distance : {"incremental", "tabulated"}) {
         SCOPED_TRACE("furnace " + distance);
-        Rendered r = render_scene_xml(furnace_xml(false, grid, guided(distance, "product", 100000, -1.f, merge)),
+        Rendered r = render_scene_xml(guided_furnace_xml(false, grid, guided(distance, "product", 100000, -1.f, merge)),
                                       1024, 19, false);
         expect_constant_image(r, 1.0);
     }
@@ -261,7 +261,7 @@ TEST(GuidedVolPathUnbiased, HeterogeneousMediaUseGuidedTracking) {
 
 TEST(GuidedVolPathUnbiased, TransmittanceStrategiesAloneGiveUnitWeights) {
     TempDir dir("guided-unit-weights");
-    std::string xml = furnace_xml(false, "", guided("incremental", "phase", 100000));
+    std::string xml = guided_furnace_xml(false, "", guided("incremental", "phase", 100000));
     const std::string chromatic = R"(value="2, 1, 3")";
     xml.replace(xml.find(chromatic), chromatic.size(), R"(value="2")");  // grey: weights are exactly 1
     auto scene = load_scene(dir.write("s.xml", xml));
@@ -409,7 +409,7 @@ TEST(GuidedVolPathUnbiased, WhiteFurnaceWithRouletteSplitting) {
         for (const RrsCase& c : kRrsCases) {
             SCOPED_TRACE(fmt::format("{} {}", het ? "heterogeneous" : "homogeneous", describe(c)));
             Rendered r = render_scene_xml(
-                furnace_xml(het, grid,
+                guided_furnace_xml(het, grid,
                             guided(c.distance, c.direction, 100000, -1.f, "",
                                    rrs_xml(c.mode, c.window, c.pixel_estimate))),
                 1024, 19, /*test_media=*/false);

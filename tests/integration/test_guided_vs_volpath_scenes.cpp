@@ -26,7 +26,7 @@ namespace {
 
 // `guided_xml`: an integrator file for the guided render (empty: guided_volpath's defaults);
 // `rr_rule`: volpath's roulette.
-void compare(const std::string& scene, int spp_volpath, int spp_guided, const std::string& guided_xml = "",
+void compare_scene(const std::string& scene, int spp_volpath, int spp_guided, const std::string& guided_xml = "",
              const std::string& rr_rule = "mitsuba") {
     TempDir dir("guided-vs-volpath-" + scene);
     const BenchRender v =
@@ -39,22 +39,22 @@ void compare(const std::string& scene, int spp_volpath, int spp_guided, const st
 
 }  // namespace
 
-TEST(GuidedVsVolpathScenes, Shafts) { compare("shafts", 1024, 512); }
-TEST(GuidedVsVolpathScenes, Cloud) { compare("cloud", 1024, 512); }
+TEST(GuidedVsVolpathScenes, Shafts) { compare_scene("shafts", 1024, 512); }
+TEST(GuidedVsVolpathScenes, Cloud) { compare_scene("cloud", 1024, 512); }
 // A Cornell box in thin fog: the walls are diffuse and guided from the fog's leaves beside them
 // (surface_guiding), as are the shafts room's walls above.
-TEST(GuidedVsVolpathScenes, Fogbox) { compare("fogbox", 1024, 512); }
+TEST(GuidedVsVolpathScenes, Fogbox) { compare_scene("fogbox", 1024, 512); }
 // A dense scattering sphere behind a dielectric (subsurface scattering): hundreds of guided RR and
 // splitting decisions per path.
-TEST(GuidedVsVolpathScenes, Sss) { compare("sss", 1024, 512); }
+TEST(GuidedVsVolpathScenes, Sss) { compare_scene("sss", 1024, 512); }
 
 std::string rrs_integrator(const std::string& rrs, float window) {
     return R"(<scene version="3.0.0"><integrator type="guided_volpath"><integer name="max_depth" value="$max_depth"/>)"
            R"(<string name="rrs" value=")" + rrs + R"("/><float name="rrs_window" value=")" + std::to_string(window) +
            R"("/></integrator></scene>)";
 }
-TEST(GuidedVsVolpathScenes, ShaftsGuidedRussianRoulette) { compare("shafts", 1024, 512, rrs_integrator("grr", 1.f)); }
-TEST(GuidedVsVolpathScenes, ShaftsPapersWindow) { compare("shafts", 1024, 512, rrs_integrator("grrs", 1.f)); }
+TEST(GuidedVsVolpathScenes, ShaftsGuidedRussianRoulette) { compare_scene("shafts", 1024, 512, rrs_integrator("grr", 1.f)); }
+TEST(GuidedVsVolpathScenes, ShaftsPapersWindow) { compare_scene("shafts", 1024, 512, rrs_integrator("grrs", 1.f)); }
 
 // Issue 37: the full system with distance="vsp" (one decision per segment) on the homogeneous fogbox
 // (closed form) and the heterogeneous cloud (the segment's tentative collisions resampled).
@@ -67,7 +67,7 @@ TEST(GuidedVsVolpathScenes, CloudVspDistance) { compare("cloud", 1024, 512, vsp_
 
 // Issue 20: the full system with the distance walk over leaf groups (distance_merge).
 TEST(GuidedVsVolpathScenes, ShaftsDistanceRegions) {
-    compare("shafts", 1024, 512,
+    compare_scene("shafts", 1024, 512,
             R"(<scene version="3.0.0"><integrator type="guided_volpath"><integer name="max_depth" value="$max_depth"/>)"
             R"(<float name="distance_merge" value="0.3"/></integrator></scene>)");
 }
@@ -79,7 +79,7 @@ std::string budget_integrator(float budget) {
     return R"(<scene version="3.0.0"><integrator type="guided_volpath"><integer name="max_depth" value="$max_depth"/>)"
            R"(<float name="rrs_branch_budget" value=")" + std::to_string(budget) + R"("/></integrator></scene>)";
 }
-TEST(GuidedVsVolpathScenes, DenseSphere) { compare("densesphere", 1024, 256, "", "bounded"); }
+TEST(GuidedVsVolpathScenes, DenseSphere) { compare_scene("densesphere", 1024, 256, "", "bounded"); }
 TEST(GuidedVsVolpathScenes, DenseSphereBranchBudget) {
-    compare("densesphere", 1024, 256, budget_integrator(16.f), "bounded");
+    compare_scene("densesphere", 1024, 256, budget_integrator(16.f), "bounded");
 }

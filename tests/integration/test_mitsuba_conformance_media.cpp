@@ -23,7 +23,7 @@ using namespace volguide::test;
 
 namespace {
 
-const std::string kSuite = shared_dir() + "/mitsuba-data/tests/scenes/participating_media";
+const std::string kMediaSuite = shared_dir() + "/mitsuba-data/tests/scenes/participating_media";
 
 // The per-sample variance averaged over the (2r+1)^2 window around each pixel (clamped at the
 // borders). A pixel's own sample variance is unreliable where the weights are heavy-tailed: a pixel
@@ -50,13 +50,13 @@ Image smoothed_variance(const Image& var, int r) {
 }
 
 // `scene` = XML file stem; its reference is the stem without the integrator suffix.
-void run_conformance(const std::string& scene, const std::string& integrator) {
-    if (!std::filesystem::exists(kSuite)) GTEST_SKIP() << "SKIPPED: " << kSuite << " is absent";
+void run_media_conformance(const std::string& scene, const std::string& integrator) {
+    if (!std::filesystem::exists(kMediaSuite)) GTEST_SKIP() << "SKIPPED: " << kMediaSuite << " is absent";
     const std::string suffix = "_" + scene.substr(scene.rfind('_') + 1);
     const std::string ref_name = scene.substr(0, scene.size() - suffix.size());
-    const std::string xml = kSuite + "/" + scene + ".xml";
-    Image ref_img = read_image(kSuite + "/refs/" + ref_name + "_ref_rgb.exr");
-    Image ref_var_img = read_image(kSuite + "/refs/" + ref_name + "_ref_rgb_var.exr");
+    const std::string xml = kMediaSuite + "/" + scene + ".xml";
+    Image ref_img = read_image(kMediaSuite + "/refs/" + ref_name + "_ref_rgb.exr");
+    Image ref_var_img = read_image(kMediaSuite + "/refs/" + ref_name + "_ref_rgb_var.exr");
     const int spp = int(2e6 / (double(ref_img.width) * ref_img.height) + 0.5);
 
     TempDir dir("conformance-media-" + scene + "-" + integrator);
@@ -100,11 +100,11 @@ void run_conformance(const std::string& scene, const std::string& integrator) {
 
 #define VOLPATH_SCENE(test_name, scene)        \
     TEST(MitsubaConformanceMedia, test_name) { \
-        run_conformance(scene, "volpath");     \
+        run_media_conformance(scene, "volpath");     \
     }
 #define VOLPATHMIS_SCENE(test_name, scene)     \
     TEST(MitsubaConformanceMedia, test_name) { \
-        run_conformance(scene, "volpathmis");  \
+        run_media_conformance(scene, "volpathmis");  \
     }
 
 VOLPATH_SCENE(HeteroSigmatAlbedo, "test_hetero_sigmat_albedo_volpath")
@@ -129,7 +129,7 @@ VOLPATH_SCENE(SurfAreaLight, "test_surf_area_light_volpath")
 // heterogeneous media) they pass.
 #define GUIDED_SCENE(test_name, scene)               \
     TEST(MitsubaConformanceMediaGuided, test_name) { \
-        run_conformance(scene, "guided_volpath");    \
+        run_media_conformance(scene, "guided_volpath");    \
     }
 
 GUIDED_SCENE(HeteroSigmatAlbedo, "test_hetero_sigmat_albedo_volpath")

@@ -16,13 +16,13 @@ using namespace volguide::test;
 
 namespace {
 
-const std::string kSuite = shared_dir() + "/mitsuba-data/tests/scenes/participating_media";
+const std::string kSurfaceSuite = shared_dir() + "/mitsuba-data/tests/scenes/participating_media";
 
-void run_conformance(const std::string& name, const std::string& ref_name) {
-    if (!std::filesystem::exists(kSuite)) GTEST_SKIP() << "SKIPPED: " << kSuite << " is absent";
-    const std::string scene = kSuite + "/" + name + ".xml";
-    const std::string ref = kSuite + "/refs/" + ref_name + "_ref_rgb.exr";
-    const std::string ref_var = kSuite + "/refs/" + ref_name + "_ref_rgb_var.exr";
+void run_surface_conformance(const std::string& name, const std::string& ref_name) {
+    if (!std::filesystem::exists(kSurfaceSuite)) GTEST_SKIP() << "SKIPPED: " << kSurfaceSuite << " is absent";
+    const std::string scene = kSurfaceSuite + "/" + name + ".xml";
+    const std::string ref = kSurfaceSuite + "/refs/" + ref_name + "_ref_rgb.exr";
+    const std::string ref_var = kSurfaceSuite + "/refs/" + ref_name + "_ref_rgb_var.exr";
     Image ref_img = read_image(ref), ref_var_img = read_image(ref_var);
     const int spp = int(2e6 / (double(ref_img.width) * ref_img.height) + 0.5);
 
@@ -44,4 +44,4 @@ void run_conformance(const std::string& name, const std::string& ref_name) {
 
 }  // namespace
 
-TEST(MitsubaConformance, SurfAreaLight) { run_conformance("test_surf_area_light_volpath", "test_surf_area_light"); }
+TEST(MitsubaConformance, SurfAreaLight) { run_surface_conformance("test_surf_area_light_volpath", "test_surf_area_light"); }

@@ -53,7 +53,7 @@ std::string point_light_scene(const Point3f& light, float sigma_t, float albedo,
                        light.x, light.y, light.z, sigma_t, integrator, albedo);
 }
 
-std::unique_ptr<Scene> load(const TempDir& dir, const std::string& xml) {
+std::unique_ptr<Scene> load_photon_scene(const TempDir& dir, const std::string& xml) {
     return load_scene(dir.write("scene.xml", xml));
 }
 
@@ -70,7 +70,7 @@ double depositing_rate(const PhotonPassResult& r) {
     return double(r.photons_depositing) / double(r.photons_traced);
 }
 
-GuidingField train(const Scene& scene, int64_t photons, uint64_t seed, int max_samples) {
+GuidingField train_photons(const Scene& scene, int64_t photons, uint64_t seed, int max_samples) {
     PhotonPassSettings ps;
     ps.photons = photons;
     PreprocessContext ctx;
@@ -88,8 +88,8 @@ GuidingField train(const Scene& scene, int64_t photons, uint64_t seed, int max_s
 TEST(PhotonPass, LeafMixturesPointTowardsThePointLight) {
     TempDir dir("photons-direction");
     const Point3f light(1.5f, 0.f, 0.f);
-    auto scene = load(dir, point_light_scene(light, 0.3f, 0.5f, R"(<integrator type="volpath"/>)"));
-    GuidingField field = train(*scene, 400000, 1, 2000);
+    auto scene = load_photon_scene(dir, point_light_scene(light, 0.3f, 0.5f, R"(<integrator type="volpath"/>)"));
+    GuidingField field = train_photons(*scene, 400000, 1, 2000);
     int checked = 0;
     for (int l = 0; l < field.tree().leaf_count(); ++l) {
         const GuidingLeaf& leaf = field.leaves()[size_t(l)];
@@ -107,9 +107,9 @@ TEST(PhotonPass, LeafMixturesPointTowardsThePointLight) {
 TEST(PhotonPass, FluenceOfAnAbsorbingMediumAroundAPointLight) {
     TempDir dir("photons-fluence");
     const float sigma = 0.5f, intensity = 10.f;
-    auto scene = load(dir, point_light_scene(Point3f(0.f), sigma, 0.f, R"(<integrator type="volpath"/>)"));
+    auto scene = load_photon_scene(dir, point_light_scene(Point3f(0.f), sigma, 0.f, R"(<integrator type="volpath"/>)"));
     // Leaves of 2000-4000 samples: a per-leaf standard error of 1.6-2.2 %, so 10 % is > 4.5 sigma.
-    GuidingField field = train(*scene, 2000000, 2, 4000);
+    GuidingField field = train_photons(*scene, 2000000, 2, 4000);
     int checked = 0;
     double ratio_sum = 0;
     for (int l = 0; l < field.tree().leaf_count(); ++l) {
@@ -145,14 +145,14 @@ TEST(PhotonPass, FluenceOfAnAbsorbingMediumAroundAPointLight) {
 
 TEST(PhotonPass, FieldIsIdenticalForOneAndTwoThreads) {
     TempDir dir("photons-determinism");
-    auto scene = load(dir, point_light_scene(Point3f(0.5f, 0.f, 0.f), 0.8f, 0.9f, R"(<integrator type="volpath"/>)"));
+    auto scene = load_photon_scene(dir, point_light_scene(Point3f(0.5f, 0.f, 0.f), 0.8f, 0.9f, R"(<integrator type="volpath"/>)"));
     std::string a, b;
-    tbb::task_arena(1).execute([&] { a = serialize_field(train(*scene, 100000, 3, 500)); });
-    tbb::task_arena(2).execute([&] { b = serialize_field(train(*scene, 100000, 3, 500)); });
+    tbb::task_arena(1).execute([&] { a = serialize_field(train_photons(*scene, 100000, 3, 500)); });
+    tbb::task_arena(2).execute([&] { b = serialize_field(train_photons(*scene, 100000, 3, 500)); });
     EXPECT_GT(a.size(), 1000u);
     EXPECT_TRUE(a == b) << "the trained field depends on the thread count";
     std::string c;
-    tbb::task_arena(2).execute([&] { c = serialize_field(train(*scene, 100000, 4, 500)); });
+    tbb::task_arena(2).execute([&] { c = serialize_field(train_photons(*scene, 100000, 4, 500)); });
     EXPECT_FALSE(a == c) << "another seed must give another field";
 }
 
@@ -160,7 +160,7 @@ TEST(PhotonPass, FieldIsIdenticalForOneAndTwoThreads) {
 // count; without the cap every photon is traced.
 TEST(PhotonPass, DepositCapStopsAtTheSameWaveForAnyThreadCount) {
     TempDir dir("photons-cap");
-    auto scene = load(dir, point_light_scene(Point3f(0.5f, 0.f, 0.f), 2.f, 0.95f, R"(<integrator type="volpath"/>)"));
+    auto scene = load_photon_scene(dir, point_light_scene(Point3f(0.5f, 0.f, 0.f), 2.f, 0.95f, R"(<integrator type="volpath"/>)"));
     PhotonPassSettings ps;
     ps.photons = 400000;
     PreprocessContext ctx;
@@ -192,7 +192,7 @@ TEST(PhotonPass, DepositCapStopsAtTheSameWaveForAnyThreadCount) {
 // collides with probability ~0.70 (sigma R = 1, impact parameter ~uniform): ~11 % deposit.
 TEST(PhotonPass, AreaLightPhotonsReachTheMedium) {
     TempDir dir("photons-area");
-    auto scene = load(dir, R"(<scene version="3.0.0">
+    auto scene = load_photon_scene(dir, R"(<scene version="3.0.0">
     <integrator type="volpath"/>
     <medium type="homogeneous" id="fog">
         <float name="sigma_t" value="1"/><float name="albedo" value="0"/><phase type="isotropic"/>
@@ -224,7 +224,7 @@ TEST(PhotonPass, PhotonsOfALampThatNamesNoMediumStartInTheFogAroundIt) {
             point ? R"(<emitter type="point"><point name="position" value="0, 0, 0"/><rgb name="intensity" value="10"/></emitter>)"
                   : R"(<shape type="sphere"><float name="radius" value="0.05"/>
                        <emitter type="area"><rgb name="radiance" value="10"/></emitter></shape>)";
-        auto scene = load(dir, fmt::format(R"(<scene version="3.0.0">
+        auto scene = load_photon_scene(dir, fmt::format(R"(<scene version="3.0.0">
     <integrator type="volpath"/>
     <medium type="homogeneous" id="fog">
         <float name="sigma_t" value="{0}"/><float name="albedo" value="0"/><phase type="isotropic"/>
@@ -255,7 +255,7 @@ TEST(MediumOccupancy, EnclosingMediumInsideOutsideAndUnbounded) {
         <transform name="to_world"><lookat origin="0, 0, 1" target="0, 0, 0" up="0, 1, 0"/></transform>
         <film type="hdrfilm"><integer name="width" value="4"/><integer name="height" value="4"/></film></sensor>)";
     TempDir dir("enclosing-medium");
-    auto bounded = load(dir, R"(<scene version="3.0.0">)" + fog +
+    auto bounded = load_photon_scene(dir, R"(<scene version="3.0.0">)" + fog +
                                  R"(<shape type="sphere"><float name="radius" value="2"/><bsdf type="null"/>
                                     <ref name="interior" id="fog"/></shape>)" +
                                  sensor + "</scene>");
@@ -277,7 +277,7 @@ TEST(MediumOccupancy, EnclosingMediumInsideOutsideAndUnbounded) {
               std::vector<float>{0.f});
     EXPECT_EQ(medium_fractions(*bounded, SpatialTree(BBox3f(Point3f(-0.5f), Point3f(0.5f))), 64, 1),
               std::vector<float>{1.f});
-    auto unbounded = load(dir, R"(<scene version="3.0.0">)" + fog +
+    auto unbounded = load_photon_scene(dir, R"(<scene version="3.0.0">)" + fog +
                                    R"(<shape type="rectangle"><bsdf type="diffuse"/></shape>)" + sensor + "</scene>");
     EXPECT_EQ(ambient_medium(*unbounded), unbounded->sensor().medium());
     EXPECT_EQ(medium_enclosing(*unbounded, Point3f(3.f, 3.f, 3.f), ambient_medium(*unbounded)),
@@ -293,7 +293,7 @@ TEST(MediumOccupancy, EnclosingMediumInsideOutsideAndUnbounded) {
 TEST(PhotonPass, FocusedEmissionFindsASmallMediumAndStaysUnbiased) {
     TempDir dir("photons-focus");
     const float sigma = 1.f, irradiance = 2.f;
-    auto scene = load(dir, fmt::format(R"(<scene version="3.0.0">
+    auto scene = load_photon_scene(dir, fmt::format(R"(<scene version="3.0.0">
     <integrator type="volpath"/>
     <medium type="homogeneous" id="fog">
         <float name="sigma_t" value="{0}"/><float name="albedo" value="0"/><phase type="isotropic"/>

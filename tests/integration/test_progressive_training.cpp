@@ -52,7 +52,7 @@ constexpr double kAnalyticLeafTolerance = 0.01;
 constexpr double kGuidedFurnaceLeafTolerance = 0.25;
 
 // A fog sphere of radius 2 around the origin, a point light inside, the camera inside the fog.
-std::string point_light_scene(const Point3f& light, float sigma_t, float albedo, int film,
+std::string progressive_point_light_scene(const Point3f& light, float sigma_t, float albedo, int film,
                               const std::string& integrator = R"(<integrator type="volpath"/>)",
                               bool light_in_fog = true) {
     return fmt::format(R"(<scene version="3.0.0">
@@ -153,7 +153,7 @@ void mean_and_spread(const std::vector<double>& v, double& mean, double& spread,
     spread = std::sqrt(std::max(0.0, s2 / double(v.size()) - mean * mean));
 }
 
-ProgressiveTrainingResult train(const Scene& scene, int iterations, uint64_t seed, int leaf_samples) {
+ProgressiveTrainingResult train_progressive(const Scene& scene, int iterations, uint64_t seed, int leaf_samples) {
     ProgressiveTrainingSettings ts;
     ts.iterations = iterations;
     ts.field.tree.max_samples = leaf_samples;
@@ -168,8 +168,8 @@ ProgressiveTrainingResult train(const Scene& scene, int iterations, uint64_t see
 TEST(ProgressiveTraining, LeafMixturesPointTowardsThePointLight) {
     TempDir dir("progressive-direction");
     const Point3f light(1.5f, 0.f, 0.f);
-    auto scene = load_scene(dir.write("s.xml", point_light_scene(light, 0.3f, 0.5f, 48)));
-    const ProgressiveTrainingResult r = train(*scene, 6, 1, 2000);
+    auto scene = load_scene(dir.write("s.xml", progressive_point_light_scene(light, 0.3f, 0.5f, 48)));
+    const ProgressiveTrainingResult r = train_progressive(*scene, 6, 1, 2000);
     EXPECT_EQ(r.iterations, 6);
     EXPECT_EQ(r.spp, 63);
     const GuidingField& field = r.field;
@@ -193,7 +193,7 @@ TEST(ProgressiveTraining, LeafMixturesPointTowardsThePointLight) {
 TEST(ProgressiveTraining, FluenceInAFurnaceIsFourPi) {
     TempDir dir("progressive-furnace");
     auto scene = load_scene(dir.write("s.xml", furnace_scene(32)));
-    const ProgressiveTrainingResult r = train(*scene, 6, 2, 4000);
+    const ProgressiveTrainingResult r = train_progressive(*scene, 6, 2, 4000);
     const double expected = 4.0 * Pi;
     int checked = 0;
     double sum = 0, sum2 = 0;
@@ -263,7 +263,7 @@ TEST(GuidedVolPathRecordedLi, FurnaceFluenceFromGuidedSplitPathsIsFourPi) {
 TEST(ProgressiveTraining, PointLightFluenceAtTheVerticesIsAnalytic) {
     TempDir dir("progressive-point-analytic");
     const float sigma = 0.5f, intensity = 10.f;
-    auto scene = load_scene(dir.write("s.xml", point_light_scene(Point3f(0.f), sigma, 1e-3f, 32)));
+    auto scene = load_scene(dir.write("s.xml", progressive_point_light_scene(Point3f(0.f), sigma, 1e-3f, 32)));
     const std::vector<RadianceSample> samples = trace_paths(*scene, 16, 5);
     auto exact = [&](const Point3f& x) {
         const double r = norm(x - Point3f(0.f));
@@ -285,7 +285,7 @@ TEST(ProgressiveTraining, OutsidePointLightFluenceAtTheVerticesIsAnalytic) {
     const float sigma = 0.5f, intensity = 10.f;
     const Point3f light(2.5f, 0.f, 0.f);
     auto scene = load_scene(
-        dir.write("s.xml", point_light_scene(light, sigma, 1e-3f, 32, R"(<integrator type="volpath"/>)", false)));
+        dir.write("s.xml", progressive_point_light_scene(light, sigma, 1e-3f, 32, R"(<integrator type="volpath"/>)", false)));
     const std::vector<RadianceSample> samples = trace_paths(*scene, 16, 5);
     auto exact = [&](const Point3f& x) {
         const Vec3f to = light - x;
@@ -313,7 +313,7 @@ TEST(ProgressiveTraining, OutsidePointLightFluenceAtTheVerticesIsAnalytic) {
 TEST(ProgressiveTraining, PointLightFluenceMatchesThePhotonPass) {
     const Point3f kLight(2.5f, 0.f, 0.f);
     TempDir dir("progressive-vs-photons");
-    auto scene = load_scene(dir.write("s.xml", point_light_scene(kLight, 0.5f, 0.5f, 32, R"(<integrator type="volpath"/>)", false)));
+    auto scene = load_scene(dir.write("s.xml", progressive_point_light_scene(kLight, 0.5f, 0.5f, 32, R"(<integrator type="volpath"/>)", false)));
     const std::vector<RadianceSample> samples = trace_paths(*scene, 48, 6);
     PhotonPassSettings ps;
     ps.photons = 2000000;
@@ -386,7 +386,7 @@ TEST(GuidedVolPathProgressive, SavedFieldIsIdenticalForOneAndTwoThreadsAndTheIma
     TempDir dir("progressive-determinism");
     const Point3f light(0.5f, 0.f, 0.f);
     auto scene_with = [&](const std::string& field) {
-        return point_light_scene(
+        return progressive_point_light_scene(
             light, 0.8f, 0.9f, 24,
             progressive_integrator(fmt::format(R"(<integer name="training_iterations" value="4"/>)"
                                                R"(<integer name="leaf_samples" value="500"/>)"
@@ -407,7 +407,7 @@ TEST(GuidedVolPathProgressive, SavedFieldIsIdenticalForOneAndTwoThreadsAndTheIma
     EXPECT_FALSE(one == render_cli("f3.vgf", "2", "4")) << "another seed must give another field";
     // Training draws from its own streams and the render uses volpath's walk: volpath's image.
     Rendered g = render_scene_xml(scene_with("f4.vgf"), 4, 5, false);
-    Rendered v = render_scene_xml(point_light_scene(light, 0.8f, 0.9f, 24), 4, 5, false);
+    Rendered v = render_scene_xml(progressive_point_light_scene(light, 0.8f, 0.9f, 24), 4, 5, false);
     EXPECT_TRUE(g.mean.pixels == v.mean.pixels);
 }
 
@@ -415,7 +415,7 @@ TEST(GuidedVolPathProgressive, TimeBudgetStopsTraining) {
     TempDir dir("progressive-time");
     // 20 iterations would trace ~10^6 spp: only the budget can end this training.
     const std::string xml = dir.write(
-        "s.xml", point_light_scene(Point3f(0.5f, 0.f, 0.f), 0.8f, 0.9f, 32,
+        "s.xml", progressive_point_light_scene(Point3f(0.5f, 0.f, 0.f), 0.8f, 0.9f, 32,
                                    progressive_integrator(R"(<integer name="training_iterations" value="20"/>)"
                                                           R"(<float name="training_fraction" value="0.25"/>)" +
                                                           fmt::format(R"(<string name="save_field" value="{}"/>)",
@@ -437,7 +437,7 @@ TEST(GuidedVolPathProgressive, TimeBudgetStopsTraining) {
 TEST(GuidedVolPathProgressive, BadTrainingIterationsIsAnErrorNamingFileAndLine) {
     TempDir dir("progressive-errors");
     for (const char* bad : {"0", "-3", "21"}) {
-        const std::string xml = point_light_scene(
+        const std::string xml = progressive_point_light_scene(
             Point3f(0.f), 0.5f, 0.5f, 8,
             progressive_integrator(fmt::format(R"(<integer name="training_iterations" value="{}"/>)", bad)));
         CliResult r = run_cli({"render", dir.write("s.xml", xml), "-o", dir.file("o.exr"), "--spp", "1", "--quiet"});
@@ -451,7 +451,7 @@ TEST(GuidedVolPathProgressive, BadTrainingIterationsIsAnErrorNamingFileAndLine) 
 TEST(GuidedVolPathProgressive, CancellationDuringTrainingStopsCleanly) {
     TempDir dir("progressive-cancel");
     auto scene = load_scene(dir.write(
-        "s.xml", point_light_scene(Point3f(0.5f, 0.f, 0.f), 0.8f, 0.9f, 32,
+        "s.xml", progressive_point_light_scene(Point3f(0.5f, 0.f, 0.f), 0.8f, 0.9f, 32,
                                    progressive_integrator(R"(<integer name="training_iterations" value="20"/>)"))));
     std::atomic<bool> cancel{false};
     int training_reports = 0;
@@ -482,7 +482,7 @@ TEST(GuidedVolPathProgressive, LeafContrastIsCheckedAndShapesTheTree) {
     const std::string bad[] = {R"(<float name="leaf_contrast" value="1"/>)", R"(<float name="leaf_contrast" value="-0.1"/>)",
                                R"(<integer name="leaf_contrast_samples" value="0"/>)"};
     for (const std::string& param : bad) {
-        const std::string xml = point_light_scene(Point3f(0.f), 0.5f, 0.5f, 8,
+        const std::string xml = progressive_point_light_scene(Point3f(0.f), 0.5f, 0.5f, 8,
                                                   R"(<integrator type="guided_volpath">)" + param + "</integrator>");
         CliResult r = run_cli({"render", dir.write("s.xml", xml), "-o", dir.file("o.exr"), "--spp", "1", "--quiet"});
         EXPECT_EQ(r.exit_code, 1) << param;
@@ -490,7 +490,7 @@ TEST(GuidedVolPathProgressive, LeafContrastIsCheckedAndShapesTheTree) {
         EXPECT_NE(r.err.find("leaf_contrast"), std::string::npos) << r.err;
     }
     auto leaves = [&](const std::string& params) {
-        const std::string xml = point_light_scene(
+        const std::string xml = progressive_point_light_scene(
             Point3f(0.f), 0.5f, 0.5f, 8,
             R"(<integrator type="guided_volpath"><integer name="photons" value="200000"/>)" + params + "</integrator>");
         CliResult r = run_cli({"render", dir.write("l.xml", xml), "-o", dir.file("l.exr"), "--spp", "1", "--quiet",
@@ -513,7 +513,7 @@ TEST(GuidedVolPathProgressive, BadOnlineLearningIsAnErrorNamingFileAndLine) {
     TempDir dir("online-errors");
     const std::string field = dir.file("f.vgfield");
     {
-        const std::string xml = point_light_scene(
+        const std::string xml = progressive_point_light_scene(
             Point3f(0.f), 0.5f, 0.5f, 8,
             progressive_integrator(fmt::format(R"(<string name="save_field" value="{}"/>)", field)));
         ASSERT_EQ(run_cli({"render", dir.write("save.xml", xml), "-o", dir.file("s.exr"), "--spp", "1", "--quiet"}).exit_code, 0);
@@ -523,7 +523,7 @@ TEST(GuidedVolPathProgressive, BadOnlineLearningIsAnErrorNamingFileAndLine) {
         progressive_integrator(R"(<integer name="online_spp" value="-1"/>)"),
         progressive_integrator(fmt::format(R"(<integer name="online_spp" value="8"/><string name="load_field" value="{}"/>)", field))};
     for (const std::string& integrator : cases) {
-        const std::string xml = point_light_scene(Point3f(0.f), 0.5f, 0.5f, 8, integrator);
+        const std::string xml = progressive_point_light_scene(Point3f(0.f), 0.5f, 0.5f, 8, integrator);
         CliResult r = run_cli({"render", dir.write("s.xml", xml), "-o", dir.file("o.exr"), "--spp", "1", "--quiet"});
         EXPECT_EQ(r.exit_code, 1) << integrator;
         EXPECT_NE(r.err.find("s.xml:2"), std::string::npos) << r.err;
@@ -531,7 +531,7 @@ TEST(GuidedVolPathProgressive, BadOnlineLearningIsAnErrorNamingFileAndLine) {
         EXPECT_FALSE(std::filesystem::exists(dir.file("o.exr")));
     }
     // A trained pre-pass given to the render: refused before rendering.
-    const std::string xml = point_light_scene(Point3f(0.f), 0.5f, 0.5f, 8,
+    const std::string xml = progressive_point_light_scene(Point3f(0.f), 0.5f, 0.5f, 8,
                                               progressive_integrator(R"(<integer name="online_spp" value="8"/>)"));
     const std::string scene = dir.write("online.xml", xml);
     ASSERT_EQ(run_cli({"train", scene, "-o", dir.file("t.vgtrain"), "--quiet"}).exit_code, 0);

@@ -25,7 +25,7 @@ namespace {
 
 constexpr int kWidth = 12, kHeight = 9;
 constexpr uint64_t kSeed = 11;
-const std::string kScene = std::string(VOLGUIDE_SOURCE_DIR) + "/bench/scenes/fogbox.xml";
+const std::string kReplayScene = std::string(VOLGUIDE_SOURCE_DIR) + "/bench/scenes/fogbox.xml";
 
 // The scene defines of a tiny fogbox rendered by `integrator_xml` (empty: volpath).
 std::vector<std::pair<std::string, std::string>> scene_defines(const std::string& integrator_xml) {
@@ -35,10 +35,10 @@ std::vector<std::pair<std::string, std::string>> scene_defines(const std::string
     return d;
 }
 
-std::unique_ptr<Scene> load(const std::string& integrator_xml) {
+std::unique_ptr<Scene> load_replay_scene(const std::string& integrator_xml) {
     LoadOptions options;
     for (const auto& [name, value] : scene_defines(integrator_xml)) options.defines[name] = value;
-    return load_scene(kScene, options);
+    return load_scene(kReplayScene, options);
 }
 
 // guided_volpath with its defaults (distance, direction, grrs), a small training pass.
@@ -66,7 +66,7 @@ bool same_bits(const Color3& a, const Color3& b) { return a.r == b.r && a.g == b
 // position of another pixel (the ray kept) must differ somewhere: guided RR/splitting reads the
 // pixel estimate there, so the comparison would catch a replay that loses the film position.
 void expect_replays_match_render(const std::string& integrator_xml, bool position_matters = false) {
-    auto scene = load(integrator_xml);
+    auto scene = load_replay_scene(integrator_xml);
     RenderOptions options;
     options.seed = kSeed;
     options.threads = 2;
@@ -97,7 +97,7 @@ void expect_replays_match_render(const std::string& integrator_xml, bool positio
 
 // tools/replay_sample's printed value of sample 0 of pixel (x, y).
 Color3 run_replay_tool(int x, int y, const std::string& integrator_xml) {
-    std::string command = fmt::format("'{}' '{}' {} {} 0 {}", VOLGUIDE_REPLAY_SAMPLE, kScene, x, y, kSeed);
+    std::string command = fmt::format("'{}' '{}' {} {} 0 {}", VOLGUIDE_REPLAY_SAMPLE, kReplayScene, x, y, kSeed);
     for (const auto& [name, value] : scene_defines(integrator_xml)) command += fmt::format(" '{}={}'", name, value);
     command += " 2>/dev/null";
     std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), pclose);
@@ -115,7 +115,7 @@ Color3 run_replay_tool(int x, int y, const std::string& integrator_xml) {
 }
 
 void expect_tool_matches_render(const std::string& integrator_xml) {
-    auto scene = load(integrator_xml);
+    auto scene = load_replay_scene(integrator_xml);
     RenderOptions options;
     options.seed = kSeed;
     options.threads = 1;

@@ -26,7 +26,7 @@ struct FurnaceCase {
     int spp;
 };
 
-std::string furnace_xml(const FurnaceCase& c, const std::string& grid_path) {
+std::string media_furnace_xml(const FurnaceCase& c, const std::string& grid_path) {
     const std::string sigma_t =
         c.heterogeneous
             ? fmt::format(R"(<volume type="gridvolume" name="sigma_t"><string name="filename" value="{}"/>
@@ -62,7 +62,7 @@ TEST_P(MediaFurnace, EveryPixelIsOne) {
     const FurnaceCase& c = GetParam();
     TempDir dir("media-furnace");
     const std::string grid = write_furnace_grid(dir);
-    Rendered r = render_scene_xml(furnace_xml(c, grid), c.spp, 17, /*test_media=*/false);
+    Rendered r = render_scene_xml(media_furnace_xml(c, grid), c.spp, 17, /*test_media=*/false);
     expect_constant_image(r, 1.0);
 }
 

@@ -50,7 +50,7 @@ std::string scene_xml(const std::string& integrator, const std::string& boundary
                        origin);
 }
 
-void compare(const std::string& boundary, bool camera_inside, bool environment, int max_depth) {
+void compare_boundary(const std::string& boundary, bool camera_inside, bool environment, int max_depth) {
     Rendered reference = render_scene_xml(scene_xml("simple_volpath", boundary, camera_inside, environment, max_depth),
                                           4096, 11);
     Rendered volpath =
@@ -69,11 +69,11 @@ void compare(const std::string& boundary, bool camera_inside, bool environment, 
 
 }  // namespace
 
-TEST(VolPathVsSimple, NullBoundary) { compare(R"(<bsdf type="null"/>)", false, true, 5); }
-TEST(VolPathVsSimple, NullBoundaryDepth2) { compare(R"(<bsdf type="null"/>)", false, false, 2); }
-TEST(VolPathVsSimple, ThinDielectricBoundary) { compare(R"(<bsdf type="thindielectric"/>)", false, true, 4); }
-TEST(VolPathVsSimple, DielectricBoundary) { compare(R"(<bsdf type="dielectric"/>)", false, true, 6); }
+TEST(VolPathVsSimple, NullBoundary) { compare_boundary(R"(<bsdf type="null"/>)", false, true, 5); }
+TEST(VolPathVsSimple, NullBoundaryDepth2) { compare_boundary(R"(<bsdf type="null"/>)", false, false, 2); }
+TEST(VolPathVsSimple, ThinDielectricBoundary) { compare_boundary(R"(<bsdf type="thindielectric"/>)", false, true, 4); }
+TEST(VolPathVsSimple, DielectricBoundary) { compare_boundary(R"(<bsdf type="dielectric"/>)", false, true, 6); }
 TEST(VolPathVsSimple, RoughDielectricBoundary) {
-    compare(R"(<bsdf type="roughdielectric"><float name="alpha" value="0.3"/></bsdf>)", false, false, 5);
+    compare_boundary(R"(<bsdf type="roughdielectric"><float name="alpha" value="0.3"/></bsdf>)", false, false, 5);
 }
-TEST(VolPathVsSimple, CameraInsideMedium) { compare(R"(<bsdf type="null"/>)", true, true, 4); }
+TEST(VolPathVsSimple, CameraInsideMedium) { compare_boundary(R"(<bsdf type="null"/>)", true, true, 4); }

@@ -59,7 +59,7 @@ class CountingRecorder final : public PathRecorder {
     bool decisions_;
 };
 
-bool same_bits(const Color3& a, const Color3& b) { return a.r == b.r && a.g == b.g && a.b == b.b; }
+bool same_color_bits(const Color3& a, const Color3& b) { return a.r == b.r && a.g == b.g && a.b == b.b; }
 
 // One camera ray walked without a policy or recorder (stream a) and with `policy` and `recorder`
 // (either may be null; stream b, a copy of a).
@@ -110,7 +110,7 @@ TEST(WalkPolicy, DefaultPolicyIsTheAnalogWalkNumberForNumber) {
             for_each_sample(*scene, volpath, 4, [&](const Ray& ray, Sampler& a, Sampler& b) {
                 WalkPolicy unguided;
                 const TwoWalks w = walk_twice(*scene, volpath, ray, a, b, &unguided, nullptr);
-                differ += !same_bits(w.plain, w.with_policy) || !w.same_dimension;
+                differ += !same_color_bits(w.plain, w.with_policy) || !w.same_dimension;
                 nonzero += w.plain.max_value() > 0.f;
             });
             EXPECT_EQ(differ, 0) << name << (equiangular ? " equiangular" : "");
@@ -133,9 +133,9 @@ TEST(WalkPolicy, RecordingSeesEveryContributionAndMediumVertex) {
         Sampler a2 = b2;
         const TwoWalks w2 = walk_twice(*scene, volpath, ray, a2, b2, &unguided, &recorder);
         for (const auto& [walks, rec] : {std::pair{&w, &alone}, std::pair{&w2, &recorder}}) {
-            EXPECT_TRUE(same_bits(walks->plain, walks->with_policy) && walks->same_dimension);
+            EXPECT_TRUE(same_color_bits(walks->plain, walks->with_policy) && walks->same_dimension);
             // The same additions in the same order: the same sum.
-            EXPECT_TRUE(same_bits(rec->contributions, walks->with_policy));
+            EXPECT_TRUE(same_color_bits(rec->contributions, walks->with_policy));
             EXPECT_EQ(rec->camera_samples, 1);
             EXPECT_GE(rec->medium_hits, rec->vertices);  // a vertex is reached before it scatters
             EXPECT_EQ(rec->decisions, 0);  // the recorder does not read decisions
@@ -157,13 +157,13 @@ TEST(WalkPolicy, DecisionReadingRecorderSeesEveryPolicyDecision) {
         Sampler b2 = b;
         CountingRecorder without_policy(true);
         const TwoWalks w = walk_twice(*scene, volpath, ray, a, b, nullptr, &without_policy);
-        EXPECT_TRUE(same_bits(w.plain, w.with_policy) && w.same_dimension);
+        EXPECT_TRUE(same_color_bits(w.plain, w.with_policy) && w.same_dimension);
         EXPECT_EQ(without_policy.decisions, 0);
         WalkPolicy unguided;
         CountingRecorder recorder(true);
         Sampler a2 = b2;
         const TwoWalks w2 = walk_twice(*scene, volpath, ray, a2, b2, &unguided, &recorder);
-        EXPECT_TRUE(same_bits(w2.plain, w2.with_policy) && w2.same_dimension);
+        EXPECT_TRUE(same_color_bits(w2.plain, w2.with_policy) && w2.same_dimension);
         // Every medium vertex had a distance and a direction decision (the last may have ended the
         // path); every vertex reached is a continuation point, and the default continuation reports
         // no estimate.

@@ -10,11 +10,11 @@ using namespace volguide::test;
 
 namespace {
 
-constexpr int kTests = 14;  // chi-square tests in this file (Sidak correction)
+constexpr int kBasicTests = 14;  // chi-square tests in this file (Sidak correction)
 
-ChiSquareOptions options() {
+ChiSquareOptions basic_options() {
     ChiSquareOptions opt;
-    opt.test_count = kTests;
+    opt.test_count = kBasicTests;
     return opt;
 }
 
@@ -23,7 +23,7 @@ ChiSquareOptions options() {
 TEST(BsdfChi2, Diffuse) {
     auto bsdf = make_bsdf("diffuse", {{"reflectance", Color3(0.2f, 0.5f, 0.8f)}});
     for (float c : {0.9f, 0.2f}) {
-        auto r = chi2_bsdf(*bsdf, local_si(dir(c)), options());
+        auto r = chi2_bsdf(*bsdf, local_si(dir(c)), basic_options());
         EXPECT_TRUE(r.passed) << "cos_theta_i " << c << "\n" << r.report;
     }
 }
@@ -31,7 +31,7 @@ TEST(BsdfChi2, Diffuse) {
 TEST(BsdfChi2, PlasticDiffuseLobeAndSpecularProbability) {
     auto bsdf = make_bsdf("plastic", {{"diffuse_reflectance", Color3(0.3f, 0.5f, 0.1f)}, {"int_ior", 1.7}});
     for (float c : {0.95f, 0.3f, 0.05f}) {
-        auto r = chi2_bsdf(*bsdf, local_si(dir(c)), options());
+        auto r = chi2_bsdf(*bsdf, local_si(dir(c)), basic_options());
         EXPECT_TRUE(r.passed) << "cos_theta_i " << c << "\n" << r.report;
         EXPECT_GT(r.rest_observed, 0u);  // the delta lobe is sampled
     }
@@ -50,7 +50,7 @@ TEST(BsdfChi2, RoughPlastic) {
                                                {"alpha", c.alpha},
                                                {"nonlinear", c.nonlinear},
                                                {"diffuse_reflectance", Color3(0.6f, 0.2f, 0.4f)}});
-        auto r = chi2_bsdf(*bsdf, local_si(dir(c.cos_theta)), options());
+        auto r = chi2_bsdf(*bsdf, local_si(dir(c.cos_theta)), basic_options());
         EXPECT_TRUE(r.passed) << c.distr << " alpha " << c.alpha << " cos " << c.cos_theta << "\n"
                               << r.report;
     }
@@ -58,7 +58,7 @@ TEST(BsdfChi2, RoughPlastic) {
 
 TEST(BsdfChi2, RoughPlasticWithoutVisibleNormalSampling) {
     auto bsdf = make_bsdf("roughplastic", {{"alpha", 0.2}, {"sample_visible", false}});
-    auto r = chi2_bsdf(*bsdf, local_si(dir(0.6f)), options());
+    auto r = chi2_bsdf(*bsdf, local_si(dir(0.6f)), basic_options());
     EXPECT_TRUE(r.passed) << r.report;
 }
 
@@ -66,14 +66,14 @@ TEST(BsdfChi2, TwoSidedBackSide) {
     // One nested BSDF: the back side mirrors it.
     auto diffuse = make_bsdf("diffuse", {{"reflectance", Color3(0.7f)}});
     auto two = make_bsdf("twosided", {{"", ObjectPtr(diffuse)}});
-    auto r = chi2_bsdf(*two, local_si(dir(-0.5f)), options());
+    auto r = chi2_bsdf(*two, local_si(dir(-0.5f)), basic_options());
     EXPECT_TRUE(r.passed) << r.report;
 
     // Two nested BSDFs: the back uses the second one.
     auto rough = make_bsdf("roughconductor", {{"alpha", 0.3}, {"distribution", "ggx"}});
     auto two2 = make_bsdf("twosided", {{"front", ObjectPtr(diffuse)}, {"back", ObjectPtr(rough)}});
-    auto r2 = chi2_bsdf(*two2, local_si(dir(-0.7f)), options());
+    auto r2 = chi2_bsdf(*two2, local_si(dir(-0.7f)), basic_options());
     EXPECT_TRUE(r2.passed) << r2.report;
-    auto r3 = chi2_bsdf(*two2, local_si(dir(0.7f)), options());
+    auto r3 = chi2_bsdf(*two2, local_si(dir(0.7f)), basic_options());
     EXPECT_TRUE(r3.passed) << r3.report;
 }

@@ -10,11 +10,11 @@ using namespace volguide::test;
 
 namespace {
 
-constexpr int kTests = 26;  // chi-square tests in this file (Sidak correction)
+constexpr int kRoughTests = 26;  // chi-square tests in this file (Sidak correction)
 
-ChiSquareOptions options() {
+ChiSquareOptions rough_options() {
     ChiSquareOptions opt;
-    opt.test_count = kTests;
+    opt.test_count = kRoughTests;
     return opt;
 }
 
@@ -53,7 +53,7 @@ TEST(BsdfChi2, RoughConductor) {
                                                  {"alpha", c.alpha},
                                                  {"sample_visible", c.visible},
                                                  {"material", "Cu"}});
-        auto r = chi2_bsdf(*bsdf, local_si(dir(c.cos_theta)), options());
+        auto r = chi2_bsdf(*bsdf, local_si(dir(c.cos_theta)), rough_options());
         EXPECT_TRUE(r.passed) << name(c) << "\n" << r.report;
     }
 }
@@ -61,7 +61,7 @@ TEST(BsdfChi2, RoughConductor) {
 TEST(BsdfChi2, RoughConductorAnisotropic) {
     for (std::string d : {"beckmann", "ggx"}) {
         auto bsdf = make_bsdf("roughconductor", {{"distribution", d}, {"alpha_u", 0.05}, {"alpha_v", 0.4}});
-        auto r = chi2_bsdf(*bsdf, local_si(dir(0.6f, 1.1f)), options());
+        auto r = chi2_bsdf(*bsdf, local_si(dir(0.6f, 1.1f)), rough_options());
         EXPECT_TRUE(r.passed) << d << "\n" << r.report;
     }
 }
@@ -77,7 +77,7 @@ TEST(BsdfChi2, RoughDielectricOutside) {
                                                   {"sample_visible", c.visible},
                                                   {"int_ior", 1.5},
                                                   {"ext_ior", 1.0}});
-        auto r = chi2_bsdf(*bsdf, local_si(dir(c.cos_theta)), options());
+        auto r = chi2_bsdf(*bsdf, local_si(dir(c.cos_theta)), rough_options());
         EXPECT_TRUE(r.passed) << name(c) << "\n" << r.report;
     }
 }
@@ -93,7 +93,7 @@ TEST(BsdfChi2, RoughDielectricInside) {
                                                   {"alpha", c.alpha},
                                                   {"sample_visible", c.visible},
                                                   {"int_ior", "water"}});
-        auto r = chi2_bsdf(*bsdf, local_si(dir(c.cos_theta)), options());
+        auto r = chi2_bsdf(*bsdf, local_si(dir(c.cos_theta)), rough_options());
         EXPECT_TRUE(r.passed) << name(c) << "\n" << r.report;
     }
 }
@@ -101,15 +101,15 @@ TEST(BsdfChi2, RoughDielectricInside) {
 TEST(BsdfChi2, RoughDielectricImportanceMode) {
     auto bsdf = make_bsdf("roughdielectric", {{"distribution", "ggx"}, {"alpha", 0.25}});
     for (float c : {0.7f, -0.7f}) {
-        auto r = chi2_bsdf(*bsdf, local_si(dir(c)), options(), TransportMode::Importance);
+        auto r = chi2_bsdf(*bsdf, local_si(dir(c)), rough_options(), TransportMode::Importance);
         EXPECT_TRUE(r.passed) << "cos_i " << c << "\n" << r.report;
     }
 }
 
 TEST(BsdfChi2, RoughDielectricAnisotropic) {
     auto bsdf = make_bsdf("roughdielectric", {{"distribution", "ggx"}, {"alpha_u", 0.4}, {"alpha_v", 0.1}});
-    auto r = chi2_bsdf(*bsdf, local_si(dir(0.5f, 2.0f)), options());
+    auto r = chi2_bsdf(*bsdf, local_si(dir(0.5f, 2.0f)), rough_options());
     EXPECT_TRUE(r.passed) << r.report;
-    auto r2 = chi2_bsdf(*bsdf, local_si(dir(-0.8f, 2.0f)), options());
+    auto r2 = chi2_bsdf(*bsdf, local_si(dir(-0.8f, 2.0f)), rough_options());
     EXPECT_TRUE(r2.passed) << r2.report;
 }

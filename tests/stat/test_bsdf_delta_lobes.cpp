@@ -10,11 +10,11 @@ using namespace volguide::test;
 
 namespace {
 
-constexpr int kTests = 9;
+constexpr int kDeltaTests = 9;
 
-ChiSquareOptions options() {
+ChiSquareOptions delta_options() {
     ChiSquareOptions opt;
-    opt.test_count = kTests;
+    opt.test_count = kDeltaTests;
     return opt;
 }
 
@@ -42,7 +42,7 @@ TEST(BsdfDeltaLobes, DielectricChoosesReflectionWithFresnelProbability) {
         SurfaceInteraction si = local_si(dir(c));
         const double F = fresnel_dielectric(si.wi.z, 1.5f).F;
         auto counts = count_lobes(*bsdf, si, {bsdf_flags::DeltaReflection, bsdf_flags::DeltaTransmission});
-        auto r = chi2_test_discrete(counts, {F, 1 - F}, options());
+        auto r = chi2_test_discrete(counts, {F, 1 - F}, delta_options());
         EXPECT_TRUE(r.passed) << "cos_i " << c << " F " << F << "\n" << r.report;
     }
     // Total internal reflection: always reflected.
@@ -57,7 +57,7 @@ TEST(BsdfDeltaLobes, ThinDielectric) {
         SurfaceInteraction si = local_si(dir(c));
         const double R = fresnel_dielectric(std::abs(c), 1.5f).F, Rp = 2 * R / (1 + R);
         auto counts = count_lobes(*bsdf, si, {bsdf_flags::DeltaReflection, bsdf_flags::Null});
-        auto r = chi2_test_discrete(counts, {Rp, 1 - Rp}, options());
+        auto r = chi2_test_discrete(counts, {Rp, 1 - Rp}, delta_options());
         EXPECT_TRUE(r.passed) << "cos_i " << c << "\n" << r.report;
     }
 }
@@ -71,7 +71,7 @@ TEST(BsdfDeltaLobes, PlasticSpecularProbability) {
         const double F = fresnel_dielectric(c, 1.5f).F, ws = 1.0 / 1.4;
         const double ps = F * ws / (F * ws + (1 - F) * (1 - ws));
         auto counts = count_lobes(*bsdf, si, {bsdf_flags::DeltaReflection, bsdf_flags::DiffuseReflection});
-        auto r = chi2_test_discrete(counts, {ps, 1 - ps}, options());
+        auto r = chi2_test_discrete(counts, {ps, 1 - ps}, delta_options());
         EXPECT_TRUE(r.passed) << "cos_i " << c << "\n" << r.report;
     }
 }
@@ -82,6 +82,6 @@ TEST(BsdfDeltaLobes, RoughDielectricLobeFractionIsFresnelAtNormalIncidenceLimit)
     SurfaceInteraction si = local_si(dir(0.6f));
     const double F = fresnel_dielectric(0.6f, 1.5f).F;
     auto counts = count_lobes(*bsdf, si, {bsdf_flags::GlossyReflection, bsdf_flags::GlossyTransmission});
-    auto r = chi2_test_discrete(counts, {F, 1 - F}, options());
+    auto r = chi2_test_discrete(counts, {F, 1 - F}, delta_options());
     EXPECT_TRUE(r.passed) << r.report;
 }

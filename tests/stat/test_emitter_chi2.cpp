@@ -19,14 +19,14 @@ namespace {
 
 constexpr int TestCount = 6;  // tests in this file, for the Sidak correction
 
-ChiSquareOptions options() {
+ChiSquareOptions emitter_options() {
     ChiSquareOptions opt;
     opt.test_count = TestCount;
     return opt;
 }
 
 // Samples directions from `ref` and checks them against pdf_direction and eval.
-ChiSquareResult emitter_chi2(const Emitter& e, const Interaction& ref, ChiSquareOptions opt = options()) {
+ChiSquareResult emitter_chi2(const Emitter& e, const Interaction& ref, ChiSquareOptions opt = emitter_options()) {
     auto sample = [&](Sampler& s) {
         auto [ds, w] = e.sample_direction(ref, s.next_2d());
         ChiSquareSample r{ds.d, w};
@@ -106,7 +106,7 @@ TEST(EmitterChi2, BilinearWarpPlane) {
                             0.f, 0.f, 0.f,  0.f, 0.f,   //
                             1.f, 1.f, 0.2f, 4.f, 0.f};
     const BilinearWarp2D warp(v, 5, 4);
-    ChiSquareOptions opt = options();
+    ChiSquareOptions opt = emitter_options();
     opt.rows = opt.cols = 24;
     auto r = chi2_test_plane(
         [&](Sampler& s) {
@@ -130,7 +130,7 @@ TEST(EmitterChi2, BilinearWarpPlane) {
 TEST(EmitterChi2, DetectsWrongEnvmapPdf) {
     auto e = make_envmap(write_temp_exr("sky_bad.exr", synthetic_sky()));
     const Interaction ref = reference_point({0.f, 0.f, 0.f});
-    ChiSquareOptions opt = options();
+    ChiSquareOptions opt = emitter_options();
     opt.sample_count = 200000;
     auto r = chi2_test_sphere(
         [&](Sampler& s) { return ChiSquareSample{e->sample_direction(ref, s.next_2d()).first.d}; },

@@ -18,25 +18,25 @@ using namespace volguide::test;
 
 namespace {
 
-struct Case {
+struct DirectionCase {
     DirectionGuiding mode;
     bool multi_lobe;
     float g;
     float alpha;
 };
 
-std::string name(const Case& c) {
+std::string name(const DirectionCase& c) {
     return fmt::format("{}_{}lobe_g{}_alpha{}", c.mode == DirectionGuiding::Product ? "Product" : "Incident",
                        c.multi_lobe ? 4 : 1, c.g, c.alpha);
 }
 
-void PrintTo(const Case& c, std::ostream* os) {
+void PrintTo(const DirectionCase& c, std::ostream* os) {
     *os << name(c);
 }
 
 // Incident with alpha_f = 0 does not depend on g: one g per leaf.
-std::vector<Case> cases() {
-    std::vector<Case> out;
+std::vector<DirectionCase> direction_cases() {
+    std::vector<DirectionCase> out;
     for (bool multi : {false, true})
         for (float g : {0.f, 0.5f, 0.9f, -0.6f})
             for (float alpha : {0.f, 0.5f}) {
@@ -46,7 +46,7 @@ std::vector<Case> cases() {
     return out;
 }
 
-const int kTestCount = int(cases().size()) + 1;  // + the invalid-leaf fallback
+const int kDirectionTestCount = int(direction_cases().size()) + 1;  // + the invalid-leaf fallback
 
 // check_weights: every sample's weight must equal the exact HG over `pdf`.
 ChiSquareResult run(const GuidedDirectionSampler& sampler, const ChiSquarePdfFn& pdf, uint64_t seed,
@@ -54,7 +54,7 @@ ChiSquareResult run(const GuidedDirectionSampler& sampler, const ChiSquarePdfFn&
     ChiSquareOptions opt;
     opt.sample_count = samples;
     opt.weight_check_count = 100000;
-    opt.test_count = kTestCount;
+    opt.test_count = kDirectionTestCount;
     opt.seed = seed;
     return chi2_test_sphere(
         [&](Sampler& s) {
@@ -67,12 +67,12 @@ ChiSquareResult run(const GuidedDirectionSampler& sampler, const ChiSquarePdfFn&
                       : ChiSquareEvalFn());
 }
 
-class GuidedDirectionChi2 : public ::testing::TestWithParam<Case> {};
+class GuidedDirectionChi2 : public ::testing::TestWithParam<DirectionCase> {};
 
 }  // namespace
 
 TEST_P(GuidedDirectionChi2, MixtureMatchesItsPdf) {
-    const Case c = GetParam();
+    const DirectionCase c = GetParam();
     const GuidingLeaf leaf = c.multi_lobe ? multi_lobe_leaf() : one_lobe_leaf();
     const HGPhase phase(c.g);
     const GuidedDirectionSampler sampler(c.mode, &leaf, phase, test_wi(), c.alpha);
@@ -84,7 +84,7 @@ TEST_P(GuidedDirectionChi2, MixtureMatchesItsPdf) {
     EXPECT_EQ(r.weight_mismatches, 0u);
 }
 
-INSTANTIATE_TEST_SUITE_P(Guides, GuidedDirectionChi2, ::testing::ValuesIn(cases()), [](const auto& info) {
+INSTANTIATE_TEST_SUITE_P(Guides, GuidedDirectionChi2, ::testing::ValuesIn(direction_cases()), [](const auto& info) {
     std::string n = name(info.param);
     for (char& ch : n)
         if (ch == '.' || ch == '-') ch = ch == '.' ? 'p' : 'm';

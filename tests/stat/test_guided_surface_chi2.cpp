@@ -20,23 +20,23 @@ using namespace volguide::test;
 
 namespace {
 
-struct Case {
+struct SurfaceCase {
     bool multi_lobe;
     bool cosine;
     float bsdf_prob;
 };
 
-std::string name(const Case& c) {
+std::string name(const SurfaceCase& c) {
     return fmt::format("{}lobe_{}_bsdf{}", c.multi_lobe ? 4 : 1, c.cosine ? "cosine" : "incident",
                        int(c.bsdf_prob * 10));
 }
 
-void PrintTo(const Case& c, std::ostream* os) {
+void PrintTo(const SurfaceCase& c, std::ostream* os) {
     *os << name(c);
 }
 
-std::vector<Case> cases() {
-    std::vector<Case> out;
+std::vector<SurfaceCase> surface_cases() {
+    std::vector<SurfaceCase> out;
     for (bool multi : {false, true})
         for (bool cosine : {false, true})
             for (float p : {0.f, 0.5f}) out.push_back({multi, cosine, p});
@@ -57,7 +57,7 @@ SurfaceInteraction tilted_si() {
 ChiSquareResult run(const GuidedSurfaceSampler& s, const BSDF& bsdf, const SurfaceInteraction& si, uint64_t seed) {
     const BSDFContext ctx;
     ChiSquareOptions opt;
-    opt.test_count = int(cases().size());
+    opt.test_count = int(surface_cases().size());
     opt.seed = seed;
     opt.weight_check_count = 100000;
     return chi2_test_sphere(
@@ -71,12 +71,12 @@ ChiSquareResult run(const GuidedSurfaceSampler& s, const BSDF& bsdf, const Surfa
         [&](const Vec3f& wo) { return bsdf.eval(ctx, si, wo); });
 }
 
-class GuidedSurfaceChi2 : public ::testing::TestWithParam<Case> {};
+class GuidedSurfaceChi2 : public ::testing::TestWithParam<SurfaceCase> {};
 
 }  // namespace
 
 TEST_P(GuidedSurfaceChi2, MixtureMatchesItsPdf) {
-    const Case c = GetParam();
+    const SurfaceCase c = GetParam();
     const auto bsdf = make_bsdf("diffuse", {{"reflectance", 0.7f}});
     const SurfaceInteraction si = tilted_si();
     const GuidingLeaf leaf = c.multi_lobe ? multi_lobe_leaf() : one_lobe_leaf();
@@ -92,7 +92,7 @@ TEST_P(GuidedSurfaceChi2, MixtureMatchesItsPdf) {
     EXPECT_EQ(r.weight_mismatches, 0u);
 }
 
-INSTANTIATE_TEST_SUITE_P(Guides, GuidedSurfaceChi2, ::testing::ValuesIn(cases()),
+INSTANTIATE_TEST_SUITE_P(Guides, GuidedSurfaceChi2, ::testing::ValuesIn(surface_cases()),
                          [](const auto& info) { return name(info.param); });
 
 TEST(GuidedSurfaceSampler, GuideDirectionsBelowTheSurfaceWeighZero) {

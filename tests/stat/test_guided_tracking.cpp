@@ -34,8 +34,8 @@ using namespace volguide::test;
 
 namespace {
 
-constexpr double kZ = 4.0;
-constexpr double kFloor = 1e-6;
+constexpr double kGuidedZ = 4.0;
+constexpr double kGuidedFloor = 1e-6;
 
 using ScatterFn = std::function<float(const TentativeCollision&)>;
 
@@ -110,10 +110,10 @@ double check_unbiased(HeterogeneousMedium& m, const std::function<ScatterFn(cons
                 const RunningStats* got[3] = {&e.scat[c], &e.scat_t[c], &e.esc[c]};
                 const char* what[3] = {"scatter", "scatter * t", "escape"};
                 for (int k = 0; k < 3; ++k) {
-                    const double z = got[k]->z(want[k], kFloor);
+                    const double z = got[k]->z(want[k], kGuidedFloor);
                     worst = std::max(worst, z);
                     if (expect_pass) {
-                        EXPECT_LT(z, kZ) << "ray " << ri << " majorant x" << ms << " channel " << c << " " << what[k]
+                        EXPECT_LT(z, kGuidedZ) << "ray " << ri << " majorant x" << ms << " channel " << c << " " << what[k]
                                          << ": " << got[k]->mean() << " vs " << want[k];
                     }
                 }
@@ -183,7 +183,7 @@ TEST(GuidedTracking, AHoleInTheScatterProbabilityFails) {
             return std::sin(7.f * c.t) > 0.7f ? 0.f : ps;
         };
     };
-    EXPECT_GT(check_unbiased(*m, hole, 20000, 100, /*expect_pass=*/false), 2.0 * kZ);
+    EXPECT_GT(check_unbiased(*m, hole, 20000, 100, /*expect_pass=*/false), 2.0 * kGuidedZ);
 }
 
 TEST(GuidedTracking, AnalogProbabilityIsDeltaTracking) {
@@ -236,7 +236,7 @@ TEST(GuidedTracking, CertainDecisionsAreExactAndFinite) {
         }
         escaped.add(fs.scattered ? 0.0 : 1.0);
     }
-    EXPECT_LT(escaped.z(transmittance), kZ) << escaped.mean() << " vs " << transmittance;
+    EXPECT_LT(escaped.z(transmittance), kGuidedZ) << escaped.mean() << " vs " << transmittance;
 
     auto black = constant(Color3(0.f));
     ScatterFn never = [](const TentativeCollision&) { return 0.f; };
@@ -251,7 +251,7 @@ TEST(GuidedTracking, CertainDecisionsAreExactAndFinite) {
             tr.add(fs.scattered ? 0.0 : fs.weight.r);
         }
         // sigma_t = majorant: the first null collision ends the walk with weight 0 (unbiased).
-        EXPECT_LT(tr.z(transmittance, kFloor), kZ) << tr.mean() << " vs " << transmittance;
+        EXPECT_LT(tr.z(transmittance, kGuidedFloor), kGuidedZ) << tr.mean() << " vs " << transmittance;
     }
 }
 

@@ -78,11 +78,11 @@ std::vector<VolumeCase> volume_cases() {
 }
 
 const std::vector<float> kSurfaceBsdfProbs = {0.5f, 0.2f};
-const int kTestCount = int(volume_cases().size() + kSurfaceBsdfProbs.size()) + 1;  // + the control
+const int kOpenPglTestCount = int(volume_cases().size() + kSurfaceBsdfProbs.size()) + 1;  // + the control
 
-ChiSquareOptions options(uint64_t seed) {
+ChiSquareOptions openpgl_options(uint64_t seed) {
     ChiSquareOptions opt;
-    opt.test_count = kTestCount;
+    opt.test_count = kOpenPglTestCount;
     opt.seed = seed;
     opt.weight_check_count = 100000;
     return opt;
@@ -120,7 +120,7 @@ TEST_P(OpenPglVolumeChi2, MixtureMatchesItsPdf) {
             const PhaseSample ps = v.policy->sample_direction(v.mi, s, nullptr);
             return ChiSquareSample{ps.wo, Color3(ps.weight), ps.pdf > 0.f};
         },
-        [&](const Vec3f& d) { return double(v.policy->direction_pdf(v.mi, d)); }, options(11),
+        [&](const Vec3f& d) { return double(v.policy->direction_pdf(v.mi, d)); }, openpgl_options(11),
         [&](const Vec3f& d) { return Color3(v.medium.phase().eval(v.mi.wi, d)); });
     EXPECT_TRUE(r.passed) << r.report;
     EXPECT_NEAR(r.pdf_integral, 1.0, 2e-3);
@@ -137,7 +137,7 @@ TEST(OpenPglVolumeChi2, GuidedSamplesAreNotPhaseSamples) {
             const PhaseSample ps = v.policy->sample_direction(v.mi, s, nullptr);
             return ChiSquareSample{ps.wo, Color3(1.f), ps.pdf > 0.f};
         },
-        [&](const Vec3f& d) { return double(v.medium.phase().pdf(v.mi.wi, d)); }, options(12));
+        [&](const Vec3f& d) { return double(v.medium.phase().pdf(v.mi.wi, d)); }, openpgl_options(12));
     EXPECT_FALSE(r.passed) << r.report;
 }
 
@@ -169,7 +169,7 @@ TEST(OpenPglSurfaceChi2, MixtureWithDiffuseMatchesItsPdf) {
                 return ChiSquareSample{bs.wo, weight, bs.pdf > 0.f};
             },
             [&](const Vec3f& wo) { return double(policy.surface_direction_pdf(ctx, si, *bsdf, wo)); },
-            options(seed++), [&](const Vec3f& wo) { return bsdf->eval(ctx, si, wo); });
+            openpgl_options(seed++), [&](const Vec3f& wo) { return bsdf->eval(ctx, si, wo); });
         EXPECT_TRUE(r.passed) << r.report;
     }
 }

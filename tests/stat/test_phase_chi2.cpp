@@ -13,7 +13,7 @@ using namespace volguide::test;
 namespace {
 
 constexpr float kGs[] = {-0.99f, -0.9f, -0.5f, 0.f, 0.3f, 0.9f, 0.99f};
-constexpr int kTests = int(std::size(kGs)) * 2 + 1;
+constexpr int kPhaseTests = int(std::size(kGs)) * 2 + 1;
 
 // Cap half-width in 1 - cos theta holding the bulk of the lobe: a few times (1 - g)^2 / (2 g).
 double zoom_delta(float g) {
@@ -24,7 +24,7 @@ double zoom_delta(float g) {
 
 ChiSquareResult run(const PhaseFunction& phase, const Vec3f& wi, double min_cos, uint64_t seed) {
     ChiSquareOptions opt;
-    opt.test_count = kTests;
+    opt.test_count = kPhaseTests;
     opt.seed = seed;
     opt.min_cos_theta = min_cos;
     return chi2_test_sphere([&](Sampler& s) { return ChiSquareSample{phase.sample(wi, s.next_2d()).wo}; },

@@ -23,7 +23,7 @@ using namespace volguide::test;
 
 namespace {
 
-struct Case {
+struct ShapeCase {
     std::string name;
     std::shared_ptr<Shape> shape;
     Point3f ref;
@@ -32,7 +32,7 @@ struct Case {
 
 // pdf of sample_direction producing direction d: pdf_direction at the first hit, or summed over
 // all hits along the ray when the shape may be crossed several times (area sampling).
-double direction_pdf(const Case& c, const Accel& accel, const Vec3f& d) {
+double direction_pdf(const ShapeCase& c, const Accel& accel, const Vec3f& d) {
     Interaction ref;
     ref.p = c.ref;
     Ray ray(c.ref, d);
@@ -57,8 +57,8 @@ std::shared_ptr<Shape> test_sphere() {
     return make_shape(ShapeProps("sphere").p("center", {0.2f, -0.1f, 0.3f}).f("radius", 0.7));
 }
 
-std::vector<Case> cases() {
-    std::vector<Case> out;
+std::vector<ShapeCase> shape_cases() {
+    std::vector<ShapeCase> out;
     auto sphere = test_sphere();
     out.push_back({"sphere_outside", sphere, {1.5f, 1.0f, 0.8f}, false});
     out.push_back({"sphere_far", sphere, {40.f, 30.f, -20.f}, false});  // small-cone Taylor branch
@@ -96,7 +96,7 @@ std::vector<Case> cases() {
 }  // namespace
 
 TEST(ShapeSampling, PdfIntegratesToOne) {
-    for (const Case& c : cases()) {
+    for (const ShapeCase& c : shape_cases()) {
         SCOPED_TRACE(c.name);
         Accel accel({c.shape.get()});
         const int n = 200000;
@@ -116,7 +116,7 @@ TEST(ShapeSampling, PdfIntegratesToOne) {
 }
 
 TEST(ShapeSampling, SamplePdfMatchesPdfDirection) {
-    for (const Case& c : cases()) {
+    for (const ShapeCase& c : shape_cases()) {
         SCOPED_TRACE(c.name);
         Interaction ref;
         ref.p = c.ref;
@@ -182,12 +182,12 @@ TEST(ShapeSampling, SphereConeChi2) {
 
 // Directions from inside a sphere: every direction hits, the pdf is smooth on the sphere.
 TEST(ShapeSampling, SphereInsideChi2) {
-    std::vector<Case> inside;
-    for (const Case& c : cases())
+    std::vector<ShapeCase> inside;
+    for (const ShapeCase& c : shape_cases())
         if (c.name.find("inside") != std::string::npos && c.name.find("sphere") != std::string::npos)
             inside.push_back(c);
     ASSERT_EQ(inside.size(), 2u);
-    for (const Case& c : inside) {
+    for (const ShapeCase& c : inside) {
         SCOPED_TRACE(c.name);
         Accel accel({c.shape.get()});
         Interaction ref;

@@ -16,7 +16,7 @@ Image test_image() {
     return img;
 }
 
-SurfaceInteraction at(float u, float v) {
+SurfaceInteraction gradient_at(float u, float v) {
     SurfaceInteraction si;
     si.uv = Vec2f(u, v);
     return si;
@@ -29,14 +29,14 @@ TEST(BitmapGradient, MatchesFiniteDifferences) {
     ASSERT_TRUE(tex.has_gradient());
     const float h = 1e-3f;
     for (Vec2f uv : {Vec2f(0.31f, 0.4f), Vec2f(0.52f, 0.83f), Vec2f(0.13f, 0.61f)}) {
-        const Vec2f g = tex.eval_1_grad(at(uv.x, uv.y));
-        const float du = (tex.eval_1(at(uv.x + h, uv.y)) - tex.eval_1(at(uv.x - h, uv.y))) / (2.f * h);
-        const float dv = (tex.eval_1(at(uv.x, uv.y + h)) - tex.eval_1(at(uv.x, uv.y - h))) / (2.f * h);
+        const Vec2f g = tex.eval_1_grad(gradient_at(uv.x, uv.y));
+        const float du = (tex.eval_1(gradient_at(uv.x + h, uv.y)) - tex.eval_1(gradient_at(uv.x - h, uv.y))) / (2.f * h);
+        const float dv = (tex.eval_1(gradient_at(uv.x, uv.y + h)) - tex.eval_1(gradient_at(uv.x, uv.y - h))) / (2.f * h);
         EXPECT_NEAR(g.x, du, 2e-2f * std::max(1.f, std::abs(du))) << uv.x << " " << uv.y;
         EXPECT_NEAR(g.y, dv, 2e-2f * std::max(1.f, std::abs(dv))) << uv.x << " " << uv.y;
     }
     BitmapTexture nearest(test_image(), BitmapFilter::Nearest, BitmapWrap::Repeat, UvTransform{});
-    EXPECT_EQ(nearest.eval_1_grad(at(0.3f, 0.4f)), Vec2f(0.f, 0.f));
+    EXPECT_EQ(nearest.eval_1_grad(gradient_at(0.3f, 0.4f)), Vec2f(0.f, 0.f));
 }
 
 }  // namespace

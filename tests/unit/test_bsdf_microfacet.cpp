@@ -14,7 +14,7 @@ using namespace volguide::test;
 namespace {
 
 // Integral of f over the sphere by the chi-square harness's adaptive quadrature.
-double integrate(const ChiSquarePdfFn& f) {
+double integrate_microfacet(const ChiSquarePdfFn& f) {
     ChiSquareOptions opt;
     opt.sample_count = 1;      // only the quadrature is used
     opt.abs_tolerance = 1e-8;  // absolute quadrature tolerance (divided by sample_count)
@@ -32,7 +32,7 @@ TEST(Microfacet, ProjectedAreaNormalisation) {
     for (auto type : {MicrofacetType::Beckmann, MicrofacetType::GGX})
         for (float a : {0.05f, 0.3f, 0.9f}) {
             MicrofacetDistribution d(type, a, a * 0.5f);
-            double i = integrate([&](const Vec3f& m) { return m.z > 0 ? double(d.eval(m)) * m.z : 0.0; });
+            double i = integrate_microfacet([&](const Vec3f& m) { return m.z > 0 ? double(d.eval(m)) * m.z : 0.0; });
             EXPECT_NEAR(i, 1.0, 2e-3) << int(type) << " alpha " << a;
         }
 }
@@ -42,7 +42,7 @@ TEST(Microfacet, VisibleNormalDensityIntegratesToOne) {
     for (auto type : {MicrofacetType::Beckmann, MicrofacetType::GGX})
         for (float a : {0.1f, 0.5f}) {
             MicrofacetDistribution d(type, a, a);
-            double i = integrate([&](const Vec3f& m) { return m.z > 0 ? double(d.pdf(wi, m)) : 0.0; });
+            double i = integrate_microfacet([&](const Vec3f& m) { return m.z > 0 ? double(d.pdf(wi, m)) : 0.0; });
             // Beckmann uses Mitsuba's rational Smith approximation (< 0.35% error).
             EXPECT_NEAR(i, 1.0, type == MicrofacetType::GGX ? 2e-3 : 5e-3) << int(type) << " alpha " << a;
         }

@@ -16,7 +16,7 @@
 namespace volguide {
 namespace {
 
-const SourceLocation kLoc{"camera_test.xml", 7};
+const SourceLocation kCameraLoc{"camera_test.xml", 7};
 constexpr double kPi = 3.14159265358979323846;
 double rad(double deg) {
     return deg * kPi / 180.0;
@@ -27,8 +27,8 @@ std::shared_ptr<Film> film(int w, int h) {
 }
 
 Properties sensor_props(const std::string& type, int w, int h) {
-    Properties p("sensor", type, kLoc);
-    p.set("", "film", film(w, h), kLoc);
+    Properties p("sensor", type, kCameraLoc);
+    p.set("", "film", film(w, h), kCameraLoc);
     return p;
 }
 
@@ -106,8 +106,8 @@ TEST(Camera, FovAxisFollowsMitsuba) {
         SCOPED_TRACE(std::string(c.axis) + " " + std::to_string(c.w) + "x" + std::to_string(c.h));
         const float fov = 47.f;
         Properties p = sensor_props("perspective", c.w, c.h);
-        p.set("fov", "float", 47.0, kLoc);
-        p.set("fov_axis", "string", std::string(c.axis), kLoc);
+        p.set("fov", "float", 47.0, kCameraLoc);
+        p.set("fov_axis", "string", std::string(c.axis), kCameraLoc);
         auto cam = std::dynamic_pointer_cast<PerspectiveCamera>(create_sensor(p));
         ASSERT_TRUE(cam);
         p.check_all_used();
@@ -135,7 +135,7 @@ TEST(Camera, HorizontalFovConversions) {
 
 TEST(Camera, FocalLengthIsADiagonalFov) {
     Properties p = sensor_props("perspective", 60, 40);
-    p.set("focal_length", "string", std::string("35mm"), kLoc);
+    p.set("focal_length", "string", std::string("35mm"), kCameraLoc);
     auto cam = std::dynamic_pointer_cast<PerspectiveCamera>(create_sensor(p));
     EXPECT_NEAR(cam->x_fov(), horizontal_fov(focal_length_to_diagonal_fov("35mm"), "diagonal", 1.5), 1e-4);
     // Default: 50mm.
@@ -146,13 +146,13 @@ TEST(Camera, FocalLengthIsADiagonalFov) {
 
 TEST(Camera, ReadsClipPlanesFilmAndSampler) {
     Properties p = sensor_props("perspective", 20, 10);
-    p.set("fov", "float", 30.0, kLoc);
-    p.set("near_clip", "float", 1.0, kLoc);
-    p.set("far_clip", "float", 1000.0, kLoc);
-    Properties sp("sampler", "independent", kLoc);
-    sp.set("sample_count", "integer", int64_t(64), kLoc);
-    sp.set("seed", "integer", int64_t(9), kLoc);
-    p.set("", "sampler", create_sampler(sp), kLoc);
+    p.set("fov", "float", 30.0, kCameraLoc);
+    p.set("near_clip", "float", 1.0, kCameraLoc);
+    p.set("far_clip", "float", 1000.0, kCameraLoc);
+    Properties sp("sampler", "independent", kCameraLoc);
+    sp.set("sample_count", "integer", int64_t(64), kCameraLoc);
+    sp.set("seed", "integer", int64_t(9), kCameraLoc);
+    p.set("", "sampler", create_sampler(sp), kCameraLoc);
     sp.check_all_used();
     auto sensor = std::dynamic_pointer_cast<Sensor>(create_sensor(p));
     p.check_all_used();
@@ -165,8 +165,8 @@ TEST(Camera, ReadsClipPlanesFilmAndSampler) {
 }
 
 TEST(Camera, DefaultsWithoutChildren) {
-    Properties p("sensor", "perspective", kLoc);
-    p.set("fov", "float", 45.0, kLoc);
+    Properties p("sensor", "perspective", kCameraLoc);
+    p.set("fov", "float", 45.0, kCameraLoc);
     auto sensor = std::dynamic_pointer_cast<Sensor>(create_sensor(p));
     EXPECT_EQ(sensor->film().width(), 768);
     EXPECT_EQ(sensor->film().height(), 576);
@@ -174,65 +174,65 @@ TEST(Camera, DefaultsWithoutChildren) {
     EXPECT_NE(dynamic_cast<const GaussianFilter*>(&sensor->film().filter()), nullptr);
 }
 
-void expect_input_error(Properties p, const char* fragment) {
+void expect_camera_input_error(Properties p, const char* fragment) {
     try {
         create_sensor(p);
         ADD_FAILURE() << "no error; expected '" << fragment << "'";
     } catch (const InputError& e) {
         EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
-        EXPECT_EQ(e.location().file, kLoc.file);
+        EXPECT_EQ(e.location().file, kCameraLoc.file);
     }
 }
 
 TEST(Camera, RejectsBadParameters) {
     {
         Properties p = sensor_props("perspective", 8, 8);
-        p.set("fov", "float", 45.0, kLoc);
-        p.set("focal_length", "string", std::string("50mm"), kLoc);
-        expect_input_error(p, "either");
+        p.set("fov", "float", 45.0, kCameraLoc);
+        p.set("focal_length", "string", std::string("50mm"), kCameraLoc);
+        expect_camera_input_error(p, "either");
     }
     for (double fov : {0.0, 180.0, -5.0}) {
         Properties p = sensor_props("perspective", 8, 8);
-        p.set("fov", "float", fov, kLoc);
-        expect_input_error(p, "field of view");
+        p.set("fov", "float", fov, kCameraLoc);
+        expect_camera_input_error(p, "field of view");
     }
     {
         Properties p = sensor_props("perspective", 8, 8);
-        p.set("fov", "float", 45.0, kLoc);
-        p.set("fov_axis", "string", std::string("z"), kLoc);
-        expect_input_error(p, "fov_axis");
+        p.set("fov", "float", 45.0, kCameraLoc);
+        p.set("fov_axis", "string", std::string("z"), kCameraLoc);
+        expect_camera_input_error(p, "fov_axis");
     }
     {
         Properties p = sensor_props("perspective", 8, 8);
-        p.set("near_clip", "float", 0.0, kLoc);
-        expect_input_error(p, "near_clip");
+        p.set("near_clip", "float", 0.0, kCameraLoc);
+        expect_camera_input_error(p, "near_clip");
     }
     {
         Properties p = sensor_props("orthographic", 8, 8);
-        p.set("near_clip", "float", 2.0, kLoc);
-        p.set("far_clip", "float", 1.0, kLoc);
-        expect_input_error(p, "far_clip");
+        p.set("near_clip", "float", 2.0, kCameraLoc);
+        p.set("far_clip", "float", 1.0, kCameraLoc);
+        expect_camera_input_error(p, "far_clip");
     }
     {
         Properties p = sensor_props("perspective", 8, 8);
-        p.set("to_world", "transform", Transform::scale({2, 2, 2}), kLoc);
-        expect_input_error(p, "scale");
+        p.set("to_world", "transform", Transform::scale({2, 2, 2}), kCameraLoc);
+        expect_camera_input_error(p, "scale");
     }
     {
         Matrix4 shear = Matrix4::identity();
         shear.m[0][1] = 0.5;
         Properties p = sensor_props("perspective", 8, 8);
-        p.set("to_world", "transform", Transform(shear), kLoc);
-        expect_input_error(p, "scale");
+        p.set("to_world", "transform", Transform(shear), kCameraLoc);
+        expect_camera_input_error(p, "scale");
     }
-    expect_input_error(Properties("sensor", "radiancemeter", kLoc), "unsupported sensor plugin 'radiancemeter' (supported: perspective, thinlens, orthographic)");
+    expect_camera_input_error(Properties("sensor", "radiancemeter", kCameraLoc), "unsupported sensor plugin 'radiancemeter' (supported: perspective, thinlens, orthographic)");
 }
 
 TEST(Camera, PrincipalPointOffsetShiftsTheImage) {
     Properties p = sensor_props("perspective", 40, 20);
-    p.set("fov", "float", 50.0, kLoc);
-    p.set("principal_point_offset_x", "float", 0.1, kLoc);
-    p.set("principal_point_offset_y", "float", -0.2, kLoc);
+    p.set("fov", "float", 50.0, kCameraLoc);
+    p.set("principal_point_offset_x", "float", 0.1, kCameraLoc);
+    p.set("principal_point_offset_y", "float", -0.2, kCameraLoc);
     auto sensor = std::dynamic_pointer_cast<Sensor>(create_sensor(p));
     p.check_all_used();
     // The optical axis now passes through film position (0.5 - 0.1, 0.5 + 0.2).
@@ -243,7 +243,7 @@ TEST(Camera, PrincipalPointOffsetShiftsTheImage) {
 
 TEST(Camera, PerspectiveAllowsAMirror) {
     Properties p = sensor_props("perspective", 8, 8);
-    p.set("to_world", "transform", Transform::scale({-1, 1, 1}), kLoc);
+    p.set("to_world", "transform", Transform::scale({-1, 1, 1}), kCameraLoc);
     auto sensor = std::dynamic_pointer_cast<Sensor>(create_sensor(p));
     EXPECT_LT(sensor->sample_ray({0.1f, 0.5f}, {}).first.d.x, 0.f);  // image left is now camera -x
 }
@@ -267,7 +267,7 @@ TEST(Camera, OrthographicExtentsFollowToWorldScale) {
 
     // Through the factory, with a lookat: rays are parallel to the view direction.
     Properties p = sensor_props("orthographic", 16, 16);
-    p.set("to_world", "transform", Transform::look_at({0, 5, 0}, {0, 0, 0}, {0, 0, 1}), kLoc);
+    p.set("to_world", "transform", Transform::look_at({0, 5, 0}, {0, 0, 0}, {0, 0, 1}), kCameraLoc);
     auto sensor = std::dynamic_pointer_cast<Sensor>(create_sensor(p));
     p.check_all_used();
     auto r = sensor->sample_ray({0.3f, 0.8f}, {}).first;
@@ -275,13 +275,13 @@ TEST(Camera, OrthographicExtentsFollowToWorldScale) {
 }
 
 TEST(Film, HdrfilmParameters) {
-    Properties f("film", "hdrfilm", kLoc);
-    f.set("width", "integer", int64_t(48), kLoc);
-    f.set("height", "integer", int64_t(32), kLoc);
-    f.set("pixel_format", "string", std::string("rgb"), kLoc);
-    f.set("component_format", "string", std::string("float32"), kLoc);
-    Properties rf("rfilter", "tent", kLoc);
-    f.set("", "rfilter", create_rfilter(rf), kLoc);
+    Properties f("film", "hdrfilm", kCameraLoc);
+    f.set("width", "integer", int64_t(48), kCameraLoc);
+    f.set("height", "integer", int64_t(32), kCameraLoc);
+    f.set("pixel_format", "string", std::string("rgb"), kCameraLoc);
+    f.set("component_format", "string", std::string("float32"), kCameraLoc);
+    Properties rf("rfilter", "tent", kCameraLoc);
+    f.set("", "rfilter", create_rfilter(rf), kCameraLoc);
     auto film = std::dynamic_pointer_cast<Film>(create_film(f));
     f.check_all_used();
     EXPECT_EQ(film->width(), 48);
@@ -289,7 +289,7 @@ TEST(Film, HdrfilmParameters) {
     EXPECT_NE(dynamic_cast<const TentFilter*>(&film->filter()), nullptr);
     EXPECT_FALSE(film->sample_border());
 
-    Properties crop("film", "hdrfilm", kLoc);
+    Properties crop("film", "hdrfilm", kCameraLoc);
     crop.set("crop_width", "integer", int64_t(4), SourceLocation{"camera_test.xml", 12});
     try {
         create_film(crop);
@@ -298,16 +298,16 @@ TEST(Film, HdrfilmParameters) {
         EXPECT_EQ(e.location().line, 12);
         EXPECT_NE(std::string(e.what()).find("not supported"), std::string::npos);
     }
-    Properties bad("film", "hdrfilm", kLoc);
-    bad.set("width", "integer", int64_t(0), kLoc);
+    Properties bad("film", "hdrfilm", kCameraLoc);
+    bad.set("width", "integer", int64_t(0), kCameraLoc);
     EXPECT_THROW(create_film(bad), InputError);
-    EXPECT_THROW(create_film(Properties("film", "specfilm", kLoc)), InputError);
+    EXPECT_THROW(create_film(Properties("film", "specfilm", kCameraLoc)), InputError);
 }
 
 TEST(Sampler, CountsSeedsAndOtherTypes) {
-    Properties p("sampler", "stratified", kLoc);
-    p.set("sample_count", "integer", int64_t(10), kLoc);
-    p.set("jitter", "boolean", true, kLoc);
+    Properties p("sampler", "stratified", kCameraLoc);
+    p.set("sample_count", "integer", int64_t(10), kCameraLoc);
+    p.set("jitter", "boolean", true, kCameraLoc);
     std::vector<std::string> warnings;
     auto previous =
         set_warning_handler([&](const SourceLocation&, const std::string& m) { warnings.push_back(m); });
@@ -316,13 +316,13 @@ TEST(Sampler, CountsSeedsAndOtherTypes) {
     ASSERT_EQ(warnings.size(), 1u);
     EXPECT_NE(warnings[0].find("independently"), std::string::npos);
     EXPECT_EQ(s->sample_count, 16);  // Mitsuba rounds stratified counts up to a square
-    Properties ld("sampler", "ldsampler", kLoc);
-    ld.set("sample_count", "integer", int64_t(20), kLoc);
+    Properties ld("sampler", "ldsampler", kCameraLoc);
+    ld.set("sample_count", "integer", int64_t(20), kCameraLoc);
     EXPECT_EQ(std::dynamic_pointer_cast<SamplerSettings>(create_sampler(ld))->sample_count, 32);
-    Properties bad("sampler", "independent", kLoc);
-    bad.set("sample_count", "integer", int64_t(0), kLoc);
+    Properties bad("sampler", "independent", kCameraLoc);
+    bad.set("sample_count", "integer", int64_t(0), kCameraLoc);
     EXPECT_THROW(create_sampler(bad), InputError);
-    EXPECT_THROW(create_sampler(Properties("sampler", "sobol", kLoc)), InputError);
+    EXPECT_THROW(create_sampler(Properties("sampler", "sobol", kCameraLoc)), InputError);
     set_warning_handler(previous);
 }
 

@@ -28,7 +28,7 @@ std::shared_ptr<Emitter> envmap(const std::string& file, float scale = 1.f, cons
     return b.build();
 }
 
-void expect_color_near(const Color3& a, const Color3& b, float rel) {
+void expect_envmap_color_near(const Color3& a, const Color3& b, float rel) {
     for (int c = 0; c < 3; ++c)
         EXPECT_NEAR(a[c], b[c], rel * std::max(1.f, std::abs(b[c]))) << "channel " << c;
 }
@@ -44,7 +44,7 @@ TEST(EnvmapEmitter, PixelCentresAndAxes) {
     for (int y = 1; y < h - 1; ++y)
         for (int x = 0; x < w; ++x) {
             const Vec3f d = envmap_direction((x + 0.5f) / w, y / float(h - 1));
-            expect_color_near(e->eval(escaped_ray(d)), image.at(x, y), 1e-4f);
+            expect_envmap_color_near(e->eval(escaped_ray(d)), image.at(x, y), 1e-4f);
         }
 }
 
@@ -75,8 +75,8 @@ TEST(EnvmapEmitter, ScaleAndToWorld) {
     for (int i = 0; i < 100; ++i) {
         const Vec3f d = normalize(envmap_direction(s.next_1d(), s.next_1d()));
         const Color3 base = plain->eval(escaped_ray(d));
-        expect_color_near(scaled->eval(escaped_ray(d)), base * 2.5f, 1e-5f);
-        expect_color_near(rotated->eval(escaped_ray(normalize(rot.apply_vector(d)))), base, 2e-3f);
+        expect_envmap_color_near(scaled->eval(escaped_ray(d)), base * 2.5f, 1e-5f);
+        expect_envmap_color_near(rotated->eval(escaped_ray(normalize(rot.apply_vector(d)))), base, 2e-3f);
     }
 }
 
@@ -101,7 +101,7 @@ TEST(EnvmapEmitter, SamplePdfEvalAgree) {
             const float pdf = e->pdf_direction(ref, ds);
             EXPECT_NEAR(pdf, ds.pdf, 2e-3f * ds.pdf) << i;
             const Color3 radiance = e->eval(escaped_ray(ds.d));
-            expect_color_near(w * ds.pdf, radiance, 2e-3f);
+            expect_envmap_color_near(w * ds.pdf, radiance, 2e-3f);
         }
     }
 }
@@ -160,7 +160,7 @@ TEST(ConstantEmitter, UniformSphere) {
         auto [ds, w] = e->sample_direction(ref, s.next_2d());
         EXPECT_NEAR(ds.pdf, InvFourPi, 1e-7f);
         EXPECT_NEAR(e->pdf_direction(ref, ds), InvFourPi, 1e-7f);
-        expect_color_near(w * ds.pdf, Color3(0.5f, 1.f, 2.f), 1e-5f);
+        expect_envmap_color_near(w * ds.pdf, Color3(0.5f, 1.f, 2.f), 1e-5f);
         EXPECT_EQ(e->eval(escaped_ray(ds.d)), Color3(0.5f, 1.f, 2.f));
         EXPECT_GT(norm(ds.p), std::sqrt(3.f));
     }

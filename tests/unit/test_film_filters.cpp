@@ -12,9 +12,9 @@
 namespace volguide {
 namespace {
 
-const SourceLocation kLoc{"filter_test.xml", 3};
+const SourceLocation kFilterLoc{"filter_test.xml", 3};
 
-double integrate(const ReconstructionFilter& f) {
+double integrate_filter(const ReconstructionFilter& f) {
     // Midpoint rule over [-r, r]; the filters are continuous except the box's end points.
     const int n = 200000;
     double r = f.radius() + 0.25, h = 2 * r / n, s = 0;
@@ -29,31 +29,31 @@ TEST(Filters, Box) {
     EXPECT_EQ(f.eval(0.49f), 1.f);
     EXPECT_EQ(f.eval(-0.49f), 1.f);
     EXPECT_EQ(f.eval(0.51f), 0.f);
-    EXPECT_NEAR(integrate(f), 1.0, 1e-4);
+    EXPECT_NEAR(integrate_filter(f), 1.0, 1e-4);
     EXPECT_EQ(filter_border_size(f), 0);
 }
 
 TEST(Filters, TentDefaultAndRadius) {
     auto f =
-        std::dynamic_pointer_cast<ReconstructionFilter>(create_rfilter(Properties("rfilter", "tent", kLoc)));
+        std::dynamic_pointer_cast<ReconstructionFilter>(create_rfilter(Properties("rfilter", "tent", kFilterLoc)));
     EXPECT_EQ(f->radius(), 1.f);
     EXPECT_FLOAT_EQ(f->eval(0.f), 1.f);
     EXPECT_FLOAT_EQ(f->eval(0.25f), 0.75f);
     EXPECT_FLOAT_EQ(f->eval(-0.5f), 0.5f);
     EXPECT_EQ(f->eval(1.f), 0.f);
-    EXPECT_NEAR(integrate(*f), 1.0, 1e-6);  // integral of a tent = its radius
+    EXPECT_NEAR(integrate_filter(*f), 1.0, 1e-6);  // integral of a tent = its radius
     EXPECT_EQ(filter_border_size(*f), 1);
 
-    Properties p("rfilter", "tent", kLoc);
-    p.set("radius", "float", 2.5, kLoc);
+    Properties p("rfilter", "tent", kFilterLoc);
+    p.set("radius", "float", 2.5, kFilterLoc);
     auto wide = std::dynamic_pointer_cast<ReconstructionFilter>(create_rfilter(p));
     p.check_all_used();
     EXPECT_FLOAT_EQ(wide->eval(1.25f), 0.5f);
-    EXPECT_NEAR(integrate(*wide), 2.5, 1e-5);
+    EXPECT_NEAR(integrate_filter(*wide), 2.5, 1e-5);
     EXPECT_EQ(filter_border_size(*wide), 2);
 
-    Properties bad("rfilter", "tent", kLoc);
-    bad.set("radius", "float", -1.0, kLoc);
+    Properties bad("rfilter", "tent", kFilterLoc);
+    bad.set("radius", "float", -1.0, kFilterLoc);
     EXPECT_THROW(create_rfilter(bad), InputError);
 }
 
@@ -69,46 +69,46 @@ TEST(Filters, GaussianMatchesMitsubasWindowedFormula) {
     // Integral: sqrt(2 pi) stddev erf(4 / sqrt 2) - 2 radius bias.
     const double s = 0.5,
                  expected = std::sqrt(2 * M_PI) * s * std::erf(4 / std::sqrt(2.0)) - 2 * 4 * s * bias;
-    EXPECT_NEAR(integrate(f), expected, 1e-5);
+    EXPECT_NEAR(integrate_filter(f), expected, 1e-5);
     EXPECT_EQ(filter_border_size(f), 2);
 
-    Properties p("rfilter", "gaussian", kLoc);
-    p.set("stddev", "float", 0.25, kLoc);
+    Properties p("rfilter", "gaussian", kFilterLoc);
+    p.set("stddev", "float", 0.25, kFilterLoc);
     auto narrow = std::dynamic_pointer_cast<GaussianFilter>(create_rfilter(p));
     EXPECT_FLOAT_EQ(narrow->radius(), 1.f);
     EXPECT_NEAR(narrow->eval(0.25f), std::exp(-0.5) - bias, 1e-6);
-    EXPECT_THROW(create_rfilter(Properties("rfilter", "sinc", kLoc)), InputError);
+    EXPECT_THROW(create_rfilter(Properties("rfilter", "sinc", kFilterLoc)), InputError);
 }
 
 TEST(Filters, MitchellCatmullRomAndLanczos) {
     auto mitchell = std::dynamic_pointer_cast<ReconstructionFilter>(
-        create_rfilter(Properties("rfilter", "mitchell", kLoc)));
+        create_rfilter(Properties("rfilter", "mitchell", kFilterLoc)));
     EXPECT_EQ(mitchell->radius(), 2.f);
     // B = C = 1/3: k(0) = (6 - 2B) / 6 = 8/9, k(1) = B / 6 = 1/18, zero from 2 on.
     EXPECT_NEAR(mitchell->eval(0.f), 8.f / 9.f, 1e-6f);
     EXPECT_NEAR(mitchell->eval(1.f), 1.f / 18.f, 1e-6f);
     EXPECT_NEAR(mitchell->eval(-1.f), 1.f / 18.f, 1e-6f);
     EXPECT_EQ(mitchell->eval(2.f), 0.f);
-    EXPECT_NEAR(integrate(*mitchell), 1.0, 1e-5);  // BC-splines integrate to one
+    EXPECT_NEAR(integrate_filter(*mitchell), 1.0, 1e-5);  // BC-splines integrate to one
 
-    Properties p("rfilter", "mitchell", kLoc);
-    p.set("B", "float", 0.25, kLoc);
-    p.set("C", "float", 0.55, kLoc);
+    Properties p("rfilter", "mitchell", kFilterLoc);
+    p.set("B", "float", 0.25, kFilterLoc);
+    p.set("C", "float", 0.55, kFilterLoc);
     auto custom = std::dynamic_pointer_cast<ReconstructionFilter>(create_rfilter(p));
     p.check_all_used();
     EXPECT_NEAR(custom->eval(0.f), (6 - 2 * 0.25) / 6, 1e-6);
-    EXPECT_NEAR(integrate(*custom), 1.0, 1e-5);
+    EXPECT_NEAR(integrate_filter(*custom), 1.0, 1e-5);
 
     auto cr = std::dynamic_pointer_cast<ReconstructionFilter>(
-        create_rfilter(Properties("rfilter", "catmullrom", kLoc)));
+        create_rfilter(Properties("rfilter", "catmullrom", kFilterLoc)));
     // Interpolating: 1 at 0, 0 at the other integers; negative lobe in between.
     EXPECT_NEAR(cr->eval(0.f), 1.f, 1e-6f);
     EXPECT_NEAR(cr->eval(1.f), 0.f, 1e-6f);
     EXPECT_LT(cr->eval(1.5f), 0.f);
-    EXPECT_NEAR(integrate(*cr), 1.0, 1e-5);
+    EXPECT_NEAR(integrate_filter(*cr), 1.0, 1e-5);
 
     auto lanczos = std::dynamic_pointer_cast<ReconstructionFilter>(
-        create_rfilter(Properties("rfilter", "lanczos", kLoc)));
+        create_rfilter(Properties("rfilter", "lanczos", kFilterLoc)));
     EXPECT_EQ(lanczos->radius(), 3.f);
     EXPECT_EQ(lanczos->eval(0.f), 1.f);
     for (float k : {1.f, 2.f, 3.f}) EXPECT_NEAR(lanczos->eval(k), 0.f, 1e-6f);
@@ -116,8 +116,8 @@ TEST(Filters, MitchellCatmullRomAndLanczos) {
     const double a = M_PI * 0.5;
     EXPECT_NEAR(lanczos->eval(0.5f), std::sin(a) * std::sin(a / 3) / (a * a / 3), 1e-6);
     EXPECT_EQ(lanczos->eval(3.5f), 0.f);
-    Properties bad("rfilter", "lanczos", kLoc);
-    bad.set("lobes", "integer", int64_t(0), kLoc);
+    Properties bad("rfilter", "lanczos", kFilterLoc);
+    bad.set("lobes", "integer", int64_t(0), kFilterLoc);
     EXPECT_THROW(create_rfilter(bad), InputError);
 }
 

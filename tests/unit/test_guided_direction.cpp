@@ -22,11 +22,11 @@ namespace {
 // Quadrature about the HG peak (-wi for g >= 0, wi for g < 0), fine in phi for the off-axis lobes
 // (kappa <= ~150 after the product: angular width >= 0.08 rad, phi step at the equator 0.025 rad).
 template <typename F>
-double integrate(F&& f, const Vec3f& wi, float g) {
+double integrate_direction(F&& f, const Vec3f& wi, float g) {
     return integrate_sphere(f, g >= 0.f ? -wi : wi, 0.05, 256, 32);
 }
 
-Vec3f random_direction(Sampler& s) {
+Vec3f random_unit_direction(Sampler& s) {
     return warp::square_to_uniform_sphere(s.next_2d());
 }
 
@@ -44,7 +44,7 @@ TEST(GuidedDirection, MixturePdfIntegratesToOne) {
                 const GuidedDirectionSampler sampler(mode, &leaf, phase, wi, alpha);
                 ASSERT_TRUE(sampler.guided());
                 const double integral =
-                    integrate([&](const Vec3f& w) { return double(sampler.pdf(w)); }, wi, g);
+                    integrate_direction([&](const Vec3f& w) { return double(sampler.pdf(w)); }, wi, g);
                 EXPECT_NEAR(integral, 1.0, 1e-3) << "mode " << int(mode) << " g " << g << " alpha " << alpha;
             }
 }
@@ -55,8 +55,8 @@ TEST(GuidedDirection, QuadratureResolvesTheTestLobes) {
     const Vec3f wi = test_wi();
     for (float g : kGs) {
         const HGPhase phase(g);
-        EXPECT_NEAR(integrate([&](const Vec3f& w) { return double(phase.eval(wi, w)); }, wi, g), 1.0, 1e-4);
-        EXPECT_NEAR(integrate([&](const Vec3f& w) { return double(leaf.vmm.pdf(w)); }, wi, g), 1.0, 1e-4);
+        EXPECT_NEAR(integrate_direction([&](const Vec3f& w) { return double(phase.eval(wi, w)); }, wi, g), 1.0, 1e-4);
+        EXPECT_NEAR(integrate_direction([&](const Vec3f& w) { return double(leaf.vmm.pdf(w)); }, wi, g), 1.0, 1e-4);
     }
 }
 
@@ -103,11 +103,11 @@ TEST(GuidedDirection, ProductGuideIsNormalisedLeafTimesOrientedPhaseVmm) {
         ASSERT_NE(sampler.product(), nullptr);
         ASSERT_EQ(sampler.product()->size(), leaf.vmm.size() * fp_vmm.count);
         const double z =
-            integrate([&](const Vec3f& w) { return double(leaf.vmm.pdf(w)) * fp.pdf(w); }, wi, g);
+            integrate_direction([&](const Vec3f& w) { return double(leaf.vmm.pdf(w)) * fp.pdf(w); }, wi, g);
         EXPECT_NEAR(sampler.product_integral(), z, 1e-4 * z) << "g " << g;
         Sampler rng(3, 0, 0);
         for (int i = 0; i < 1000; ++i) {
-            const Vec3f w = random_direction(rng);
+            const Vec3f w = random_unit_direction(rng);
             const double expected = double(leaf.vmm.pdf(w)) * fp.pdf(w) / sampler.product_integral();
             ASSERT_NEAR(sampler.guide_pdf(w), expected, 1e-4 * expected + 1e-12) << "g " << g;
         }
@@ -136,13 +136,13 @@ TEST(GuidedDirection, ProductGuideApproximatesTheTrueTarget) {
             const auto fp = hg_phase_vmm(c.g).oriented(-wi);
             const GuidedDirectionSampler sampler(DirectionGuiding::Product, &leaf, phase, wi, 0.5f);
             const auto target = [&](const Vec3f& w) { return double(phase.eval(wi, w)) * leaf.vmm.pdf(w); };
-            const double li = integrate(target, wi, c.g);
-            const double l1 = integrate(
+            const double li = integrate_direction(target, wi, c.g);
+            const double l1 = integrate_direction(
                 [&](const Vec3f& w) { return std::abs(double(sampler.guide_pdf(w)) - target(w) / li); }, wi,
                 c.g);
             const double bound =
                 2.0 *
-                integrate(
+                integrate_direction(
                     [&](const Vec3f& w) {
                         return leaf.vmm.pdf(w) * std::abs(fp.pdf(w) - double(phase.eval(wi, w)));
                     },
@@ -168,7 +168,7 @@ TEST(GuidedDirection, IsotropicProductIsTheIncidentVmm) {
         EXPECT_NEAR(sampler.product_integral(), InvFourPi, 1e-7);
         Sampler rng(4, 0, 0);
         for (int i = 0; i < 200; ++i) {
-            const Vec3f w = random_direction(rng);
+            const Vec3f w = random_unit_direction(rng);
             ASSERT_EQ(sampler.guide_pdf(w), leaf.vmm.pdf(w));
         }
     }
@@ -216,7 +216,7 @@ TEST(GuidedDirection, FallbacksArePhaseSamplingExactly) {
             ASSERT_EQ(s.pdf, ps.pdf) << c.name;
             ASSERT_EQ(s.weight, ps.weight) << c.name;
             ASSERT_FALSE(s.guided) << c.name;
-            const Vec3f w = random_direction(rng);
+            const Vec3f w = random_unit_direction(rng);
             ASSERT_EQ(sampler.pdf(w), phase.pdf(wi, w)) << c.name;
             ASSERT_EQ(sampler.guide_pdf(w), 0.f) << c.name;
         }
@@ -250,9 +250,9 @@ Means means(const GuidingLeaf& leaf, const HGPhase& phase, const Vec3f& wi, floa
         m.sampled += Vec3d(sampler.sample(u, rng.next_1d()).wo) / double(n);
     }
     const auto target = [&](const Vec3f& w) { return double(phase.eval(wi, w)) * leaf.vmm.pdf(w); };
-    const double li = integrate(target, wi, phase.g());
+    const double li = integrate_direction(target, wi, phase.g());
     for (int axis = 0; axis < 3; ++axis)
-        m.target[axis] = integrate([&](const Vec3f& w) { return target(w) * w[axis]; }, wi, phase.g()) / li;
+        m.target[axis] = integrate_direction([&](const Vec3f& w) { return target(w) * w[axis]; }, wi, phase.g()) / li;
     return m;
 }
 

@@ -17,7 +17,7 @@ namespace {
 
 // Integral of pdf over every bin by 5-point Gauss-Legendre on 16 sub-intervals (interior nodes only,
 // so each bin's half-open end is never evaluated).
-double integrate(const std::vector<DistanceBin>& bins, const std::function<float(float)>& pdf) {
+double integrate_bins(const std::vector<DistanceBin>& bins, const std::function<float(float)>& pdf) {
     static const double x[5] = {-0.9061798459386640, -0.5384693101056831, 0.0, 0.5384693101056831,
                                 0.9061798459386640};
     static const double w[5] = {0.2369268850561891, 0.4786286704993665, 0.5688888888888889,
@@ -142,14 +142,14 @@ TEST(GuidedDistance, PdfIntegratesToOneWithSurfaceProbability) {
                   settings(1.f, 0.9f, 1.f, DistanceDenominator::Incident, Color3(0.f, 0.2f, 0.8f))}) {
                 const auto bins = random_bins(seed, chromatic);
                 const double inc =
-                    integrate(bins, [&](float t) { return incremental_distance_pdf(bins, t, s); }) +
+                    integrate_bins(bins, [&](float t) { return incremental_distance_pdf(bins, t, s); }) +
                     incremental_surface_probability(bins, s);
                 EXPECT_NEAR(inc, 1.0, 2e-4)
                     << "incremental seed " << seed << " chromatic " << chromatic << " c_T " << s.c_T;
                 for (std::optional<float> L_o : {std::optional<float>(), std::optional<float>(0.7f)}) {
                     const TabulatedDistance tab(bins, L_o, s);
                     const double sum =
-                        integrate(bins, [&](float t) { return tab.pdf(t); }) + tab.surface_probability();
+                        integrate_bins(bins, [&](float t) { return tab.pdf(t); }) + tab.surface_probability();
                     EXPECT_NEAR(sum, 1.0, 2e-4) << "tabulated seed " << seed << " chromatic " << chromatic;
                 }
             }
@@ -247,7 +247,7 @@ TEST(GuidedDistance, ConfidenceBlendsTheGuidedProbabilityTowardFreeFlight) {
         auto bins = random_bins(seed, true);
         for (size_t k = 0; k < bins.size(); ++k) bins[k].confidence = float(k % 4) / 3.f;
         const GuidedDistanceSettings s = settings(0.5f, 0.9f, 0.5f, DistanceDenominator::Vre);
-        const double sum = integrate(bins, [&](float t) { return incremental_distance_pdf(bins, t, s); }) +
+        const double sum = integrate_bins(bins, [&](float t) { return incremental_distance_pdf(bins, t, s); }) +
                            incremental_surface_probability(bins, s);
         EXPECT_NEAR(sum, 1.0, 2e-4) << seed;
     }

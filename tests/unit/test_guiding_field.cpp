@@ -14,10 +14,10 @@ using namespace volguide;
 
 namespace {
 
-const BBox3f kBox(Point3f(0.f), Point3f(2.f, 1.f, 1.f));
+const BBox3f kFieldBox(Point3f(0.f), Point3f(2.f, 1.f, 1.f));
 
 // Radiance arriving mostly from `towards` (a kappa-20 lobe) plus a uniform part; weight 3 per sample.
-std::vector<RadianceSample> samples(int n, const Vec3f& towards, uint64_t seed) {
+std::vector<RadianceSample> field_samples(int n, const Vec3f& towards, uint64_t seed) {
     std::vector<RadianceSample> out;
     const VmfLobe lobe(towards, 20.f);
     for (int i = 0; i < n; ++i) {
@@ -41,7 +41,7 @@ GuidingFieldSettings small_leaves() {
 
 TEST(GuidingField, LeafMixturesPointTowardsTheLight) {
     const Vec3f towards = normalize(Vec3f(1.f, 0.2f, -0.1f));
-    GuidingField field = GuidingField::build(kBox, samples(20000, towards, 1), small_leaves());
+    GuidingField field = GuidingField::build(kFieldBox, field_samples(20000, towards, 1), small_leaves());
     ASSERT_GE(field.leaves().size(), 8u);
     for (const GuidingLeaf& leaf : field.leaves()) {
         ASSERT_TRUE(leaf.valid);
@@ -55,11 +55,11 @@ TEST(GuidingField, LeafMixturesPointTowardsTheLight) {
 TEST(GuidingField, IndirectMixturesLeaveOutDirectSamples) {
     // Direct light (a photon's first collision) from +x, the rest from +z.
     const Vec3f light = Vec3f(1.f, 0.f, 0.f), bounce = Vec3f(0.f, 0.f, 1.f);
-    auto direct = samples(12000, light, 3), rest = samples(12000, bounce, 4);
+    auto direct = field_samples(12000, light, 3), rest = field_samples(12000, bounce, 4);
     for (RadianceSample& s : direct) s.direct = true;
     std::vector<RadianceSample> all = direct;
     all.insert(all.end(), rest.begin(), rest.end());
-    const GuidingField field = GuidingField::build(kBox, all, small_leaves());
+    const GuidingField field = GuidingField::build(kFieldBox, all, small_leaves());
     ASSERT_GE(field.leaves().size(), 8u);
     for (const GuidingLeaf& leaf : field.leaves()) {
         ASSERT_TRUE(leaf.valid);
@@ -71,7 +71,7 @@ TEST(GuidingField, IndirectMixturesLeaveOutDirectSamples) {
         EXPECT_LT(leaf.vmm_indirect.pdf(light), 0.1f * leaf.vmm_indirect.pdf(bounce));
     }
     // Without direct flags (camera-path training) the indirect mixture is the full one.
-    const GuidingField plain = GuidingField::build(kBox, rest, small_leaves());
+    const GuidingField plain = GuidingField::build(kFieldBox, rest, small_leaves());
     for (const GuidingLeaf& leaf : plain.leaves()) {
         EXPECT_EQ(leaf.valid_indirect, leaf.valid);
         EXPECT_EQ(leaf.vmm_indirect.pdf(light), leaf.vmm.pdf(light));
@@ -79,8 +79,8 @@ TEST(GuidingField, IndirectMixturesLeaveOutDirectSamples) {
 }
 
 TEST(GuidingField, PerVolumeFluenceIsTheCollisionEstimator) {
-    const auto s = samples(20000, Vec3f(0.f, 0.f, 1.f), 2);
-    GuidingField field = GuidingField::build(kBox, s, small_leaves());
+    const auto s = field_samples(20000, Vec3f(0.f, 0.f, 1.f), 2);
+    GuidingField field = GuidingField::build(kFieldBox, s, small_leaves());
     // Sum over leaves of Phi * volume = sum of the weights (per channel), and uniform positions
     // give about the same fluence everywhere: 20000 * 3 / 2 = 30000 in the red channel.
     double total[3] = {0, 0, 0};
@@ -98,12 +98,12 @@ TEST(GuidingField, PerVolumeFluenceIsTheCollisionEstimator) {
 TEST(GuidingField, PerSampleMeanFluence) {
     auto settings = small_leaves();
     settings.fluence = FluenceEstimator::PerSampleMean;
-    GuidingField field = GuidingField::build(kBox, samples(5000, Vec3f(0.f, 1.f, 0.f), 3), settings);
+    GuidingField field = GuidingField::build(kFieldBox, field_samples(5000, Vec3f(0.f, 1.f, 0.f), 3), settings);
     for (const GuidingLeaf& leaf : field.leaves()) EXPECT_EQ(leaf.fluence, Color3(3.f, 2.f, 1.f));
 }
 
 TEST(GuidingField, QueriesAreFluenceTimesMixture) {
-    GuidingField field = GuidingField::build(kBox, samples(10000, Vec3f(1.f, 0.f, 0.f), 4), small_leaves());
+    GuidingField field = GuidingField::build(kFieldBox, field_samples(10000, Vec3f(1.f, 0.f, 0.f), 4), small_leaves());
     const Point3f x(0.3f, 0.6f, 0.2f);
     const GuidingLeaf* leaf = field.leaf_at(x);
     ASSERT_NE(leaf, nullptr);
@@ -133,8 +133,8 @@ TEST(GuidingField, QueriesAreFluenceTimesMixture) {
 TEST(GuidingField, SparseLeavesAreInvalidAndReadZero) {
     auto settings = small_leaves();
     settings.min_samples = 64;
-    auto s = samples(60, Vec3f(0.f, 0.f, 1.f), 5);
-    GuidingField field = GuidingField::build(kBox, s, settings);
+    auto s = field_samples(60, Vec3f(0.f, 0.f, 1.f), 5);
+    GuidingField field = GuidingField::build(kFieldBox, s, settings);
     ASSERT_EQ(field.leaves().size(), 1u);
     EXPECT_FALSE(field.leaves()[0].valid);
     EXPECT_GT(field.leaves()[0].fluence.r, 0.f);  // fluence is still estimated
@@ -143,7 +143,7 @@ TEST(GuidingField, SparseLeavesAreInvalidAndReadZero) {
     for (auto& r : s) r.weight = Color3(0.f);
     s.resize(60);
     for (int i = 0; i < 100; ++i) s.push_back(s[0]);
-    EXPECT_FALSE(GuidingField::build(kBox, s, settings).leaves()[0].valid);
+    EXPECT_FALSE(GuidingField::build(kFieldBox, s, settings).leaves()[0].valid);
 }
 
 // Progressive training in thin fog: camera vertices fill the volume uniformly and only those in a
@@ -166,7 +166,7 @@ TEST(GuidingField, ALightShaftAmongZeroSamplesGetsValidLeaves) {
     settings.tree.max_samples = 300;
     settings.lobes = 2;
     settings.fluence = FluenceEstimator::PerSampleMean;
-    const GuidingField field = GuidingField::build(kBox, s, settings);
+    const GuidingField field = GuidingField::build(kFieldBox, s, settings);
     double sum = 0;
     for (const GuidingLeaf& leaf : field.leaves()) sum += double(leaf.fluence.r) * leaf.samples;
     EXPECT_NEAR(sum, total, 1e-4 * total);
@@ -181,11 +181,11 @@ TEST(GuidingField, ALightShaftAmongZeroSamplesGetsValidLeaves) {
 }
 
 TEST(GuidingField, IdenticalForOneAndTwoThreads) {
-    const auto s = samples(30000, normalize(Vec3f(0.f, 1.f, 1.f)), 6);
+    const auto s = field_samples(30000, normalize(Vec3f(0.f, 1.f, 1.f)), 6);
     auto settings = small_leaves();
     GuidingField a, b;
-    tbb::task_arena(1).execute([&] { a = GuidingField::build(kBox, s, settings); });
-    tbb::task_arena(2).execute([&] { b = GuidingField::build(kBox, s, settings); });
+    tbb::task_arena(1).execute([&] { a = GuidingField::build(kFieldBox, s, settings); });
+    tbb::task_arena(2).execute([&] { b = GuidingField::build(kFieldBox, s, settings); });
     ASSERT_EQ(a.leaves().size(), b.leaves().size());
     for (size_t l = 0; l < a.leaves().size(); ++l) {
         const GuidingLeaf &la = a.leaves()[l], &lb = b.leaves()[l];

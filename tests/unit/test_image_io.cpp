@@ -14,6 +14,7 @@
 #include "support/test_support.h"
 #include "volguide/core/error.h"
 #include "volguide/render/image_io.h"
+#include "volguide/render/srgb.h"
 
 using namespace volguide;
 namespace fs = std::filesystem;
@@ -47,10 +48,6 @@ Image test_pattern(int w, int h) {
         for (int x = 0; x < w; ++x)
             image.at(x, y) = Color3(x / float(w), y / float(h), 0.1234567f * (x + 3 * y) + 1e-5f);
     return image;
-}
-
-float srgb_to_linear(float c) {
-    return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
 }
 
 }  // namespace

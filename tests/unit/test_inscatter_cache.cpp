@@ -15,10 +15,10 @@ using namespace volguide;
 
 namespace {
 
-const BBox3f kBox(Point3f(0.f), Point3f(2.f, 1.f, 1.f));
+const BBox3f kCacheBox(Point3f(0.f), Point3f(2.f, 1.f, 1.f));
 
 // Radiance from a direction that turns with x (so leaves differ), plus a uniform part.
-std::vector<RadianceSample> samples(int n, uint64_t seed) {
+std::vector<RadianceSample> cache_samples(int n, uint64_t seed) {
     std::vector<RadianceSample> out;
     for (int i = 0; i < n; ++i) {
         Sampler s(seed, 0, uint64_t(i));
@@ -30,17 +30,17 @@ std::vector<RadianceSample> samples(int n, uint64_t seed) {
     return out;
 }
 
-GuidingField test_field() {
+GuidingField cache_test_field() {
     GuidingFieldSettings settings;
     settings.tree.max_samples = 1500;
     settings.lobes = 6;
-    return GuidingField::build(kBox, samples(20000, 7), settings);
+    return GuidingField::build(kCacheBox, cache_samples(20000, 7), settings);
 }
 
 }  // namespace
 
 TEST(InscatterCache, EqualsTheFieldsA3Query) {
-    const GuidingField field = test_field();
+    const GuidingField field = cache_test_field();
     ASSERT_GT(field.leaves().size(), 4u);
     for (float g : {0.f, 0.5f, 0.9f, -0.3f}) {
         const PhaseVmm phase = hg_phase_vmm(g);
@@ -61,7 +61,7 @@ TEST(InscatterCache, ZeroOutsideAndInInvalidLeavesAndWhenEmpty) {
     GuidingFieldSettings settings;
     settings.tree.max_samples = 400;
     settings.min_samples = 100000;  // every leaf is invalid
-    const GuidingField field = GuidingField::build(kBox, samples(3000, 9), settings);
+    const GuidingField field = GuidingField::build(kCacheBox, cache_samples(3000, 9), settings);
     const InscatterCache cache(field, hg_phase_vmm(0.3f));
     int invalid = 0;
     for (size_t l = 0; l < field.leaves().size(); ++l)
@@ -76,7 +76,7 @@ TEST(InscatterCache, ZeroOutsideAndInInvalidLeavesAndWhenEmpty) {
 }
 
 TEST(InscatterCache, IdenticalForOneAndTwoThreadsAndCompact) {
-    const GuidingField field = test_field();
+    const GuidingField field = cache_test_field();
     const PhaseVmm phase = hg_phase_vmm(0.7f);
     InscatterCache one, two;
     tbb::task_arena(1).execute([&] { one = InscatterCache(field, phase); });

@@ -17,7 +17,7 @@ using namespace volguide;
 namespace {
 
 // Radiance from a direction that turns with x, a moderately sharp lobe plus a uniform part.
-GuidingField test_field(float kappa) {
+GuidingField estimates_test_field(float kappa) {
     return test::turning_light_field(kappa, 1.f, 1500, 6);
 }
 
@@ -38,7 +38,7 @@ TEST(LeafEstimates, OctahedralMapRoundTrips) {
 }
 
 TEST(LeafEstimates, ExactModeEqualsTheCacheAndTheField) {
-    const GuidingField field = test_field(30.f);
+    const GuidingField field = estimates_test_field(30.f);
     const InscatterCache cache(field, hg_phase_vmm(0.6f));
     const LeafEstimates exact(field, cache, 0);
     for (int i = 0; i < 300; ++i) {
@@ -60,7 +60,7 @@ TEST(LeafEstimates, ExactModeEqualsTheCacheAndTheField) {
 // RMS error is a few per cent of each leaf's peak. A wrong mapping or a transposed table would not
 // converge at all.
 TEST(LeafEstimates, TablesConvergeToTheExactValues) {
-    const GuidingField field = test_field(5.f);
+    const GuidingField field = estimates_test_field(5.f);
     const InscatterCache cache(field, hg_phase_vmm(0.6f));
     const LeafEstimates exact(field, cache, 0);
     const int resolutions[3] = {8, 16, 32};
@@ -108,7 +108,7 @@ TEST(LeafEstimates, TablesConvergeToTheExactValues) {
 }
 
 TEST(LeafEstimates, InvalidLeavesAndNegativeIndicesReadNothing) {
-    const GuidingField field = test_field(30.f);
+    const GuidingField field = estimates_test_field(30.f);
     const InscatterCache cache(field, hg_phase_vmm(0.f));
     for (int resolution : {0, 8}) {
         const LeafEstimates estimates(field, cache, resolution);

@@ -19,7 +19,7 @@ using namespace volguide::test;
 
 namespace {
 
-const BBox3f kBox = kTurningLightBox;
+const BBox3f kGroupsBox = kTurningLightBox;
 
 SpatialTree test_tree(int max_samples) {
     std::vector<Point3f> points;
@@ -29,7 +29,7 @@ SpatialTree test_tree(int max_samples) {
     }
     SpatialTreeSettings settings;
     settings.max_samples = max_samples;
-    return SpatialTree::build(kBox, points, settings);
+    return SpatialTree::build(kGroupsBox, points, settings);
 }
 
 // Hand-made leaves on the tree: `kind(centre)` picks one of two shapes for each leaf.

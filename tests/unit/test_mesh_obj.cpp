@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "support/test_support.h"
+#include "support/cli.h"
 #include "test_shape_util.h"
 #include "volguide/core/error.h"
 
@@ -26,7 +27,7 @@ vn 0 0 1
 f 1/1/1 2/2/1 3/3/1 4/4/1
 )";
 
-const TriangleMesh& mesh_of(const std::shared_ptr<Shape>& s) {
+const TriangleMesh& obj_mesh_of(const std::shared_ptr<Shape>& s) {
     const TriangleMesh* m = s->triangle_mesh();
     EXPECT_NE(m, nullptr);
     return *m;
@@ -35,9 +36,9 @@ const TriangleMesh& mesh_of(const std::shared_ptr<Shape>& s) {
 }  // namespace
 
 TEST(MeshObj, QuadIsFanSplitWithUvsAndNormals) {
-    TempDir dir;
+    TempDir dir("geom");
     auto s = make_shape(ShapeProps("obj").s("filename", dir.write("quad.obj", kQuadObj)));
-    const TriangleMesh& m = mesh_of(s);
+    const TriangleMesh& m = obj_mesh_of(s);
     ASSERT_EQ(m.triangle_count(), 2u);
     EXPECT_EQ(m.positions.size(), 4u);
     EXPECT_EQ(m.indices, (std::vector<uint32_t>{0, 1, 2, 0, 2, 3}));
@@ -63,25 +64,25 @@ TEST(MeshObj, QuadIsFanSplitWithUvsAndNormals) {
 }
 
 TEST(MeshObj, FlipTexCoordsFalse) {
-    TempDir dir;
+    TempDir dir("geom");
     auto s = make_shape(
         ShapeProps("obj").s("filename", dir.write("quad.obj", kQuadObj)).b("flip_tex_coords", false));
-    EXPECT_EQ(mesh_of(s).uvs[0], Vec2f(0, 0));
+    EXPECT_EQ(obj_mesh_of(s).uvs[0], Vec2f(0, 0));
 }
 
 TEST(MeshObj, ComputesSmoothNormalsUnlessFaceNormals) {
-    TempDir dir;
+    TempDir dir("geom");
     // Two triangles folded along the y axis: the shared edge gets the averaged normal.
     std::string file = dir.write("fold.obj", "v 0 0 0\nv 0 1 0\nv 1 0 1\nv -1 0 1\nf 1 3 2\nf 1 2 4\n");
     auto smooth = make_shape(ShapeProps("obj").s("filename", file));
-    const TriangleMesh& m = mesh_of(smooth);
+    const TriangleMesh& m = obj_mesh_of(smooth);
     ASSERT_EQ(m.normals.size(), 4u);
     EXPECT_NEAR(m.normals[0].x, 0.f, 1e-6f);
     EXPECT_NEAR(m.normals[0].z, 1.f, 1e-6f);
     EXPECT_TRUE(m.uvs.empty());
 
     auto faceted = make_shape(ShapeProps("obj").s("filename", file).b("face_normals", true));
-    EXPECT_TRUE(mesh_of(faceted).normals.empty());
+    EXPECT_TRUE(obj_mesh_of(faceted).normals.empty());
     // Shading normal = geometric normal; uv = barycentrics (b1, b2).
     SurfaceInteraction si =
         faceted->compute_surface_interaction(Ray({0.2f, 0.2f, 1}, {0, 0, -1}), 1.f, 0, {0.3f, 0.2f});
@@ -90,13 +91,13 @@ TEST(MeshObj, ComputesSmoothNormalsUnlessFaceNormals) {
 }
 
 TEST(MeshObj, ToWorldAndFlipNormals) {
-    TempDir dir;
+    TempDir dir("geom");
     auto s =
         make_shape(ShapeProps("obj")
                        .s("filename", dir.write("quad.obj", kQuadObj))
                        .t("to_world", Transform::translate({0, 0, 3}) * Transform::rotate({1, 0, 0}, 90.f))
                        .b("flip_normals", true));
-    const TriangleMesh& m = mesh_of(s);
+    const TriangleMesh& m = obj_mesh_of(s);
     EXPECT_NEAR(m.positions[0].z, 3.f - 1.f, 1e-5f);  // (-1,-1,0) -> (-1,0,-1) + (0,0,3)
     EXPECT_NEAR(m.normals[0].y, -1.f, 1e-5f);         // +z rotated to -y (stored normals are not flipped)
     SurfaceInteraction si = s->compute_surface_interaction(Ray({0, 5, 3}, {0, -1, 0}), 5.f, 0, {0.3f, 0.3f});
@@ -108,18 +109,18 @@ TEST(MeshObj, ToWorldAndFlipNormals) {
 }
 
 TEST(MeshObj, RelativeToSceneFile) {
-    TempDir dir;
+    TempDir dir("geom");
     dir.write("quad.obj", kQuadObj);
-    std::string scene = (dir.path / "scene.xml").string();
+    std::string scene = (dir.path() / "scene.xml").string();
     ShapeProps sp("obj", scene);
     sp.props.set("filename", "string", std::string("quad.obj"), SourceLocation{scene, 3});
-    EXPECT_EQ(mesh_of(make_shape(sp)).triangle_count(), 2u);
+    EXPECT_EQ(obj_mesh_of(make_shape(sp)).triangle_count(), 2u);
 }
 
 TEST(MeshObj, Errors) {
-    TempDir dir;
+    TempDir dir("geom");
     try {
-        make_shape(ShapeProps("obj").s("filename", (dir.path / "missing.obj").string()));
+        make_shape(ShapeProps("obj").s("filename", (dir.path() / "missing.obj").string()));
         FAIL();
     } catch (const InputError& e) {
         EXPECT_NE(std::string(e.what()).find("missing.obj"), std::string::npos);
@@ -141,7 +142,7 @@ TEST(MeshObj, MitsubaTestMeshes) {
         if (entry.path().extension() != ".obj") continue;
         SCOPED_TRACE(entry.path().string());
         auto s = make_shape(ShapeProps("obj").s("filename", entry.path().string()));
-        const TriangleMesh& m = mesh_of(s);
+        const TriangleMesh& m = obj_mesh_of(s);
         EXPECT_GT(m.triangle_count(), 0u);
         EXPECT_EQ(m.normals.size(), m.positions.size());
         EXPECT_GT(s->surface_area(), 0.f);

@@ -5,6 +5,7 @@
 #include <bit>
 #include <cstring>
 
+#include "support/cli.h"
 #include "test_shape_util.h"
 #include "volguide/core/error.h"
 
@@ -13,7 +14,7 @@ using namespace volguide::test;
 
 namespace {
 
-const TriangleMesh& mesh_of(const std::shared_ptr<Shape>& s) {
+const TriangleMesh& ply_mesh_of(const std::shared_ptr<Shape>& s) {
     return *s->triangle_mesh();
 }
 
@@ -72,27 +73,27 @@ void expect_quad(const TriangleMesh& m) {
 }  // namespace
 
 TEST(MeshPly, BinaryLittleEndian) {
-    TempDir dir;
+    TempDir dir("geom");
     auto s = make_shape(ShapeProps("ply").s("filename", dir.write("le.ply", binary_quad(true))));
-    expect_quad(mesh_of(s));
+    expect_quad(ply_mesh_of(s));
     EXPECT_NEAR(s->surface_area(), 4.f, 1e-6f);
 }
 
 TEST(MeshPly, BinaryBigEndian) {
-    TempDir dir;
+    TempDir dir("geom");
     expect_quad(
-        mesh_of(make_shape(ShapeProps("ply").s("filename", dir.write("be.ply", binary_quad(false))))));
+        ply_mesh_of(make_shape(ShapeProps("ply").s("filename", dir.write("be.ply", binary_quad(false))))));
 }
 
 TEST(MeshPly, AsciiWithUvVariantsAndComputedNormals) {
-    TempDir dir;
+    TempDir dir("geom");
     std::string ply =
         "ply\r\nformat ascii 1.0\r\nelement vertex 3\r\nproperty double x\r\nproperty double y\r\n"
         "property double z\r\nproperty float texture_u\r\nproperty float texture_v\r\n"
         "element face 1\r\nproperty list uchar uint vertex_index\r\nend_header\r\n"
         "0 0 0 0 0\r\n1 0 0 1 0\r\n0 1 0 0 1\r\n3 0 1 2\r\n";
     auto s = make_shape(ShapeProps("ply").s("filename", dir.write("tri.ply", ply)));
-    const TriangleMesh& m = mesh_of(s);
+    const TriangleMesh& m = ply_mesh_of(s);
     ASSERT_EQ(m.triangle_count(), 1u);
     EXPECT_EQ(m.uvs[2], Vec2f(0, 1));
     ASSERT_EQ(m.normals.size(), 3u);  // computed, as Mitsuba does without face_normals
@@ -101,22 +102,22 @@ TEST(MeshPly, AsciiWithUvVariantsAndComputedNormals) {
 
     auto faceted =
         make_shape(ShapeProps("ply").s("filename", dir.write("tri.ply", ply)).b("face_normals", true));
-    EXPECT_TRUE(mesh_of(faceted).normals.empty());
+    EXPECT_TRUE(ply_mesh_of(faceted).normals.empty());
 }
 
 TEST(MeshPly, UvNamedUV) {
-    TempDir dir;
+    TempDir dir("geom");
     std::string ply =
         "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
         "property float u\nproperty float v\nelement face 1\nproperty list uchar int vertex_indices\n"
         "end_header\n0 0 0 .1 .2\n1 0 0 +.3 4e-1\n0 1 0 .5 .6\n3 0 1 2\n";
     auto s = make_shape(ShapeProps("ply").s("filename", dir.write("uv.ply", ply)));
-    const TriangleMesh& m = mesh_of(s);
+    const TriangleMesh& m = ply_mesh_of(s);
     EXPECT_NEAR(m.uvs[1].y, 0.4f, 1e-7f);
 }
 
 TEST(MeshPly, MalformedFilesNameTheFile) {
-    TempDir dir;
+    TempDir dir("geom");
     const std::pair<const char*, std::string> cases[] = {
         {"nomagic.ply", "plx\nformat ascii 1.0\nend_header\n"},
         {"noend.ply", "ply\nformat ascii 1.0\nelement vertex 1\n"},

@@ -1,10 +1,6 @@
 #pragma once
 // Helpers for the geometry tests: hand-built shape Properties (no BSDF/emitter children) and
 // shape creation through the real factory, with the loader's unused-parameter check.
-#include <unistd.h>
-
-#include <filesystem>
-#include <fstream>
 #include <memory>
 #include <string>
 
@@ -39,28 +35,5 @@ inline std::shared_ptr<Shape> make_shape(const ShapeProps& sp) {
     sp.props.check_all_used();
     return std::dynamic_pointer_cast<Shape>(obj);
 }
-
-// A scratch directory for generated mesh files, removed at the end of the test.
-struct TempDir {
-    std::filesystem::path path;
-    TempDir() {
-        path = std::filesystem::temp_directory_path() /
-               ("volguide_geom_" + std::to_string(::getpid()) + "_" + std::to_string(counter()++));
-        std::filesystem::create_directories(path);
-    }
-    ~TempDir() {
-        std::error_code ec;
-        std::filesystem::remove_all(path, ec);
-    }
-    std::string write(const std::string& name, const std::string& contents) const {
-        std::string file = (path / name).string();
-        std::ofstream(file, std::ios::binary) << contents;
-        return file;
-    }
-    static int& counter() {
-        static int c = 0;
-        return c;
-    }
-};
 
 }  // namespace volguide::test

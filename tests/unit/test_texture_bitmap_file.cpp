@@ -6,6 +6,7 @@
 
 #include "support/cli.h"
 #include "volguide/render/image_io.h"
+#include "volguide/render/srgb.h"
 #include "volguide/render/texture.h"
 #include "volguide/scene/factories.h"
 
@@ -30,7 +31,6 @@ Color3 at(const Texture& t, float u, float v) {
     return t.eval(si);
 }
 
-float srgb_to_linear(float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f); }
 
 }  // namespace
 

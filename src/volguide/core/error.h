@@ -31,4 +31,9 @@ template <typename... Args>
     throw InputError(loc, fmt::format(f, std::forward<Args>(args)...));
 }
 
+// An error about a whole file (no line: a binary file or one read by a library).
+[[noreturn]] inline void fail_file(const std::string& path, const std::string& what) {
+    throw InputError(SourceLocation{path, 0}, what);
+}
+
 }  // namespace volguide

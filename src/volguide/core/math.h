@@ -8,6 +8,7 @@
 namespace volguide {
 
 inline constexpr float Pi = 3.14159265358979323846f;
+inline constexpr double PiDouble = 3.14159265358979323846;  // for double-precision fits and normalisations
 inline constexpr float InvPi = 0.31830988618379067154f;
 inline constexpr float InvTwoPi = 0.15915494309189533577f;
 inline constexpr float InvFourPi = 0.07957747154594766788f;

@@ -14,7 +14,7 @@ namespace volguide {
 
 namespace {
 
-constexpr char kMagic[8] = {'V', 'G', 'F', 'I', 'E', 'L', 'D', 0};
+constexpr char kFieldMagic[8] = {'V', 'G', 'F', 'I', 'E', 'L', 'D', 0};
 constexpr size_t kNodeBytes = 9;
 constexpr uint32_t kOldestReadableVersion = 2;
 // The smallest leaf record (an invalid leaf) of a format version.
@@ -51,7 +51,7 @@ struct Reader {
 }  // namespace
 
 std::string serialize_field(const GuidingField& field) {
-    std::string s(kMagic, sizeof(kMagic));
+    std::string s(kFieldMagic, sizeof(kFieldMagic));
     put_u32(s, kFieldFormatVersion);
     const BBox3f& b = field.tree().bounds();
     for (float v : {b.lo.x, b.lo.y, b.lo.z, b.hi.x, b.hi.y, b.hi.z}) put_f32(s, v);
@@ -80,7 +80,7 @@ std::string serialize_field(const GuidingField& field) {
             s += vmm.str();
         }
     }
-    const uint64_t sum = fnv1a64(std::string_view(s).substr(sizeof(kMagic)));
+    const uint64_t sum = fnv1a64(std::string_view(s).substr(sizeof(kFieldMagic)));
     put_u32(s, uint32_t(sum));
     put_u32(s, uint32_t(sum >> 32));
     return s;
@@ -90,9 +90,9 @@ namespace {
 
 // Checks the magic, the version and the checksum; returns the version and the body's reader.
 Reader open_body(const std::string& bytes, uint32_t& version) {
-    if (bytes.size() < sizeof(kMagic) + 8 || std::memcmp(bytes.data(), kMagic, sizeof(kMagic)) != 0)
+    if (bytes.size() < sizeof(kFieldMagic) + 8 || std::memcmp(bytes.data(), kFieldMagic, sizeof(kFieldMagic)) != 0)
         throw FieldFormatError("not a volguide guiding field (bad magic)");
-    Reader header{bytes, sizeof(kMagic), bytes.size()};
+    Reader header{bytes, sizeof(kFieldMagic), bytes.size()};
     version = header.u32("header");
     if (version < kOldestReadableVersion || version > kFieldFormatVersion)
         throw FieldFormatError("unsupported guiding field version " + std::to_string(version) +
@@ -101,7 +101,7 @@ Reader open_body(const std::string& bytes, uint32_t& version) {
     const size_t body_end = bytes.size() - 8;
     Reader tail{bytes, body_end, bytes.size()};
     const uint64_t stored = uint64_t(tail.u32("checksum")) | uint64_t(tail.u32("checksum")) << 32;
-    if (stored != fnv1a64(std::string_view(bytes).substr(sizeof(kMagic), body_end - sizeof(kMagic))))
+    if (stored != fnv1a64(std::string_view(bytes).substr(sizeof(kFieldMagic), body_end - sizeof(kFieldMagic))))
         throw FieldFormatError("guiding field checksum mismatch (corrupt or truncated file)");
     return Reader{bytes, header.pos, body_end};
 }

@@ -13,7 +13,7 @@ namespace {
 constexpr double kFixedScale = 4294967296.0;  // 2^32
 constexpr double kMaxTerm = 1e15;
 constexpr double kTwo64 = 18446744073709551616.0;
-constexpr uint32_t kMagic = 0x4c534756;  // "VGSL"
+constexpr uint32_t kSelectionMagic = 0x4c534756;  // "VGSL"
 constexpr uint32_t kVersion = 1;
 
 size_t nearest_share(float share) {
@@ -280,7 +280,7 @@ LearnedSelection::Summary LearnedSelection::summary() const {
 
 std::string LearnedSelection::serialize() const {
     std::string out;
-    put(out, kMagic);
+    put(out, kSelectionMagic);
     put(out, kVersion);
     put(out, uint64_t(cells_.size()));
     for (const Cell& r : cells_) {
@@ -292,7 +292,7 @@ std::string LearnedSelection::serialize() const {
 
 LearnedSelection LearnedSelection::deserialize(const std::string& bytes) {
     size_t at = 0;
-    if (get<uint32_t>(bytes, at) != kMagic) throw std::runtime_error("learned selection: not a selection table");
+    if (get<uint32_t>(bytes, at) != kSelectionMagic) throw std::runtime_error("learned selection: not a selection table");
     if (get<uint32_t>(bytes, at) != kVersion) throw std::runtime_error("learned selection: unknown version");
     const uint64_t n = get<uint64_t>(bytes, at);
     constexpr size_t kCellBytes = kSelectionDecisions * sizeof(float) + kSelectionStages;

@@ -17,11 +17,6 @@ int read_count(const Properties& props, const char* name, int64_t def) {
     return int(n);
 }
 
-// The emitter a ray sees at `si` (the environment when it missed); nullptr when none.
-const Emitter* emitter_seen(const Scene& scene, const SurfaceInteraction& si) {
-    if (!si.is_valid()) return scene.environment();
-    return si.shape->emitter();
-}
 
 }  // namespace
 
@@ -50,7 +45,7 @@ Color3 DirectIntegrator::Li(const Scene& scene, Sampler& sampler, const CameraRa
     if (!scene.intersect(camera.ray, si)) si = miss_interaction(camera.ray);
     Color3 result(0.f);
     if (!settings_.hide_emitters)
-        if (const Emitter* e = emitter_seen(scene, si)) result += e->eval(si);
+        if (const Emitter* e = scene.emitter_seen(si)) result += e->eval(si);
     if (!si.is_valid()) return result;
     result += emitter_sampling(scene, sampler, si);
     result += bsdf_sampling(scene, sampler, si);
@@ -86,7 +81,7 @@ Color3 DirectIntegrator::bsdf_sampling(const Scene& scene, Sampler& sampler, con
         const Ray ray = si.spawn_ray(si.to_world(bs.wo));
         SurfaceInteraction next;
         if (!scene.intersect(ray, next)) next = miss_interaction(ray);
-        const Emitter* e = emitter_seen(scene, next);
+        const Emitter* e = scene.emitter_seen(next);
         if (!e) continue;
         const bool delta = (bs.sampled_flags & bsdf_flags::Delta) != 0;
         const float emitter_pdf =

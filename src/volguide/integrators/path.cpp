@@ -26,16 +26,6 @@ std::string PathIntegrator::to_string() const {
                        settings_.rr_depth, settings_.hide_emitters);
 }
 
-namespace {
-
-// The emitter a ray sees at `si` (the environment when it missed); nullptr when none.
-const Emitter* emitter_seen(const Scene& scene, const SurfaceInteraction& si) {
-    if (!si.is_valid()) return scene.environment();
-    return si.shape->emitter();
-}
-
-}  // namespace
-
 Color3 PathIntegrator::Li(const Scene& scene, Sampler& sampler, const CameraRay& camera) const {
     const PathSettings& s = settings_;
     if (s.max_depth == 0) return Color3(0.f);
@@ -47,7 +37,7 @@ Color3 PathIntegrator::Li(const Scene& scene, Sampler& sampler, const CameraRay&
     SurfaceInteraction si;
     if (!scene.intersect(ray, si)) si = miss_interaction(ray);
     if (!s.hide_emitters)
-        if (const Emitter* e = emitter_seen(scene, si)) result += e->eval(si);
+        if (const Emitter* e = scene.emitter_seen(si)) result += e->eval(si);
 
     // depth = number of segments of the path so far (the camera segment is 1).
     for (int depth = 1; si.is_valid() && (s.max_depth < 0 || depth < s.max_depth); ++depth) {
@@ -79,7 +69,7 @@ Color3 PathIntegrator::Li(const Scene& scene, Sampler& sampler, const CameraRay&
         SurfaceInteraction next;
         if (!scene.intersect(ray, next)) next = miss_interaction(ray);
 
-        if (const Emitter* e = emitter_seen(scene, next)) {
+        if (const Emitter* e = scene.emitter_seen(next)) {
             bool delta = (bs.sampled_flags & bsdf_flags::Delta) != 0;
             float emitter_pdf = 0.f;
             if (!delta) emitter_pdf = scene.pdf_emitter_direction(si, emitter_hit_record(next, si, ray.d, e));

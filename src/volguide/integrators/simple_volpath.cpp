@@ -53,7 +53,7 @@ Color3 SimpleVolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const C
                 continue;
             }
         }
-        const Emitter* emitter = si.is_valid() ? si.shape->emitter() : scene.environment();
+        const Emitter* emitter = scene.emitter_seen(si);
         if (emitter && !(depth == 0 && hide_emitters_)) result += throughput * emitter->eval(si);
         if (!si.is_valid()) break;
 

@@ -15,14 +15,6 @@
 
 namespace volguide {
 
-namespace {
-
-[[noreturn]] void fail_file(const std::string& path, const std::string& what) {
-    throw InputError(SourceLocation{path, 0}, what);
-}
-
-}  // namespace
-
 void write_exr_layers(const std::string& path, const ExrLayers& layers) {
     const size_t n = size_t(layers.width) * size_t(layers.height);
     if (layers.width <= 0 || layers.height <= 0) fail_file(path, "cannot write an empty image");

@@ -7,6 +7,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "volguide/render/srgb.h"
+
 namespace volguide {
 
 namespace {
@@ -106,8 +108,6 @@ constexpr std::array<std::array<float, 3>, 5> kHeat = {{{0.00f, 0.00f, 0.02f},
                                                          {0.73f, 0.21f, 0.33f},
                                                          {0.98f, 0.55f, 0.04f},
                                                          {0.99f, 1.00f, 0.64f}}};
-
-float srgb_to_linear(float v) { return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f); }
 
 Color3 heat_color(double t) {
     t = std::clamp(t, 0.0, 1.0) * double(kHeat.size() - 1);

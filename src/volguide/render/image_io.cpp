@@ -22,21 +22,10 @@
 #include "volguide/core/atomic_write.h"
 #include "volguide/core/error.h"
 #include "volguide/render/exr_header_check.h"
+#include "volguide/render/srgb.h"
 
 namespace volguide {
 namespace {
-
-[[noreturn]] void fail_file(const std::string& path, const std::string& what) {
-    throw InputError(SourceLocation{path, 0}, what);
-}
-
-// Exact sRGB transfer curves (IEC 61966-2-1).
-float srgb_to_linear(float c) {
-    return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
-}
-float linear_to_srgb(float c) {
-    return c <= 0.0031308f ? c * 12.92f : 1.055f * std::pow(c, 1.f / 2.4f) - 0.055f;
-}
 
 bool has_exr_magic(const std::string& path) {
     std::ifstream in(path, std::ios::binary);

@@ -47,6 +47,10 @@ public:
     const std::vector<std::shared_ptr<Emitter>>& emitters() const { return emitters_; }
     // The environment emitter evaluated by rays that leave the scene (nullptr when none).
     const Emitter* environment() const { return environment_; }
+    // The emitter a ray sees at `si` (the environment when it missed); nullptr when none.
+    const Emitter* emitter_seen(const SurfaceInteraction& si) const {
+        return si.is_valid() ? si.shape->emitter() : environment_;
+    }
     const Sensor& sensor() const { return *sensor_; }
     const Integrator& integrator() const { return *integrator_; }
     const BBox3f& bbox() const { return bbox_; }

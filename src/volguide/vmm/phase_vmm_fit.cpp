@@ -10,7 +10,6 @@
 namespace volguide {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 constexpr int kMaxParams = 2 * kPhaseVmmMaxLobes - 1;
 constexpr double kLogKappaMin = -9.0, kLogKappaMax = 12.0;  // kappa in [1.2e-4, 1.6e5]
 
@@ -22,7 +21,7 @@ double dlog_norm(double k) {
 
 std::vector<double> make_grid(double g, const HgFitSettings& s) {
     std::vector<double> cosines;
-    for (int n = 0; n < s.grid; ++n) cosines.push_back(std::cos(kPi * n / (s.grid - 1)));
+    for (int n = 0; n < s.grid; ++n) cosines.push_back(std::cos(PiDouble * n / (s.grid - 1)));
     // Above g = 0.95 the peak (~(1 - g) wide) falls between grid angles: add points inside it. Their
     // number ramps up from 0 at g = 0.95 to grid/2 at g = 0.97 so the objective (and the table)
     // stays continuous in g.
@@ -195,7 +194,7 @@ void from_fit(const ZonalFit& f, int K, double* x) {
 
 double hg_density(double g, double cos_theta) {
     double denom = 1.0 + g * g - 2.0 * g * cos_theta;
-    return (1.0 - g * g) / (4.0 * kPi * denom * std::sqrt(denom));
+    return (1.0 - g * g) / (4.0 * PiDouble * denom * std::sqrt(denom));
 }
 
 ZonalFit fit_hg_zonal(double g, const HgFitSettings& settings, const ZonalFit* warm_start) {

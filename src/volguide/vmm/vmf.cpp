@@ -6,7 +6,6 @@
 namespace volguide {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 // From here on expm1(-2 kappa) == -1 exactly (see vmf_normalization; test_vmf_lobe checks it).
 constexpr double kNormalizationSaturates = 20.0;
 }
@@ -14,13 +13,13 @@ constexpr double kNormalizationSaturates = 20.0;
 double vmf_normalization(double kappa) {
     if (kappa < 1e-4) {
         // c~ = (1 + k + k^2/3 + O(k^4)) / (4 pi); the series avoids 0/0 at kappa = 0.
-        return (1.0 + kappa + kappa * kappa / 3.0) / (4.0 * kPi);
+        return (1.0 + kappa + kappa * kappa / 3.0) / (4.0 * PiDouble);
     }
     // expm1(-2 kappa) rounds to exactly -1 in double once exp(-2 kappa) < 2^-54 (2 kappa > 37.4;
     // glibc returns -1 outright below -56 ln 2): the same value without the call, which matters
     // because every product lobe of a guided direction sampler normalises here (bench_vmm).
-    if (kappa >= kNormalizationSaturates) return kappa / (2.0 * kPi);
-    return kappa / (-2.0 * kPi * std::expm1(-2.0 * kappa));
+    if (kappa >= kNormalizationSaturates) return kappa / (2.0 * PiDouble);
+    return kappa / (-2.0 * PiDouble * std::expm1(-2.0 * kappa));
 }
 
 double vmf_mean_cosine(double kappa) {
@@ -115,7 +114,7 @@ namespace {
 // from vmf_normalization's by double rounding only (the float lobe.norm by none in a 1000-point
 // sweep).
 double product_normalization(double kappa) {
-    if (kappa >= 0.25 && kappa < kNormalizationSaturates) return kappa / (2.0 * kPi * (1.0 - std::exp(-2.0 * kappa)));
+    if (kappa >= 0.25 && kappa < kNormalizationSaturates) return kappa / (2.0 * PiDouble * (1.0 - std::exp(-2.0 * kappa)));
     return vmf_normalization(kappa);
 }
 

@@ -17,7 +17,7 @@ void put_u32(std::string& s, uint32_t v) {
     for (int i = 0; i < 4; ++i) s.push_back(char(uint8_t(v >> (8 * i))));
 }
 
-struct Reader {
+struct PrepassReader {
     const std::string& bytes;
     size_t pos = 0;
     uint64_t uint(int n, const char* what) {
@@ -50,7 +50,7 @@ std::string serialize_guided_prepass(const GuidingField& field, const Image& pix
 }
 
 GuidedPrepass deserialize_guided_prepass(const std::string& bytes) {
-    Reader r{bytes};
+    PrepassReader r{bytes};
     const uint64_t field_size = r.uint(8, "field size");
     if (bytes.size() - r.pos < field_size) throw FieldFormatError("truncated guided_volpath pre-pass (in the field)");
     GuidedPrepass prepass;

@@ -21,7 +21,7 @@ void put_string(std::string& s, const std::string& v) {
     s += v;
 }
 
-struct Reader {
+struct TrainingFileReader {
     const std::string& bytes;
     size_t pos, end;
     void need(uint64_t n, const char* what) const {
@@ -62,10 +62,10 @@ TrainingFile deserialize_training(const std::string& bytes) {
     if (bytes.size() < sizeof(kMagic) + 12 || std::memcmp(bytes.data(), kMagic, sizeof(kMagic)) != 0)
         throw TrainingFileError("not a volguide training file (bad magic; write one with `volguide train`)");
     const size_t body_end = bytes.size() - 8;
-    Reader tail{bytes, body_end, bytes.size()};
+    TrainingFileReader tail{bytes, body_end, bytes.size()};
     if (tail.uint(8, "checksum") != fnv1a64(std::string_view(bytes).substr(sizeof(kMagic), body_end - sizeof(kMagic))))
         throw TrainingFileError("training file checksum mismatch (corrupt or truncated file)");
-    Reader r{bytes, sizeof(kMagic), body_end};
+    TrainingFileReader r{bytes, sizeof(kMagic), body_end};
     const uint64_t version = r.uint(4, "header");
     if (version != kTrainingFormatVersion)
         throw TrainingFileError("unsupported training file version " + std::to_string(version) + " (this build reads " +
