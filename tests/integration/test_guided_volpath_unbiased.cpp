@@ -302,7 +302,7 @@ TEST(GuidedVolPathUnbiased, TransmittanceStrategiesAloneGiveUnitWeights) {
 // With c_T = 1, distance="vsp" is free flight: grey albedo-1 weights are exactly 1.
 TEST(GuidedVolPathUnbiased, GuidedVertexAnswersAsTheDecisionsItReplaces) {
     TempDir dir("guided-vertex");
-    std::string xml = furnace_xml(false, "", guided("vsp", "product", 100000));
+    std::string xml = guided_furnace_xml(false, "", guided("vsp", "product", 100000));
     const std::string chromatic = R"(value="2, 1, 3")";
     xml.replace(xml.find(chromatic), chromatic.size(), R"(value="2")");
     auto scene = load_scene(dir.write("s.xml", xml));
@@ -578,7 +578,7 @@ TEST(GuidedVolPathUnbiased, VspDistanceIsUnbiased) {
     const std::string grid = write_furnace_grid(dir);
     for (bool het : {false, true}) {
         SCOPED_TRACE(het ? "heterogeneous" : "homogeneous");
-        Rendered r = render_scene_xml(furnace_xml(het, grid, guided("vsp", "product", 100000)), 1024, 21, false);
+        Rendered r = render_scene_xml(guided_furnace_xml(het, grid, guided("vsp", "product", 100000)), 1024, 21, false);
         expect_constant_image(r, 1.0);
         Rendered ref = render_scene_xml(lit_fog_xml(het, grid, R"(<integrator type="volpath"/>)"), 1024, 5, false);
         Rendered g = render_scene_xml(lit_fog_xml(het, grid, guided("vsp", "product", 200000)), 1024, 8, false);

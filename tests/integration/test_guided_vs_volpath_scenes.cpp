@@ -62,8 +62,8 @@ static std::string vsp_integrator() {
     return R"(<scene version="3.0.0"><integrator type="guided_volpath"><integer name="max_depth" value="$max_depth"/>)"
            R"(<string name="distance" value="vsp"/></integrator></scene>)";
 }
-TEST(GuidedVsVolpathScenes, FogboxVspDistance) { compare("fogbox", 1024, 512, vsp_integrator()); }
-TEST(GuidedVsVolpathScenes, CloudVspDistance) { compare("cloud", 1024, 512, vsp_integrator()); }
+TEST(GuidedVsVolpathScenes, FogboxVspDistance) { compare_scene("fogbox", 1024, 512, vsp_integrator()); }
+TEST(GuidedVsVolpathScenes, CloudVspDistance) { compare_scene("cloud", 1024, 512, vsp_integrator()); }
 
 // Issue 20: the full system with the distance walk over leaf groups (distance_merge).
 TEST(GuidedVsVolpathScenes, ShaftsDistanceRegions) {

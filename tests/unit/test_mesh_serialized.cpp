@@ -5,6 +5,7 @@
 
 #include <filesystem>
 
+#include "support/cli.h"
 #include "support/serialized_writer.h"
 #include "test_shape_util.h"
 #include "volguide/core/error.h"
@@ -25,7 +26,7 @@ std::string error_of(const std::string& path, int64_t index = 0) {
 }
 
 TEST(MeshSerialized, Version4SinglePrecision) {
-    TempDir dir;
+    TempDir dir("serialized");
     const std::string path = dir.write("quad.serialized", serialized_file({serialized_quad()}, 4));
     SerializedMesh m = read_serialized(path, 0, test_loc());
     ASSERT_EQ(m.mesh.positions.size(), 4u);
@@ -39,7 +40,7 @@ TEST(MeshSerialized, Version4SinglePrecision) {
 }
 
 TEST(MeshSerialized, Version3DoublePrecisionShapeIndex) {
-    TempDir dir;
+    TempDir dir("serialized");
     SerializedShape a = serialized_quad(0.f), b = serialized_quad(2.5f), c = serialized_quad(-1.f);
     b.double_precision = true;
     b.normals.clear();
@@ -55,7 +56,7 @@ TEST(MeshSerialized, Version3DoublePrecisionShapeIndex) {
 }
 
 TEST(MeshSerialized, ThroughTheShapeFactory) {
-    TempDir dir;
+    TempDir dir("serialized");
     const std::string path = dir.write("quad.serialized", serialized_file({serialized_quad(), serialized_quad(1.f)}));
     ShapeProps sp("serialized");
     sp.s("filename", path);
@@ -67,7 +68,7 @@ TEST(MeshSerialized, ThroughTheShapeFactory) {
 }
 
 TEST(MeshSerialized, MalformedFilesNameFileAndProblem) {
-    TempDir dir;
+    TempDir dir("serialized");
     const std::string good = serialized_file({serialized_quad()});
     const auto expect = [&](const std::string& name, const std::string& contents, const std::string& what) {
         const std::string path = dir.write(name, contents);
