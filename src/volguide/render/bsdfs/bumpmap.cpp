@@ -6,12 +6,13 @@
 #include "volguide/core/frame.h"
 #include "volguide/render/bsdf.h"
 #include "volguide/render/bsdfs/bsdf_util.h"
+#include "volguide/render/bsdfs/shading_frame_bsdf.h"
 
 namespace volguide {
 
 namespace {
 
-class BumpMapBSDF final : public BSDF {
+class BumpMapBSDF final : public ShadingFrameBSDF {
   public:
     explicit BumpMapBSDF(const Properties& props) : scale_(props.get_float("scale", 1.f)) {
         auto bsdfs = props.children("bsdf");
@@ -28,33 +29,10 @@ class BumpMapBSDF final : public BSDF {
         flags_ = nested_->flags();
     }
 
-    std::pair<BSDFSample, Color3> sample(const BSDFContext& ctx, const SurfaceInteraction& si, float sample1,
-                                         Point2f sample2) const override {
-        const SurfaceInteraction p = perturbed(si);
-        auto [bs, weight] = nested_->sample(ctx, p, sample1, sample2);
-        if (weight.is_black()) return {bs, weight};
-        const Vec3f wo = si.to_local(p.to_world(bs.wo));
-        if (!(bs.wo.z * wo.z > 0.f)) return {BSDFSample{}, Color3(0.f)};
-        bs.wo = wo;
-        return {bs, weight};
-    }
-    Color3 eval(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3f& wo) const override {
-        const SurfaceInteraction p = perturbed(si);
-        const Vec3f pwo = p.to_local(si.to_world(wo));
-        if (!(wo.z * pwo.z > 0.f)) return Color3(0.f);
-        return nested_->eval(ctx, p, pwo);
-    }
-    float pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3f& wo) const override {
-        const SurfaceInteraction p = perturbed(si);
-        const Vec3f pwo = p.to_local(si.to_world(wo));
-        if (!(wo.z * pwo.z > 0.f)) return 0.f;
-        return nested_->pdf(ctx, p, pwo);
-    }
     std::string to_string() const override { return "BumpMap[]"; }
 
   private:
-    // The interaction with the bump-mapped shading frame (world space) and wi expressed in it.
-    SurfaceInteraction perturbed(const SurfaceInteraction& si) const {
+    SurfaceInteraction perturbed(const SurfaceInteraction& si) const override {
         const Vec2f g = height_->eval_1_grad(si) * scale_;
         const Vec3f& n = si.sh_frame.n;
         const Vec3f dp_du = si.dp_du + n * (g.x - dot(n, si.dp_du));
@@ -64,15 +42,11 @@ class BumpMapBSDF final : public BSDF {
         if (dot(si.n, f.n) < 0.f) f.n = -f.n;
         f.s = normalize(dp_du - f.n * dot(f.n, dp_du));
         f.t = cross(f.n, f.s);
-        SurfaceInteraction out(si);
-        out.sh_frame = f;
-        out.wi = f.to_local(si.to_world(si.wi));
-        return out;
+        return with_frame(si, f);
     }
 
     float scale_;
     std::shared_ptr<Texture> height_;
-    std::shared_ptr<BSDF> nested_;
 };
 
 }  // namespace
