@@ -1,5 +1,7 @@
-// Chi-square test of the `mask` BSDF (issue 40) against its own pdf (oracles.md §8): the nested
-// lobes with probability opacity, the Null pass-through (the harness's rest bin) with 1 - opacity.
+// Chi-square tests of the wrapping BSDFs of issue 40 against their own pdf (oracles.md §8): `mask` (the
+// nested lobes with probability opacity, the Null pass-through in the harness's rest bin with
+// 1 - opacity) and `normalmap` (the nested lobe in a tilted shading frame; directions below the
+// unperturbed surface are dropped, their probability in the rest bin).
 #include <gtest/gtest.h>
 
 #include "support/bsdf_helpers.h"
@@ -11,7 +13,7 @@ namespace {
 
 ChiSquareOptions options() {
     ChiSquareOptions opt;
-    opt.test_count = 2;  // chi-square tests in this file (Sidak correction)
+    opt.test_count = 4;  // chi-square tests in this file (Sidak correction)
     return opt;
 }
 
@@ -39,4 +41,17 @@ TEST(BsdfMask, NullLobeAndOpacity) {
     const Vec3f wo = dir(0.7f, 2.f);
     EXPECT_FLOAT_EQ(mask->eval(BSDFContext{}, si, wo).r, 0.25f * diffuse->eval(BSDFContext{}, si, wo).r);
     EXPECT_FLOAT_EQ(mask->pdf(BSDFContext{}, si, wo), 0.25f * diffuse->pdf(BSDFContext{}, si, wo));
+}
+
+TEST(BsdfChi2, NormalMapOverRoughConductor) {
+    auto rough = make_bsdf("roughconductor", {{"alpha", 0.3}, {"distribution", "ggx"}});
+    // A constant normal map: the shading normal tilted by ~25 degrees towards +x.
+    auto normalmap = make_bsdf("normalmap", {{"normalmap", Color3(0.7f, 0.5f, 0.93f)}, {"", ObjectPtr(rough)}});
+    for (float c : {0.8f, 0.3f}) {
+        SurfaceInteraction si = local_si(dir(c));
+        si.dp_du = Vec3f(1, 0, 0);  // the tangent the normal map's frame is built from
+        si.dp_dv = Vec3f(0, 1, 0);
+        auto r = chi2_bsdf(*normalmap, si, options());
+        EXPECT_TRUE(r.passed) << "cos_theta_i " << c << "\n" << r.report;
+    }
 }
