@@ -51,6 +51,10 @@ EXCEPTIONS = {
     (r"re:.*_factory\.cpp", "scene/factories.h"): "a plugin family implements its factory declaration",
     (r"re:integrators/integrator_factory\.cpp", r"re:integrators/(volpath|guided|openpgl)/.*"):
         "the integrators' factory creates every integrator",
+    # Issue 37's VSPG peer row applies Open PGL's scatter probability with the same segment samplers
+    # as distance="vsp", so the comparison measures where P comes from, not a second sampler.
+    ("integrators/openpgl/openpgl_vsp_distance.cpp", "integrators/guided/walk/vsp_distance.h"):
+        "the VSPG peer row uses volguide's segment decision with Open PGL's VSP",
 }
 
 

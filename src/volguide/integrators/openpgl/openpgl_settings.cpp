@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include "volguide/integrators/openpgl/openpgl_version.h"
+
 namespace volguide {
 
 namespace {
@@ -10,6 +12,17 @@ float probability(const Properties& props, const char* name, float def) {
     const float v = props.get_float(name, def);
     if (!(v >= 0.f && v <= 1.f)) props.fail_at(name, "openpgl_volpath: {} must be in [0, 1], got {}", name, v);
     return v;
+}
+
+// vsp=true needs the 0.8 API: with any other Open PGL it is an error naming the linked version.
+bool read_vsp(const Properties& props) {
+    const bool vsp = props.get_bool("vsp", false);
+    if (vsp && !kOpenPglHasVsp)
+        props.fail_at("vsp",
+                      "openpgl_volpath: vsp=true needs Open PGL 0.8 with volume scattering probability guiding, "
+                      "but this build links Open PGL {} (configure with -DVOLGUIDE_OPENPGL_SOURCE=0.8)",
+                      kOpenPglVersion);
+    return vsp;
 }
 
 }  // namespace
@@ -40,6 +53,13 @@ OpenPglSettings OpenPglSettings::from(const Properties& props) {
         props.fail_at("max_samples_per_leaf", "openpgl_volpath: max_samples_per_leaf must be in [100, 2^24], got {}",
                       leaf);
     s.max_samples_per_leaf = int(leaf);
+    s.vsp = read_vsp(props);
+    // c > 0 keeps P > 0 wherever free flight can scatter and P < 1 wherever the segment transmits,
+    // whatever Open PGL's VSP says: the weights stay bounded and the estimator unbiased.
+    s.vsp_unguided_prob = props.get_float("vsp_unguided_prob", s.vsp_unguided_prob);
+    if (!(s.vsp_unguided_prob > 0.f && s.vsp_unguided_prob <= 1.f))
+        props.fail_at("vsp_unguided_prob", "openpgl_volpath: vsp_unguided_prob must be in (0, 1], got {}",
+                      s.vsp_unguided_prob);
     s.location = props.location();
     return s;
 }
@@ -47,9 +67,10 @@ OpenPglSettings OpenPglSettings::from(const Properties& props) {
 std::string OpenPglSettings::to_string() const {
     return fmt::format(
         "max_depth={}, rr_depth={}, hide_emitters={}, phase_prob={}, bsdf_prob={}, volume_guiding={}, "
-        "surface_guiding={}, training_spp={}, training_fraction={}, max_samples_per_leaf={}",
+        "surface_guiding={}, training_spp={}, training_fraction={}, max_samples_per_leaf={}, vsp={}, "
+        "vsp_unguided_prob={}",
         walk.max_depth, walk.rr_depth, walk.hide_emitters, phase_prob, bsdf_prob, volume_guiding, surface_guiding,
-        training_spp, training_fraction, max_samples_per_leaf);
+        training_spp, training_fraction, max_samples_per_leaf, vsp, vsp_unguided_prob);
 }
 
 }  // namespace volguide

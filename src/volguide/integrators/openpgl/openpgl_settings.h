@@ -25,6 +25,13 @@ struct OpenPglSettings {
     int training_spp = 128;
     float training_fraction = 0.25f;
     int max_samples_per_leaf = 32000;  // Open PGL's kd-tree split threshold (its default)
+    // Open PGL's volume scattering probability guiding (VSPG; needs Open PGL 0.8 with
+    // OPENPGL_EF_VSP_GUIDING, openpgl_version.h): the distance decision of a segment leaving a guided
+    // vertex takes its scatter probability from the guiding distribution's VSP in the sampled direction,
+    // mixed defensively with free flight's (openpgl_vsp_distance.h). false: free flight everywhere.
+    bool vsp = false;
+    // The free-flight share c of that mixture: P = c P_u + (1 - c) VSP.
+    float vsp_unguided_prob = 0.5f;
     SourceLocation location;
 
     static OpenPglSettings from(const Properties& props);

@@ -55,23 +55,33 @@ void OpenPglVolPathIntegrator::end_pass(int spp_done, double seconds) {
 
 std::vector<std::pair<std::string, double>> OpenPglVolPathIntegrator::statistics() const {
     if (!field_) return {};
-    int64_t medium = 0, guided_medium = 0, surface = 0, guided_surface = 0;
+    int64_t medium = 0, guided_medium = 0, surface = 0, guided_surface = 0, distance = 0, vsp = 0, vsp_scattered = 0;
     for (const auto& ts : threads_)
         if (ts) {
             medium += ts->medium_vertices;
             guided_medium += ts->guided_medium;
             surface += ts->surface_vertices;
             guided_surface += ts->guided_surface;
+            distance += ts->distance_decisions;
+            vsp += ts->vsp_decisions;
+            vsp_scattered += ts->vsp_scattered;
         }
-    return {{"openpgl_medium_vertices", double(medium)},
-            {"openpgl_guided_medium_fraction", medium > 0 ? double(guided_medium) / double(medium) : 0.0},
-            {"openpgl_surface_vertices", double(surface)},
-            {"openpgl_guided_surface_fraction", surface > 0 ? double(guided_surface) / double(surface) : 0.0},
-            {"openpgl_training_spp", double(training_spp_done_)},
-            {"openpgl_updates", double(field_->updates())},
-            {"openpgl_training_samples", double(field_->samples_total())},
-            {"openpgl_training_seconds", training_seconds_},
-            {"openpgl_update_seconds", update_seconds_}};
+    auto share = [](int64_t part, int64_t all) { return all > 0 ? double(part) / double(all) : 0.0; };
+    std::vector<std::pair<std::string, double>> out = {
+        {"openpgl_medium_vertices", double(medium)},
+        {"openpgl_guided_medium_fraction", share(guided_medium, medium)},
+        {"openpgl_surface_vertices", double(surface)},
+        {"openpgl_guided_surface_fraction", share(guided_surface, surface)},
+        {"openpgl_training_spp", double(training_spp_done_)},
+        {"openpgl_updates", double(field_->updates())},
+        {"openpgl_training_samples", double(field_->samples_total())},
+        {"openpgl_training_seconds", training_seconds_},
+        {"openpgl_update_seconds", update_seconds_}};
+    if (settings_.vsp) {  // the distance decisions that used Open PGL's VSP, and how often those scattered
+        out.push_back({"openpgl_vsp_decision_fraction", share(vsp, distance)});
+        out.push_back({"openpgl_vsp_scatter_fraction", share(vsp_scattered, vsp)});
+    }
+    return out;
 }
 
 std::string OpenPglVolPathIntegrator::to_string() const {

@@ -2,6 +2,9 @@
 
 #include <cmath>
 
+#include "volguide/integrators/openpgl/openpgl_version.h"
+#include "volguide/integrators/openpgl/openpgl_vsp_distance.h"
+
 namespace volguide {
 
 namespace {
@@ -15,8 +18,22 @@ constexpr float kMaxGuidedMeanCosine = 0.99f;
 OpenPglWalkPolicy::OpenPglWalkPolicy(const OpenPglSettings& settings, OpenPglThreadState& ts, OpenPglField& field)
     : settings_(settings), ts_(ts), field_(field) {}
 
+FreeFlightSample OpenPglWalkPolicy::sample_distance(const Medium& medium, const Ray& ray, float tmax,
+                                                   const Color3& throughput, Sampler& sampler, VertexLeaf&,
+                                                   DecisionRecord*) {
+    const float vsp = segment_vsp_;
+    segment_vsp_ = std::numeric_limits<float>::quiet_NaN();  // one decision per segment
+    ++ts_.distance_decisions;
+    if (std::isnan(vsp)) return medium.sample_free_flight(ray, tmax, throughput, sampler);
+    ++ts_.vsp_decisions;
+    FreeFlightSample fs = openpgl_vsp_flight(medium, ray, tmax, throughput, vsp, settings_.vsp_unguided_prob, sampler);
+    if (fs.scattered) ++ts_.vsp_scattered;
+    return fs;
+}
+
 void OpenPglWalkPolicy::prepare_direction(const MediumInteraction& mi, VertexLeaf&, Sampler& sampler) {
     volume_ready_ = false;
+    segment_vsp_ = std::numeric_limits<float>::quiet_NaN();
     ++ts_.medium_vertices;
     if (!settings_.volume_guiding || settings_.phase_prob >= 1.f || !field_.trained()) return;
     const float g = mi.medium->phase().mean_cosine();
@@ -47,13 +64,16 @@ PhaseSample OpenPglWalkPolicy::sample_direction(const MediumInteraction& mi, Sam
     ps.pdf = direction_pdf(mi, ps.wo);
     if (!(ps.pdf > 0.f) || !std::isfinite(ps.pdf)) return PhaseSample{};
     ps.weight = phase.eval(mi.wi, ps.wo) / ps.pdf;
+    if (settings_.vsp) segment_vsp_ = openpgl_volume_scatter_probability(ts_.volume, ps.wo);
     return ps;
 }
 
 void OpenPglWalkPolicy::prepare_surface_direction(const SurfaceInteraction& si, const BSDF& bsdf, const Medium*,
                                                   Sampler& sampler) {
     surface_ready_ = false;
-    if (!bsdf.is_null()) ++ts_.surface_vertices;  // null crossings are not scattering
+    if (bsdf.is_null()) return;  // a null crossing: not scattering; the ray's VSP (if any) is kept
+    ++ts_.surface_vertices;
+    segment_vsp_ = std::numeric_limits<float>::quiet_NaN();
     // Only diffuse reflectors: the cosine product stands for f cos of a Lambertian lobe.
     if (!settings_.surface_guiding || settings_.bsdf_prob >= 1.f || !field_.trained() ||
         bsdf.flags() != bsdf_flags::DiffuseReflection)
@@ -93,6 +113,7 @@ std::pair<BSDFSample, Color3> OpenPglWalkPolicy::sample_surface_direction(const 
     bs.eta = 1.f;
     bs.sampled_flags = bsdf_flags::DiffuseReflection;  // the only guided BSDF kind
     if (!(bs.pdf > 0.f) || !std::isfinite(bs.pdf)) return {BSDFSample{}, Color3(0.f)};
+    if (settings_.vsp) segment_vsp_ = openpgl_volume_scatter_probability(ts_.surface, si.to_world(bs.wo));
     return {bs, bsdf.eval(ctx, si, bs.wo) * (1.f / bs.pdf)};
 }
 

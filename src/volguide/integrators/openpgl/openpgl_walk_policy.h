@@ -10,8 +10,13 @@
 //    lobe about the shading normal on the incoming side, mixed with the BSDF (bsdf_prob).
 //  - NEE's MIS and emitter hits' MIS use the same mixture pdf (direction_pdf / the walk's
 //    last_pdf), so the estimator stays unbiased whatever the field.
-// Distances are free flight and there is no guided RR (Open PGL 0.7.1 has neither in its
-// directional guiding). One object per camera sample, over its thread's OpenPglThreadState.
+// Distances are free flight, except with vsp=true (Open PGL 0.8): a segment leaving a guided vertex
+// (medium, or diffuse surface) gets one scatter decision from that vertex's guiding distribution's
+// VSP in the sampled direction (openpgl_vsp_distance.h); camera segments and segments after an
+// unguided vertex stay free flight (Open PGL's per-pixel VSP buffer needs OIDN: not built here).
+// There is no guided RR. One object per camera sample, over its thread's OpenPglThreadState.
+#include <limits>
+
 #include <openpgl/cpp/OpenPGL.h>
 
 #include "volguide/integrators/volpath/walk_policy.h"
@@ -30,12 +35,18 @@ struct OpenPglThreadState {
     OpenPglPathRecorder recorder;
     // Direction decisions at medium / surface vertices, and how many of them were guided.
     int64_t medium_vertices = 0, guided_medium = 0, surface_vertices = 0, guided_surface = 0;
+    // vsp=true: distance decisions, those made with Open PGL's VSP, and those of them that scattered.
+    int64_t distance_decisions = 0, vsp_decisions = 0, vsp_scattered = 0;
 };
 
 class OpenPglWalkPolicy final : public WalkPolicy {
   public:
     // field: guides when trained().
     OpenPglWalkPolicy(const OpenPglSettings& settings, OpenPglThreadState& ts, OpenPglField& field);
+
+    bool guides_distance() const override { return settings_.vsp; }
+    FreeFlightSample sample_distance(const Medium& medium, const Ray& ray, float tmax, const Color3& throughput,
+                                     Sampler& sampler, VertexLeaf& vertex_leaf, DecisionRecord* record) override;
 
     void prepare_direction(const MediumInteraction& mi, VertexLeaf& vertex_leaf, Sampler& sampler) override;
     float direction_pdf(const MediumInteraction& mi, const Vec3f& wo) const override;
@@ -55,6 +66,9 @@ class OpenPglWalkPolicy final : public WalkPolicy {
     OpenPglField& field_;
     bool volume_ready_ = false;   // ts_.volume holds the current medium vertex's product
     bool surface_ready_ = false;  // ts_.surface holds the current surface vertex's product
+    // vsp=true: Open PGL's VSP of the segment the last scattering vertex's sampled direction starts,
+    // NaN when there is none (camera ray, unguided vertex, or already used by its one decision).
+    float segment_vsp_ = std::numeric_limits<float>::quiet_NaN();
 };
 
 }  // namespace volguide
