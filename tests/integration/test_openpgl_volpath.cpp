@@ -200,11 +200,15 @@ TEST(OpenPglVolpath, MatchesVolpathOnCloud) {
     compare_with_volpath("cloud", 1024, 512, 64);
 }
 
-// Same seed, 1 and 2 threads: bit-identical images (training included).
-TEST(OpenPglVolpath, SameSeedSameImageForAnyThreadCount) {
-    REQUIRE_OPENPGL();
+namespace {
+
+// Same seed, 1 and 2 threads: bit-identical images (training included); `xml_text`: an integrator
+// file (empty: openpgl_volpath's defaults).
+void expect_openpgl_thread_independent(const std::string& xml_text) {
     TempDir dir("openpgl-threads");
-    const std::vector<std::string> opgl = {"-D", "integrator=openpgl_volpath"};
+    const std::vector<std::string> opgl =
+        xml_text.empty() ? std::vector<std::string>{"-D", "integrator=openpgl_volpath"}
+                         : std::vector<std::string>{"-D", "integrator_xml=" + dir.write("openpgl.xml", xml_text)};
     std::vector<std::string> one = opgl, two = opgl;
     one.insert(one.end(), {"--threads", "1"});
     two.insert(two.end(), {"--threads", "2"});
@@ -215,6 +219,20 @@ TEST(OpenPglVolpath, SameSeedSameImageForAnyThreadCount) {
     for (size_t i = 0; i < a.mean.pixels.size(); ++i)
         for (int c = 0; c < 3; ++c) differ += a.mean.pixels[i][c] != b.mean.pixels[i][c];
     EXPECT_EQ(differ, 0) << "pixel-channels differing between --threads 1 and --threads 2";
+}
+
+}  // namespace
+
+TEST(OpenPglVolpath, SameSeedSameImageForAnyThreadCount) {
+    REQUIRE_OPENPGL();
+    expect_openpgl_thread_independent("");
+}
+
+TEST(OpenPglVolpath, VspSameSeedSameImageForAnyThreadCount) {
+    REQUIRE_OPENPGL_VSP();
+    expect_openpgl_thread_independent(
+        R"(<scene version="3.0.0"><integrator type="openpgl_volpath"><integer name="max_depth" value="$max_depth"/>)"
+        R"(<boolean name="vsp" value="true"/></integrator></scene>)");
 }
 
 // Without training (training_spp = 0) the field never guides, and the policy draws exactly the
