@@ -28,7 +28,7 @@ BENCH_ARGS ?=
 # CTest label expression for `make test`; CI runs everything.
 TEST_ARGS ?=
 
-.PHONY: deps deps-demo configure build python test install demo bench bench-micro bench-distributed clean format fuzz test-sanitize
+.PHONY: deps deps-demo configure build build-openpgl08 python test install demo bench bench-micro bench-distributed clean format fuzz test-sanitize
 
 deps:
 	@scripts/install-deps.sh $(APT_PACKAGES)
@@ -70,6 +70,14 @@ demo: deps-demo
 	  -DVOLGUIDE_DEMO_ONLY=ON
 	cmake --build $(BUILD_DIR) -j $(JOBS) --target volguide_cli
 	@scripts/demo.sh $(BUILD_DIR)
+
+# The VSPG peer's binary (issue 37): the CLI linking Open PGL 0.8 in a build directory of its own (one
+# build links one Open PGL); `make bench BENCH_ARGS="--openpgl08-build-dir build-pgl08"` runs its row.
+OPENPGL08_BUILD_DIR ?= build-pgl08
+build-openpgl08: deps-demo
+	@[ -f $(OPENPGL08_BUILD_DIR)/CMakeCache.txt ] || cmake -S . -B $(OPENPGL08_BUILD_DIR) -DCMAKE_BUILD_TYPE=Release \
+	  $(filter-out -DVOLGUIDE_WITH_OPENPGL=OFF,$(DEMO_OPTIONS)) -DVOLGUIDE_WITH_OPENPGL=ON -DVOLGUIDE_OPENPGL_SOURCE=0.8
+	cmake --build $(OPENPGL08_BUILD_DIR) -j $(JOBS) --target volguide_cli
 
 bench: build
 	@scripts/bench.sh $(BUILD_DIR) $(if $(QUICK),--quick) $(if $(TIME),--time $(TIME)) $(BENCH_ARGS)
