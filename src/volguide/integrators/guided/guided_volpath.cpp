@@ -31,6 +31,7 @@ void GuidedVolPathIntegrator::preprocess(const Scene& scene, const PreprocessCon
     online_updated_spp_ = 0;
     online_seconds_ = 0;
     walk_.preprocess(scene, context);
+    warn_vsp_equiangular(scene);
     if (settings_.online_spp > 0 && given_prepass_)
         throw InputError(settings_.location, "guided_volpath: online_spp cannot continue a given pre-pass (render "
                                              "--field): it rebuilds the field from the training's samples");
@@ -54,6 +55,17 @@ void GuidedVolPathIntegrator::record_field_stats() {
     training_stats_.insert(training_stats_.end(), {{"field_leaves", double(field_.tree().leaf_count())},
                                                    {"field_valid_leaves", double(valid)},
                                                    {"field_depth", double(field_.tree().depth())}});
+}
+
+void GuidedVolPathIntegrator::warn_vsp_equiangular(const Scene& scene) const {
+    if (settings_.guide.distance != DistanceGuiding::Vsp || !(settings_.guide.vsp_equiangular > 0.f)) return;
+    bool heterogeneous = scene.sensor().medium() && !scene.sensor().medium()->is_homogeneous();
+    for (const auto& shape : scene.shapes())
+        for (const Medium* m : {shape->interior_medium(), shape->exterior_medium()})
+            if (m && !m->is_homogeneous()) heterogeneous = true;
+    if (heterogeneous)
+        warn(settings_.location, "guided_volpath: vsp_equiangular applies in homogeneous media only; heterogeneous "
+                                 "media keep the resampled vsp decision without equiangular sampling");
 }
 
 void GuidedVolPathIntegrator::build_from_field(const Scene& scene, const PreprocessContext& context, bool update) {

@@ -90,6 +90,8 @@ private:
     // The guide, the pixel estimate, RR/splitting and the learned selection of field_ (preprocess(),
     // and every online update, `update` true: the RR/splitting statistics carry on).
     void build_from_field(const Scene& scene, const PreprocessContext& context, bool update);
+    // vsp_equiangular is homogeneous only (walk_guide.h): says so where the scene has other media.
+    void warn_vsp_equiangular(const Scene& scene) const;
     void record_field_stats();
     void online_update(int spp_done);
     double pixel_estimate_seconds_ = 0;

@@ -31,7 +31,7 @@ std::vector<std::pair<std::string, double>> WalkGuideStats::named() const {
 }
 
 WalkGuide::WalkGuide(const Scene& scene, const GuidingField& field, const WalkGuideSettings& settings)
-    : field_(field), settings_(settings) {
+    : scene_(scene), field_(field), settings_(settings) {
     if (settings_.direction_indirect) {
         direction_leaves_.resize(field.leaves().size());
         for (size_t i = 0; i < field.leaves().size(); ++i) {
@@ -176,7 +176,13 @@ FreeFlightSample WalkGuide::vsp_distance(const Medium& medium, const Ray& ray, f
     const float c = std::max(1.f - (1.f - c_T) * confidence, kVspMinUnguided);
     const float P = vsp.probability(guided, c);
     const float u_decide = sampler.next_1d(), u_channel = sampler.next_1d(), u_t = sampler.next_1d();
-    const HomogeneousVsp::Sample vs = vsp.sample(P, u_decide, u_channel, u_t);
+    // The equiangular share (§7.10.1): a light point drawn only for a scatter (2 numbers).
+    std::optional<EquiangularSampler> toward_light;
+    if (u_decide < P && settings_.vsp_equiangular > 0.f && medium.sample_emitters())
+        toward_light = vsp_equiangular_toward_light(scene_, ray, tmax, sampler);
+    const VspEquiangular equi{toward_light ? &*toward_light : nullptr, settings_.vsp_equiangular};
+    const HomogeneousVsp::Sample vs = vsp.sample(P, u_decide, u_channel, u_t, equi);
+    stats.vsp_equiangular += vs.scattered && equi.active();
     FreeFlightSample fs;
     fs.t = vs.t;
     fs.weight = fs.flight_weight = vs.flight_weight;
@@ -189,7 +195,7 @@ FreeFlightSample WalkGuide::vsp_distance(const Medium& medium, const Ray& ray, f
     }
     // The mixture's parts for the selection pilot: the density (or probability) of the outcome
     // under the unguided and the guided decision.
-    const float cond = vs.scattered ? vsp.conditional_pdf(vs.t) : 1.f;
+    const float cond = vs.scattered ? vsp.conditional_pdf(vs.t, equi) : 1.f;
     const float pu = vs.scattered ? vsp.unguided() * cond : 1.f - vsp.unguided();
     const float pg = vs.scattered ? guided * cond : 1.f - guided;
     if (vs.pdf > 0.f && P < 1.f) scratch.decision = {true, origin, vs.pdf, pu, pg};  // P = 1: forced, not the mixture

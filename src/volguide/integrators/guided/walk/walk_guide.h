@@ -62,6 +62,10 @@ struct WalkGuideSettings {
     // (guiding/leaf_groups.h) instead of single leaves: fewer bins per decision. 0: leaves.
     // Needs the tables (estimate_table > 0).
     float distance_merge = 0.f;
+    // distance=vsp in homogeneous media: the share e of the distance conditioned on scattering drawn
+    // equiangularly toward a light point (vsp_distance.h, docs/theory.md §7.10.1); 0: free flight only.
+    // Heterogeneous media keep the resampled decision without it (guided_volpath warns).
+    float vsp_equiangular = 0.f;
     // Guiding confidence of a leaf: min(1, leaf_tau_max / tau_leaf), tau_leaf = sigma_t (channel
     // average, at the vertex / of the bin's proxy) x the cube root of the leaf's volume. A leaf many
     // mean free paths across holds one estimate for radiance that varies on the scale of a free path
@@ -110,6 +114,8 @@ struct WalkGuideSettings {
     X(vsp_unguided, "distance_vsp_unguided_fraction", vsp_queries)                                         \
     /* ... by resampling the segment's tentative collisions (heterogeneous media) */                      \
     X(vsp_resampled, "distance_vsp_resampled_fraction", vsp_queries)                                       \
+    /* ... whose scatter distance came from the equiangular mixture (a light point to aim at) */            \
+    X(vsp_equiangular, "distance_vsp_equiangular_fraction", vsp_scattered)                                 \
     /* directions sampled at medium vertices */                                                            \
     X(direction_samples, "direction_samples", 1)                                                           \
     /* ... from the guiding VMM (the rest from the phase function) */                                      \
@@ -264,6 +270,7 @@ class WalkGuide {
     // says nothing scatters (a leaf's estimate is one value for a whole segment).
     static constexpr float kVspMinUnguided = 0.1f;
 
+    const Scene& scene_;
     const GuidingField& field_;
     WalkGuideSettings settings_;
     std::map<float, InscatterCache> inscatter_;  // by phase mean cosine
