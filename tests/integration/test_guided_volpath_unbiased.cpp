@@ -595,3 +595,49 @@ TEST(GuidedVolPathUnbiased, VspDistanceIsUnbiased) {
     EXPECT_GT(h.at("distance_vsp_resampled_fraction"), 0.5);
     EXPECT_GT(h.at("distance_vsp_scattered_fraction"), 0.05);
 }
+
+// Issue 37, deliverable 5: distance="vsp" with the equiangular share (docs/theory.md §7.10.1) toward
+// the point light: the point-lit fog's image means match volpath's for shares 0.5 and 1 (the
+// distance conditioned on scattering all equiangular), and the statistics show the equiangular
+// mixture drew the scatter distances. The heterogeneous (chromatic) fog keeps the resampled decision
+// without it (homogeneous only, guided_volpath warns) and stays unbiased.
+TEST(GuidedVolPathUnbiased, VspEquiangularIsUnbiased) {
+    TempDir dir("guided-vsp-equi");
+    const std::string grid = write_furnace_grid(dir);
+    for (bool het : {false, true}) {
+        SCOPED_TRACE(het ? "heterogeneous" : "homogeneous");
+        Rendered ref = render_scene_xml(lit_fog_xml(het, grid, R"(<integrator type="volpath"/>)"), 1024, 5, false);
+        for (const char* e : {"0.5", "1"}) {
+            SCOPED_TRACE(e);
+            const std::string equi = fmt::format(R"(<float name="vsp_equiangular" value="{}"/>)", e);
+            Rendered g =
+                render_scene_xml(lit_fog_xml(het, grid, guided("vsp", "product", 200000, -1.f, equi)), 1024, 8, false);
+            expect_same_means(g, ref);
+            const auto s = guide_stats(lit_fog_xml(het, grid, guided("vsp", "product", 200000, -1.f, equi)));
+            if (het) {
+                EXPECT_EQ(s.at("distance_vsp_equiangular_fraction"), 0.0);
+            } else {
+                EXPECT_GT(s.at("distance_vsp_equiangular_fraction"), 0.9);
+            }
+        }
+    }
+}
+
+// A chromatic heterogeneous medium three times denser than the lit fog's (optical depths of several
+// mean free paths per channel, channel 1 half the others): distance="vsp" (the resampled decision,
+// per-channel weights) against volpath.
+TEST(GuidedVolPathUnbiased, VspDenseChromaticHeterogeneousMatchesVolpath) {
+    TempDir dir("guided-vsp-dense");
+    const std::string grid = write_furnace_grid(dir);
+    auto dense = [&](const std::string& integrator) {
+        std::string xml = lit_fog_xml(true, grid, integrator);
+        const std::string scale = R"(<float name="scale" value="0.3"/>)";
+        EXPECT_NE(xml.find(scale), std::string::npos);
+        return xml.replace(xml.find(scale), scale.size(), R"(<float name="scale" value="1"/>)");
+    };
+    Rendered ref = render_scene_xml(dense(R"(<integrator type="volpath"/>)"), 1024, 5, false);
+    Rendered g = render_scene_xml(dense(guided("vsp", "product", 200000)), 1024, 8, false);
+    expect_same_means(g, ref);
+    const auto s = guide_stats(dense(guided("vsp", "product", 200000)));
+    EXPECT_GT(s.at("distance_vsp_resampled_fraction"), 0.5);
+}
