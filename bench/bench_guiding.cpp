@@ -20,7 +20,7 @@
 //    direction; the argument is distance_merge x 100 (0: leaves; else LeafGroups). Counters:
 //    `bins` per query and `leaf_groups` (0: leaves).
 //  - SegmentDecision/{0,1,2}: one distance decision from a medium vertex of known leaf in the demo's
-//    homogeneous fog: free flight, distance="vsp" (one lookup per segment), the incremental bins;
+//    homogeneous fog: free flight, distance="vsp" (one lookup per segment; vsp_equiangular 0), the incremental bins;
 //  - SegmentDecisionEquiangular/{0,1,2}: the same from random points of bench/scenes/foglamp.xml's fog
 //    (a small spherical lamp; its own 1 M-photon field): free flight, distance="vsp", distance="vsp"
 //    with vsp_equiangular 0.5 (a light sample per scatter, the mixture's density); counters
@@ -349,6 +349,7 @@ void BM_SegmentDecision(benchmark::State& state) {
     WalkGuideSettings settings;
     settings.distance = state.range(0) == 2 ? DistanceGuiding::Incremental : DistanceGuiding::Vsp;
     settings.direction = DirectionGuiding::Product;
+    settings.vsp_equiangular = 0.f;  // the demo's lights are directional and an environment: nothing to aim at
     const WalkGuide guide(scene, field, settings);
     const BBox3f b = field.tree().bounds();
     struct Query {

@@ -65,8 +65,9 @@ struct WalkGuideSettings {
     float distance_merge = 0.f;
     // distance=vsp in homogeneous media: the share e of the distance conditioned on scattering drawn
     // equiangularly toward a light point (vsp_distance.h, docs/theory.md §7.10.1); 0: free flight only.
-    // Heterogeneous media keep the resampled decision without it (guided_volpath warns).
-    float vsp_equiangular = 0.f;
+    // Heterogeneous media keep the resampled decision without it (guided_volpath warns). Default from
+    // the fixed-spp comparison on bench/scenes/foglamp.xml (bench/RESULTS.md, issue 37).
+    float vsp_equiangular = 0.5f;
     // distance=vsp: camera segments take P_G from the raymarched pixel estimate's camera-ray buffer
     // (PixelEstimate::camera_scatter_probability, docs/theory.md §7.10.2) instead of the camera's leaf.
     // guided_volpath makes the raymarch for it (pixel_estimate=render and a given pre-pass have none:
