@@ -20,7 +20,11 @@
 //    direction; the argument is distance_merge x 100 (0: leaves; else LeafGroups). Counters:
 //    `bins` per query and `leaf_groups` (0: leaves).
 //  - SegmentDecision/{0,1,2}: one distance decision from a medium vertex of known leaf in the demo's
-//    homogeneous fog: free flight, distance="vsp" (one lookup per segment), the incremental bins;
+//    homogeneous fog: free flight, distance="vsp" (one lookup per segment; vsp_equiangular 0), the incremental bins;
+//  - SegmentDecisionEquiangular/{0,1,2}: the same from random points of bench/scenes/foglamp.xml's fog
+//    (a small spherical lamp; its own 1 M-photon field): free flight, distance="vsp", distance="vsp"
+//    with vsp_equiangular 0.5 (a light sample per scatter, the mixture's density); counters
+//    `scattered` and `equiangular` (the fraction of scatters drawn from the mixture);
 //  - LeafTableLookup: one bin's read of L~_i and L~ from a leaf's 16x16 table (LeafEstimates::lookup,
 //    the ray's direction prepared once), random leaves of the demo field;
 //  - RouletteEstimate: the E[X] lookup of guided RR / splitting at a medium vertex
@@ -345,6 +349,7 @@ void BM_SegmentDecision(benchmark::State& state) {
     WalkGuideSettings settings;
     settings.distance = state.range(0) == 2 ? DistanceGuiding::Incremental : DistanceGuiding::Vsp;
     settings.direction = DirectionGuiding::Product;
+    settings.vsp_equiangular = 0.f;  // the demo's lights are directional and an environment: nothing to aim at
     const WalkGuide guide(scene, field, settings);
     const BBox3f b = field.tree().bounds();
     struct Query {
@@ -376,6 +381,65 @@ void BM_SegmentDecision(benchmark::State& state) {
     }
     state.counters["scattered"] = double(scattered) / double(std::max<uint64_t>(i, 1));
     state.SetLabel(state.range(0) == 0 ? "free flight" : state.range(0) == 1 ? "vsp" : "incremental bins");
+}
+
+Scene& foglamp_scene() {
+    static std::unique_ptr<Scene> scene = load_scene(std::string(VOLGUIDE_SOURCE_DIR) + "/bench/scenes/foglamp.xml");
+    return *scene;
+}
+
+const GuidingField& foglamp_field() {
+    static GuidingField f = [] {
+        PhotonPassSettings ps;
+        ps.photons = kPhotons;
+        return GuidingField::build(guiding_bounds(foglamp_scene()),
+                                   trace_photons(foglamp_scene(), ps, PreprocessContext{}).samples);
+    }();
+    return f;
+}
+
+// Issue 37, deliverable 5: BM_SegmentDecision's query (a vertex of known leaf, a random direction to
+// the field's bounds) in foglamp's fog, whose lamp equiangular sampling can aim at: range(0) = 0 free
+// flight, 1 distance="vsp", 2 distance="vsp" with vsp_equiangular 0.5.
+void BM_SegmentDecisionEquiangular(benchmark::State& state) {
+    const Scene& scene = foglamp_scene();
+    const GuidingField& field = foglamp_field();
+    const Medium* medium = scene.sensor().medium();
+    if (!medium || !medium->is_homogeneous()) {
+        state.SkipWithError("foglamp's camera is not in a homogeneous medium");
+        return;
+    }
+    WalkGuideSettings settings;
+    settings.distance = DistanceGuiding::Vsp;
+    settings.direction = DirectionGuiding::Product;
+    settings.vsp_equiangular = state.range(0) == 2 ? 0.5f : 0.f;
+    const WalkGuide guide(scene, field, settings);
+    // Vertices inside the box (the fog's cube: |x|, |y| < 1, z in (-1, 1)).
+    std::vector<std::pair<Ray, int>> queries;
+    for (int i = 0; i < 4096; ++i) {
+        Sampler s(7, 0, uint64_t(i));
+        const Point3f o(1.9f * s.next_1d() - 0.95f, 1.9f * s.next_1d() - 0.95f, 1.9f * s.next_1d() - 0.95f);
+        queries.push_back({Ray(o, warp::square_to_uniform_sphere(s.next_2d())), field.tree().leaf_at(o)});
+    }
+    const BBox3f b = field.tree().bounds();
+    DistanceScratch scratch;
+    uint64_t i = 0, scattered = 0;
+    for (auto _ : state) {
+        const auto& [ray, leaf] = queries[i & 4095];
+        float t0, t1;
+        b.ray_intersect(ray, t0, t1);
+        Sampler rng(3, 0, i++);
+        VertexLeaf vertex_leaf{leaf};
+        const FreeFlightSample f = state.range(0) == 0
+                                       ? medium->sample_free_flight(ray, t1, Color3(1.f), rng)
+                                       : guide.sample_distance(*medium, ray, t1, Color3(1.f), rng, vertex_leaf, scratch);
+        scattered += f.scattered;
+        benchmark::DoNotOptimize(f);
+    }
+    const WalkGuideStats st = guide.stats();
+    state.counters["scattered"] = double(scattered) / double(std::max<uint64_t>(i, 1));
+    state.counters["equiangular"] = st.vsp_scattered ? double(st.vsp_equiangular) / double(st.vsp_scattered) : 0.0;
+    state.SetLabel(state.range(0) == 0 ? "free flight" : state.range(0) == 1 ? "vsp" : "vsp, vsp_equiangular 0.5");
 }
 
 void BM_RouletteEstimate(benchmark::State& state) {
@@ -473,6 +537,7 @@ BENCHMARK(BM_GuidedDirection<DirectionGuiding::Incident, Pdf>)->Name("BM_GuidedD
 BENCHMARK(BM_DistanceQuery)->Arg(0)->Arg(30)->Arg(50);
 BENCHMARK(BM_LeafTableLookup);
 BENCHMARK(BM_SegmentDecision)->Arg(0)->Arg(1)->Arg(2);
+BENCHMARK(BM_SegmentDecisionEquiangular)->Arg(0)->Arg(1)->Arg(2);
 BENCHMARK(BM_RouletteEstimate);
 BENCHMARK(BM_LeafWalk<true>)->Name("BM_LeafWalkCursor")->Arg(2000)->Arg(50000);
 BENCHMARK(BM_LeafWalk<false>)->Name("BM_LeafWalkTraverse")->Arg(2000)->Arg(50000);

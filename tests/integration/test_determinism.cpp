@@ -35,16 +35,21 @@ void expect_deterministic(const Renders& r, const std::string& what) {
     EXPECT_FALSE(r.other_seed == r.one_thread) << what << ": the seed has no effect";
 }
 
-// render_three on the benchmark's fog-filled Cornell box at 32x24 with guided_volpath and the
-// integrator parameters `params` (XML elements).
-Renders guided_fogbox(const std::string& params, const std::string& tag) {
+// render_three on the benchmark scene `bench_scene` at 32x24 with guided_volpath and the integrator
+// parameters `params` (XML elements).
+Renders guided_bench_scene(const std::string& bench_scene, const std::string& params, const std::string& tag) {
     TempDir dir(tag + "-settings");
     const std::string integrator = dir.write(
         "integrator.xml",
         R"(<scene version="3.0.0"><integrator type="guided_volpath"><integer name="max_depth" value="$max_depth"/>)" +
             params + "</integrator></scene>");
-    return render_three(source_dir() + "/bench/scenes/fogbox.xml",
+    return render_three(source_dir() + "/bench/scenes/" + bench_scene + ".xml",
                         {"width=32", "height=24", "integrator=guided_volpath", "integrator_xml=" + integrator}, tag);
+}
+
+// ... on the benchmark's fog-filled Cornell box.
+Renders guided_fogbox(const std::string& params, const std::string& tag) {
+    return guided_bench_scene("fogbox", params, tag);
 }
 
 }  // namespace
@@ -104,4 +109,22 @@ TEST(Determinism, VspDistanceSameImageForOneAndTwoThreads) {
     expect_deterministic(guided_fogbox(R"(<integer name="photons" value="200000"/><string name="distance" value="vsp"/>)",
                                        "determinism-vsp"),
                          "guided fogbox, distance=vsp");
+}
+
+// ... with the equiangular share of the conditional distance (a light point drawn per scatter,
+// docs/theory.md §7.10.1) at 0.5 and 1.
+TEST(Determinism, VspEquiangularSameImageForOneAndTwoThreads) {
+    for (const char* e : {"0.5", "1"})
+        expect_deterministic(guided_fogbox(std::string(R"(<integer name="photons" value="200000"/><string name="distance" value="vsp"/>)"
+                                                       R"(<float name="vsp_equiangular" value=")") + e + R"("/>)",
+                                           "determinism-vsp-equi"),
+                             std::string("guided fogbox, distance=vsp, vsp_equiangular=") + e);
+}
+
+// ... in the heterogeneous cloud: the resampled segment decision (a data-dependent number of
+// tentative collisions per segment).
+TEST(Determinism, VspResampledSameImageForOneAndTwoThreads) {
+    expect_deterministic(guided_bench_scene("cloud", R"(<integer name="photons" value="200000"/><string name="distance" value="vsp"/>)",
+                                            "determinism-vsp-cloud"),
+                         "guided cloud, distance=vsp");
 }

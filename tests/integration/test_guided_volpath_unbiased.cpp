@@ -595,3 +595,88 @@ TEST(GuidedVolPathUnbiased, VspDistanceIsUnbiased) {
     EXPECT_GT(h.at("distance_vsp_resampled_fraction"), 0.5);
     EXPECT_GT(h.at("distance_vsp_scattered_fraction"), 0.05);
 }
+
+// Issue 37, deliverable 5: distance="vsp" with the equiangular share (docs/theory.md §7.10.1) toward
+// the point light: the point-lit fog's image means match volpath's for shares 0.5 and 1 (the
+// distance conditioned on scattering all equiangular), and the statistics show the equiangular
+// mixture drew the scatter distances. The heterogeneous (chromatic) fog keeps the resampled decision
+// without it (homogeneous only, guided_volpath warns) and stays unbiased.
+TEST(GuidedVolPathUnbiased, VspEquiangularIsUnbiased) {
+    TempDir dir("guided-vsp-equi");
+    const std::string grid = write_furnace_grid(dir);
+    for (bool het : {false, true}) {
+        SCOPED_TRACE(het ? "heterogeneous" : "homogeneous");
+        Rendered ref = render_scene_xml(lit_fog_xml(het, grid, R"(<integrator type="volpath"/>)"), 1024, 5, false);
+        for (const char* e : {"0.5", "1"}) {
+            SCOPED_TRACE(e);
+            const std::string equi = fmt::format(R"(<float name="vsp_equiangular" value="{}"/>)", e);
+            Rendered g =
+                render_scene_xml(lit_fog_xml(het, grid, guided("vsp", "product", 200000, -1.f, equi)), 1024, 8, false);
+            expect_same_means(g, ref);
+            const auto s = guide_stats(lit_fog_xml(het, grid, guided("vsp", "product", 200000, -1.f, equi)));
+            if (het) {
+                EXPECT_EQ(s.at("distance_vsp_equiangular_fraction"), 0.0);
+            } else {
+                EXPECT_GT(s.at("distance_vsp_equiangular_fraction"), 0.9);
+            }
+        }
+    }
+}
+
+// A chromatic heterogeneous medium three times denser than the lit fog's (optical depths of several
+// mean free paths per channel, channel 1 half the others): distance="vsp" (the resampled decision,
+// per-channel weights) against volpath.
+TEST(GuidedVolPathUnbiased, VspDenseChromaticHeterogeneousMatchesVolpath) {
+    TempDir dir("guided-vsp-dense");
+    const std::string grid = write_furnace_grid(dir);
+    auto dense = [&](const std::string& integrator) {
+        std::string xml = lit_fog_xml(true, grid, integrator);
+        const std::string scale = R"(<float name="scale" value="0.3"/>)";
+        EXPECT_NE(xml.find(scale), std::string::npos);
+        return xml.replace(xml.find(scale), scale.size(), R"(<float name="scale" value="1"/>)");
+    };
+    Rendered ref = render_scene_xml(dense(R"(<integrator type="volpath"/>)"), 1024, 5, false);
+    Rendered g = render_scene_xml(dense(guided("vsp", "product", 200000)), 1024, 8, false);
+    expect_same_means(g, ref);
+    const auto s = guide_stats(dense(guided("vsp", "product", 200000)));
+    EXPECT_GT(s.at("distance_vsp_resampled_fraction"), 0.5);
+}
+
+// Issue 37, deliverable 3: camera segments take P_G from the raymarched pixel estimate's per-pixel
+// buffer (docs/theory.md §7.10.2; on by default with distance="vsp", so VspDistanceIsUnbiased runs with
+// it): the buffer exists, holds probabilities, and is read by the camera segments' decisions (the
+// fraction of vsp queries made from it); vsp_camera_buffer=false reads none. The point-lit fog stays
+// unbiased with the buffer in the heterogeneous medium too, and with it off.
+TEST(GuidedVolPathUnbiased, VspCameraBufferIsUsedAndUnbiased) {
+    TempDir dir("guided-vsp-camera");
+    const std::string grid = write_furnace_grid(dir);
+    {
+        auto scene = load_scene(dir.write("s.xml", lit_fog_xml(false, grid, guided("vsp", "product", 200000))));
+        RenderOptions ro;
+        ro.spp = 1;
+        render(*scene, ro);
+        const auto& moment = dynamic_cast<const MomentIntegrator&>(scene->integrator());
+        const auto& g = dynamic_cast<const GuidedVolPathIntegrator&>(moment.nested());
+        int valid = 0;
+        for (int y = 0; y < 12; ++y)
+            for (int x = 0; x < 12; ++x) {
+                const float p = g.pixel_estimate().camera_scatter_probability(Point2f((x + 0.5f) / 12.f, (y + 0.5f) / 12.f));
+                if (std::isnan(p)) continue;
+                ++valid;
+                EXPECT_GE(p, 0.f);
+                EXPECT_LE(p, 1.f);
+            }
+        EXPECT_GT(valid, 72);  // the fog box fills most of the view
+    }
+    const auto on = guide_stats(lit_fog_xml(false, grid, guided("vsp", "product", 200000)));
+    EXPECT_GT(on.at("distance_vsp_camera_fraction"), 0.0);
+    const std::string off_xml = R"(<boolean name="vsp_camera_buffer" value="false"/>)";
+    const auto off = guide_stats(lit_fog_xml(false, grid, guided("vsp", "product", 200000, -1.f, off_xml)));
+    EXPECT_EQ(off.at("distance_vsp_camera_fraction"), 0.0);
+    Rendered ref = render_scene_xml(lit_fog_xml(true, grid, R"(<integrator type="volpath"/>)"), 1024, 5, false);
+    Rendered g = render_scene_xml(lit_fog_xml(true, grid, guided("vsp", "product", 200000)), 1024, 9, false);
+    expect_same_means(g, ref);
+    Rendered o = render_scene_xml(lit_fog_xml(false, grid, guided("vsp", "product", 200000, -1.f, off_xml)), 1024, 9, false);
+    Rendered oref = render_scene_xml(lit_fog_xml(false, grid, R"(<integrator type="volpath"/>)"), 1024, 5, false);
+    expect_same_means(o, oref);
+}

@@ -49,8 +49,32 @@ Image smoothed_variance(const Image& var, int r) {
     return out;
 }
 
-// `scene` = XML file stem; its reference is the stem without the integrator suffix.
-void run_media_conformance(const std::string& scene, const std::string& integrator) {
+// Replaces every occurrence of `from` in `text` (which must contain it) by `to`.
+std::string media_replace_all(std::string text, const std::string& from, const std::string& to) {
+    EXPECT_NE(text.find(from), std::string::npos) << from;
+    for (size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size()))
+        text.replace(at, from.size(), to);
+    return text;
+}
+
+// The suite scene `scene` with `params` (XML elements) added to the nested integrator, written into
+// `dir` (the suite is read-only): a copy of the scene whose <path> points into the suite, beside
+// copies of the include files that declare the integrator (found first, from the scene's folder).
+std::string media_scene_with_params(const TempDir& dir, const std::string& scene, const std::string& params) {
+    const std::string suite_root = kMediaSuite + "/../../..";
+    std::string xml = read_file(kMediaSuite + "/" + scene + ".xml");
+    xml = media_replace_all(xml, R"(<path value="../../../common"/>)",
+                            "<path value=\"" + suite_root + "/common\"/><path value=\"" + kMediaSuite + "\"/>");
+    std::filesystem::create_directories(dir.path() / "include");
+    for (const char* base : {"include/test-scene-base.xml", "include/test-scene-base-no-bg.xml"})
+        dir.write(base, media_replace_all(read_file(kMediaSuite + "/" + base), R"(<integrator type="$integrator">)",
+                                          R"(<integrator type="$integrator">)" + params));
+    return dir.write(scene + ".xml", xml);
+}
+
+// `scene` = XML file stem; its reference is the stem without the integrator suffix. `params`: XML
+// elements added to the integrator (empty: the scene as it is).
+void run_media_conformance(const std::string& scene, const std::string& integrator, const std::string& params = "") {
     if (!std::filesystem::exists(kMediaSuite)) GTEST_SKIP() << "SKIPPED: " << kMediaSuite << " is absent";
     const std::string suffix = "_" + scene.substr(scene.rfind('_') + 1);
     const std::string ref_name = scene.substr(0, scene.size() - suffix.size());
@@ -60,11 +84,12 @@ void run_media_conformance(const std::string& scene, const std::string& integrat
     const int spp = int(2e6 / (double(ref_img.width) * ref_img.height) + 0.5);
 
     TempDir dir("conformance-media-" + scene + "-" + integrator);
+    const std::string scene_file = params.empty() ? xml : media_scene_with_params(dir, scene, params);
     // Mitsuba's reference variance is volpath's: an estimator with another variance (guided_volpath)
     // is tested with its own per-sample variance, in RGB (a variance image cannot be mapped to XYZ
     // without the channels' covariance).
     const bool own_variance = integrator == "guided_volpath";
-    std::vector<std::string> cmd = {"render", xml,
+    std::vector<std::string> cmd = {"render", scene_file,
                                     "-o",     dir.file("out.exr"),
                                     "-D",     "integrator=" + integrator,
                                     "--spp",  std::to_string(spp),
@@ -144,3 +169,24 @@ GUIDED_SCENE(HomoObjInsideMedium, "test_homo_obj_inside_medium_volpath")
 GUIDED_SCENE(HomoRoughDielectricSpot, "test_homo_roughdielectric_spot_volpath")
 GUIDED_SCENE(HomoSpectralSigmatMis, "test_homo_spectral_sigmat_volpathmis")
 GUIDED_SCENE(SurfAreaLight, "test_surf_area_light_volpath")
+
+// distance="vsp" (issue 37, docs/theory.md §7.10) in the full system on the same scenes, the same
+// test: the closed-form segment decision (with its equiangular share, §7.10.1) in the homogeneous
+// scenes, the resampled one in the heterogeneous (chromatic: the spectral ones) scenes.
+#define GUIDED_VSP_SCENE(test_name, scene)                                                  \
+    TEST(MitsubaConformanceMediaGuidedVsp, test_name) {                                     \
+        run_media_conformance(scene, "guided_volpath", R"(<string name="distance" value="vsp"/>)"); \
+    }
+
+GUIDED_VSP_SCENE(HeteroSigmatAlbedo, "test_hetero_sigmat_albedo_volpath")
+GUIDED_VSP_SCENE(HeteroSigmat, "test_hetero_sigmat_volpath")
+GUIDED_VSP_SCENE(HeteroSpectralSigmatNoScattering, "test_hetero_spectral_sigmat_no_scattering_volpath")
+GUIDED_VSP_SCENE(HeteroSpectralSigmatMis, "test_hetero_spectral_sigmat_volpathmis")
+GUIDED_VSP_SCENE(HomoAreaLight, "test_homo_area_light_volpath")
+GUIDED_VSP_SCENE(HomoDielectricEnvmap, "test_homo_dielectric_envmap_volpath")
+GUIDED_VSP_SCENE(HomoEmitterInsideMedium, "test_homo_emitter_inside_medium_volpath")
+GUIDED_VSP_SCENE(HomoNullEnvmap, "test_homo_null_envmap_volpath")
+GUIDED_VSP_SCENE(HomoObjInsideMedium, "test_homo_obj_inside_medium_volpath")
+GUIDED_VSP_SCENE(HomoRoughDielectricSpot, "test_homo_roughdielectric_spot_volpath")
+GUIDED_VSP_SCENE(HomoSpectralSigmatMis, "test_homo_spectral_sigmat_volpathmis")
+GUIDED_VSP_SCENE(SurfAreaLight, "test_surf_area_light_volpath")

@@ -7,10 +7,13 @@
 //  - int p(t | scatter) dt = 1 (quadrature), so P int p + P(pass) = 1;
 //  - the weights are exact: E[w 1{scatter} f(t)] = int_0^s T_c sigma_s,c f(t) dt and
 //    E[w 1{pass}] = T_c(s) per channel (z-tests, |z| < 4);
+//  - the equiangular share (§7.10.1): the mixture's conditional distance by chi-square against its
+//    CDF, its pdf integrating to 1, and its weights exact by the same z-tests;
 //  - P = P_u gives free flight's weights (T / the spectral mixture density); a guided probability
 //    that never scatters (defensive share 0) must fail the scatter z-test (the test can fail).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <vector>
@@ -100,7 +103,8 @@ TEST(VspDistance, ConditionalPdfIntegratesToOne) {
 
 // Runs n decisions and z-tests the weighted expectations per channel (albedo 0.7); returns the
 // largest |z| of the scatter mass.
-static double check_weights(const Case& k, float guided, float c, int n, bool expect_pass) {
+static double check_weights(const Case& k, float guided, float c, int n, bool expect_pass,
+                            const VspEquiangular& equi = {}) {
     const Color3 q = channel_probabilities(k.throughput);
     const HomogeneousVsp vsp(k.sigma_t, k.s, q);
     const float P = vsp.probability(guided, c);
@@ -109,7 +113,7 @@ static double check_weights(const Case& k, float guided, float c, int n, bool ex
     for (int i = 0; i < n; ++i) {
         Sampler s(9, 0, uint64_t(i));
         const float u0 = s.next_1d(), u1 = s.next_1d(), u2 = s.next_1d();
-        const HomogeneousVsp::Sample x = vsp.sample(P, u0, u1, u2);
+        const HomogeneousVsp::Sample x = vsp.sample(P, u0, u1, u2, equi);
         EXPECT_TRUE(x.flight_weight.is_finite());
         for (int ch = 0; ch < 3; ++ch) {
             const double w = x.flight_weight[ch] * (x.scattered ? k.sigma_t[ch] * albedo : 1.f);
@@ -181,6 +185,100 @@ TEST(VspDistance, UnguidedProbabilityIsFreeFlight) {
     EXPECT_EQ(empty.probability(0.9f, 0.5f), 0.f);
     const HomogeneousVsp opaque(Color3(1.f), Infinity, Color3(1.f / 3.f));
     EXPECT_EQ(opaque.probability(0.2f, 0.5f), 1.f);
+}
+
+// The equiangular share (docs/theory.md §7.10.1): the conditional distance is the mixture
+// (1 - e) p_ff(t | scatter) + e p_eq(t | y) for a light point y off the ray (far and close to the
+// line, where p_eq is peaked). Its CDF here is written independently of the sampler: the free
+// flight's by mixture_cdf, the equiangular one by the angle, (atan((t - D0) / D) - theta_a) / (theta_b - theta_a).
+namespace {
+struct VspEquiLight {
+    Point3f y;
+};
+const VspEquiLight kVspEquiLights[] = {{Point3f(0.6f, 0.8f, 0.f)}, {Point3f(0.3f, 0.05f, 0.02f)}};
+
+double vsp_equi_cdf(const Point3f& y, double s, double t) {
+    // The ray: origin 0, direction +x.
+    const double delta = y.x, dist = std::hypot(double(y.y), double(y.z));
+    const double a = std::atan2(-delta, dist), b = std::isinf(s) ? 0.5 * 3.14159265358979323846 : std::atan2(s - delta, dist);
+    return (std::atan2(t - delta, dist) - a) / (b - a);
+}
+}  // namespace
+
+TEST(VspDistance, EquiangularMixtureChiSquare) {
+    const Ray ray(Point3f(0.f), Vec3f(1.f, 0.f, 0.f));
+    for (const Case& k : kCases)
+        for (const VspEquiLight& light : kVspEquiLights)
+            for (float e : {0.3f, 0.7f, 1.f}) {
+                SCOPED_TRACE(testing::Message() << "sigma_t " << k.sigma_t.b << " s " << k.s << " light y " << light.y.y
+                                                << " e " << e);
+                const Color3 q = channel_probabilities(k.throughput);
+                const HomogeneousVsp vsp(k.sigma_t, k.s, q);
+                const EquiangularSampler eq(ray.o, ray.d, k.s, light.y);
+                ASSERT_TRUE(eq.valid());
+                const VspEquiangular equi{&eq, e};
+                const float P = vsp.probability(0.6f, 0.5f);
+                const int bins = 40;
+                std::vector<uint64_t> counts(bins + 1, 0);  // the last: passes
+                const int n = 200000;
+                for (int i = 0; i < n; ++i) {
+                    Sampler sm(13, 0, uint64_t(i));
+                    const float u0 = sm.next_1d(), u1 = sm.next_1d(), u2 = sm.next_1d();
+                    const HomogeneousVsp::Sample x = vsp.sample(P, u0, u1, u2, equi);
+                    if (!x.scattered) {
+                        ++counts[bins];
+                        continue;
+                    }
+                    ASSERT_GE(x.t, 0.f);
+                    ASSERT_LT(x.t, k.s);
+                    // The pdf the sample reports is the mixture's.
+                    ASSERT_NEAR(x.pdf, P * vsp.conditional_pdf(x.t, equi), 1e-5f * x.pdf);
+                    const double f = (1.0 - e) * mixture_cdf(k, q, x.t, vsp.unguided()) + e * vsp_equi_cdf(light.y, k.s, x.t);
+                    ++counts[std::clamp(int(f * bins), 0, bins - 1)];
+                }
+                std::vector<double> prob(bins, double(P) / bins);
+                prob.push_back(1.0 - P);
+                ChiSquareOptions opt;
+                opt.test_count = 4 * 2 * 3;
+                const ChiSquareResult r = chi2_test_discrete(counts, prob, opt);
+                EXPECT_TRUE(r.passed) << r.report;
+            }
+}
+
+TEST(VspDistance, EquiangularMixturePdfIntegratesToOne) {
+    const Ray ray(Point3f(0.f), Vec3f(1.f, 0.f, 0.f));
+    for (const Case& k : kCases)
+        for (const VspEquiLight& light : kVspEquiLights) {
+            const HomogeneousVsp vsp(k.sigma_t, k.s, channel_probabilities(k.throughput));
+            const EquiangularSampler eq(ray.o, ray.d, k.s, light.y);
+            const float e = 0.4f;
+            const VspEquiangular equi{&eq, e};
+            const double end = std::isinf(k.s) ? 40.0 : double(k.s);
+            const int m = 400000;
+            double integral = 0.0;
+            for (int i = 0; i < m; ++i) integral += vsp.conditional_pdf(float((i + 0.5) * end / m), equi) * end / m;
+            // Beyond 40 on an infinite segment: the free flight's tail is negligible, the equiangular one is not.
+            if (std::isinf(k.s)) integral += e * (1.0 - vsp_equi_cdf(light.y, k.s, end));
+            EXPECT_NEAR(integral, 1.0, 2e-3) << "sigma_t " << k.sigma_t.b << " s " << k.s << " light y " << light.y.y;
+            const float P = vsp.probability(0.3f, 0.5f);
+            EXPECT_NEAR(P * integral + (1.0 - P), 1.0, 2e-3);
+            EXPECT_EQ(vsp.conditional_pdf(-0.1f, equi), 0.f);
+            // No light to aim at (or share 0): the free flight's density, bit for bit.
+            EXPECT_EQ(vsp.conditional_pdf(0.3f, VspEquiangular{nullptr, e}), vsp.conditional_pdf(0.3f));
+            EXPECT_EQ(vsp.conditional_pdf(0.3f, VspEquiangular{&eq, 0.f}), vsp.conditional_pdf(0.3f));
+        }
+}
+
+TEST(VspDistance, EquiangularMixtureWeightsAreExact) {
+    const Ray ray(Point3f(0.f), Vec3f(1.f, 0.f, 0.f));
+    for (const Case& k : kCases)
+        for (const VspEquiLight& light : kVspEquiLights)
+            for (float e : {0.5f, 1.f}) {
+                SCOPED_TRACE(testing::Message() << "sigma_t " << k.sigma_t.b << " s " << k.s << " light y " << light.y.y
+                                                << " e " << e);
+                const EquiangularSampler eq(ray.o, ray.d, k.s, light.y);
+                check_weights(k, 0.6f, 0.3f, 100000, true, VspEquiangular{&eq, e});
+            }
 }
 
 // Heterogeneous media: resampled_segment_flight (the segment's tentative collisions resampled by a

@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 #include "volguide/core/log.h"
 #include "volguide/guiding/field_io.h"
@@ -31,6 +32,7 @@ void GuidedVolPathIntegrator::preprocess(const Scene& scene, const PreprocessCon
     online_updated_spp_ = 0;
     online_seconds_ = 0;
     walk_.preprocess(scene, context);
+    warn_vsp_equiangular(scene);
     if (settings_.online_spp > 0 && given_prepass_)
         throw InputError(settings_.location, "guided_volpath: online_spp cannot continue a given pre-pass (render "
                                              "--field): it rebuilds the field from the training's samples");
@@ -56,6 +58,17 @@ void GuidedVolPathIntegrator::record_field_stats() {
                                                    {"field_depth", double(field_.tree().depth())}});
 }
 
+void GuidedVolPathIntegrator::warn_vsp_equiangular(const Scene& scene) const {
+    if (settings_.guide.distance != DistanceGuiding::Vsp || !(settings_.guide.vsp_equiangular > 0.f)) return;
+    bool heterogeneous = scene.sensor().medium() && !scene.sensor().medium()->is_homogeneous();
+    for (const auto& shape : scene.shapes())
+        for (const Medium* m : {shape->interior_medium(), shape->exterior_medium()})
+            if (m && !m->is_homogeneous()) heterogeneous = true;
+    if (heterogeneous)
+        warn(settings_.location, "guided_volpath: vsp_equiangular applies in homogeneous media only; heterogeneous "
+                                 "media keep the resampled vsp decision without equiangular sampling");
+}
+
 void GuidedVolPathIntegrator::build_from_field(const Scene& scene, const PreprocessContext& context, bool update) {
     record_field_stats();
     estimator_.reset();
@@ -74,6 +87,9 @@ void GuidedVolPathIntegrator::build_from_field(const Scene& scene, const Preproc
             use_given_pixel_estimate();
         else
             make_pixel_estimate(scene, context);
+    } else if (wants_camera_buffer() && !estimator_ && !given_prepass_ &&
+               settings_.pixel_estimate == PixelEstimateMethod::Raymarch) {
+        make_pixel_estimate(scene, context);  // for distance=vsp's camera-ray buffer only
     }
     if (settings_.roulette.mode != RouletteMode::Standard && !estimator_ && !rrs_) {
         rrs_ = std::make_unique<RouletteSplitting>(settings_.roulette);
@@ -277,21 +293,32 @@ void GuidedVolPathIntegrator::use_given_pixel_estimate() {
 }
 
 Color3 GuidedVolPathIntegrator::guided_walk(const Scene& scene, Sampler& sampler, const Ray& ray, float pixel,
-                                            PathRecorder* recorder) const {
+                                            PathRecorder* recorder, float camera_guided) const {
     if (!guide_) return walk_.walk(scene, sampler, ray, nullptr, recorder);
     GuidedWalkPolicy policy(*guide_, rrs_.get(), pixel, ears_ ? &ears_->snapshot() : nullptr);
+    policy.set_camera_segment(ray.d, camera_guided);
     return walk_.walk(scene, sampler, ray, &policy, recorder);
+}
+
+bool GuidedVolPathIntegrator::wants_camera_buffer() const {
+    return guide_ && settings_.guide.distance == DistanceGuiding::Vsp && settings_.guide.vsp_camera_buffer;
+}
+
+float GuidedVolPathIntegrator::camera_guided(const CameraRay& camera) const {
+    if (!wants_camera_buffer()) return std::numeric_limits<float>::quiet_NaN();
+    return pixel_estimate_.camera_scatter_probability(camera.film_uv);
 }
 
 Color3 GuidedVolPathIntegrator::render_walk(const Scene& scene, Sampler& sampler, const CameraRay& camera,
                                             PathRecorder* recorder) const {
     const float pixel = rrs_ ? pixel_estimate_.at(camera.film_uv) : 0.f;
-    if (!ears_) return guided_walk(scene, sampler, camera.ray, pixel, recorder);
+    if (!ears_) return guided_walk(scene, sampler, camera.ray, pixel, recorder, camera_guided(camera));
     // The statistics keep X / I; the decisions compare with the pass's learned estimate I'.
     ContinuationRecorder& learning = ears_->recorder();
     const long px = ears_->pixel(camera.film_uv);
     learning.begin(recorder, px, pixel);
-    const Color3 L = guided_walk(scene, sampler, camera.ray, ears_->snapshot().pixel_estimate(px, pixel), &learning);
+    const Color3 L = guided_walk(scene, sampler, camera.ray, ears_->snapshot().pixel_estimate(px, pixel), &learning,
+                                 camera_guided(camera));
     learning.end();
     return L;
 }
@@ -316,7 +343,8 @@ Color3 GuidedVolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const C
 
 Color3 GuidedVolPathIntegrator::recorded_Li(const Scene& scene, Sampler& sampler, const CameraRay& camera,
                                             PathRecorder& recorder) const {
-    return guided_walk(scene, sampler, camera.ray, rrs_ ? pixel_estimate_.at(camera.film_uv) : 0.f, &recorder);
+    return guided_walk(scene, sampler, camera.ray, rrs_ ? pixel_estimate_.at(camera.film_uv) : 0.f, &recorder,
+                       camera_guided(camera));
 }
 
 std::vector<std::pair<std::string, double>> GuidedVolPathIntegrator::statistics() const {

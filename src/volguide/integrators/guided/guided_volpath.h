@@ -14,6 +14,7 @@
 // it renders exactly what volpath renders.
 #include <tbb/enumerable_thread_specific.h>
 
+#include <limits>
 #include <memory>
 #include <string>
 
@@ -73,8 +74,14 @@ private:
     std::unique_ptr<GuidedPrepass> given_prepass_;  // use_prepass_state(): no training
     // The guided walk along ray, with guided RR/splitting (when rrs_) against the pixel value I;
     // `recorder` (null: none) records its training samples.
+    // `camera_guided`: distance=vsp's P_G for the camera segment (NaN: none; GuidedWalkPolicy::set_camera_segment).
     Color3 guided_walk(const Scene& scene, Sampler& sampler, const Ray& ray, float pixel,
-                       PathRecorder* recorder = nullptr) const;
+                       PathRecorder* recorder = nullptr,
+                       float camera_guided = std::numeric_limits<float>::quiet_NaN()) const;
+    // Whether distance=vsp's camera segments read the pixel estimate's camera-ray buffer, and its value
+    // for a camera sample (NaN: none).
+    bool wants_camera_buffer() const;
+    float camera_guided(const CameraRay& camera) const;
     // Li's guided walk of a camera sample, recorded by `recorder` (may be null) and, with rrs=ears,
     // by the thread's ContinuationRecorder around it.
     Color3 render_walk(const Scene& scene, Sampler& sampler, const CameraRay& camera, PathRecorder* recorder) const;
@@ -90,6 +97,8 @@ private:
     // The guide, the pixel estimate, RR/splitting and the learned selection of field_ (preprocess(),
     // and every online update, `update` true: the RR/splitting statistics carry on).
     void build_from_field(const Scene& scene, const PreprocessContext& context, bool update);
+    // vsp_equiangular is homogeneous only (walk_guide.h): says so where the scene has other media.
+    void warn_vsp_equiangular(const Scene& scene) const;
     void record_field_stats();
     void online_update(int spp_done);
     double pixel_estimate_seconds_ = 0;

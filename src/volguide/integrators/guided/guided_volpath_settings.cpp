@@ -123,7 +123,7 @@ void read_training(const Properties& props, GuidedVolPathSettings& s) {
 }
 
 // distance and its parameters (c_T, p_max, filter_A, distance_denominator, leaf_tau_max,
-// estimate_table, distance_merge, hetero_distance).
+// estimate_table, distance_merge, hetero_distance, vsp_equiangular, vsp_camera_buffer).
 void read_distance(const Properties& props, const VolPathSettings& walk, WalkGuideSettings& g) {
     g.distance = read_choice<DistanceGuiding>(props, "distance", DistanceGuiding::Incremental, kDistance);
     GuidedDistanceSettings& d = g.distance_settings;
@@ -142,6 +142,12 @@ void read_distance(const Properties& props, const VolPathSettings& walk, WalkGui
         props.fail_at("equiangular", "guided_volpath: equiangular sampling cannot be combined with distance={}",
                       choice_name<DistanceGuiding>(kDistance, g.distance));
     g.guided_tracking = read_choice<bool>(props, "hetero_distance", g.guided_tracking, kHeteroDistance);
+    g.vsp_equiangular = unit_interval(props, "vsp_equiangular", g.vsp_equiangular);
+    if (props.has("vsp_equiangular") && g.distance != DistanceGuiding::Vsp)
+        props.fail_at("vsp_equiangular", "guided_volpath: vsp_equiangular needs distance=\"vsp\"");
+    g.vsp_camera_buffer = props.get_bool("vsp_camera_buffer", g.vsp_camera_buffer);
+    if (props.has("vsp_camera_buffer") && g.distance != DistanceGuiding::Vsp)
+        props.fail_at("vsp_camera_buffer", "guided_volpath: vsp_camera_buffer needs distance=\"vsp\"");
 }
 
 // direction and its parameters (phase_prob, direction_radiance, surface_guiding, bsdf_prob).
@@ -272,12 +278,13 @@ std::string GuidedVolPathSettings::to_string() const {
     return fmt::format(
         "max_depth={}, rr_depth={}, rr_rule={}, training={}, photons={}, training_iterations={}, online_spp={}, "
         "leaf_samples={}, leaf_contrast={}, leaf_contrast_samples={}, "
-        "lobes={}, distance={}, distance_merge={}, hetero_distance={}, direction={}, surface_guiding={}, rrs={}, rrs_window={}, "
+        "lobes={}, distance={}, distance_merge={}, vsp_equiangular={}, vsp_camera_buffer={}, hetero_distance={}, direction={}, surface_guiding={}, rrs={}, rrs_window={}, "
         "rrs_branch_budget={}, selection_spp={}, pixel_estimate={}, equiangular={}, estimate={}",
         walk.max_depth, walk.rr_depth, roulette_rule_name(walk.rr_rule), choice_name<TrainingMethod>(kTraining, training), photons,
         training_iterations, online_spp, field.tree.max_samples, field.tree.split_contrast,
         field.tree.contrast_min_samples, field.lobes,
-        choice_name<DistanceGuiding>(kDistance, guide.distance), guide.distance_merge,
+        choice_name<DistanceGuiding>(kDistance, guide.distance), guide.distance_merge, guide.vsp_equiangular,
+        guide.vsp_camera_buffer,
         choice_name<bool>(kHeteroDistance, guide.guided_tracking),
         choice_name<DirectionGuiding>(kDirection, guide.direction), guide.surface,
         choice_name<RouletteMode>(kRrs, roulette.mode), roulette.window, roulette.branch_budget,

@@ -1,6 +1,7 @@
 #include "volguide/integrators/guided/estimates/pixel_estimate.h"
 
 #include <cmath>
+#include <limits>
 
 #include "volguide/core/parallel.h"
 #include "volguide/core/sampler.h"
@@ -36,9 +37,11 @@ float field_irradiance_shape(const Vmm& v, const Vec3f& n) {
     return float(Pi * convolve_exact(v, cosine, n));
 }
 
-// The estimated radiance along one camera ray (see pixel_estimate.h).
+// The estimated radiance along one camera ray (see pixel_estimate.h). `camera_segment`: the channel
+// average of what the first medium segment before any real surface event scatters toward the camera
+// (the march's T sigma_s L~_i over it), in .r, and 1 in .g when the ray has such a segment.
 Color3 march_camera_ray(const Scene& scene, const GuidingField& field, const CacheEstimator& estimator,
-                        const PixelEstimateSettings& settings, Ray ray, Sampler& sampler) {
+                        const PixelEstimateSettings& settings, Ray ray, Sampler& sampler, Color3& camera_segment) {
     const BSDFContext ctx;
     Color3 T(1.f), result(0.f);
     const Medium* medium = scene.sensor().medium();
@@ -48,8 +51,10 @@ Color3 march_camera_ray(const Scene& scene, const GuidingField& field, const Cac
         SurfaceInteraction si;
         const bool hit = scene.intersect(ray, si);
         if (!hit) si = miss_interaction(ray);
+        const float before = result.average();
         if (medium) estimator.march_segment(ray, 0.f, hit ? si.t : ray.tmax, *medium, CacheQuantity::Inscattered,
                                             sampler, T, result);
+        if (medium && from_camera && camera_segment.g == 0.f) camera_segment = Color3(result.average() - before, 1.f, 0.f);
         if (!(T.max_value() > 1e-7f)) break;
         const bool emission_counts = !settings.volume_only && !(from_camera && settings.hide_emitters);
         const Emitter* emitter = hit ? si.shape->emitter() : scene.environment();
@@ -101,18 +106,22 @@ Color3 march_camera_ray(const Scene& scene, const GuidingField& field, const Cac
 // Per pixel, the mean of `count` camera samples of `radiance` (non-finite ones dropped), each on
 // its own stream Sampler(seed, pixel, k, stream); `stratify`: the first floor(sqrt(count))^2
 // samples are stratified over the pixel. Parallel over rows, deterministic for any thread count.
+// `radiance` may also return a second value per sample in its last argument (0 on entry), averaged
+// over the same samples into `aux` when given.
+using CameraSampleValue = std::function<Color3(Sampler&, const Ray&, Color3&)>;
 Image average_camera_samples(const Scene& scene, int count, uint64_t stream, bool stratify,
-                             const PreprocessContext& context,
-                             const std::function<Color3(Sampler&, const Ray&)>& radiance) {
+                             const PreprocessContext& context, const CameraSampleValue& radiance,
+                             Image* aux = nullptr) {
     const Sensor& sensor = scene.sensor();
     const int W = sensor.film().width(), H = sensor.film().height();
     const int strata = stratify ? std::max(1, int(std::sqrt(float(count)))) : 0;
     Image image(W, H);
+    if (aux) *aux = Image(W, H);
     parallel_for(tbb::blocked_range<int>(0, H), [&](const tbb::blocked_range<int>& rows) {
         for (int y = rows.begin(); y != rows.end(); ++y) {
             if (context.cancelled()) return;
             for (int x = 0; x < W; ++x) {
-                Color3 sum(0.f);
+                Color3 sum(0.f), aux_sum(0.f);
                 for (int k = 0; k < count; ++k) {
                     Sampler sampler(context.seed, uint64_t(y) * uint64_t(W) + uint64_t(x), uint64_t(k), stream);
                     Vec2f u = sampler.next_2d();
@@ -120,11 +129,16 @@ Image average_camera_samples(const Scene& scene, int count, uint64_t stream, boo
                         u = Vec2f((float(k % strata) + u.x) / float(strata), (float(k / strata) + u.y) / float(strata));
                     const Point2f pos = film_position(x, y, u);
                     const Point2f film_uv(pos.x / float(W), pos.y / float(H));
+                    Color3 second(0.f);
                     const Color3 L = camera_sample_value(
-                        sensor, film_uv, [&](const CameraRay& camera) { return radiance(sampler, camera.ray); });
-                    if (L.is_finite()) sum += L;
+                        sensor, film_uv, [&](const CameraRay& camera) { return radiance(sampler, camera.ray, second); });
+                    if (L.is_finite() && second.is_finite()) {
+                        sum += L;
+                        aux_sum += second;
+                    }
                 }
                 image.at(x, y) = sum * (1.f / float(count));
+                if (aux) aux->at(x, y) = aux_sum * (1.f / float(count));
             }
         }
     });
@@ -152,7 +166,8 @@ PixelEstimate PixelEstimate::from_image(Image image, float floor_fraction) {
 
 PixelEstimate PixelEstimate::render(const Scene& scene, const std::function<Color3(Sampler&, const Ray&)>& radiance,
                                     int spp, const PixelEstimateSettings& settings, const PreprocessContext& context) {
-    const Image raw = average_camera_samples(scene, spp, kPixelRenderStream, /*stratify=*/false, context, radiance);
+    const Image raw = average_camera_samples(scene, spp, kPixelRenderStream, /*stratify=*/false, context,
+                                             [&](Sampler& sampler, const Ray& ray, Color3&) { return radiance(sampler, ray); });
     const int W = raw.width, H = raw.height;
     Image smooth(W, H);
     for (int y = 0; y < H; ++y)
@@ -173,12 +188,27 @@ PixelEstimate PixelEstimate::render(const Scene& scene, const std::function<Colo
 
 PixelEstimate PixelEstimate::raymarch(const Scene& scene, const GuidingField& field, const CacheEstimator& estimator,
                                       const PixelEstimateSettings& settings, const PreprocessContext& context) {
+    Image camera_segments;
     Image image = average_camera_samples(
         scene, std::max(1, settings.rays_per_pixel), kPixelEstimateStream, /*stratify=*/true, context,
-        [&](Sampler& sampler, const Ray& ray) {
-            return march_camera_ray(scene, field, estimator, settings, ray, sampler);
-        });
-    return from_image(std::move(image), settings.floor_fraction);
+        [&](Sampler& sampler, const Ray& ray, Color3& camera_segment) {
+            return march_camera_ray(scene, field, estimator, settings, ray, sampler, camera_segment);
+        },
+        &camera_segments);
+    PixelEstimate e = from_image(image, settings.floor_fraction);
+    e.set_camera_scatter_probability(image, camera_segments);
+    return e;
+}
+
+void PixelEstimate::set_camera_scatter_probability(const Image& radiance, const Image& camera_segments) {
+    // P_G = (what the camera segment scatters) / (all that arrives through it), per pixel over its
+    // rays (docs/theory.md §7.10.2); NaN where no ray had a camera segment or nothing arrives.
+    camera_vsp_.assign(radiance.pixels.size(), std::numeric_limits<float>::quiet_NaN());
+    for (size_t i = 0; i < camera_vsp_.size(); ++i) {
+        const float scattered = camera_segments.pixels[i].r, total = radiance.pixels[i].average();
+        if (camera_segments.pixels[i].g > 0.f && total > 0.f && std::isfinite(total) && scattered >= 0.f)
+            camera_vsp_[i] = std::min(scattered / total, 1.f);
+    }
 }
 
 }  // namespace volguide

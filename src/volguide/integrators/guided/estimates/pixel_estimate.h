@@ -17,12 +17,15 @@
 //
 // render (the alternative): a few guided samples per pixel, smoothed (see render()).
 //
+// raymarch also fills distance="vsp"'s camera-ray buffer (camera_scatter_probability).
+//
 // The estimate is stored per pixel as the channel average and floored at `floor_fraction` of the
 // image mean, so that a pixel the field thinks black cannot make every path through it split to
 // the cap (docs/theory.md §13.13).
 #include <algorithm>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <vector>
 
 #include "volguide/core/image.h"
@@ -67,13 +70,27 @@ class PixelEstimate {
         const int y = std::clamp(int(film_uv.y * float(image_.height)), 0, image_.height - 1);
         return value_[size_t(y) * size_t(image_.width) + size_t(x)];
     }
+    // distance="vsp"'s camera-ray buffer (docs/theory.md §7.10.2; raymarch only): per pixel, the share
+    // of what its camera rays' first medium segment (before any real surface) scatters toward the
+    // camera in all the ray brings, the zero-variance scatter probability of that segment estimated
+    // once per pixel for all its samples; NaN where there is none (no buffer, no such segment).
+    float camera_scatter_probability(Point2f film_uv) const {
+        if (camera_vsp_.empty()) return std::numeric_limits<float>::quiet_NaN();
+        const int x = std::clamp(int(film_uv.x * float(image_.width)), 0, image_.width - 1);
+        const int y = std::clamp(int(film_uv.y * float(image_.height)), 0, image_.height - 1);
+        return camera_vsp_[size_t(y) * size_t(image_.width) + size_t(x)];
+    }
     // The RGB estimate before flooring (for inspection and the comparison with references).
     const Image& image() const { return image_; }
     float floor() const { return floor_; }
 
   private:
+    // camera_vsp_ from the raymarch's radiance and camera-segment images.
+    void set_camera_scatter_probability(const Image& radiance, const Image& camera_segments);
+
     Image image_;
     std::vector<float> value_;  // floored channel averages, row-major
+    std::vector<float> camera_vsp_;  // camera_scatter_probability per pixel, row-major (empty: none)
     float floor_ = 0.f;
 };
 

@@ -10,6 +10,9 @@ FreeFlightSample GuidedWalkPolicy::sample_distance(const Medium& medium, const R
         return medium.sample_free_flight(ray, tmax, throughput, sampler);
     }
     scratch_.record = record != nullptr;
+    // The camera-ray buffer's P_G for the first decision only, and only along the camera ray.
+    scratch_.camera_guided = ray.d == camera_d_ ? camera_guided_ : std::numeric_limits<float>::quiet_NaN();
+    camera_guided_ = std::numeric_limits<float>::quiet_NaN();
     FreeFlightSample fs = guide_.sample_distance(medium, ray, tmax, throughput, sampler, vertex_leaf, scratch_);
     const DistanceScratch::Decision& d = scratch_.decision;
     if (record && d.mixture) *record = {true, d.leaf, d.pdf, d.p_u, d.p_g};

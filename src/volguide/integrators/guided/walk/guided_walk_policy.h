@@ -8,6 +8,7 @@
 // (training, the selection pilot) is its PathRecorder's: the policy fills the DecisionRecord the
 // walk hands it with each decision's mixture densities, and reports the continuation's estimate
 // when asked.
+#include <limits>
 #include <optional>
 
 #include "volguide/guiding/guided_direction.h"
@@ -28,6 +29,14 @@ class GuidedWalkPolicy final : public WalkPolicy {
     GuidedWalkPolicy(const WalkGuide& guide, const RouletteSplitting* rrs, float pixel,
                      const ContinuationSnapshot* ears = nullptr)
         : guide_(guide), continuation_(guide, rrs, pixel, ears), vertex_(guide) {}
+
+    // distance=vsp's camera segment (docs/theory.md §7.10.2): the first distance decision of the
+    // camera sample along the camera ray's direction `d` (null surfaces crossed, no real event yet)
+    // takes P_G = `guided` from the pixel's buffer (NaN: none, the leaf's as elsewhere).
+    void set_camera_segment(const Vec3f& d, float guided) {
+        camera_d_ = d;
+        camera_guided_ = guided;
+    }
 
     bool guides_distance() const override { return guide_.guides_distance(); }
     FreeFlightSample sample_distance(const Medium& medium, const Ray& ray, float tmax, const Color3& throughput,
@@ -59,6 +68,8 @@ class GuidedWalkPolicy final : public WalkPolicy {
     DistanceScratch scratch_;
     GuidedVertex vertex_;      // the current medium vertex's guided decisions
     int surface_leaf_ = -1;    // the leaf beside the current surface vertex
+    Vec3f camera_d_{0.f};      // set_camera_segment's direction
+    float camera_guided_ = std::numeric_limits<float>::quiet_NaN();  // until the first distance decision
     std::optional<GuidedSurfaceSampler> surface_;      // of the current surface vertex
     Vmm surface_guide_{Vmm::Uninitialized{}};          // the product guide surface_ reads
 };

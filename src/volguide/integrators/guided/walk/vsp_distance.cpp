@@ -4,6 +4,8 @@
 #include <cmath>
 
 #include "volguide/core/math.h"
+#include "volguide/integrators/volpath/equiangular_mis.h"
+#include "volguide/render/scene.h"
 #include "volguide/media/homogeneous_transmittance.h"
 #include "volguide/media/spectral_mis.h"
 
@@ -38,7 +40,25 @@ float HomogeneousVsp::conditional_pdf(float t) const {
     return spectral_distance_pdf(sigma_t_, shares_, t) / unguided_;
 }
 
-HomogeneousVsp::Sample HomogeneousVsp::sample(float P, float u_decide, float u_channel, float u_t) const {
+std::optional<EquiangularSampler> vsp_equiangular_toward_light(const Scene& scene, const Ray& ray, float s,
+                                                               Sampler& sampler) {
+    Interaction origin;
+    origin.p = ray.o;
+    const DirectionSample y = scene.sample_emitter_direction(origin, sampler.next_2d(), false).first;
+    if (!(y.pdf > 0.f) || !equiangular_target(y.emitter) || !std::isfinite(y.dist)) return std::nullopt;
+    EquiangularSampler eq(ray.o, ray.d, s, y.p);
+    if (!eq.valid()) return std::nullopt;
+    return eq;
+}
+
+float HomogeneousVsp::conditional_pdf(float t, const VspEquiangular& equi) const {
+    const float ff = conditional_pdf(t);
+    if (!equi.active() || !(t >= 0.f && t < s_) || !(unguided_ > 0.f)) return ff;
+    return (1.f - equi.share) * ff + equi.share * equi.sampler->pdf(t);
+}
+
+HomogeneousVsp::Sample HomogeneousVsp::sample(float P, float u_decide, float u_channel, float u_t,
+                                              const VspEquiangular& equi) const {
     Sample out;
     if (!(u_decide < P)) {  // pass (P = 0 always passes, P = 1 never)
         out.t = s_;
@@ -46,17 +66,26 @@ HomogeneousVsp::Sample HomogeneousVsp::sample(float P, float u_decide, float u_c
         out.flight_weight = out.pdf > 0.f ? transmittance_rgb(sigma_t_, s_) * (1.f / out.pdf) : Color3(0.f);
         return out;
     }
+    out.scattered = true;
+    if (equi.active() && u_channel < equi.share) {  // the equiangular strategy
+        out.t = std::min(equi.sampler->sample(u_t), std::nextafter(s_, 0.f));
+    } else {
+        if (equi.active()) u_channel = std::min((u_channel - equi.share) / (1.f - equi.share), OneMinusEpsilon);
+        out.t = truncated_free_flight(u_channel, u_t);
+    }
+    out.pdf = P * conditional_pdf(out.t, equi);
+    out.flight_weight = out.pdf > 0.f ? transmittance_rgb(sigma_t_, out.t) * (1.f / out.pdf) : Color3(0.f);
+    return out;
+}
+
+float HomogeneousVsp::truncated_free_flight(float u_channel, float u_t) const {
     // The channel with probability q_c (1 - T_c) / P_u, then its exponential truncated to (0, s).
     const Color3 channel = Color3(shares_.r * absorbed_.r, shares_.g * absorbed_.g, shares_.b * absorbed_.b) *
                            (1.f / unguided_);
     int c = sample_channel(channel, u_channel);
     if (!(absorbed_[c] > 0.f)) c = absorbed_.g > absorbed_[c] ? 1 : (absorbed_.r > absorbed_.b ? 0 : 2);  // round-off
     const float t = -std::log1p(-u_t * absorbed_[c]) / sigma_t_[c];
-    out.scattered = true;
-    out.t = std::min(t, std::nextafter(s_, 0.f));
-    out.pdf = P * conditional_pdf(out.t);
-    out.flight_weight = out.pdf > 0.f ? transmittance_rgb(sigma_t_, out.t) * (1.f / out.pdf) : Color3(0.f);
-    return out;
+    return std::min(t, std::nextafter(s_, 0.f));
 }
 
 namespace {

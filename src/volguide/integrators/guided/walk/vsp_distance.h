@@ -10,14 +10,41 @@
 //   scatter at t:  flight weight T(t) / (P p(t | scatter)),    pass:  T(s) / (1 - P).
 // With P = P_u the decision is free flight's (the same distribution and weights).
 //
+// Equiangular share (docs/theory.md §7.10.1, deliverable 5 of issue 37): inside the scatter branch the
+// distance may come from a one-sample mixture of that truncated free flight and equiangular sampling
+// on (0, s) toward a light point y drawn before t (as volpath's equiangular strategy draws it),
+//   p(t | scatter, y) = (1 - e) p_ff(t | scatter) + e p_eq(t | y),
+// the weights using this density. For every y it is a density on (0, s) that is positive wherever
+// p_ff is (e < 1), so E[weight | y] is the segment's integral: unbiased. Homogeneous media only.
+//
 // Heterogeneous (and any) media: resampled_segment_flight below walks the segment's tentative
 // collisions under the majorant (Medium::sample_majorant_walk) and resamples them.
+#include <optional>
+
 #include "volguide/core/color.h"
 #include "volguide/core/function_ref.h"
 #include "volguide/core/sampler.h"
+#include "volguide/integrators/volpath/equiangular.h"
 #include "volguide/media/medium.h"
 
 namespace volguide {
+
+class Scene;
+
+// The equiangular part of the conditional distance: `sampler` on (0, s) toward the light point
+// (null: none, free flight only) with mixture share `share` in [0, 1].
+struct VspEquiangular {
+    const EquiangularSampler* sampler = nullptr;
+    float share = 0.f;
+    bool active() const { return sampler && sampler->valid() && share > 0.f; }
+};
+
+// The equiangular sampler toward a light point for the segment (0, s) of `ray` (draws 2 numbers):
+// the point chosen by scene.sample_emitter_direction from ray.o as volpath's equiangular strategy
+// chooses it (equiangular_mis.h); nullopt where it cannot aim (no light, an environment or
+// directional light, the point on the ray's line).
+std::optional<EquiangularSampler> vsp_equiangular_toward_light(const Scene& scene, const Ray& ray, float s,
+                                                               Sampler& sampler);
 
 class HomogeneousVsp {
   public:
@@ -38,11 +65,19 @@ class HomogeneousVsp {
         float pdf = 0.f;           // P p(t | scatter), or 1 - P
     };
     // Decides with probability P (u_decide), then draws the channel (u_channel) and the distance (u_t).
-    Sample sample(float P, float u_decide, float u_channel, float u_t) const;
+    Sample sample(float P, float u_decide, float u_channel, float u_t) const { return sample(P, u_decide, u_channel, u_t, {}); }
+    // The same with the equiangular share: u_channel first picks the strategy (equiangular below e,
+    // rescaled to pick the channel otherwise); p(t | scatter) is conditional_pdf(t, equi).
+    Sample sample(float P, float u_decide, float u_channel, float u_t, const VspEquiangular& equi) const;
     // p(t | scatter) on (0, s) (0 outside, and where P_u = 0).
     float conditional_pdf(float t) const;
+    // (1 - e) p(t | scatter) + e p_eq(t) when equi is active, else conditional_pdf(t).
+    float conditional_pdf(float t, const VspEquiangular& equi) const;
 
   private:
+    // The free flight's distance conditioned on scattering inside (0, s).
+    float truncated_free_flight(float u_channel, float u_t) const;
+
     Color3 sigma_t_, shares_;
     float s_;
     Color3 absorbed_;  // 1 - T_c(s) per channel

@@ -31,7 +31,7 @@ std::vector<std::pair<std::string, double>> WalkGuideStats::named() const {
 }
 
 WalkGuide::WalkGuide(const Scene& scene, const GuidingField& field, const WalkGuideSettings& settings)
-    : field_(field), settings_(settings) {
+    : scene_(scene), field_(field), settings_(settings) {
     if (settings_.direction_indirect) {
         direction_leaves_.resize(field.leaves().size());
         for (size_t i = 0; i < field.leaves().size(); ++i) {
@@ -123,7 +123,8 @@ FreeFlightSample WalkGuide::sample_distance(const Medium& medium, const Ray& ray
     if (settings_.distance == DistanceGuiding::Vsp) {
         if (origin < 0) origin = leaf_of(ray.o, VertexLeaf());
         if (!medium.is_homogeneous())
-            return vsp_resampled(medium, ray, tmax, origin, c_T, throughput, sampler, vertex_leaf);
+            return vsp_resampled(medium, ray, tmax, origin, c_T, throughput, sampler, vertex_leaf,
+                                 scratch.camera_guided);
         return vsp_distance(medium, ray, tmax, origin, c_T, throughput, sampler, vertex_leaf, scratch);
     }
     float b0, b1;
@@ -162,21 +163,27 @@ FreeFlightSample WalkGuide::vsp_distance(const Medium& medium, const Ray& ray, f
     const HomogeneousVsp vsp(at_origin.sigma_t, tmax, channel_probabilities(throughput));
     const float st = at_origin.sigma_t.average();
     const float albedo = st > 0.f ? at_origin.sigma_s.average() / st : 0.f;  // shapes P_G only
-    float guided = guided_scatter_probability(origin, medium.phase(), ray.d, albedo, vsp.unguided());
+    // A camera segment's P_G from the per-pixel buffer (§7.10.2), else the origin leaf's lookup.
+    const bool camera = !std::isnan(scratch.camera_guided);
+    const float guided = camera ? scratch.camera_guided
+                                : guided_scatter_probability(origin, medium.phase(), ray.d, albedo, vsp.unguided());
     WalkGuideStats& stats = stats_.local();
     ++stats.distance_queries;
     ++stats.vsp_queries;
+    stats.vsp_camera += camera;
     if (std::isnan(guided)) {
         ++stats.vsp_unguided;
         return medium.sample_free_flight(ray, tmax, throughput, sampler);  // the same decision, unguided
     }
-    // Defensive: the unguided share at least kVspMinUnguided, raised by a leaf of low confidence
-    // as the bins' guided share is lowered (WalkGuideSettings::leaf_tau_max).
-    const float confidence = leaf_confidence(origin, at_origin.sigma_t);
-    const float c = std::max(1.f - (1.f - c_T) * confidence, kVspMinUnguided);
-    const float P = vsp.probability(guided, c);
+    const float P = vsp.probability(guided, vsp_unguided_share(origin, at_origin.sigma_t, c_T, camera));
     const float u_decide = sampler.next_1d(), u_channel = sampler.next_1d(), u_t = sampler.next_1d();
-    const HomogeneousVsp::Sample vs = vsp.sample(P, u_decide, u_channel, u_t);
+    // The equiangular share (§7.10.1): a light point drawn only for a scatter (2 numbers).
+    std::optional<EquiangularSampler> toward_light;
+    if (u_decide < P && settings_.vsp_equiangular > 0.f && medium.sample_emitters())
+        toward_light = vsp_equiangular_toward_light(scene_, ray, tmax, sampler);
+    const VspEquiangular equi{toward_light ? &*toward_light : nullptr, settings_.vsp_equiangular};
+    const HomogeneousVsp::Sample vs = vsp.sample(P, u_decide, u_channel, u_t, equi);
+    stats.vsp_equiangular += vs.scattered && equi.active();
     FreeFlightSample fs;
     fs.t = vs.t;
     fs.weight = fs.flight_weight = vs.flight_weight;
@@ -189,30 +196,40 @@ FreeFlightSample WalkGuide::vsp_distance(const Medium& medium, const Ray& ray, f
     }
     // The mixture's parts for the selection pilot: the density (or probability) of the outcome
     // under the unguided and the guided decision.
-    const float cond = vs.scattered ? vsp.conditional_pdf(vs.t) : 1.f;
+    const float cond = vs.scattered ? vsp.conditional_pdf(vs.t, equi) : 1.f;
     const float pu = vs.scattered ? vsp.unguided() * cond : 1.f - vsp.unguided();
     const float pg = vs.scattered ? guided * cond : 1.f - guided;
     if (vs.pdf > 0.f && P < 1.f) scratch.decision = {true, origin, vs.pdf, pu, pg};  // P = 1: forced, not the mixture
     return fs;
 }
 
+float WalkGuide::vsp_unguided_share(int origin, const Color3& sigma_t, float c_T, bool camera) const {
+    // Defensive: the unguided share at least kVspMinUnguided, raised by a leaf of low confidence
+    // as the bins' guided share is lowered (WalkGuideSettings::leaf_tau_max).
+    const float confidence = camera ? 1.f : leaf_confidence(origin, sigma_t);
+    return std::max(1.f - (1.f - c_T) * confidence, kVspMinUnguided);
+}
+
 FreeFlightSample WalkGuide::vsp_resampled(const Medium& medium, const Ray& ray, float tmax, int origin, float c_T,
-                                          const Color3& throughput, Sampler& sampler, VertexLeaf& vertex_leaf) const {
+                                          const Color3& throughput, Sampler& sampler, VertexLeaf& vertex_leaf,
+                                          float camera_guided) const {
     // The albedo field at the origin (the extinction there may be 0 on the medium's boundary).
     const float albedo = medium.albedo(ray.o).average();  // shapes P_G only
     const PhaseFunction& phase = medium.phase();
+    const bool camera = !std::isnan(camera_guided);
     WalkGuideStats& stats = stats_.local();
     ++stats.distance_queries;
     ++stats.vsp_queries;
-    if (std::isnan(guided_scatter_probability(origin, phase, ray.d, albedo, 1.f))) {
+    stats.vsp_camera += camera;
+    if (!camera && std::isnan(guided_scatter_probability(origin, phase, ray.d, albedo, 1.f))) {
         ++stats.vsp_unguided;
         return medium.sample_free_flight(ray, tmax, throughput, sampler);
     }
     ++stats.vsp_resampled;
-    const float confidence = leaf_confidence(origin, medium.eval(ray.o).sigma_t);
-    const float c = std::max(1.f - (1.f - c_T) * confidence, kVspMinUnguided);
+    const float c = vsp_unguided_share(origin, medium.eval(ray.o).sigma_t, c_T, camera);
     auto probability = [&](float unguided) {
-        const float guided = guided_scatter_probability(origin, phase, ray.d, albedo, unguided);
+        const float guided =
+            camera ? camera_guided : guided_scatter_probability(origin, phase, ray.d, albedo, unguided);
         return std::isnan(guided) ? unguided : c * unguided + (1.f - c) * guided;
     };
     FreeFlightSample fs = resampled_segment_flight(medium, ray, tmax, throughput, probability, sampler);

@@ -23,6 +23,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <optional>
 #include <string>
@@ -62,6 +63,16 @@ struct WalkGuideSettings {
     // (guiding/leaf_groups.h) instead of single leaves: fewer bins per decision. 0: leaves.
     // Needs the tables (estimate_table > 0).
     float distance_merge = 0.f;
+    // distance=vsp in homogeneous media: the share e of the distance conditioned on scattering drawn
+    // equiangularly toward a light point (vsp_distance.h, docs/theory.md §7.10.1); 0: free flight only.
+    // Heterogeneous media keep the resampled decision without it (guided_volpath warns). Default from
+    // the fixed-spp comparison on bench/scenes/foglamp.xml (bench/RESULTS.md, issue 37).
+    float vsp_equiangular = 0.5f;
+    // distance=vsp: camera segments take P_G from the raymarched pixel estimate's camera-ray buffer
+    // (PixelEstimate::camera_scatter_probability, docs/theory.md §7.10.2) instead of the camera's leaf.
+    // guided_volpath makes the raymarch for it (pixel_estimate=render and a given pre-pass have none:
+    // the leaf's lookup, as with false).
+    bool vsp_camera_buffer = true;
     // Guiding confidence of a leaf: min(1, leaf_tau_max / tau_leaf), tau_leaf = sigma_t (channel
     // average, at the vertex / of the bin's proxy) x the cube root of the leaf's volume. A leaf many
     // mean free paths across holds one estimate for radiance that varies on the scale of a free path
@@ -110,6 +121,10 @@ struct WalkGuideSettings {
     X(vsp_unguided, "distance_vsp_unguided_fraction", vsp_queries)                                         \
     /* ... by resampling the segment's tentative collisions (heterogeneous media) */                      \
     X(vsp_resampled, "distance_vsp_resampled_fraction", vsp_queries)                                       \
+    /* ... of a camera segment, with P_G from the camera-ray buffer (PixelEstimate) */                    \
+    X(vsp_camera, "distance_vsp_camera_fraction", vsp_queries)                                             \
+    /* ... whose scatter distance came from the equiangular mixture (a light point to aim at) */            \
+    X(vsp_equiangular, "distance_vsp_equiangular_fraction", vsp_scattered)                                 \
     /* directions sampled at medium vertices */                                                            \
     X(direction_samples, "direction_samples", 1)                                                           \
     /* ... from the guiding VMM (the rest from the phase function) */                                      \
@@ -156,6 +171,10 @@ struct DistanceScratch {
     // parts are known, the leaf it was made from (-1: outside the field), the mixture's density
     // at the sample and its unguided and guided parts.
     bool record = false;
+    // In: distance=vsp's guided probability P_G for this decision from the camera-ray buffer
+    // (PixelEstimate::camera_scatter_probability, docs/theory.md §7.10.2) in place of the origin leaf's
+    // lookup; NaN: none (the leaf's).
+    float camera_guided = std::numeric_limits<float>::quiet_NaN();
     struct Decision {
         bool mixture = false;
         int leaf = -1;
@@ -248,7 +267,11 @@ class WalkGuide {
                                   DistanceScratch& scratch) const;
     // The same in any medium by resampling the segment's tentative collisions (resampled_segment_flight).
     FreeFlightSample vsp_resampled(const Medium& medium, const Ray& ray, float tmax, int origin, float c_T,
-                                   const Color3& throughput, Sampler& sampler, VertexLeaf& vertex_leaf) const;
+                                   const Color3& throughput, Sampler& sampler, VertexLeaf& vertex_leaf,
+                                   float camera_guided) const;
+    // The defensive unguided share c of distance=vsp's mixture from `origin` (§7.10): with the
+    // camera-ray buffer's P_G (camera = true) the leaf's confidence does not apply.
+    float vsp_unguided_share(int origin, const Color3& sigma_t, float c_T, bool camera) const;
     // The weights of the bins' decision `ds` (the caller contract of guided_distance.h), and beyond
     // the field (t_end < tmax) the medium's own free flight.
     FreeFlightSample binned_flight(const Medium& medium, const Ray& ray, float tmax, float t_end,
@@ -264,6 +287,7 @@ class WalkGuide {
     // says nothing scatters (a leaf's estimate is one value for a whole segment).
     static constexpr float kVspMinUnguided = 0.1f;
 
+    const Scene& scene_;
     const GuidingField& field_;
     WalkGuideSettings settings_;
     std::map<float, InscatterCache> inscatter_;  // by phase mean cosine
