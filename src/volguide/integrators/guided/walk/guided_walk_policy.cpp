@@ -12,7 +12,11 @@ FreeFlightSample GuidedWalkPolicy::sample_distance(const Medium& medium, const R
     scratch_.record = record != nullptr;
     FreeFlightSample fs = guide_.sample_distance(medium, ray, tmax, throughput, sampler, vertex_leaf, scratch_);
     const DistanceScratch::Decision& d = scratch_.decision;
-    if (record && d.mixture) *record = {true, d.leaf, d.pdf, d.p_u, d.p_g};
+    if (record) {
+        if (d.mixture) *record = {true, d.leaf, d.pdf, d.p_u, d.p_g};
+        record->leaf = d.leaf;  // the learned selection's per-method rounds count every decision
+        record->lookups = int(d.lookups);
+    }
     return fs;
 }
 

@@ -46,17 +46,46 @@ HomogeneousVsp::Sample HomogeneousVsp::sample(float P, float u_decide, float u_c
         out.flight_weight = out.pdf > 0.f ? transmittance_rgb(sigma_t_, s_) * (1.f / out.pdf) : Color3(0.f);
         return out;
     }
+    out.scattered = true;
+    out.t = draw_conditional(u_channel, u_t);
+    out.pdf = P * conditional_pdf(out.t);
+    out.flight_weight = out.pdf > 0.f ? transmittance_rgb(sigma_t_, out.t) * (1.f / out.pdf) : Color3(0.f);
+    return out;
+}
+
+float HomogeneousVsp::draw_conditional(float u_channel, float u_t) const {
     // The channel with probability q_c (1 - T_c) / P_u, then its exponential truncated to (0, s).
     const Color3 channel = Color3(shares_.r * absorbed_.r, shares_.g * absorbed_.g, shares_.b * absorbed_.b) *
                            (1.f / unguided_);
     int c = sample_channel(channel, u_channel);
     if (!(absorbed_[c] > 0.f)) c = absorbed_.g > absorbed_[c] ? 1 : (absorbed_.r > absorbed_.b ? 0 : 2);  // round-off
     const float t = -std::log1p(-u_t * absorbed_[c]) / sigma_t_[c];
+    return std::min(t, std::nextafter(s_, 0.f));
+}
+
+HomogeneousVsp::Sample HomogeneousVsp::sample_resampled(float P, int candidates, const FunctionRef<float(float)>& target,
+                                                        Sampler& sampler) const {
+    const float u_decide = sampler.next_1d();
+    if (!(u_decide < P)) return sample(P, u_decide, 0.f, 0.f);  // pass: the plain decision's
+    // p(t_j | scatter) cancels in the reservoir's weights target(t_j) p(t_j) / p(t_j).
+    float total = 0.f, kept = 0.f, t_k = 0.f;
+    for (int j = 0; j < std::max(1, candidates); ++j) {
+        const float u_channel = sampler.next_1d(), u_t = sampler.next_1d();
+        const float t = draw_conditional(u_channel, u_t);
+        const float m = target(t);
+        total += m;
+        if (sampler.next_1d() * total < m) {
+            kept = m;
+            t_k = t;
+        }
+    }
+    Sample out;
     out.scattered = true;
-    out.t = std::min(t, std::nextafter(s_, 0.f));
-    out.pdf = P * conditional_pdf(out.t);
-    out.flight_weight = out.pdf > 0.f ? transmittance_rgb(sigma_t_, out.t) * (1.f / out.pdf) : Color3(0.f);
-    return out;
+    out.t = t_k;
+    const float density = P * conditional_pdf(t_k);
+    if (density > 0.f && kept > 0.f)
+        out.flight_weight = transmittance_rgb(sigma_t_, t_k) * (total / (float(std::max(1, candidates)) * kept * density));
+    return out;  // pdf 0: the resampled distance has no closed-form density
 }
 
 namespace {
@@ -67,7 +96,8 @@ float shared_magnitude(const Color3& w, const Color3& q) {
 }  // namespace
 
 FreeFlightSample resampled_segment_flight(const Medium& medium, const Ray& ray, float tmax, const Color3& throughput,
-                                          const SegmentProbability& probability, Sampler& sampler) {
+                                          const SegmentProbability& probability, Sampler& sampler,
+                                          const SegmentTarget* target) {
     const Color3 q = channel_probabilities(throughput);
     // The walk: ratio tracking's T^ before each collision, and a one-slot reservoir over the scatter
     // candidates w_i = T^_i sigma_s(t_i) / mu_i by |w_i|_q.
@@ -79,7 +109,8 @@ FreeFlightSample resampled_segment_flight(const Medium& medium, const Ray& ray, 
     } slot;
     medium.sample_majorant_walk(ray, tmax, sampler, [&](const MajorantCollision& c) {
         const Color3 sigma_s = c.sigma_t * medium.albedo(ray(c.t));
-        const float m = shared_magnitude(tr * sigma_s, q) / c.mu;
+        float m = shared_magnitude(tr * sigma_s, q) / c.mu;
+        if (m > 0.f && target) m *= (*target)(c.t);
         if (m > 0.f) {
             total += m;
             if (sampler.next_1d() * total < m) slot = {c.t, c.mu, m, c.sigma_t, tr};
@@ -101,7 +132,8 @@ FreeFlightSample resampled_segment_flight(const Medium& medium, const Ray& ray, 
     }
     const Point3f p = ray(slot.t);
     fs.scatter_at(ray, slot.t, p, &medium, {slot.sigma_t, slot.sigma_t * medium.albedo(p)});
-    // w_k / (P |w_k|_q / total), without sigma_s for the flight weight.
+    // w_k / (P |w_k|_q target_k / total), without sigma_s for the flight weight (slot.magnitude
+    // includes target_k).
     fs.flight_weight = slot.tr * (total / (slot.mu * slot.magnitude * P));
     fs.weight = fs.flight_weight * fs.mi.coeffs.sigma_s;
     return fs;

@@ -46,12 +46,17 @@ class Scene;
 
 // Vsp: one decision per segment from the vertex's leaf (vsp_distance.h, docs/theory.md §7.10): in
 // closed form in homogeneous media, by resampling the segment's tentative collisions otherwise.
-enum class DistanceGuiding { Standard, Incremental, Tabulated, Vsp };
+// VspProduct: the same decision, with the distance inside the segment resampled by the field's
+// in-scattered radiance at each candidate (docs/theory.md §7.11; one point lookup per candidate).
+enum class DistanceGuiding { Standard, Incremental, Tabulated, Vsp, VspProduct };
 
 struct WalkGuideSettings {
     DistanceGuiding distance = DistanceGuiding::Standard;
     GuidedDistanceSettings distance_settings;
     float max_bin_optical_depth = 20.f;
+    // distance=vsp_product in homogeneous media: the candidate distances resampled per scattering
+    // segment (heterogeneous media resample the majorant walk's tentative collisions instead).
+    int product_candidates = 4;
     bool guided_tracking = true;  // heterogeneous media, incremental: H2 tracking (false: H1 bins)
     DirectionGuiding direction = DirectionGuiding::Phase;
     float phase_prob = 0.5f;  // alpha_f: probability of sampling the phase function (§8.2)
@@ -110,6 +115,8 @@ struct WalkGuideSettings {
     X(vsp_unguided, "distance_vsp_unguided_fraction", vsp_queries)                                         \
     /* ... by resampling the segment's tentative collisions (heterogeneous media) */                      \
     X(vsp_resampled, "distance_vsp_resampled_fraction", vsp_queries)                                       \
+    /* ... made with the product target (distance=vsp_product, or a cell that chose it) */                \
+    X(vsp_product, "distance_vsp_product_fraction", vsp_queries)                                           \
     /* directions sampled at medium vertices */                                                            \
     X(direction_samples, "direction_samples", 1)                                                           \
     /* ... from the guiding VMM (the rest from the phase function) */                                      \
@@ -156,10 +163,13 @@ struct DistanceScratch {
     // parts are known, the leaf it was made from (-1: outside the field), the mixture's density
     // at the sample and its unguided and guided parts.
     bool record = false;
+    // `lookups`: the field lookups (tree descents and estimate reads) the decision made beyond
+    // free flight's: the learned selection's counted cost of a distance method (selection.h).
     struct Decision {
         bool mixture = false;
         int leaf = -1;
         float pdf = 0.f, p_u = 0.f, p_g = 0.f;
+        uint32_t lookups = 0;
     } decision;
 };
 
@@ -238,17 +248,30 @@ class WalkGuide {
     const LeafGroups* groups_for(const PhaseFunction& phase) const;
     // sample_distance's decision on the bins of (0, t_end) (distance_bins.h; t_end: where the ray
     // leaves the field or reaches tmax), weighted by binned_flight.
-    FreeFlightSample binned_distance(const Medium& medium, const Ray& ray, float tmax, float t_end,
+    // The guided decision of `method` (not Standard) from the origin's leaf `origin` (-1: not known).
+    FreeFlightSample guided_distance(DistanceGuiding method, const Medium& medium, const Ray& ray, float tmax,
+                                     int origin, float c_T, const Color3& throughput, Sampler& sampler,
+                                     VertexLeaf& vertex_leaf, DistanceScratch& scratch) const;
+    FreeFlightSample binned_distance(DistanceGuiding method, const Medium& medium, const Ray& ray, float tmax, float t_end,
                                      const LeafEstimates* estimates, float c_T, const Color3& throughput,
                                      Sampler& sampler, VertexLeaf& vertex_leaf, DistanceScratch& scratch) const;
     // distance=vsp's decision over (0, tmax) in a homogeneous medium from the origin's leaf `origin`
-    // (-1: none; then free flight), c_T the unguided share.
+    // (-1: none; then free flight), c_T the unguided share; `product`: distance=vsp_product's resampled
+    // distance inside the segment.
     FreeFlightSample vsp_distance(const Medium& medium, const Ray& ray, float tmax, int origin, float c_T,
-                                  const Color3& throughput, Sampler& sampler, VertexLeaf& vertex_leaf,
+                                  bool product, const Color3& throughput, Sampler& sampler, VertexLeaf& vertex_leaf,
                                   DistanceScratch& scratch) const;
     // The same in any medium by resampling the segment's tentative collisions (resampled_segment_flight).
     FreeFlightSample vsp_resampled(const Medium& medium, const Ray& ray, float tmax, int origin, float c_T,
-                                   const Color3& throughput, Sampler& sampler, VertexLeaf& vertex_leaf) const;
+                                   bool product, const Color3& throughput, Sampler& sampler, VertexLeaf& vertex_leaf,
+                                   DistanceScratch& scratch) const;
+    // distance=vsp_product's target factor at ray(t): the field's in-scattered radiance along ray.d
+    // (channel average; 0 outside the field), from the leaf `hint` when it holds the point, else after
+    // a descent (hint becomes that leaf); counts the descents and reads in `lookups`.
+    float inscattered_along(const PhaseFunction& phase, const Ray& ray, float t, int& hint, uint32_t& lookups) const;
+    // The positive floor added to that target: kProductFloor x the origin leaf's L~_i (else L~), 1
+    // where the origin has neither.
+    float product_floor(int origin, const PhaseFunction& phase, const Vec3f& d) const;
     // The weights of the bins' decision `ds` (the caller contract of guided_distance.h), and beyond
     // the field (t_end < tmax) the medium's own free flight.
     FreeFlightSample binned_flight(const Medium& medium, const Ray& ray, float tmax, float t_end,
@@ -263,6 +286,8 @@ class WalkGuide {
     // distance=vsp's least unguided share: P stays above a tenth of free flight's where the field
     // says nothing scatters (a leaf's estimate is one value for a whole segment).
     static constexpr float kVspMinUnguided = 0.1f;
+    // distance=vsp_product's floor, relative to the origin's estimate (product_floor).
+    static constexpr float kProductFloor = 0.1f;
 
     const GuidingField& field_;
     WalkGuideSettings settings_;
