@@ -184,8 +184,8 @@ FreeFlightSample WalkGuide::guided_distance(DistanceGuiding method, const Medium
     return fs;
 }
 
-float WalkGuide::inscattered_along(const PhaseFunction& phase, const Ray& ray, float t, int& hint,
-                                   uint32_t& lookups) const {
+float WalkGuide::inscattered_along(const PhaseFunction& phase, const Ray& ray, float t, const Color3& sigma_t,
+                                   int& hint, uint32_t& lookups) const {
     const Point3f x = ray(t);
     if (!(hint >= 0 && field_.tree().holds_point(hint, x))) {
         hint = field_.tree().leaf_at(x);
@@ -193,7 +193,10 @@ float WalkGuide::inscattered_along(const PhaseFunction& phase, const Ray& ray, f
     }
     if (hint < 0) return 0.f;
     ++lookups;
-    const float Li = leaf_inscattered(hint, phase, ray.d).average();
+    // Damped by the leaf's confidence as the other guided decisions are (WalkGuideSettings::leaf_tau_max):
+    // an optically large leaf's one estimate says little about one point in it, and following it made
+    // fireflies in densesphere (bench/RESULTS.md, issue 37 deliverable 4).
+    const float Li = leaf_inscattered(hint, phase, ray.d).average() * leaf_confidence(hint, sigma_t);
     return std::isfinite(Li) && Li > 0.f ? Li : 0.f;
 }
 
@@ -235,7 +238,9 @@ FreeFlightSample WalkGuide::vsp_distance(const Medium& medium, const Ray& ray, f
         int hint = origin;
         uint32_t& lookups = scratch.decision.lookups;
         lookups += 2;  // the floor's
-        auto target = [&](float t) { return inscattered_along(medium.phase(), ray, t, hint, lookups) + floor; };
+        auto target = [&](float t) {
+            return inscattered_along(medium.phase(), ray, t, at_origin.sigma_t, hint, lookups) + floor;
+        };
         vs = vsp.sample_resampled(P, settings_.product_candidates, target, sampler);
     } else {
         const float u_decide = sampler.next_1d(), u_channel = sampler.next_1d(), u_t = sampler.next_1d();
@@ -290,7 +295,8 @@ FreeFlightSample WalkGuide::vsp_resampled(const Medium& medium, const Ray& ray, 
         const float floor = product_floor(origin, phase, ray.d);
         lookups += 2;
         int hint = origin;
-        auto target_of = [&](float t) { return inscattered_along(phase, ray, t, hint, lookups) + floor; };
+        const Color3 sigma_t = medium.eval(ray.o).sigma_t;  // the confidences' (shapes the target only)
+        auto target_of = [&](float t) { return inscattered_along(phase, ray, t, sigma_t, hint, lookups) + floor; };
         const SegmentTarget target(target_of);
         fs = resampled_segment_flight(medium, ray, tmax, throughput, probability, sampler, &target);
     } else {

@@ -266,9 +266,11 @@ class WalkGuide {
                                    bool product, const Color3& throughput, Sampler& sampler, VertexLeaf& vertex_leaf,
                                    DistanceScratch& scratch) const;
     // distance=vsp_product's target factor at ray(t): the field's in-scattered radiance along ray.d
-    // (channel average; 0 outside the field), from the leaf `hint` when it holds the point, else after
-    // a descent (hint becomes that leaf); counts the descents and reads in `lookups`.
-    float inscattered_along(const PhaseFunction& phase, const Ray& ray, float t, int& hint, uint32_t& lookups) const;
+    // (channel average; 0 outside the field) times the leaf's confidence at extinction sigma_t, from
+    // the leaf `hint` when it holds the point, else after a descent (hint becomes that leaf); counts
+    // the descents and reads in `lookups`.
+    float inscattered_along(const PhaseFunction& phase, const Ray& ray, float t, const Color3& sigma_t, int& hint,
+                            uint32_t& lookups) const;
     // The positive floor added to that target: kProductFloor x the origin leaf's L~_i (else L~), 1
     // where the origin has neither.
     float product_floor(int origin, const PhaseFunction& phase, const Vec3f& d) const;
