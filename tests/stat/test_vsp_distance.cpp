@@ -12,7 +12,8 @@
 //  - distance=vsp_product (§7.11): the resampled distance has no closed-form density, so its
 //    estimator is tested against the same integrals (homogeneous: N candidates of p(t | scatter)
 //    resampled by a positive target unrelated to the integrand; heterogeneous: the reservoir by
-//    |w|_q times the target), and a target that is 0 on half the segment must fail.
+//    |w|_q times the target, each mixed with plain resampling by kProductDefensive), also for a target
+//    that is 0 on half the segment.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -171,11 +172,15 @@ TEST(VspDistance, ProductWeightsAreExact) {
             }
 }
 
-TEST(VspDistance, ProductTargetZeroSomewhereFails) {
-    // Candidates beyond half the segment are never kept: their scatter mass is missing.
-    const Case k = kCases[0];
-    const std::function<float(float)> target = [&k](float t) { return t < 0.5f * k.s ? 1.f : 0.f; };
-    EXPECT_GT(check_weights(k, 0.6f, 0.5f, 20000, false, &target), 8.0);
+TEST(VspDistance, ProductTargetZeroSomewhereStaysExact) {
+    // Candidates beyond half the segment have target 0: only the defensive plain reservoir keeps
+    // them (kProductDefensive), with the weight that makes up for it. (The z-test's power to see a
+    // missing scatter mass: ANeverScatteringGuideFails, ResampledSegmentBiasIsDetected.)
+    for (const Case& k : kCases) {
+        const float half = std::isinf(k.s) ? 1.f : 0.5f * k.s;
+        const std::function<float(float)> target = [half](float t) { return t < half ? 1.f : 0.f; };
+        check_weights(k, 0.6f, 0.5f, 100000, true, &target);
+    }
 }
 
 TEST(VspDistance, ANeverScatteringGuideFails) {

@@ -76,6 +76,9 @@ class HomogeneousVsp {
 using SegmentProbability = FunctionRef<float(float)>;
 using SegmentTarget = FunctionRef<float(float)>;
 constexpr float kResampledMinProbability = 0.02f;
+// distance=vsp_product's defensive share: the probability of keeping the plain resampling's candidate
+// instead of the product's (bounds the resampling weight at 1 / kProductDefensive times plain's).
+constexpr float kProductDefensive = 0.25f;
 FreeFlightSample resampled_segment_flight(const Medium& medium, const Ray& ray, float tmax, const Color3& throughput,
                                           const SegmentProbability& probability, Sampler& sampler,
                                           const SegmentTarget* target = nullptr);
