@@ -19,8 +19,9 @@
 //    fog density, the incremental sampler, default settings) from a random point in a random
 //    direction; the argument is distance_merge x 100 (0: leaves; else LeafGroups). Counters:
 //    `bins` per query and `leaf_groups` (0: leaves).
-//  - SegmentDecision/{0,1,2}: one distance decision from a medium vertex of known leaf in the demo's
-//    homogeneous fog: free flight, distance="vsp" (one lookup per segment; vsp_equiangular 0), the incremental bins;
+//  - SegmentDecision/{0,1,2,3}: one distance decision from a medium vertex of known leaf in the demo's
+//    homogeneous fog: free flight, distance="vsp" (one lookup per segment; vsp_equiangular 0), the
+//    incremental bins, distance="vsp_product" (vsp plus 4 candidates' point lookups when it scatters);
 //  - SegmentDecisionEquiangular/{0,1,2}: the same from random points of bench/scenes/foglamp.xml's fog
 //    (a small spherical lamp; its own 1 M-photon field): free flight, distance="vsp", distance="vsp"
 //    with vsp_equiangular 0.5 (a light sample per scatter, the mixture's density); counters
@@ -347,7 +348,9 @@ void BM_SegmentDecision(benchmark::State& state) {
         return;
     }
     WalkGuideSettings settings;
-    settings.distance = state.range(0) == 2 ? DistanceGuiding::Incremental : DistanceGuiding::Vsp;
+    const DistanceGuiding kinds[] = {DistanceGuiding::Vsp, DistanceGuiding::Vsp, DistanceGuiding::Incremental,
+                                     DistanceGuiding::VspProduct};
+    settings.distance = kinds[state.range(0)];
     settings.direction = DirectionGuiding::Product;
     settings.vsp_equiangular = 0.f;  // the demo's lights are directional and an environment: nothing to aim at
     const WalkGuide guide(scene, field, settings);
@@ -380,7 +383,8 @@ void BM_SegmentDecision(benchmark::State& state) {
         benchmark::DoNotOptimize(f);
     }
     state.counters["scattered"] = double(scattered) / double(std::max<uint64_t>(i, 1));
-    state.SetLabel(state.range(0) == 0 ? "free flight" : state.range(0) == 1 ? "vsp" : "incremental bins");
+    const char* labels[] = {"free flight", "vsp", "incremental bins", "vsp_product"};
+    state.SetLabel(labels[state.range(0)]);
 }
 
 Scene& foglamp_scene() {
@@ -536,7 +540,7 @@ BENCHMARK(BM_GuidedDirection<DirectionGuiding::Product, Pdf>)->Name("BM_GuidedDi
 BENCHMARK(BM_GuidedDirection<DirectionGuiding::Incident, Pdf>)->Name("BM_GuidedDirectionPdf/incident");
 BENCHMARK(BM_DistanceQuery)->Arg(0)->Arg(30)->Arg(50);
 BENCHMARK(BM_LeafTableLookup);
-BENCHMARK(BM_SegmentDecision)->Arg(0)->Arg(1)->Arg(2);
+BENCHMARK(BM_SegmentDecision)->Arg(0)->Arg(1)->Arg(2)->Arg(3);
 BENCHMARK(BM_SegmentDecisionEquiangular)->Arg(0)->Arg(1)->Arg(2);
 BENCHMARK(BM_RouletteEstimate);
 BENCHMARK(BM_LeafWalk<true>)->Name("BM_LeafWalkCursor")->Arg(2000)->Arg(50000);

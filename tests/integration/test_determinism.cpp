@@ -128,3 +128,16 @@ TEST(Determinism, VspResampledSameImageForOneAndTwoThreads) {
                                             "determinism-vsp-cloud"),
                          "guided cloud, distance=vsp");
 }
+
+// Issue 37 deliverable 4: distance="vsp_product" and the per-cell distance method chosen from the
+// pilot's rounds (counted lookups, exact sums): the same image for any thread count.
+TEST(Determinism, VspProductAndMethodChoiceSameImageForOneAndTwoThreads) {
+    expect_deterministic(guided_fogbox(R"(<integer name="photons" value="200000"/><string name="distance" value="vsp_product"/>)",
+                                       "determinism-vsp-product"),
+                         "guided fogbox, distance=vsp_product");
+    expect_deterministic(guided_fogbox(R"(<integer name="photons" value="200000"/><string name="distance" value="vsp"/>)"
+                                       R"(<integer name="selection_spp" value="2"/><integer name="selection_min_samples" value="8"/>)"
+                                       R"(<boolean name="selection_distance_method" value="true"/>)",
+                                       "determinism-method-choice"),
+                         "guided fogbox, per-cell distance method");
+}

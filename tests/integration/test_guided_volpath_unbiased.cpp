@@ -680,3 +680,49 @@ TEST(GuidedVolPathUnbiased, VspCameraBufferIsUsedAndUnbiased) {
     Rendered oref = render_scene_xml(lit_fog_xml(false, grid, R"(<integrator type="volpath"/>)"), 1024, 5, false);
     expect_same_means(o, oref);
 }
+
+// Issue 37 deliverable 4: distance="vsp_product" (the segment's scattering distance resampled by the
+// field's in-scattered radiance, docs/theory.md §7.11) keeps the furnace at 1 and the lit fog's means
+// at volpath's, homogeneous and heterogeneous; and the per-cell choice of the distance method (§7.12)
+// is unbiased whatever it chooses, including with a lookup so dear that cells fall back to free
+// flight, and reports its choices.
+TEST(GuidedVolPathUnbiased, VspProductAndMethodChoiceAreUnbiased) {
+    TempDir dir("guided-vsp-product");
+    const std::string grid = write_furnace_grid(dir);
+    for (bool het : {false, true}) {
+        SCOPED_TRACE(het ? "heterogeneous" : "homogeneous");
+        Rendered r = render_scene_xml(guided_furnace_xml(het, grid, guided("vsp_product", "product", 100000)), 1024, 21,
+                                      false);
+        expect_constant_image(r, 1.0);
+        Rendered ref = render_scene_xml(lit_fog_xml(het, grid, R"(<integrator type="volpath"/>)"), 1024, 5, false);
+        Rendered g = render_scene_xml(lit_fog_xml(het, grid, guided("vsp_product", "product", 200000)), 1024, 8, false);
+        expect_same_means(g, ref);
+    }
+    const auto s = guide_stats(lit_fog_xml(false, grid, guided("vsp_product", "product", 200000)));
+    EXPECT_GT(s.at("distance_vsp_product_fraction"), 0.5);
+
+    const std::string choose = R"(<integer name="selection_spp" value="8"/><integer name="selection_min_samples" value="16"/>)"
+                               R"(<boolean name="selection_distance_method" value="true"/>)";
+    Rendered ref = render_scene_xml(lit_fog_xml(false, grid, R"(<integrator type="volpath"/>)"), 1024, 7, false);
+    Rendered chosen =
+        render_scene_xml(lit_fog_xml(false, grid, guided("vsp", "product", 200000, -1.f, choose)), 1024, 8, false);
+    expect_same_means(chosen, ref);
+    const std::string dear = choose + R"(<float name="selection_cost_lookup" value="1e6"/>)";
+    Rendered fallback =
+        render_scene_xml(lit_fog_xml(false, grid, guided("vsp", "product", 200000, -1.f, dear)), 1024, 9, false);
+    expect_same_means(fallback, ref);
+
+    const auto c = guide_stats(lit_fog_xml(false, grid, guided("vsp", "product", 200000, -1.f, choose)));
+    double cells = 0.0;
+    for (const char* m : {"free_flight", "vsp", "vsp_product", "bins"})
+        cells += c.at(std::string("selection_method_cells_") + m);
+    EXPECT_GT(cells, 0.0);
+    // Lookups a million decisions dear: every learned cell falls back to volpath's decision, and the
+    // render's distance decisions are made by free flight there.
+    const auto f = guide_stats(lit_fog_xml(false, grid, guided("vsp", "product", 200000, -1.f, dear)));
+    EXPECT_GT(f.at("selection_method_cells_free_flight"), 0.0);
+    EXPECT_EQ(f.at("selection_method_cells_vsp") + f.at("selection_method_cells_vsp_product") +
+                  f.at("selection_method_cells_bins"),
+              0.0);
+    EXPECT_GT(f.at("selection_distance_unguided"), 0.0);
+}

@@ -411,7 +411,16 @@ TEST(GuidedVolPath, BadRouletteSplittingParametersAreErrorsNamingTheLine) {
              {R"(<float name="rrs_branch_budget" value="0.5"/>)", "rrs_branch_budget must be"},
              {R"(<string name="pixel_estimate" value="guess"/>)", "invalid pixel_estimate"},
              {R"(<string name="rrs" value="standard"/><float name="rrs_window" value="5"/>)",
-              "only applies to rrs=grr or rrs=grrs"}}) {
+              "only applies to rrs=grr or rrs=grrs"},
+             // Issue 37 deliverable 4's settings: nothing that would silently do nothing.
+             {R"(<integer name="selection_spp" value="0"/><boolean name="selection_distance_method" value="true"/>)",
+              "selection_distance_method needs a learned selection"},
+             {R"(<string name="distance" value="standard"/><boolean name="selection_distance_method" value="true"/>)",
+              "selection_distance_method needs a learned selection"},
+             {R"(<float name="selection_cost_lookup" value="0.5"/>)", "selection_cost_lookup only applies"},
+             {R"(<integer name="product_candidates" value="8"/>)", "product_candidates only applies"},
+             {R"(<string name="distance" value="vsp_product"/><integer name="product_candidates" value="0"/>)",
+              "product_candidates"}}) {
         SCOPED_TRACE(c.params);
         const CliResult r = run(c.params);
         EXPECT_EQ(r.exit_code, 1);

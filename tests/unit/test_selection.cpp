@@ -209,3 +209,108 @@ TEST(Selection, PrepassStateCarriesTheSelection) {
     corrupt[bytes.size() - sel.size()] ^= 1;  // the selection's magic
     EXPECT_THROW(deserialize_guided_prepass(corrupt), FieldFormatError);
 }
+
+// Per-cell distance method (issue 37, docs/theory.md §7.12) on synthetic round statistics: every
+// round has the same camera samples; cell 0 and cell 1 get `per_decision` second moments per method
+// and `lookups` per decision.
+namespace {
+void add_method_rounds(SelectionStatistics& stats, const std::array<double, kDistanceMethods>& per_decision,
+                       const std::array<uint64_t, kDistanceMethods>& lookups, int n) {
+    for (int k = 0; k < kDistanceMethods; ++k) {
+        for (size_t cell = 0; cell < 2; ++cell)
+            for (int i = 0; i < n; ++i)
+                stats.add_method_decision(DistanceMethod(k), cell, per_decision[size_t(k)], lookups[size_t(k)]);
+        for (int i = 0; i < n; ++i) stats.add_method_camera_sample(DistanceMethod(k), 4.0, 6);  // 3 other decisions
+    }
+}
+
+SelectionSettings method_settings() {
+    SelectionSettings s = plain_settings();
+    s.choose_distance_method = true;
+    return s;
+}
+}  // namespace
+
+TEST(Selection, EqualVariancesChooseTheCheapestMethod) {
+    SelectionStatistics stats(3);
+    // Free flight reads nothing, vsp one lookup, the product six, the bins eight.
+    add_method_rounds(stats, {1.0, 1.0, 1.0, 1.0}, {0, 1, 6, 8}, 200);
+    const LearnedSelection sel = LearnedSelection::fit(stats, method_settings(), {0.5f, 0.5f, 0.5f});
+    for (size_t r = 0; r < 2; ++r) {
+        EXPECT_EQ(sel.distance_method(r), uint8_t(DistanceMethod::FreeFlight));
+        EXPECT_EQ(sel.share(SelectionDecision::Distance, r), 0.f);  // volpath's decision
+    }
+    // The cell without decisions follows the cells with too few (none here: free flight).
+    EXPECT_EQ(sel.distance_method(2), uint8_t(DistanceMethod::FreeFlight));
+    EXPECT_EQ(sel.summary().methods[size_t(DistanceMethod::FreeFlight)], 3u);
+    // The same, but free flight costs what vsp does: vsp is listed after it, ties go to free flight.
+    SelectionStatistics tie(3);
+    add_method_rounds(tie, {1.0, 1.0, 1.0, 1.0}, {1, 1, 6, 8}, 200);
+    EXPECT_EQ(LearnedSelection::fit(tie, method_settings(), {0.5f, 0.5f, 0.5f}).distance_method(0),
+              uint8_t(DistanceMethod::FreeFlight));
+}
+
+TEST(Selection, EqualCostsChooseTheLowestVarianceMethod) {
+    for (int best = 0; best < kDistanceMethods; ++best) {
+        SelectionStatistics stats(3);
+        std::array<double, kDistanceMethods> m = {2.0, 2.0, 2.0, 2.0};
+        m[size_t(best)] = 0.5;
+        add_method_rounds(stats, m, {3, 3, 3, 3}, 200);
+        const LearnedSelection sel = LearnedSelection::fit(stats, method_settings(), {0.5f, 0.5f, 0.5f});
+        EXPECT_EQ(sel.distance_method(0), uint8_t(best));
+        EXPECT_EQ(sel.distance_method(1), uint8_t(best));
+        // A guided method keeps the configured distance mixture.
+        EXPECT_EQ(sel.share(SelectionDecision::Distance, 0), best == 0 ? 0.f : LearnedSelection::kDefault);
+        EXPECT_TRUE(sel.learned(SelectionDecision::Distance));
+    }
+}
+
+TEST(Selection, VarianceIsWeighedAgainstCost) {
+    // The product halves the variance at eight lookups per decision: worth it when a lookup is
+    // cheap, not when it costs as much as a whole decision.
+    SelectionStatistics stats(3);
+    add_method_rounds(stats, {2.0, 2.0, 1.0, 2.0}, {0, 1, 8, 8}, 200);
+    SelectionSettings cheap = method_settings();
+    cheap.lookup_cost = 0.01f;
+    EXPECT_EQ(LearnedSelection::fit(stats, cheap, {0.5f, 0.5f, 0.5f}).distance_method(0),
+              uint8_t(DistanceMethod::VspProduct));
+    SelectionSettings dear = method_settings();
+    dear.lookup_cost = 1.f;
+    EXPECT_EQ(LearnedSelection::fit(stats, dear, {0.5f, 0.5f, 0.5f}).distance_method(0),
+              uint8_t(DistanceMethod::FreeFlight));
+    // Without the method choice nothing of it is learned.
+    EXPECT_EQ(LearnedSelection::fit(stats, plain_settings(), {0.5f, 0.5f, 0.5f}).distance_method(0), kMethodDefault);
+}
+
+TEST(Selection, CellsWithFewSamplesChooseTogether) {
+    // Cells 0 and 1 have 200 decisions per round, cell 2 ten (below min_samples): cell 2 follows
+    // its own sums (the product, cheap and lowest in variance there), not the configured method.
+    SelectionStatistics stats(3);
+    add_method_rounds(stats, {1.0, 1.0, 1.0, 1.0}, {0, 1, 6, 8}, 200);
+    for (int k = 0; k < kDistanceMethods; ++k)
+        for (int i = 0; i < 10; ++i)
+            stats.add_method_decision(DistanceMethod(k), 2, k == int(DistanceMethod::VspProduct) ? 1.0 : 1e4, 0);
+    const LearnedSelection sel = LearnedSelection::fit(stats, method_settings(), {0.5f, 0.5f, 0.5f});
+    EXPECT_EQ(sel.distance_method(0), uint8_t(DistanceMethod::FreeFlight));
+    EXPECT_EQ(sel.distance_method(2), uint8_t(DistanceMethod::VspProduct));
+}
+
+TEST(Selection, MethodsRoundTripAndForcedRounds) {
+    SelectionStatistics stats(3);
+    add_method_rounds(stats, {2.0, 1.0, 2.0, 2.0}, {0, 1, 6, 8}, 200);
+    SelectionSettings cheap = method_settings();
+    cheap.lookup_cost = 0.01f;
+    const LearnedSelection sel = LearnedSelection::fit(stats, cheap, {0.5f, 0.5f, 0.5f});
+    ASSERT_EQ(sel.distance_method(0), uint8_t(DistanceMethod::Vsp));
+    const LearnedSelection back = LearnedSelection::deserialize(sel.serialize());
+    for (size_t r = 0; r < 3; ++r) EXPECT_EQ(back.distance_method(r), sel.distance_method(r));
+    std::string bad = sel.serialize();
+    bad[16 + kSelectionDecisions * sizeof(float) + kSelectionStages] = 7;  // the first cell's method
+    EXPECT_THROW(LearnedSelection::deserialize(bad), std::runtime_error);
+    const LearnedSelection forced = LearnedSelection::forced_method(4, DistanceMethod::Bins);
+    EXPECT_EQ(forced.cells(), 4u);
+    EXPECT_EQ(forced.distance_method(3), uint8_t(DistanceMethod::Bins));
+    EXPECT_EQ(forced.share(SelectionDecision::Distance, 3), LearnedSelection::kDefault);
+    EXPECT_TRUE(forced.learned(SelectionDecision::Distance));
+    EXPECT_FALSE(forced.learned(SelectionDecision::Direction));
+}

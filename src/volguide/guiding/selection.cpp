@@ -14,7 +14,7 @@ constexpr double kFixedScale = 4294967296.0;  // 2^32
 constexpr double kMaxTerm = 1e15;
 constexpr double kTwo64 = 18446744073709551616.0;
 constexpr uint32_t kSelectionMagic = 0x4c534756;  // "VGSL"
-constexpr uint32_t kVersion = 1;
+constexpr uint32_t kVersion = 2;  // 1: without the distance method byte
 
 size_t nearest_share(float share) {
     size_t best = 0;
@@ -133,6 +133,93 @@ void choose_with_cost(Entries& entries, const SelectionStatistics& stats, const 
     }
 }
 
+// Per-cell distance methods (selection.h): a cell's moment and cost per method, and the rounds' figures.
+// Entry `cells` is the rest: the sums over the cells with fewer than min_samples decisions in some
+// round, which choose one method together (as the shares' shrinkage lets few samples follow the
+// scene's verdict; kept at the configured method they would carry its cost into T unexamined).
+struct MethodFit {
+    std::vector<std::array<double, kDistanceMethods>> M, C;
+    std::vector<bool> learned;
+    double V = 0.0, other = 0.0;  // camera-sample second moment and cost outside the distance decisions, per round
+};
+
+MethodFit gather_methods(const SelectionStatistics& stats, const SelectionSettings& settings) {
+    const size_t cells = stats.cells();
+    MethodFit f;
+    f.M.assign(cells + 1, {});
+    f.C.assign(cells + 1, {});
+    f.learned.assign(cells + 1, true);
+    std::array<double, kDistanceMethods> pooled_m{}, pooled_n{};
+    for (size_t r = 0; r < cells; ++r)
+        for (int k = 0; k < kDistanceMethods; ++k) {
+            const auto& mm = stats.method_moments(DistanceMethod(k), r);
+            pooled_m[size_t(k)] += mm.m.value();
+            pooled_n[size_t(k)] += double(mm.count);
+        }
+    const double n0 = std::max(0.f, settings.prior_samples);
+    for (size_t r = 0; r < cells; ++r)
+        for (int k = 0; k < kDistanceMethods; ++k) {
+            const auto& mm = stats.method_moments(DistanceMethod(k), r);
+            const double n = double(mm.count);
+            if (mm.count < uint64_t(std::max(1, settings.min_samples))) f.learned[r] = false;
+            // Shrunk towards the pooled mean per decision as the shares' moments are (shrink_towards_pooled).
+            const double prior = pooled_n[size_t(k)] > 0.0 ? pooled_m[size_t(k)] / pooled_n[size_t(k)] : 0.0;
+            f.M[r][size_t(k)] = n > 0.0 ? n * (mm.m.value() + n0 * prior) / (n + n0) : 0.0;
+            f.C[r][size_t(k)] = n + double(settings.lookup_cost) * double(mm.lookups);
+        }
+    for (size_t r = 0; r < cells; ++r)
+        if (!f.learned[r])
+            for (int k = 0; k < kDistanceMethods; ++k) {
+                f.M[cells][size_t(k)] += stats.method_moments(DistanceMethod(k), r).m.value();
+                f.C[cells][size_t(k)] += f.C[r][size_t(k)];
+            }
+    for (int k = 0; k < kDistanceMethods; ++k) {
+        const auto& round = stats.method_round(DistanceMethod(k));
+        f.V += round.camera_moment.value() / kDistanceMethods;
+        f.other += std::max(0.0, double(round.decisions) - pooled_n[size_t(k)]) / kDistanceMethods;
+    }
+    return f;
+}
+
+// argmin_m M_r(m) / V + C_r(m) / T per learned cell; T (the cost of a round with every cell's
+// choice) depends on the choices, so the rule is iterated until no cell changes (at most
+// kMethodIterations), starting from volpath's decision everywhere: guiding has to earn each cell
+// against the time it adds (started from the variance-only choice instead, a cell's share of a time
+// inflated by every other cell's guiding is small, and a lookup a million decisions dear did not
+// switch one cell off). Ties go to the cheaper-listed method (free flight first).
+constexpr int kMethodIterations = 10;
+
+double method_round_cost(const MethodFit& f, const std::vector<uint8_t>& chosen) {
+    double T = f.other;
+    for (size_t r = 0; r < chosen.size(); ++r)
+        if (f.learned[r]) T += f.C[r][chosen[r]];
+    return T;
+}
+
+std::vector<uint8_t> choose_methods(const SelectionStatistics& stats, const SelectionSettings& settings) {
+    const MethodFit f = gather_methods(stats, settings);
+    std::vector<uint8_t> chosen(f.M.size(), uint8_t(DistanceMethod::FreeFlight));
+    const size_t rest = chosen.size() - 1;
+    for (int iteration = 0; iteration < kMethodIterations && f.V > 0.0; ++iteration) {
+        const double T = method_round_cost(f, chosen);
+        if (!(T > 0.0)) break;
+        bool changed = false;
+        for (size_t r = 0; r < chosen.size(); ++r) {
+            if (!f.learned[r]) continue;
+            std::array<double, kDistanceMethods> value{};
+            for (size_t k = 0; k < value.size(); ++k) value[k] = f.M[r][k] / f.V + f.C[r][k] / T;
+            const uint8_t best = uint8_t(std::min_element(value.begin(), value.end()) - value.begin());
+            changed |= best != chosen[r];
+            chosen[r] = best;
+        }
+        if (!changed) break;
+    }
+    for (size_t r = 0; r < rest; ++r)
+        if (!f.learned[r]) chosen[r] = chosen[rest];
+    chosen.pop_back();
+    return chosen;
+}
+
 // Cell r's learned shares, and guided RR/splitting switched off at the stages where its estimate
 // and the measured radiance disagree by more than rrs_ratio.
 LearnedSelection::Cell fitted_cell(const std::array<Entry, kSelectionDecisions>& entries,
@@ -177,7 +264,22 @@ double ExactSum::value() const {
     return (double(hi_) * kTwo64 + double(lo_)) / kFixedScale;
 }
 
-SelectionStatistics::SelectionStatistics(size_t cells) : moments_(cells), calibration_(cells) {}
+SelectionStatistics::SelectionStatistics(size_t cells) : moments_(cells), calibration_(cells), methods_(cells) {}
+
+void SelectionStatistics::add_method_decision(DistanceMethod method, size_t cell, double s2, uint64_t lookups) {
+    if (cell >= methods_.size() || !std::isfinite(s2)) return;
+    MethodMoments& m = methods_[cell][size_t(method)];
+    ++m.count;
+    m.lookups += lookups;
+    m.m.add(s2);
+}
+
+void SelectionStatistics::add_method_camera_sample(DistanceMethod method, double s2, uint64_t decisions) {
+    MethodRound& r = rounds_[size_t(method)];
+    ++r.camera_samples;
+    r.decisions += decisions;
+    if (std::isfinite(s2)) r.camera_moment.add(s2);
+}
 
 void SelectionStatistics::add_decision(SelectionDecision d, size_t cell, double s2, float q_cur, float p_u,
                                        float p_g) {
@@ -212,6 +314,7 @@ SelectionStatistics& SelectionStatistics::operator+=(const SelectionStatistics& 
     if (moments_.empty()) {
         moments_.resize(o.moments_.size());
         calibration_.resize(o.calibration_.size());
+        methods_.resize(o.methods_.size());
     }
     if (o.moments_.size() != moments_.size())
         throw std::logic_error("SelectionStatistics: different cell counts");
@@ -231,6 +334,19 @@ SelectionStatistics& SelectionStatistics::operator+=(const SelectionStatistics& 
             a.count += b.count;
         }
     }
+    for (size_t r = 0; r < methods_.size(); ++r)
+        for (int k = 0; k < kDistanceMethods; ++k) {
+            MethodMoments& a = methods_[r][size_t(k)];
+            const MethodMoments& b = o.methods_[r][size_t(k)];
+            a.m += b.m;
+            a.count += b.count;
+            a.lookups += b.lookups;
+        }
+    for (int k = 0; k < kDistanceMethods; ++k) {
+        rounds_[size_t(k)].camera_moment += o.rounds_[size_t(k)].camera_moment;
+        rounds_[size_t(k)].camera_samples += o.rounds_[size_t(k)].camera_samples;
+        rounds_[size_t(k)].decisions += o.rounds_[size_t(k)].decisions;
+    }
     unrecorded_ += o.unrecorded_;
     camera_samples_ += o.camera_samples_;
     camera_moment_ += o.camera_moment_;
@@ -247,6 +363,25 @@ LearnedSelection LearnedSelection::fit(const SelectionStatistics& stats, const S
     out.cells_.resize(entries.size());
     for (size_t r = 0; r < entries.size(); ++r)
         out.cells_[r] = fitted_cell(entries[r], stats, r, settings);
+    if (settings.choose_distance_method) {
+        // The method replaces the distance share: free flight is share 0, the guided methods keep
+        // the configured mixture (the rounds measured them with it).
+        const std::vector<uint8_t> methods = choose_methods(stats, settings);
+        for (size_t r = 0; r < entries.size(); ++r) {
+            Cell& c = out.cells_[r];
+            c.distance_method = methods[r];
+            c.share[size_t(SelectionDecision::Distance)] =
+                methods[r] == uint8_t(DistanceMethod::FreeFlight) ? 0.f : kDefault;
+        }
+    }
+    out.update_learned();
+    return out;
+}
+
+LearnedSelection LearnedSelection::forced_method(size_t cells, DistanceMethod method) {
+    LearnedSelection out;
+    out.cells_.resize(cells);
+    for (Cell& c : out.cells_) c.distance_method = uint8_t(method);
     out.update_learned();
     return out;
 }
@@ -256,6 +391,8 @@ void LearnedSelection::update_learned() {
     for (const Cell& r : cells_)
         for (int d = 0; d < kSelectionDecisions; ++d)
             if (r.share[size_t(d)] != kDefault) learned_[size_t(d)] = true;
+    for (const Cell& r : cells_)
+        if (r.distance_method != kMethodDefault) learned_[size_t(SelectionDecision::Distance)] = true;
 }
 
 LearnedSelection::Summary LearnedSelection::summary() const {
@@ -270,6 +407,7 @@ LearnedSelection::Summary LearnedSelection::summary() const {
                 ++s.unguided[size_t(d)];
         }
         if (!r.rrs[0] || !r.rrs[1]) ++s.rrs_off;
+        if (r.distance_method < kDistanceMethods) ++s.methods[r.distance_method];
     }
     for (int d = 0; d < kSelectionDecisions; ++d) {
         const uint64_t n = s.guided[size_t(d)] + s.unguided[size_t(d)];
@@ -286,6 +424,7 @@ std::string LearnedSelection::serialize() const {
     for (const Cell& r : cells_) {
         for (float s : r.share) put(out, s);
         for (uint8_t b : r.rrs) put(out, b);
+        put(out, r.distance_method);
     }
     return out;
 }
@@ -293,10 +432,11 @@ std::string LearnedSelection::serialize() const {
 LearnedSelection LearnedSelection::deserialize(const std::string& bytes) {
     size_t at = 0;
     if (get<uint32_t>(bytes, at) != kSelectionMagic) throw std::runtime_error("learned selection: not a selection table");
-    if (get<uint32_t>(bytes, at) != kVersion) throw std::runtime_error("learned selection: unknown version");
+    const uint32_t version = get<uint32_t>(bytes, at);
+    if (version != kVersion && version != 1) throw std::runtime_error("learned selection: unknown version");
     const uint64_t n = get<uint64_t>(bytes, at);
-    constexpr size_t kCellBytes = kSelectionDecisions * sizeof(float) + kSelectionStages;
-    if (n > (bytes.size() - at) / kCellBytes) throw std::runtime_error("learned selection: truncated");
+    const size_t cell_bytes = kSelectionDecisions * sizeof(float) + kSelectionStages + (version >= 2 ? 1 : 0);
+    if (n > (bytes.size() - at) / cell_bytes) throw std::runtime_error("learned selection: truncated");
     LearnedSelection out;
     out.cells_.resize(size_t(n));
     for (Cell& r : out.cells_) {
@@ -308,6 +448,11 @@ LearnedSelection LearnedSelection::deserialize(const std::string& bytes) {
         for (uint8_t& b : r.rrs) {
             b = get<uint8_t>(bytes, at);
             if (b > 1) throw std::runtime_error("learned selection: bad flag");
+        }
+        if (version >= 2) {
+            r.distance_method = get<uint8_t>(bytes, at);
+            if (r.distance_method >= kDistanceMethods && r.distance_method != kMethodDefault)
+                throw std::runtime_error("learned selection: bad distance method");
         }
     }
     if (at != bytes.size()) throw std::runtime_error("learned selection: trailing bytes");

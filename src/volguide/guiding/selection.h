@@ -29,6 +29,15 @@
 // (they kill the paths that carry their light) or too bright (splitting for nothing); measured, it
 // does more harm than good (SelectionSettings::rrs_ratio).
 //
+// Per-cell distance method (issue 37, docs/theory.md §7.12; SelectionSettings::choose_distance_method):
+// the pilot runs once per method of DistanceMethod, every cell forced to it, and records per cell
+// and method the sum of (S / I)^2 over its distance decisions, their count and the field lookups they
+// made (counted work, not time: the same for any thread count). fit() picks per cell
+//   argmin_m  M_r(m) / V + C_r(m) / T,   C_r(m) = n_r(m) + lookup_cost x lookups_r(m),
+// V the pilot's camera-sample second moment and T its total cost (the cells' chosen methods plus
+// every other decision), shrunk towards the pooled mean as the shares are. Free flight costs no
+// lookup: a cell that chooses it makes volpath's decision and reads nothing of the field for it.
+//
 // Only probabilities change: any learned value gives an unbiased estimator. Sums are exact
 // (fixed point, 128-bit integers), so the result is independent of the order the pilot's samples
 // arrive in, hence of the thread count. Cells with fewer than min_samples pilot decisions keep the
@@ -46,6 +55,13 @@ inline constexpr int kSelectionDecisions = 3;
 inline constexpr int kSelectionStages = 2;
 // The guided shares the pilot evaluates.
 inline constexpr std::array<float, 6> kSelectionShares = {0.f, 0.1f, 0.25f, 0.5f, 0.75f, 0.9f};
+// The distance methods a cell can choose among (the integrators' distance=standard, vsp, vsp_product,
+// incremental); kMethodDefault: keep the configured one.
+enum class DistanceMethod : uint8_t { FreeFlight = 0, Vsp = 1, VspProduct = 2, Bins = 3 };
+inline constexpr int kDistanceMethods = 4;
+inline constexpr uint8_t kMethodDefault = 255;
+inline constexpr std::array<const char*, kDistanceMethods> kDistanceMethodNames = {"free_flight", "vsp", "vsp_product",
+                                                                                  "bins"};
 
 struct SelectionSettings {
     int pilot_spp = 2;  // camera samples per pixel of the pilot (0: no learned selection)
@@ -63,6 +79,12 @@ struct SelectionSettings {
     // equal spp, bench/RESULTS.md (issue 35): a leaf's estimate can be off by a factor and still split
     // well).
     float rrs_ratio = 0.f;
+    // Choose the distance method per cell (above); off by default (its pilot costs one round per method).
+    bool choose_distance_method = false;
+    // The cost of one field lookup (a tree descent or an estimate read) in units of a decision: the
+    // guided distance decision's kappa of 1 was set for incremental bins' decisions of 6-10 bins, each
+    // a lookup (bench/RESULTS.md, issue 35 profiles), so about 0.1-0.17 per lookup.
+    float lookup_cost = 0.15f;
 };
 
 // An exact sum of non-negative terms: fixed point with 2^-32 resolution in 128 bits (two words),
@@ -95,6 +117,24 @@ class SelectionStatistics {
     // A camera sample of value X in a pixel of estimate I: s2 = (X / I)^2.
     void add_camera_sample(double s2);
 
+    // The per-method rounds (above): a distance decision in `cell` of the round of `method`, s2 =
+    // (S / I)^2 of what followed it, and the field lookups it made.
+    void add_method_decision(DistanceMethod method, size_t cell, double s2, uint64_t lookups);
+    // A camera sample of the round of `method` (s2 as add_camera_sample) and the decisions it made.
+    void add_method_camera_sample(DistanceMethod method, double s2, uint64_t decisions);
+    struct MethodMoments {
+        ExactSum m;
+        uint64_t count = 0, lookups = 0;
+    };
+    struct MethodRound {
+        ExactSum camera_moment;
+        uint64_t camera_samples = 0, decisions = 0;
+    };
+    const MethodMoments& method_moments(DistanceMethod method, size_t cell) const {
+        return methods_[cell][size_t(method)];
+    }
+    const MethodRound& method_round(DistanceMethod method) const { return rounds_[size_t(method)]; }
+
     SelectionStatistics& operator+=(const SelectionStatistics& o);
 
     struct Moments {
@@ -115,6 +155,8 @@ class SelectionStatistics {
   private:
     std::vector<std::array<Moments, kSelectionDecisions>> moments_;
     std::vector<std::array<Calibration, kSelectionStages>> calibration_;
+    std::vector<std::array<MethodMoments, kDistanceMethods>> methods_;
+    std::array<MethodRound, kDistanceMethods> rounds_{};
     uint64_t unrecorded_ = 0;
     uint64_t camera_samples_ = 0;
     ExactSum camera_moment_;
@@ -137,6 +179,12 @@ class LearnedSelection {
     float share(SelectionDecision d, size_t cell) const {
         return cell < cells_.size() ? cells_[cell].share[size_t(d)] : kDefault;
     }
+    // The distance method chosen in `cell` (a DistanceMethod, or kMethodDefault: the configured one).
+    uint8_t distance_method(size_t cell) const {
+        return cell < cells_.size() ? cells_[cell].distance_method : kMethodDefault;
+    }
+    // Every cell of `cells` forced to `method` (the pilot's rounds), nothing else learned.
+    static LearnedSelection forced_method(size_t cells, DistanceMethod method);
     // Whether guided RR/splitting acts at `stage` in `cell` (true where not learned).
     bool rrs_acts(int stage, size_t cell) const {
         return cell >= cells_.size() || cells_[cell].rrs[size_t(stage)] != 0;
@@ -147,6 +195,7 @@ class LearnedSelection {
         std::array<uint64_t, kSelectionDecisions> unguided{}, guided{};
         std::array<double, kSelectionDecisions> mean_share{};  // over the learned cells
         uint64_t rrs_off = 0;
+        std::array<uint64_t, kDistanceMethods> methods{};  // cells per chosen distance method
     };
     Summary summary() const;
 
@@ -158,6 +207,7 @@ class LearnedSelection {
     struct Cell {
         std::array<float, kSelectionDecisions> share{kDefault, kDefault, kDefault};
         std::array<uint8_t, kSelectionStages> rrs{1, 1};
+        uint8_t distance_method = kMethodDefault;
     };
     const std::vector<Cell>& table() const { return cells_; }
 

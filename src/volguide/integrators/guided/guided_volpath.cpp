@@ -249,14 +249,26 @@ void GuidedVolPathIntegrator::learn_selection(const Scene& scene, const Preproce
         p.phase = "selection pilot";
         context.progress(p);
     }
-    const SelectionStatistics stats = run_selection_pilot(
-        scene, settings_.selection.pilot_spp, guide_->selection_cells(),
-        [&](Point2f film_uv) { return pixel_estimate_.at(film_uv); },
-        [&](Sampler& sampler, const Ray& ray, SelectionRecorder& recorder) {
-            GuidedWalkPolicy policy(*guide_, nullptr, 0.f);
-            return walk_.walk(scene, sampler, ray, &policy, &recorder);
-        },
-        context);
+    auto pilot = [&](int method_round) {
+        return run_selection_pilot(
+            scene, settings_.selection.pilot_spp, guide_->selection_cells(),
+            [&](Point2f film_uv) { return pixel_estimate_.at(film_uv); },
+            [&](Sampler& sampler, const Ray& ray, SelectionRecorder& recorder) {
+                GuidedWalkPolicy policy(*guide_, nullptr, 0.f);
+                return walk_.walk(scene, sampler, ray, &policy, &recorder);
+            },
+            context, method_round);
+    };
+    SelectionStatistics stats;
+    if (settings_.selection.choose_distance_method) {
+        // One round per distance method, every cell forced to it (selection.h, docs/theory.md §7.12).
+        for (int k = 0; k < kDistanceMethods; ++k) {
+            guide_->set_selection(LearnedSelection::forced_method(guide_->selection_cells(), DistanceMethod(k)));
+            stats += pilot(k);
+        }
+    } else {
+        stats = pilot(-1);
+    }
     guide_->set_selection(LearnedSelection::fit(stats, settings_.selection, guide_->configured_shares()));
     const LearnedSelection::Summary sum = guide_->selection().summary();
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -274,6 +286,10 @@ void GuidedVolPathIntegrator::learn_selection(const Scene& scene, const Preproce
                             {"selection_direction_mean_share", sum.mean_share[1]},
                             {"selection_surface_mean_share", sum.mean_share[2]},
                             {"selection_rrs_cells_off", double(sum.rrs_off)}});
+    if (settings_.selection.choose_distance_method)
+        for (int k = 0; k < kDistanceMethods; ++k)
+            training_stats_.emplace_back(std::string("selection_method_cells_") + kDistanceMethodNames[size_t(k)],
+                                         double(sum.methods[size_t(k)]));
 }
 
 std::string GuidedVolPathIntegrator::prepass_state() const {
@@ -301,7 +317,8 @@ Color3 GuidedVolPathIntegrator::guided_walk(const Scene& scene, Sampler& sampler
 }
 
 bool GuidedVolPathIntegrator::wants_camera_buffer() const {
-    return guide_ && settings_.guide.distance == DistanceGuiding::Vsp && settings_.guide.vsp_camera_buffer;
+    const DistanceGuiding d = settings_.guide.distance;
+    return guide_ && (d == DistanceGuiding::Vsp || d == DistanceGuiding::VspProduct) && settings_.guide.vsp_camera_buffer;
 }
 
 float GuidedVolPathIntegrator::camera_guided(const CameraRay& camera) const {

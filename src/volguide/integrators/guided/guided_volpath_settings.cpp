@@ -26,7 +26,8 @@ constexpr Choice<TrainingMethod> kTraining[] = {{"photons", TrainingMethod::Phot
 constexpr Choice<DistanceGuiding> kDistance[] = {{"standard", DistanceGuiding::Standard},
                                                  {"incremental", DistanceGuiding::Incremental},
                                                  {"tabulated", DistanceGuiding::Tabulated},
-                                                 {"vsp", DistanceGuiding::Vsp}};
+                                                 {"vsp", DistanceGuiding::Vsp},
+                                                 {"vsp_product", DistanceGuiding::VspProduct}};
 constexpr Choice<DistanceDenominator> kDenominator[] = {{"vre", DistanceDenominator::Vre},
                                                         {"incident", DistanceDenominator::Incident}};
 // Heterogeneous media under distance=incremental: guided null-collision tracking (H2) or the bins (H1).
@@ -146,8 +147,9 @@ void read_distance(const Properties& props, const VolPathSettings& walk, WalkGui
     if (props.has("vsp_equiangular") && g.distance != DistanceGuiding::Vsp)
         props.fail_at("vsp_equiangular", "guided_volpath: vsp_equiangular needs distance=\"vsp\"");
     g.vsp_camera_buffer = props.get_bool("vsp_camera_buffer", g.vsp_camera_buffer);
-    if (props.has("vsp_camera_buffer") && g.distance != DistanceGuiding::Vsp)
-        props.fail_at("vsp_camera_buffer", "guided_volpath: vsp_camera_buffer needs distance=\"vsp\"");
+    if (props.has("vsp_camera_buffer") && g.distance != DistanceGuiding::Vsp && g.distance != DistanceGuiding::VspProduct)
+        props.fail_at("vsp_camera_buffer", "guided_volpath: vsp_camera_buffer needs distance=\"vsp\" or \"vsp_product\"");
+    g.product_candidates = int_in(props, "product_candidates", g.product_candidates, 1, 64);
 }
 
 // direction and its parameters (phase_prob, direction_radiance, surface_guiding, bsdf_prob).
@@ -196,8 +198,23 @@ void read_ears(const Properties& props, GuidedVolPathSettings& s) {
 
 // Learned selection (guiding/selection.h): selection_spp (0: off), selection_min_samples,
 // selection_cost_distance / _direction / _surface (kappa), selection_rrs_ratio.
-void read_selection(const Properties& props, SelectionSettings& s) {
+// selection_distance_method (issue 37: the per-cell choice among free flight, vsp, vsp_product and
+// the incremental bins) with selection_cost_lookup, the cost of one field lookup in decisions.
+void read_selection(const Properties& props, DistanceGuiding distance, SelectionSettings& s) {
     s.pilot_spp = int_in(props, "selection_spp", s.pilot_spp, 0, 64, " (0: off)");
+    s.choose_distance_method = props.get_bool("selection_distance_method", s.choose_distance_method);
+    s.lookup_cost = finite_at_least(props, "selection_cost_lookup", s.lookup_cost, 0.f);
+    if (s.choose_distance_method && (s.pilot_spp == 0 || distance == DistanceGuiding::Standard))
+        props.fail_at("selection_distance_method",
+                      "guided_volpath: selection_distance_method needs a learned selection (selection_spp > 0) and a "
+                      "guided distance decision (distance != standard)");
+    if (props.has("product_candidates") && distance != DistanceGuiding::VspProduct && !s.choose_distance_method)
+        props.fail_at("product_candidates",
+                      "guided_volpath: product_candidates only applies to distance=vsp_product or "
+                      "selection_distance_method=true");
+    if (props.has("selection_cost_lookup") && !s.choose_distance_method)
+        props.fail_at("selection_cost_lookup",
+                      "guided_volpath: selection_cost_lookup only applies with selection_distance_method=true");
     s.min_samples = int_in(props, "selection_min_samples", s.min_samples, 1, 1 << 30);
     s.kappa[0] = finite_at_least(props, "selection_cost_distance", s.kappa[0], 0.f);
     s.kappa[1] = finite_at_least(props, "selection_cost_direction", s.kappa[1], 0.f);
@@ -266,7 +283,7 @@ GuidedVolPathSettings GuidedVolPathSettings::from(const Properties& props) {
     read_direction(props, s.guide);
     read_roulette(props, s.roulette);
     read_ears(props, s);
-    read_selection(props, s.selection);
+    read_selection(props, s.guide.distance, s.selection);
     read_pixel_estimate(props, s);
     s.estimate = read_choice<FieldEstimate>(props, "estimate", s.estimate, kEstimate);
     if (props.has("save_field")) s.save_field = props.get_string("save_field");
@@ -279,7 +296,7 @@ std::string GuidedVolPathSettings::to_string() const {
         "max_depth={}, rr_depth={}, rr_rule={}, training={}, photons={}, training_iterations={}, online_spp={}, "
         "leaf_samples={}, leaf_contrast={}, leaf_contrast_samples={}, "
         "lobes={}, distance={}, distance_merge={}, vsp_equiangular={}, vsp_camera_buffer={}, hetero_distance={}, direction={}, surface_guiding={}, rrs={}, rrs_window={}, "
-        "rrs_branch_budget={}, selection_spp={}, pixel_estimate={}, equiangular={}, estimate={}",
+        "rrs_branch_budget={}, selection_spp={}, selection_distance_method={}, pixel_estimate={}, equiangular={}, estimate={}",
         walk.max_depth, walk.rr_depth, roulette_rule_name(walk.rr_rule), choice_name<TrainingMethod>(kTraining, training), photons,
         training_iterations, online_spp, field.tree.max_samples, field.tree.split_contrast,
         field.tree.contrast_min_samples, field.lobes,
@@ -288,7 +305,7 @@ std::string GuidedVolPathSettings::to_string() const {
         choice_name<bool>(kHeteroDistance, guide.guided_tracking),
         choice_name<DirectionGuiding>(kDirection, guide.direction), guide.surface,
         choice_name<RouletteMode>(kRrs, roulette.mode), roulette.window, roulette.branch_budget,
-        selection.pilot_spp, choice_name<PixelEstimateMethod>(kPixelEstimate, pixel_estimate), walk.equiangular,
+        selection.pilot_spp, selection.choose_distance_method, choice_name<PixelEstimateMethod>(kPixelEstimate, pixel_estimate), walk.equiangular,
         choice_name<FieldEstimate>(kEstimate, estimate));
 }
 

@@ -62,6 +62,9 @@ struct DecisionRecord {
     bool mixture = false;
     int leaf = -1;
     float pdf = 0.f, p_u = 0.f, p_g = 0.f;  // the mixture's density at the sample and its two parts
+    // A guided policy's distance decision, mixture or not: the field lookups it made (-1: not
+    // reported; the learned selection's per-method cost, guiding/selection.h), `leaf` its origin's.
+    int lookups = -1;
 };
 
 class WalkPolicy {

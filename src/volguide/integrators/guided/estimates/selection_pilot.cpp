@@ -20,6 +20,7 @@ constexpr uint64_t kSelectionPilotStream = 0x5E1EC7ull;
 void SelectionRecorder::begin(float pixel) {
     pixel_ = pixel > 0.f ? pixel : 1.f;
     total_ = 0.0;
+    decisions_ = 0;
     pending_.clear();
 }
 
@@ -28,6 +29,16 @@ static_assert(int(DecisionKind::Distance) == int(SelectionDecision::Distance) &&
               int(DecisionKind::Surface) == int(SelectionDecision::Surface));
 
 void SelectionRecorder::record_decision(DecisionKind kind, const DecisionRecord& record) {
+    ++decisions_;
+    if (method_ >= 0 && kind == DecisionKind::Distance && record.lookups >= 0) {
+        Pending p;
+        p.is_decision = false;
+        p.is_method = true;
+        p.cell = cell(record.leaf);
+        p.lookups = uint32_t(record.lookups);
+        p.before = total_;
+        pending_.push_back(p);
+    }
     if (!record.mixture) {
         ++unrecorded_;
         return;
@@ -62,7 +73,10 @@ void SelectionRecorder::end() {
         // Contributions are added in path order, so what followed p is the total since it
         // (clamped: float rounding of a sum of non-negative terms).
         const double S = std::max(0.0, total_ - p.before);
-        if (p.is_decision) {
+        if (p.is_method) {
+            const double s = S / double(pixel_);
+            stats_.add_method_decision(DistanceMethod(method_), p.cell, s * s, p.lookups);
+        } else if (p.is_decision) {
             const double s = S / double(pixel_);
             stats_.add_decision(SelectionDecision(p.kind), p.cell, s * s, p.q, p.p_u, p.p_g);
         } else {
@@ -72,19 +86,23 @@ void SelectionRecorder::end() {
     stats_.add_unrecorded_decisions(unrecorded_);
     const double x = total_ / double(pixel_);
     stats_.add_camera_sample(x * x);
+    if (method_ >= 0) stats_.add_method_camera_sample(DistanceMethod(method_), x * x, decisions_);
+    decisions_ = 0;
     unrecorded_ = 0;
     pending_.clear();
 }
 
 SelectionStatistics run_selection_pilot(
     const Scene& scene, int spp, size_t cells, const std::function<float(Point2f)>& pixel,
-    const std::function<Color3(Sampler&, const Ray&, SelectionRecorder&)>& walk, const PreprocessContext& context) {
+    const std::function<Color3(Sampler&, const Ray&, SelectionRecorder&)>& walk, const PreprocessContext& context,
+    int method_round) {
     const Sensor& sensor = scene.sensor();
     const int W = sensor.film().width(), H = sensor.film().height();
     tbb::enumerable_thread_specific<SelectionStatistics> stats([&] { return SelectionStatistics(cells); });
     parallel_for(tbb::blocked_range<int>(0, H), [&](const tbb::blocked_range<int>& rows) {
         SelectionStatistics& local = stats.local();
         SelectionRecorder recorder(local, cells);
+        recorder.set_method_round(method_round);
         for (int y = rows.begin(); y != rows.end(); ++y) {
             if (context.cancelled()) return;
             for (int x = 0; x < W; ++x)

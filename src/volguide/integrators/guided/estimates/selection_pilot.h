@@ -30,6 +30,9 @@ class SelectionRecorder final : public PathRecorder {
 
     // A new camera sample in a pixel of estimate `pixel` (> 0).
     void begin(float pixel);
+    // The round of the per-cell method choice this recorder serves (selection.h; -1: none): its
+    // distance decisions are recorded per method, mixture or not.
+    void set_method_round(int method) { method_ = method; }
     bool records_decisions() const override { return true; }
     // A decision in the cell of record.leaf sampled with density record.pdf from the mixture of
     // the unguided and guided densities p_u, p_g; one without a guided mixture only counts (the
@@ -47,6 +50,8 @@ class SelectionRecorder final : public PathRecorder {
     size_t cell(int leaf) const { return leaf >= 0 && size_t(leaf) + 1 < cells_ ? size_t(leaf) : cells_ - 1; }
     struct Pending {
         bool is_decision = true;
+        bool is_method = false;  // a distance decision of a method round
+        uint32_t lookups = 0;
         uint8_t kind = 0;  // SelectionDecision or stage
         size_t cell = 0;
         float q = 0.f, p_u = 0.f, p_g = 0.f;  // decision
@@ -58,14 +63,18 @@ class SelectionRecorder final : public PathRecorder {
     float pixel_ = 1.f;
     double total_ = 0.0;
     uint64_t unrecorded_ = 0;
+    uint64_t decisions_ = 0;  // of the camera sample, recorded or not
+    int method_ = -1;
     std::vector<Pending> pending_;
 };
 
 // `spp` camera samples per pixel of `walk` (the guided walk with the recorder as its PathRecorder), each
 // on Sampler(seed, pixel, k, stream of the pilot), `pixel(film_uv)` the pixel estimate; the sums of
-// every recorder. Deterministic for any thread count (exact sums).
+// every recorder. Deterministic for any thread count (exact sums). `method_round` >= 0: the round of
+// that DistanceMethod (the walk's guide forces it in every cell; the rounds share their random numbers).
 SelectionStatistics run_selection_pilot(
     const Scene& scene, int spp, size_t cells, const std::function<float(Point2f)>& pixel,
-    const std::function<Color3(Sampler&, const Ray&, SelectionRecorder&)>& walk, const PreprocessContext& context);
+    const std::function<Color3(Sampler&, const Ray&, SelectionRecorder&)>& walk, const PreprocessContext& context,
+    int method_round = -1);
 
 }  // namespace volguide

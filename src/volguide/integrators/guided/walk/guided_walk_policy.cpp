@@ -15,7 +15,11 @@ FreeFlightSample GuidedWalkPolicy::sample_distance(const Medium& medium, const R
     camera_guided_ = std::numeric_limits<float>::quiet_NaN();
     FreeFlightSample fs = guide_.sample_distance(medium, ray, tmax, throughput, sampler, vertex_leaf, scratch_);
     const DistanceScratch::Decision& d = scratch_.decision;
-    if (record && d.mixture) *record = {true, d.leaf, d.pdf, d.p_u, d.p_g};
+    if (record) {
+        if (d.mixture) *record = {true, d.leaf, d.pdf, d.p_u, d.p_g};
+        record->leaf = d.leaf;  // the learned selection's per-method rounds count every decision
+        record->lookups = int(d.lookups);
+    }
     return fs;
 }
 

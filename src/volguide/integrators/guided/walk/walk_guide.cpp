@@ -84,6 +84,20 @@ size_t WalkGuide::leaf_group_count() const {
     return n;
 }
 
+namespace {
+// The walk's distance decision for a method of the learned selection's per-cell choice (selection.h):
+// bins are the incremental sampler's (issue 37); `configured` where the cell has no learned method.
+DistanceGuiding selected_method(uint8_t method, DistanceGuiding configured) {
+    switch (method) {
+        case uint8_t(DistanceMethod::FreeFlight): return DistanceGuiding::Standard;
+        case uint8_t(DistanceMethod::Vsp): return DistanceGuiding::Vsp;
+        case uint8_t(DistanceMethod::VspProduct): return DistanceGuiding::VspProduct;
+        case uint8_t(DistanceMethod::Bins): return DistanceGuiding::Incremental;
+        default: return configured;
+    }
+}
+}  // namespace
+
 FreeFlightSample WalkGuide::sample_distance(const Medium& medium, const Ray& ray, float tmax,
                                             const Color3& throughput, Sampler& sampler, VertexLeaf& vertex_leaf,
                                             DistanceScratch& scratch) const {
@@ -97,6 +111,7 @@ FreeFlightSample WalkGuide::sample_distance(const Medium& medium, const Ray& ray
     // The origin's leaf, kept on the free-flight paths below where the scattering vertex is in it
     // (deep in a dense medium it usually is): the direction decision there needs no descent.
     auto free_flight_from = [&](int origin) {
+        scratch.decision.leaf = origin;
         FreeFlightSample fs = medium.sample_free_flight(ray, tmax, throughput, sampler);
         if (origin >= 0 && fs.scattered && field_.tree().holds_point(origin, fs.mi.p)) vertex_leaf.leaf = origin;
         return fs;
@@ -105,28 +120,40 @@ FreeFlightSample WalkGuide::sample_distance(const Medium& medium, const Ray& ray
         ++stats_.local().distance_skipped;
         return free_flight_from(origin_leaf);
     }
-    // Learned selection: the guided share of the origin's selection cell (found by a descent when no
-    // decision before found it); 0: free flight, nothing guided is paid for.
+    // Learned selection: the guided share and the method of the origin's selection cell (found by a
+    // descent when no decision before found it); share 0 or the free-flight method: volpath's
+    // decision, nothing guided is paid for (no table lookup, no bins, no product).
     int origin = origin_leaf;
     float c_T = settings_.distance_settings.c_T;
+    DistanceGuiding method = settings_.distance;
     // (Only when some distance share was learned or the pilot records: heterogeneous media under
     // guided tracking record none, and a descent per decision would then be work for nothing.)
     if (selection_.learned(SelectionDecision::Distance) || scratch.record) {
         if (origin < 0) origin = leaf_of(ray.o, VertexLeaf());
-        const float share = selection_.share(SelectionDecision::Distance, selection_cell(origin));
-        if (share == 0.f) {
+        const size_t cell = selection_cell(origin);
+        const float share = selection_.share(SelectionDecision::Distance, cell);
+        method = selected_method(selection_.distance_method(cell), method);
+        if (share == 0.f || method == DistanceGuiding::Standard) {
             ++stats_.local().distance_unselected;
             return free_flight_from(origin);
         }
         if (share != LearnedSelection::kDefault) c_T = 1.f - share;
     }
-    if (settings_.distance == DistanceGuiding::Vsp) {
+    return guided_distance(method, medium, ray, tmax, origin, c_T, throughput, sampler, vertex_leaf, scratch);
+}
+
+FreeFlightSample WalkGuide::guided_distance(DistanceGuiding method, const Medium& medium, const Ray& ray, float tmax,
+                                            int origin, float c_T, const Color3& throughput, Sampler& sampler,
+                                            VertexLeaf& vertex_leaf, DistanceScratch& scratch) const {
+    if (method == DistanceGuiding::Vsp || method == DistanceGuiding::VspProduct) {
         if (origin < 0) origin = leaf_of(ray.o, VertexLeaf());
+        scratch.decision.leaf = origin;
+        const bool product = method == DistanceGuiding::VspProduct;
         if (!medium.is_homogeneous())
-            return vsp_resampled(medium, ray, tmax, origin, c_T, throughput, sampler, vertex_leaf,
-                                 scratch.camera_guided);
-        return vsp_distance(medium, ray, tmax, origin, c_T, throughput, sampler, vertex_leaf, scratch);
+            return vsp_resampled(medium, ray, tmax, origin, c_T, product, throughput, sampler, vertex_leaf, scratch);
+        return vsp_distance(medium, ray, tmax, origin, c_T, product, throughput, sampler, vertex_leaf, scratch);
     }
+    scratch.decision.leaf = origin;
     float b0, b1;
     const bool crosses = !field_.empty() && field_.tree().bounds().ray_intersect(ray, b0, b1) && b1 > 0.f;
     // The guided part: (0, t_end); beyond the field's bounds the medium's own free flight.
@@ -137,8 +164,7 @@ FreeFlightSample WalkGuide::sample_distance(const Medium& medium, const Ray& ray
     }
 
     const LeafEstimates* estimates = estimates_for(medium.phase());
-    if (settings_.distance == DistanceGuiding::Incremental && settings_.guided_tracking &&
-        medium.tracks_null_collisions()) {
+    if (method == DistanceGuiding::Incremental && settings_.guided_tracking && medium.tracks_null_collisions()) {
         // The whole segment: beyond the field the tracking falls back to the unguided probability.
         GuidedCollisionProbability guide(field_, estimates, ray, t_end, c_T);
         FreeFlightSample fs = guided_tracking(medium, ray, tmax, throughput, sampler, guide);
@@ -148,17 +174,45 @@ FreeFlightSample WalkGuide::sample_distance(const Medium& medium, const Ray& ray
         st.distance_steps += guide.collisions();
         st.invalid_bins += guide.unguided_collisions();
         st.nan_fallbacks += guide.nan_fallbacks();
+        scratch.decision.lookups = uint32_t(guide.collisions());
         return fs;
     }
 
-    FreeFlightSample fs = binned_distance(medium, ray, tmax, t_end, estimates, c_T, throughput, sampler, vertex_leaf, scratch);
+    FreeFlightSample fs = binned_distance(method, medium, ray, tmax, t_end, estimates, c_T, throughput, sampler,
+                                          vertex_leaf, scratch);
     scratch.decision.leaf = origin;
     return fs;
 }
 
+float WalkGuide::inscattered_along(const PhaseFunction& phase, const Ray& ray, float t, const Color3& sigma_t,
+                                   int& hint, uint32_t& lookups) const {
+    const Point3f x = ray(t);
+    if (!(hint >= 0 && field_.tree().holds_point(hint, x))) {
+        hint = field_.tree().leaf_at(x);
+        ++lookups;  // the descent
+    }
+    if (hint < 0) return 0.f;
+    ++lookups;
+    // Damped by the leaf's confidence as the other guided decisions are (WalkGuideSettings::leaf_tau_max):
+    // an optically large leaf's one estimate says little about one point in it, and following it made
+    // fireflies in densesphere (bench/RESULTS.md, issue 37 deliverable 4).
+    const float Li = leaf_inscattered(hint, phase, ray.d).average() * leaf_confidence(hint, sigma_t);
+    return std::isfinite(Li) && Li > 0.f ? Li : 0.f;
+}
+
+float WalkGuide::product_floor(int origin, const PhaseFunction& phase, const Vec3f& d) const {
+    // A fraction of the origin's own estimates: every candidate keeps a chance (exact weights
+    // need target > 0 wherever a candidate carries weight), and where the field says the segment is
+    // dark the target falls back to the conditional density alone.
+    const float Li = origin >= 0 ? leaf_inscattered(origin, phase, d).average() : 0.f;
+    if (std::isfinite(Li) && Li > 0.f) return kProductFloor * Li;
+    const float L = origin >= 0 ? leaf_incident(origin, phase, d).average() : 0.f;
+    return std::isfinite(L) && L > 0.f ? kProductFloor * L : 1.f;
+}
+
 FreeFlightSample WalkGuide::vsp_distance(const Medium& medium, const Ray& ray, float tmax, int origin, float c_T,
-                                         const Color3& throughput, Sampler& sampler, VertexLeaf& vertex_leaf,
-                                         DistanceScratch& scratch) const {
+                                         bool product, const Color3& throughput, Sampler& sampler,
+                                         VertexLeaf& vertex_leaf, DistanceScratch& scratch) const {
     const MediumCoefficients at_origin = medium.eval(ray.o);
     const HomogeneousVsp vsp(at_origin.sigma_t, tmax, channel_probabilities(throughput));
     const float st = at_origin.sigma_t.average();
@@ -167,6 +221,7 @@ FreeFlightSample WalkGuide::vsp_distance(const Medium& medium, const Ray& ray, f
     const bool camera = !std::isnan(scratch.camera_guided);
     const float guided = camera ? scratch.camera_guided
                                 : guided_scatter_probability(origin, medium.phase(), ray.d, albedo, vsp.unguided());
+    scratch.decision.lookups = camera ? 0 : 1;
     WalkGuideStats& stats = stats_.local();
     ++stats.distance_queries;
     ++stats.vsp_queries;
@@ -176,14 +231,21 @@ FreeFlightSample WalkGuide::vsp_distance(const Medium& medium, const Ray& ray, f
         return medium.sample_free_flight(ray, tmax, throughput, sampler);  // the same decision, unguided
     }
     const float P = vsp.probability(guided, vsp_unguided_share(origin, at_origin.sigma_t, c_T, camera));
-    const float u_decide = sampler.next_1d(), u_channel = sampler.next_1d(), u_t = sampler.next_1d();
-    // The equiangular share (§7.10.1): a light point drawn only for a scatter (2 numbers).
+    VspEquiangular equi;
     std::optional<EquiangularSampler> toward_light;
-    if (u_decide < P && settings_.vsp_equiangular > 0.f && medium.sample_emitters())
-        toward_light = vsp_equiangular_toward_light(scene_, ray, tmax, sampler);
-    const VspEquiangular equi{toward_light ? &*toward_light : nullptr, settings_.vsp_equiangular};
-    const HomogeneousVsp::Sample vs = vsp.sample(P, u_decide, u_channel, u_t, equi);
-    stats.vsp_equiangular += vs.scattered && equi.active();
+    HomogeneousVsp::Sample vs;
+    if (product) {
+        ++stats.vsp_product;
+        vs = vsp_product_sample(vsp, P, medium, ray, origin, at_origin.sigma_t, sampler, scratch.decision.lookups);
+    } else {
+        const float u_decide = sampler.next_1d(), u_channel = sampler.next_1d(), u_t = sampler.next_1d();
+        // The equiangular share (§7.10.1): a light point drawn only for a scatter (2 numbers).
+        if (u_decide < P && settings_.vsp_equiangular > 0.f && medium.sample_emitters())
+            toward_light = vsp_equiangular_toward_light(scene_, ray, tmax, sampler);
+        equi = VspEquiangular{toward_light ? &*toward_light : nullptr, settings_.vsp_equiangular};
+        vs = vsp.sample(P, u_decide, u_channel, u_t, equi);
+        stats.vsp_equiangular += vs.scattered && equi.active();
+    }
     FreeFlightSample fs;
     fs.t = vs.t;
     fs.weight = fs.flight_weight = vs.flight_weight;
@@ -195,12 +257,23 @@ FreeFlightSample WalkGuide::vsp_distance(const Medium& medium, const Ray& ray, f
         if (field_.tree().holds_point(origin, p)) vertex_leaf.leaf = origin;
     }
     // The mixture's parts for the selection pilot: the density (or probability) of the outcome
-    // under the unguided and the guided decision.
+    // under the unguided and the guided decision (not for the product's resampled distance, which
+    // has no closed-form density).
     const float cond = vs.scattered ? vsp.conditional_pdf(vs.t, equi) : 1.f;
     const float pu = vs.scattered ? vsp.unguided() * cond : 1.f - vsp.unguided();
     const float pg = vs.scattered ? guided * cond : 1.f - guided;
-    if (vs.pdf > 0.f && P < 1.f) scratch.decision = {true, origin, vs.pdf, pu, pg};  // P = 1: forced, not the mixture
+    if (!product && vs.pdf > 0.f && P < 1.f) scratch.decision = {true, origin, vs.pdf, pu, pg, scratch.decision.lookups};
     return fs;
+}
+
+HomogeneousVsp::Sample WalkGuide::vsp_product_sample(const HomogeneousVsp& vsp, float P, const Medium& medium,
+                                                     const Ray& ray, int origin, const Color3& sigma_t,
+                                                     Sampler& sampler, uint32_t& lookups) const {
+    const float floor = product_floor(origin, medium.phase(), ray.d);
+    int hint = origin;
+    lookups += 2;  // the floor's
+    auto target = [&](float t) { return inscattered_along(medium.phase(), ray, t, sigma_t, hint, lookups) + floor; };
+    return vsp.sample_resampled(P, settings_.product_candidates, target, sampler);
 }
 
 float WalkGuide::vsp_unguided_share(int origin, const Color3& sigma_t, float c_T, bool camera) const {
@@ -211,28 +284,43 @@ float WalkGuide::vsp_unguided_share(int origin, const Color3& sigma_t, float c_T
 }
 
 FreeFlightSample WalkGuide::vsp_resampled(const Medium& medium, const Ray& ray, float tmax, int origin, float c_T,
-                                          const Color3& throughput, Sampler& sampler, VertexLeaf& vertex_leaf,
-                                          float camera_guided) const {
+                                          bool product, const Color3& throughput, Sampler& sampler,
+                                          VertexLeaf& vertex_leaf, DistanceScratch& scratch) const {
     // The albedo field at the origin (the extinction there may be 0 on the medium's boundary).
     const float albedo = medium.albedo(ray.o).average();  // shapes P_G only
     const PhaseFunction& phase = medium.phase();
-    const bool camera = !std::isnan(camera_guided);
+    const bool camera = !std::isnan(scratch.camera_guided);
     WalkGuideStats& stats = stats_.local();
     ++stats.distance_queries;
     ++stats.vsp_queries;
     stats.vsp_camera += camera;
+    scratch.decision.lookups = camera ? 0 : 1;
     if (!camera && std::isnan(guided_scatter_probability(origin, phase, ray.d, albedo, 1.f))) {
         ++stats.vsp_unguided;
         return medium.sample_free_flight(ray, tmax, throughput, sampler);
     }
     ++stats.vsp_resampled;
     const float c = vsp_unguided_share(origin, medium.eval(ray.o).sigma_t, c_T, camera);
+    uint32_t& lookups = scratch.decision.lookups;
     auto probability = [&](float unguided) {
-        const float guided =
-            camera ? camera_guided : guided_scatter_probability(origin, phase, ray.d, albedo, unguided);
+        if (camera) return c * unguided + (1.f - c) * scratch.camera_guided;
+        ++lookups;
+        const float guided = guided_scatter_probability(origin, phase, ray.d, albedo, unguided);
         return std::isnan(guided) ? unguided : c * unguided + (1.f - c) * guided;
     };
-    FreeFlightSample fs = resampled_segment_flight(medium, ray, tmax, throughput, probability, sampler);
+    FreeFlightSample fs;
+    if (product) {
+        ++stats.vsp_product;
+        const float floor = product_floor(origin, phase, ray.d);
+        lookups += 2;
+        int hint = origin;
+        const Color3 sigma_t = medium.eval(ray.o).sigma_t;  // the confidences' (shapes the target only)
+        auto target_of = [&](float t) { return inscattered_along(phase, ray, t, sigma_t, hint, lookups) + floor; };
+        const SegmentTarget target(target_of);
+        fs = resampled_segment_flight(medium, ray, tmax, throughput, probability, sampler, &target);
+    } else {
+        fs = resampled_segment_flight(medium, ray, tmax, throughput, probability, sampler);
+    }
     if (fs.scattered) {
         ++stats.vsp_scattered;
         if (field_.tree().holds_point(origin, fs.mi.p)) vertex_leaf.leaf = origin;
@@ -240,7 +328,7 @@ FreeFlightSample WalkGuide::vsp_resampled(const Medium& medium, const Ray& ray, 
     return fs;
 }
 
-FreeFlightSample WalkGuide::binned_distance(const Medium& medium, const Ray& ray, float tmax, float t_end,
+FreeFlightSample WalkGuide::binned_distance(DistanceGuiding method, const Medium& medium, const Ray& ray, float tmax, float t_end,
                                             const LeafEstimates* estimates, float c_T, const Color3& throughput,
                                             Sampler& sampler, VertexLeaf& vertex_leaf, DistanceScratch& scratch) const {
     DistanceScratch& s = scratch;
@@ -251,7 +339,7 @@ FreeFlightSample WalkGuide::binned_distance(const Medium& medium, const Ray& ray
     BinSource source(ray, t_end, medium, field_, estimates, s.proxies, settings_.max_bin_optical_depth,
                      leaf_extent_, settings_.leaf_tau_max, groups);
     DistanceSample ds;
-    if (settings_.distance == DistanceGuiding::Incremental) {
+    if (method == DistanceGuiding::Incremental) {
         ds = sample_incremental_distance(source, sampler, distance_settings);
     } else {
         s.bins.clear();
@@ -269,6 +357,7 @@ FreeFlightSample WalkGuide::binned_distance(const Medium& medium, const Ray& ray
     st.invalid_bins += source.invalid();
     st.damped_bins += source.damped();
     st.nan_fallbacks += uint64_t(ds.nan_fallbacks);
+    s.decision.lookups = uint32_t(std::max(0, ds.steps));
     if (ds.event == DistanceEvent::Medium && ds.pdf > 0.f)
         vertex_leaf.leaf = groups && source.leaf() >= 0 ? groups->fine_leaf(source.leaf(), ray(ds.t)) : source.leaf();
     if (ds.pdf > 0.f && ds.pdf_transmittance >= 0.f && ds.pdf_guided >= 0.f) {

@@ -38,6 +38,7 @@
 #include "volguide/guiding/leaf_estimates.h"
 #include "volguide/guiding/selection.h"
 #include "volguide/integrators/guided/walk/guided_surface_sampler.h"
+#include "volguide/integrators/guided/walk/vsp_distance.h"
 #include "volguide/integrators/volpath/walk_policy.h"
 #include "volguide/media/medium.h"
 
@@ -47,12 +48,17 @@ class Scene;
 
 // Vsp: one decision per segment from the vertex's leaf (vsp_distance.h, docs/theory.md §7.10): in
 // closed form in homogeneous media, by resampling the segment's tentative collisions otherwise.
-enum class DistanceGuiding { Standard, Incremental, Tabulated, Vsp };
+// VspProduct: the same decision, with the distance inside the segment resampled by the field's
+// in-scattered radiance at each candidate (docs/theory.md §7.11; one point lookup per candidate).
+enum class DistanceGuiding { Standard, Incremental, Tabulated, Vsp, VspProduct };
 
 struct WalkGuideSettings {
     DistanceGuiding distance = DistanceGuiding::Standard;
     GuidedDistanceSettings distance_settings;
     float max_bin_optical_depth = 20.f;
+    // distance=vsp_product in homogeneous media: the candidate distances resampled per scattering
+    // segment (heterogeneous media resample the majorant walk's tentative collisions instead).
+    int product_candidates = 4;
     bool guided_tracking = true;  // heterogeneous media, incremental: H2 tracking (false: H1 bins)
     DirectionGuiding direction = DirectionGuiding::Phase;
     float phase_prob = 0.5f;  // alpha_f: probability of sampling the phase function (§8.2)
@@ -125,6 +131,8 @@ struct WalkGuideSettings {
     X(vsp_camera, "distance_vsp_camera_fraction", vsp_queries)                                             \
     /* ... whose scatter distance came from the equiangular mixture (a light point to aim at) */            \
     X(vsp_equiangular, "distance_vsp_equiangular_fraction", vsp_scattered)                                 \
+    /* ... made with the product target (distance=vsp_product, or a cell that chose it) */                \
+    X(vsp_product, "distance_vsp_product_fraction", vsp_queries)                                           \
     /* directions sampled at medium vertices */                                                            \
     X(direction_samples, "direction_samples", 1)                                                           \
     /* ... from the guiding VMM (the rest from the phase function) */                                      \
@@ -175,10 +183,13 @@ struct DistanceScratch {
     // (PixelEstimate::camera_scatter_probability, docs/theory.md §7.10.2) in place of the origin leaf's
     // lookup; NaN: none (the leaf's).
     float camera_guided = std::numeric_limits<float>::quiet_NaN();
+    // `lookups`: the field lookups (tree descents and estimate reads) the decision made beyond
+    // free flight's: the learned selection's counted cost of a distance method (selection.h).
     struct Decision {
         bool mixture = false;
         int leaf = -1;
         float pdf = 0.f, p_u = 0.f, p_g = 0.f;
+        uint32_t lookups = 0;
     } decision;
 };
 
@@ -257,21 +268,40 @@ class WalkGuide {
     const LeafGroups* groups_for(const PhaseFunction& phase) const;
     // sample_distance's decision on the bins of (0, t_end) (distance_bins.h; t_end: where the ray
     // leaves the field or reaches tmax), weighted by binned_flight.
-    FreeFlightSample binned_distance(const Medium& medium, const Ray& ray, float tmax, float t_end,
+    // The guided decision of `method` (not Standard) from the origin's leaf `origin` (-1: not known).
+    FreeFlightSample guided_distance(DistanceGuiding method, const Medium& medium, const Ray& ray, float tmax,
+                                     int origin, float c_T, const Color3& throughput, Sampler& sampler,
+                                     VertexLeaf& vertex_leaf, DistanceScratch& scratch) const;
+    FreeFlightSample binned_distance(DistanceGuiding method, const Medium& medium, const Ray& ray, float tmax, float t_end,
                                      const LeafEstimates* estimates, float c_T, const Color3& throughput,
                                      Sampler& sampler, VertexLeaf& vertex_leaf, DistanceScratch& scratch) const;
     // distance=vsp's decision over (0, tmax) in a homogeneous medium from the origin's leaf `origin`
-    // (-1: none; then free flight), c_T the unguided share.
+    // (-1: none; then free flight), c_T the unguided share; `product`: distance=vsp_product's resampled
+    // distance inside the segment.
     FreeFlightSample vsp_distance(const Medium& medium, const Ray& ray, float tmax, int origin, float c_T,
-                                  const Color3& throughput, Sampler& sampler, VertexLeaf& vertex_leaf,
+                                  bool product, const Color3& throughput, Sampler& sampler, VertexLeaf& vertex_leaf,
                                   DistanceScratch& scratch) const;
     // The same in any medium by resampling the segment's tentative collisions (resampled_segment_flight).
     FreeFlightSample vsp_resampled(const Medium& medium, const Ray& ray, float tmax, int origin, float c_T,
-                                   const Color3& throughput, Sampler& sampler, VertexLeaf& vertex_leaf,
-                                   float camera_guided) const;
+                                   bool product, const Color3& throughput, Sampler& sampler, VertexLeaf& vertex_leaf,
+                                   DistanceScratch& scratch) const;
     // The defensive unguided share c of distance=vsp's mixture from `origin` (§7.10): with the
     // camera-ray buffer's P_G (camera = true) the leaf's confidence does not apply.
     float vsp_unguided_share(int origin, const Color3& sigma_t, float c_T, bool camera) const;
+    // distance=vsp_product's distance inside a homogeneous segment (HomogeneousVsp::sample_resampled)
+    // with the target inscattered_along + product_floor; counts the field lookups in `lookups`.
+    HomogeneousVsp::Sample vsp_product_sample(const HomogeneousVsp& vsp, float P, const Medium& medium, const Ray& ray,
+                                              int origin, const Color3& sigma_t, Sampler& sampler,
+                                              uint32_t& lookups) const;
+    // distance=vsp_product's target factor at ray(t): the field's in-scattered radiance along ray.d
+    // (channel average; 0 outside the field) times the leaf's confidence at extinction sigma_t, from
+    // the leaf `hint` when it holds the point, else after a descent (hint becomes that leaf); counts
+    // the descents and reads in `lookups`.
+    float inscattered_along(const PhaseFunction& phase, const Ray& ray, float t, const Color3& sigma_t, int& hint,
+                            uint32_t& lookups) const;
+    // The positive floor added to that target: kProductFloor x the origin leaf's L~_i (else L~), 1
+    // where the origin has neither.
+    float product_floor(int origin, const PhaseFunction& phase, const Vec3f& d) const;
     // The weights of the bins' decision `ds` (the caller contract of guided_distance.h), and beyond
     // the field (t_end < tmax) the medium's own free flight.
     FreeFlightSample binned_flight(const Medium& medium, const Ray& ray, float tmax, float t_end,
@@ -286,6 +316,8 @@ class WalkGuide {
     // distance=vsp's least unguided share: P stays above a tenth of free flight's where the field
     // says nothing scatters (a leaf's estimate is one value for a whole segment).
     static constexpr float kVspMinUnguided = 0.1f;
+    // distance=vsp_product's floor, relative to the origin's estimate (product_floor).
+    static constexpr float kProductFloor = 0.1f;
 
     const Scene& scene_;
     const GuidingField& field_;
