@@ -68,6 +68,10 @@ class GuidedContinuation {
     const RouletteSplitting* rrs_;
     float pixel_;
     const ContinuationSnapshot* ears_;
+    // rrs=ears: the leaf of the last medium vertex this walk decided at, tried first at the next one
+    // (in a dense medium the next vertex is a free path away, mostly in the same leaf; leaf_of checks
+    // that it holds the point, so the leaf found is the descent's).
+    mutable int leaf_hint_ = -1;
 };
 
 }  // namespace volguide
