@@ -115,6 +115,7 @@ void ContinuationLearning::end_pass(int spp_done) {
 std::vector<std::pair<std::string, double>> ContinuationLearning::named() const {
     return {{"ears_updates", double(updates_)},
             {"ears_learned_points", double(snapshot_.learned_points())},
+            {"ears_learned_surface_points", double(snapshot_.learned_surface_points())},
             {"ears_image_relative_variance", snapshot_.image_variance()},
             {"ears_image_cost_per_sample", snapshot_.image_cost()},
             {"ears_branch_budget", double(snapshot_.branch_budget())},

@@ -25,6 +25,8 @@ namespace volguide {
 // The coarse direction bins of the statistics: the six faces of the cube map (the dominant axis and
 // its sign), 0..5.
 constexpr int kContinuationDirectionBins = 6;
+// The continuation stages the statistics keep apart (walk_policy.h's ContinuationStage).
+constexpr int kContinuationStages = 3;
 int continuation_direction_bin(const Vec3f& w);
 
 // What the continuations of one (stage, cell, bin) collected: n samples y (per unit weight), their
@@ -131,6 +133,8 @@ class ContinuationSnapshot {
     // A camera sample's branch allowance (walk_policy.h's branch_budget).
     float branch_budget() const { return budget_; }
     size_t learned_points() const { return learned_; }
+    // Of learned_points(), those of the surface stage.
+    size_t learned_surface_points() const { return learned_surface_; }
     double image_variance() const { return image_variance_; }
     double image_cost() const { return image_cost_; }
 
@@ -145,7 +149,7 @@ class ContinuationSnapshot {
     float image_factor_ = 0.f;  // sqrt(C_image / V_image), 0: unknown
     float budget_ = 1.f;
     std::vector<float> pixel_correction_;  // per pixel: I' / I
-    size_t learned_ = 0;
+    size_t learned_ = 0, learned_surface_ = 0;
     double image_variance_ = -1.0, image_cost_ = 0.0;
 };
 

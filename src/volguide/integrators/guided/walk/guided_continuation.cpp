@@ -36,9 +36,27 @@ Continuation GuidedContinuation::decide_ears(ContinuationStage stage, const Medi
         guide_.trusted_vertex_leaf(mi, vertex_leaf);
     }
     leaf_hint_ = vertex_leaf.leaf;
-    const float relative = throughput.average() / pixel_;
     const float q = ears_->factor(stage, guide_.selection_cell(vertex_leaf.leaf), continuation_direction_bin(w),
-                                  relative);
+                                  throughput.average() / pixel_);
+    const float estimate = c.estimate;
+    c = ears_outcome(q, throughput, branches, allowance, sampler);
+    c.estimate = estimate;
+    return c;
+}
+
+Continuation GuidedContinuation::decide_surface(const SurfaceInteraction& si, const Vec3f& w, const Color3& throughput,
+                                                int branches, float allowance, Sampler& sampler,
+                                                VertexLeaf& leaf) const {
+    if (!decides_at_surfaces()) return {};
+    leaf.leaf = guide_.leaf_of(si.p, VertexLeaf{leaf_hint_});
+    const float q = ears_->factor(ContinuationStage::Surface, guide_.selection_cell(leaf.leaf),
+                                  continuation_direction_bin(w), throughput.average() / pixel_);
+    return ears_outcome(q, throughput, branches, allowance, sampler);
+}
+
+Continuation GuidedContinuation::ears_outcome(float q, const Color3& throughput, int branches, float allowance,
+                                              Sampler& sampler) const {
+    Continuation c;
     if (q < 0.f) {
         rrs_->count_unlearned();
         return c;
