@@ -96,10 +96,12 @@ TEST(Determinism, OnlineLearningSameImageForOneAndTwoThreads) {
 
 // rrs=ears (issue 38): the continuation statistics are exact sums, frozen between passes, so the
 // decisions, and the image, do not depend on the thread count. 8 spp: statistics after the passes of
-// 1, 1 and 2 spp, decisions in the passes after them (ears_min_samples 4).
+// 1, 1 and 2 spp, decisions in the passes after them (ears_min_samples 4); after 2 spp half the camera
+// samples are recorded (chosen by their sampler keys).
 TEST(Determinism, EarsSameImageForOneAndTwoThreads) {
     expect_deterministic(guided_fogbox(R"(<integer name="photons" value="200000"/><string name="rrs" value="ears"/>)"
-                                       R"(<integer name="ears_min_samples" value="4"/>)",
+                                       R"(<integer name="ears_min_samples" value="4"/><integer name="ears_record_spp" value="2"/>)"
+                                       R"(<float name="ears_record_fraction" value="0.5"/>)",
                                        "determinism-ears"),
                          "guided fogbox, rrs=ears");
 }

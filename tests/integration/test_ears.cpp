@@ -1,5 +1,5 @@
 // rrs=ears (issue 38, docs/theory.md §9.8): efficiency-aware RR and splitting from the render's own
-// statistics stays unbiased: the white furnace stays 1, and a dense high-albedo sphere and a fog sphere
+// statistics, at medium vertices and at diffuse surface vertices, stays unbiased: the white furnace stays 1, and a dense high-albedo sphere and a fog sphere
 // inside a rough dielectric in a Cornell-like box (bench/scenes/glassfog.xml at 12 x 9) match volpath's
 // mean; and it really decides (roulette, splitting, learned points) within its branch budget.
 // ears_min_samples is lowered so that a short render learns cells after its first passes.
@@ -122,7 +122,32 @@ TEST(Ears, DenseSphereMatchesVolpath) {
         const StatsRender g = render_with_stats(ears_dense_sphere_xml(ears_integrator(guide)), 1024, 6);
         expect_same_means(g.image, ref);
         expect_ears_decided(g.stats);
+        // The diffuse floor's vertices decide too (the surface stage, docs/theory.md §9.8).
+        EXPECT_GT(g.stats.at("ears_learned_surface_points"), 0.0);
     }
+}
+
+// Surfaces only: a diffuse sphere on a diffuse floor under a sky, where every decision is the surface
+// stage's (no medium: the field has no leaf, the statistics' cell is the one outside it).
+std::string ears_diffuse_xml(const std::string& integrator) {
+    return R"(<scene version="3.0.0"><integrator type="moment">)" + integrator + R"(</integrator>
+    <shape type="sphere"><bsdf type="diffuse"><rgb name="reflectance" value="0.8"/></bsdf></shape>
+    <shape type="rectangle">
+        <transform name="to_world"><scale value="6"/><rotate x="1" angle="-90"/><translate y="-1"/></transform>
+        <bsdf type="diffuse"><rgb name="reflectance" value="0.7"/></bsdf></shape>
+    <emitter type="constant"><rgb name="radiance" value="1"/></emitter>)" +
+           sensor_xml("0, 1, 4", 50.f, 12, 12) + "</scene>";
+}
+
+TEST(Ears, DiffuseSurfacesMatchVolpath) {
+    Rendered ref = render_scene_xml(
+        ears_diffuse_xml(R"(<integrator type="volpath"><integer name="max_depth" value="64"/></integrator>)"), 1024, 9,
+        false);
+    const StatsRender g = render_with_stats(ears_diffuse_xml(ears_integrator(kUnguided)), 1024, 10);
+    expect_same_means(g.image, ref);
+    expect_ears_decided(g.stats, false);
+    EXPECT_GT(g.stats.at("ears_learned_surface_points"), 0.0);
+    EXPECT_EQ(g.stats.at("ears_learned_surface_points"), g.stats.at("ears_learned_points"));
 }
 
 TEST(Ears, FogInRoughDielectricMatchesVolpath) {
@@ -134,6 +159,7 @@ TEST(Ears, FogInRoughDielectricMatchesVolpath) {
     const StatsRender g = render_with_stats(glassfog_xml(dir2, ears_integrator(kGuided)), 1024, 8);
     expect_same_means(g.image, ref);
     expect_ears_decided(g.stats);
+    EXPECT_GT(g.stats.at("ears_learned_surface_points"), 0.0);  // the box's diffuse walls
 }
 
 // A fixed budget bounds every camera sample's branches by construction; ears' fallback is the bounded
@@ -146,7 +172,9 @@ TEST(Ears, FixedBudgetAndSettings) {
     TempDir dir("ears-settings");
     for (const char* bad : {R"(<string name="rrs" value="grrs"/><integer name="ears_min_samples" value="8"/>)",
                             R"(<string name="rrs" value="ears"/><float name="rrs_window" value="5"/>)",
-                            R"(<string name="rrs" value="ears"/><integer name="ears_min_samples" value="1"/>)"}) {
+                            R"(<string name="rrs" value="ears"/><integer name="ears_min_samples" value="1"/>)",
+                            R"(<string name="rrs" value="ears"/><float name="ears_record_fraction" value="0"/>)",
+                            R"(<string name="rrs" value="grrs"/><float name="ears_record_fraction" value="0.5"/>)"}) {
         SCOPED_TRACE(bad);
         const std::string xml = ears_furnace_xml(std::string(R"(<integrator type="guided_volpath">)") + bad + "</integrator>");
         EXPECT_THROW(load_scene(dir.write("bad.xml", xml)), std::exception);

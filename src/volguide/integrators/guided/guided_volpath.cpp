@@ -113,7 +113,7 @@ void GuidedVolPathIntegrator::build_from_field(const Scene& scene, const Preproc
 // every sample so far, a selection pilot), so updating after every pass of the render loop's 1, 1,
 // 2, 4, 8, 8, 8, ... spp would spend most of the learning on small steps late in the recording.
 void GuidedVolPathIntegrator::end_pass(int spp_done, double seconds) {
-    if (ears_) ears_->end_pass();
+    if (ears_) ears_->end_pass(spp_done);
     if (online_recording_ && (spp_done >= 2 * online_updated_spp_ || spp_done >= settings_.online_spp))
         online_update(spp_done);
 }
@@ -331,11 +331,13 @@ Color3 GuidedVolPathIntegrator::render_walk(const Scene& scene, Sampler& sampler
     const float pixel = rrs_ ? pixel_estimate_.at(camera.film_uv) : 0.f;
     if (!ears_) return guided_walk(scene, sampler, camera.ray, pixel, recorder, camera_guided(camera));
     // The statistics keep X / I; the decisions compare with the pass's learned estimate I'.
-    ContinuationRecorder& learning = ears_->recorder();
     const long px = ears_->pixel(camera.film_uv);
+    const float learned = ears_->snapshot().pixel_estimate(px, pixel);
+    if (!ears_->records(sampler.key()))
+        return guided_walk(scene, sampler, camera.ray, learned, recorder, camera_guided(camera));
+    ContinuationRecorder& learning = ears_->recorder();
     learning.begin(recorder, px, pixel);
-    const Color3 L = guided_walk(scene, sampler, camera.ray, ears_->snapshot().pixel_estimate(px, pixel), &learning,
-                                 camera_guided(camera));
+    const Color3 L = guided_walk(scene, sampler, camera.ray, learned, &learning, camera_guided(camera));
     learning.end();
     return L;
 }

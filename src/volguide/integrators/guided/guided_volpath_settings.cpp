@@ -178,18 +178,24 @@ void read_roulette(const Properties& props, RouletteSplittingSettings& r) {
         props.fail_at("rrs_window", "guided_volpath: rrs_window does not apply to rrs=ears (no weight window)");
 }
 
-// rrs=ears (continuation_stats.h): ears_min_samples, ears_budget_factor (errors with another rrs); the
+// rrs=ears (continuation_stats.h): ears_min_samples, ears_budget_factor, ears_record_spp,
+// ears_record_fraction (errors with another rrs); the
 // walk's throughput roulette, ears' fallback, is rr_rule=bounded unless rr_rule is given; the branch
 // budget is adaptive unless rrs_branch_budget is given.
 void read_ears(const Properties& props, GuidedVolPathSettings& s) {
     if (s.roulette.mode != RouletteMode::Ears) {
-        for (const char* name : {"ears_min_samples", "ears_budget_factor"})
+        for (const char* name : {"ears_min_samples", "ears_budget_factor", "ears_record_spp", "ears_record_fraction"})
             if (props.has(name)) props.fail_at(name, "guided_volpath: {} only applies to rrs=ears", name);
         return;
     }
     EarsSettings& e = s.ears;
     e.min_samples = uint64_t(int_in(props, "ears_min_samples", int(e.min_samples), 2, 1 << 30));
     e.budget_factor = finite_at_least(props, "ears_budget_factor", e.budget_factor, 1.f);
+    e.record_spp = int_in(props, "ears_record_spp", e.record_spp, 0, 1 << 30);
+    e.record_fraction = props.get_float("ears_record_fraction", e.record_fraction);
+    if (!(e.record_fraction > 0.f && e.record_fraction <= 1.f))
+        props.fail_at("ears_record_fraction", "guided_volpath: ears_record_fraction must be in (0, 1], got {}",
+                      e.record_fraction);
     e.fixed_budget = s.roulette.branch_budget;
     e.max_branches = s.roulette.max_branches;
     e.min_budget = std::min(e.min_budget, float(e.max_branches));

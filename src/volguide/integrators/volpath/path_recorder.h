@@ -44,7 +44,7 @@ class PathRecorder {
     // its decision, when the path goes on: the field's estimate of what the path collects from there per
     // unit weight (channel average; 0 when the policy did not report one, records_decisions()) and the
     // path weight (its 1/q included). Reported at every continuation point of a walk with a policy,
-    // before the decision's copies are made (branch_point).
+    // before the decision's copies are made (branch_point). Surface-stage points report no estimate (0).
     virtual void record_continuation(ContinuationStage stage, const VertexLeaf& vertex_leaf, const Vec3f& w,
                                      float estimate, const Color3& throughput) {}
 

@@ -210,7 +210,16 @@ bool VolumeWalk::surface_step() {
     s.ray = si_.spawn_ray(wo);
     s.vertex_leaf = VertexLeaf();  // the ray leaves a surface, not the vertex the leaf belongs to
     need_intersection_ = true;
+    if (policy_ && (bs.sampled_flags & bsdf_flags::Diffuse) && policy_->decides_at_surfaces())
+        return continue_at_surface(wo);
     return true;
+}
+
+bool VolumeWalk::continue_at_surface(const Vec3f& wo) {
+    VertexLeaf leaf;  // the surface's, for the recorder only: the ray's own stays cleared
+    const Continuation c =
+        policy_->surface_continuation(si_, wo, state_.throughput, branches_, state_.split_allowance, *rng_, leaf);
+    return continue_copies(c, ContinuationStage::Surface, wo, nullptr, leaf);
 }
 
 void VolumeWalk::emitter_hit() {
@@ -246,16 +255,16 @@ bool VolumeWalk::continue_path(ContinuationStage stage, const MediumInteraction&
                                const MediumVertex* at_vertex) {
     const Continuation c = policy_->continuation(stage, mi, w, state_.throughput, branches_, state_.split_allowance,
                                                  *rng_, state_.vertex_leaf, records_decisions_);
-    return continue_copies(c, stage, w, at_vertex);
+    return continue_copies(c, stage, w, at_vertex, state_.vertex_leaf);
 }
 
 bool VolumeWalk::continue_copies(const Continuation& c, ContinuationStage stage, const Vec3f& w,
-                                 const MediumVertex* at_vertex) {
+                                 const MediumVertex* at_vertex, const VertexLeaf& leaf) {
     if (c.guided) state_.rr_depth_done = state_.depth;  // replaces throughput RR at this depth
     if (c.n == 0 && c.q != 1.f) return false;
     if (c.q != 1.f) state_.throughput *= 1.f / c.q;
     // The point is reported with its weight after the decision, before its copies (branch_point).
-    if (recorder_) recorder_->record_continuation(stage, state_.vertex_leaf, w, c.estimate, state_.throughput);
+    if (recorder_) recorder_->record_continuation(stage, leaf, w, c.estimate, state_.throughput);
     if (c.q == 1.f || c.n <= 1) return true;
     // The n copies share the path's allowance, so the live branches' allowances never sum to more
     // than the camera sample's budget.

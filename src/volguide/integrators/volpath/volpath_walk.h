@@ -83,8 +83,12 @@ class VolumeWalk {
     // weight 1/q, the point's report to the recorder, and its n - 1 copies; copies made at a vertex
     // (at_vertex) resume before its NEE and direction, the others trace the state's ray. False when
     // the path ends.
+    // `leaf`: the point's, for the recorder.
     bool continue_copies(const Continuation& c, ContinuationStage stage, const Vec3f& w,
-                         const MediumVertex* at_vertex);
+                         const MediumVertex* at_vertex, const VertexLeaf& leaf);
+    // The policy's continuation decision after a diffuse direction wo at the surface si_ (the state
+    // already leaves along wo), then continue_copies(). False when the path ends.
+    bool continue_at_surface(const Vec3f& wo);
     // The DecisionRecord a sampling decision fills (null unless the recorder reads them), and its report.
     DecisionRecord* decision_record(DecisionRecord& record) const { return records_decisions_ ? &record : nullptr; }
     void report_decision(DecisionKind kind, const DecisionRecord& record);

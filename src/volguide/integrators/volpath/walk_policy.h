@@ -7,7 +7,7 @@
 //    NEE's MIS uses and the sampled continuation;
 //  - continuation, at a medium vertex after the distance and after the direction decision: how many
 //    copies of the path go on (guided RR and splitting, docs/theory.md §9.3), within the camera sample's
-//    branch budget.
+//    branch budget; with a policy that asks for it, also after a diffuse direction at a surface (§9.8).
 // What the walk reports of the path (training, Open PGL's path segments, the selection pilot) is a
 // PathRecorder's (path_recorder.h), not the policy's: a walk takes one of each, either may be null.
 // The defaults are the unguided decisions with exactly the random numbers the walk without a policy
@@ -40,6 +40,7 @@ struct VertexLeaf {
 enum class ContinuationStage {
     Distance,   // after the distance decision: the vertex collects L_i(x, w) from here on (w: the ray's direction)
     Direction,  // after the direction decision: the continuation along w collects L(x, w)
+    Surface,    // after the BSDF's diffuse direction at a surface vertex: the continuation along w collects L(x, w)
 };
 
 // A continuation decision: n copies of the path go on, each with the weight 1/q (E[n] = q).
@@ -113,6 +114,13 @@ class WalkPolicy {
     virtual Continuation continuation(ContinuationStage stage, const MediumInteraction& mi, const Vec3f& w,
                                       const Color3& throughput, int branches, float allowance, Sampler& sampler,
                                       VertexLeaf& vertex_leaf, bool report) {
+        return {};
+    }
+    // The continuation decision at the surface vertex si after its BSDF sampled the diffuse direction
+    // w (asked only when decides_at_surfaces()); the leaf the decision used, for the recorders, in `leaf`.
+    virtual bool decides_at_surfaces() const { return false; }
+    virtual Continuation surface_continuation(const SurfaceInteraction& si, const Vec3f& w, const Color3& throughput,
+                                              int branches, float allowance, Sampler& sampler, VertexLeaf& leaf) {
         return {};
     }
     // A camera sample's branch allowance: the walk gives each of a split's n copies 1/n of their

@@ -1,5 +1,9 @@
 #include "volguide/integrators/guided/estimates/continuation_recorder.h"
 
+#include <cmath>
+
+#include "volguide/core/sampler.h"  // mix64
+
 namespace volguide {
 
 void ContinuationRecorder::begin(PathRecorder* inner, long pixel, float estimate) {
@@ -86,7 +90,12 @@ ContinuationLearning::ContinuationLearning(size_t cells, int width, int height, 
     snapshot_ = ContinuationSnapshot::from(total_, pixels_, settings_, 0.0);
 }
 
-void ContinuationLearning::end_pass() {
+bool ContinuationLearning::records(uint64_t key) const {
+    if (record_threshold_ >= kRecordAll) return true;
+    return uint32_t(mix64(key ^ 0x3c6ef372fe94f82aULL) >> 40) < record_threshold_;
+}
+
+void ContinuationLearning::end_pass(int spp_done) {
     // Integer sums: the order of the threads does not matter.
     for (Thread& t : threads_) {
         total_ += t.stats;
@@ -96,16 +105,22 @@ void ContinuationLearning::end_pass() {
     if (updates_ == 0 && total_.camera_samples() > 0)
         unsplit_cost_ = double(total_.cost()) / double(total_.camera_samples());
     snapshot_ = ContinuationSnapshot::from(total_, pixels_, settings_, unsplit_cost_);
+    recorded_ = total_.camera_samples();
     ++updates_;
+    // Later passes may record a fraction (EarsSettings::record_fraction): the recorder's cost.
+    if (spp_done >= settings_.record_spp)
+        record_threshold_ = uint32_t(std::lround(double(settings_.record_fraction) * double(kRecordAll)));
 }
 
 std::vector<std::pair<std::string, double>> ContinuationLearning::named() const {
     return {{"ears_updates", double(updates_)},
             {"ears_learned_points", double(snapshot_.learned_points())},
+            {"ears_learned_surface_points", double(snapshot_.learned_surface_points())},
             {"ears_image_relative_variance", snapshot_.image_variance()},
             {"ears_image_cost_per_sample", snapshot_.image_cost()},
             {"ears_branch_budget", double(snapshot_.branch_budget())},
-            {"ears_unsplit_cost_per_sample", unsplit_cost_}};
+            {"ears_unsplit_cost_per_sample", unsplit_cost_},
+            {"ears_recorded_camera_samples", double(recorded_)}};
 }
 
 }  // namespace volguide

@@ -26,7 +26,7 @@ ContinuationMoments& ContinuationMoments::operator+=(const ContinuationMoments& 
 }
 
 ContinuationStatistics::ContinuationStatistics(size_t cells)
-    : cells_(cells), moments_(2 * cells * size_t(kContinuationDirectionBins)) {}
+    : cells_(cells), moments_(size_t(kContinuationStages) * cells * size_t(kContinuationDirectionBins)) {}
 
 void ContinuationStatistics::add_point(ContinuationStage stage, size_t cell, int bin, double y, uint64_t cost) {
     if (cell >= cells_ || !std::isfinite(y)) return;
@@ -104,8 +104,8 @@ ContinuationSnapshot ContinuationSnapshot::from(const ContinuationStatistics& st
                                                 const EarsSettings& settings, double unsplit_cost) {
     ContinuationSnapshot snap;
     snap.cells_ = stats.cells();
-    snap.table_.resize(2 * snap.cells_ * size_t(kContinuationDirectionBins));
-    for (int stage = 0; stage < 2; ++stage)
+    snap.table_.resize(size_t(kContinuationStages) * snap.cells_ * size_t(kContinuationDirectionBins));
+    for (int stage = 0; stage < kContinuationStages; ++stage)
         for (size_t cell = 0; cell < snap.cells_; ++cell)
             for (int bin = 0; bin < kContinuationDirectionBins; ++bin) {
                 const ContinuationMoments& m = stats.moments(ContinuationStage(stage), cell, bin);
@@ -117,6 +117,7 @@ ContinuationSnapshot ContinuationSnapshot::from(const ContinuationStatistics& st
                 c.r = float(std::sqrt(m2 / cost));
                 c.s = float(std::sqrt(std::max(0.0, m2 - mean * mean) / cost));
                 ++snap.learned_;
+                snap.learned_surface_ += ContinuationStage(stage) == ContinuationStage::Surface;
             }
     const uint64_t samples = stats.camera_samples();
     snap.image_cost_ = samples ? double(stats.cost()) / double(samples) : 0.0;

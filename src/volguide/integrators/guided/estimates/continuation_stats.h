@@ -25,6 +25,8 @@ namespace volguide {
 // The coarse direction bins of the statistics: the six faces of the cube map (the dominant axis and
 // its sign), 0..5.
 constexpr int kContinuationDirectionBins = 6;
+// The continuation stages the statistics keep apart (walk_policy.h's ContinuationStage).
+constexpr int kContinuationStages = 3;
 int continuation_direction_bin(const Vec3f& w);
 
 // What the continuations of one (stage, cell, bin) collected: n samples y (per unit weight), their
@@ -104,6 +106,12 @@ struct EarsSettings {
     int max_branches = 64;
     // The prior samples k of the learned pixel estimate (ContinuationSnapshot::pixel_estimate).
     double pixel_prior = 4.0;
+    // Which camera samples are recorded (the recorder's cost, docs/theory.md §9.8): all of them until
+    // record_spp samples per pixel are done, then the fraction record_fraction, chosen by the
+    // sampler's key (a function of seed, pixel and sample: the same for any thread count). 1: all
+    // (the default: a fraction lowered the quality at fixed spp more than it saved, bench/RESULTS.md).
+    int record_spp = 8;
+    float record_fraction = 1.f;
 };
 
 // The frozen statistics a pass decides with (docs/theory.md §9.8).
@@ -125,6 +133,8 @@ class ContinuationSnapshot {
     // A camera sample's branch allowance (walk_policy.h's branch_budget).
     float branch_budget() const { return budget_; }
     size_t learned_points() const { return learned_; }
+    // Of learned_points(), those of the surface stage.
+    size_t learned_surface_points() const { return learned_surface_; }
     double image_variance() const { return image_variance_; }
     double image_cost() const { return image_cost_; }
 
@@ -139,7 +149,7 @@ class ContinuationSnapshot {
     float image_factor_ = 0.f;  // sqrt(C_image / V_image), 0: unknown
     float budget_ = 1.f;
     std::vector<float> pixel_correction_;  // per pixel: I' / I
-    size_t learned_ = 0;
+    size_t learned_ = 0, learned_surface_ = 0;
     double image_variance_ = -1.0, image_cost_ = 0.0;
 };
 

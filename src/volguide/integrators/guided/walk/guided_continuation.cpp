@@ -26,6 +26,7 @@ Continuation GuidedContinuation::decide_ears(ContinuationStage stage, const Medi
                                              const Color3& throughput, int branches, float allowance,
                                              Sampler& sampler, VertexLeaf& vertex_leaf, bool report) const {
     Continuation c;
+    if (vertex_leaf.leaf < 0 && leaf_hint_ >= 0) vertex_leaf.leaf = guide_.leaf_of(mi.p, VertexLeaf{leaf_hint_});
     // The field's estimate only for a recorder that reads it; either way the vertex leaf is found
     // (kept in vertex_leaf, trusted or not: the statistics are the cell's, not the field's estimate).
     if (report) {
@@ -34,9 +35,28 @@ Continuation GuidedContinuation::decide_ears(ContinuationStage stage, const Medi
     } else {
         guide_.trusted_vertex_leaf(mi, vertex_leaf);
     }
-    const float relative = throughput.average() / pixel_;
+    leaf_hint_ = vertex_leaf.leaf;
     const float q = ears_->factor(stage, guide_.selection_cell(vertex_leaf.leaf), continuation_direction_bin(w),
-                                  relative);
+                                  throughput.average() / pixel_);
+    const float estimate = c.estimate;
+    c = ears_outcome(q, throughput, branches, allowance, sampler);
+    c.estimate = estimate;
+    return c;
+}
+
+Continuation GuidedContinuation::decide_surface(const SurfaceInteraction& si, const Vec3f& w, const Color3& throughput,
+                                                int branches, float allowance, Sampler& sampler,
+                                                VertexLeaf& leaf) const {
+    if (!decides_at_surfaces()) return {};
+    leaf.leaf = guide_.leaf_of(si.p, VertexLeaf{leaf_hint_});
+    const float q = ears_->factor(ContinuationStage::Surface, guide_.selection_cell(leaf.leaf),
+                                  continuation_direction_bin(w), throughput.average() / pixel_);
+    return ears_outcome(q, throughput, branches, allowance, sampler);
+}
+
+Continuation GuidedContinuation::ears_outcome(float q, const Color3& throughput, int branches, float allowance,
+                                              Sampler& sampler) const {
+    Continuation c;
     if (q < 0.f) {
         rrs_->count_unlearned();
         return c;

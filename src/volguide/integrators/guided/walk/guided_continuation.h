@@ -40,6 +40,11 @@ class GuidedContinuation {
     Continuation decide(ContinuationStage stage, const MediumInteraction& mi, const Vec3f& w,
                         const Color3& throughput, int branches, float allowance, Sampler& sampler,
                         VertexLeaf& vertex_leaf, bool report) const;
+    // rrs=ears's decision after the BSDF sampled the diffuse direction w at the surface vertex si, from
+    // the statistics of the surface's leaf (kept in `leaf`); no decision (q = 1) without ears.
+    Continuation decide_surface(const SurfaceInteraction& si, const Vec3f& w, const Color3& throughput, int branches,
+                                float allowance, Sampler& sampler, VertexLeaf& leaf) const;
+    bool decides_at_surfaces() const { return ears_ && rrs_; }
     // The camera sample's branch allowance (+inf without a budget or without rrs).
     float branch_budget() const;
     // Counts a finished camera sample's branches.
@@ -58,6 +63,9 @@ class GuidedContinuation {
     Continuation decide_ears(ContinuationStage stage, const MediumInteraction& mi, const Vec3f& w,
                              const Color3& throughput, int branches, float allowance, Sampler& sampler,
                              VertexLeaf& vertex_leaf, bool report) const;
+    // The decision from ears' factor q (< 0: too few statistics, no decision) for a path of weight
+    // `throughput`: bounded, then drawn.
+    Continuation ears_outcome(float q, const Color3& throughput, int branches, float allowance, Sampler& sampler) const;
     // Draws n from c.q (q != 1) and counts the outcome.
     void draw(Continuation& c, Sampler& sampler) const;
     // Whether guided RR/splitting acts at `stage` in the learned selection's cell of `leaf`;
@@ -68,6 +76,10 @@ class GuidedContinuation {
     const RouletteSplitting* rrs_;
     float pixel_;
     const ContinuationSnapshot* ears_;
+    // rrs=ears: the leaf of the last medium vertex this walk decided at, tried first at the next one
+    // (in a dense medium the next vertex is a free path away, mostly in the same leaf; leaf_of checks
+    // that it holds the point, so the leaf found is the descent's).
+    mutable int leaf_hint_ = -1;
 };
 
 }  // namespace volguide

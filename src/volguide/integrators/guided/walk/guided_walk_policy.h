@@ -59,6 +59,11 @@ class GuidedWalkPolicy final : public WalkPolicy {
                               VertexLeaf& vertex_leaf, bool report) override {
         return continuation_.decide(stage, mi, w, throughput, branches, allowance, sampler, vertex_leaf, report);
     }
+    bool decides_at_surfaces() const override { return continuation_.decides_at_surfaces(); }
+    Continuation surface_continuation(const SurfaceInteraction& si, const Vec3f& w, const Color3& throughput,
+                                      int branches, float allowance, Sampler& sampler, VertexLeaf& leaf) override {
+        return continuation_.decide_surface(si, w, throughput, branches, allowance, sampler, leaf);
+    }
     float branch_budget() const override { return continuation_.branch_budget(); }
     void end_camera_sample(int branches) override { continuation_.end_camera_sample(branches); }
 

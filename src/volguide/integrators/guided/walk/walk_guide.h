@@ -258,6 +258,9 @@ class WalkGuide {
     // The leaf at mi.p (vertex_leaf), kept in `vertex_leaf`, if its confidence at mi is at least
     // kSkipConfidence, else -1.
     int trusted_vertex_leaf(const MediumInteraction& mi, VertexLeaf& vertex_leaf) const;
+    // The leaf at x (-1 outside the field), without a descent when `vertex_leaf` (a guess: x's, or a
+    // nearby vertex's) holds it.
+    int leaf_of(const Point3f& x, const VertexLeaf& vertex_leaf) const;
 
     WalkGuideStats stats() const;
     // The distance walk's leaf groups per phase mean cosine and their total (0 without merging).
@@ -306,8 +309,6 @@ class WalkGuide {
     // the field (t_end < tmax) the medium's own free flight.
     FreeFlightSample binned_flight(const Medium& medium, const Ray& ray, float tmax, float t_end,
                                    const DistanceSample& ds, const Color3& throughput, Sampler& sampler) const;
-    // The leaf at x (-1 outside the field), without a descent when `vertex_leaf` (x's) holds it.
-    int leaf_of(const Point3f& x, const VertexLeaf& vertex_leaf) const;
     // The confidence of `leaf` (distance_bins.h's leaf_confidence at its extent); 1 outside the field.
     float leaf_confidence(int leaf, const Color3& sigma_t) const;
     // Below this confidence a vertex neither builds the direction product nor walks the guided
