@@ -66,6 +66,16 @@ TEST(MitsubaConformanceSuite, BsdfRoughPlasticNonlinear) {
     run_conformance("bsdf_spheres", "test_roughplastic_nonlinear_path");
 }
 TEST(MitsubaConformanceSuite, BsdfTexturedDiffuse) { run_conformance("bsdf_spheres", "test_textured_diffuse_path"); }
+// principled / principledthin with checkerboard-textured weights (docs/theory.md §18).
+TEST(MitsubaConformanceSuite, BsdfTexturedPrincipled1) {
+    run_conformance("bsdf_spheres", "test_texturedprincipled1_path");
+}
+TEST(MitsubaConformanceSuite, BsdfTexturedPrincipled2) {
+    run_conformance("bsdf_spheres", "test_texturedprincipled2_path");
+}
+TEST(MitsubaConformanceSuite, BsdfTexturedPrincipledThin) {
+    run_conformance("bsdf_spheres", "test_texturedprincipledthin_path");
+}
 // The sphere grid with the two leaf-shaped `mask` rectangles, under four kinds of light.
 TEST(MitsubaConformanceSuite, BsdfAreaLight) { run_conformance("bsdf_spheres", "test_arealight_path"); }
 TEST(MitsubaConformanceSuite, BsdfConstant) { run_conformance("bsdf_spheres", "test_constant_path"); }
@@ -146,9 +156,6 @@ TEST(MitsubaSuiteUnsupported, FailWithFileLineAndSupportedList) {
     };
     const Case cases[] = {
         {"bsdf_spheres/test_textured_roughconductor_path.xml", "23: unknown conductor material 'a-C'"},
-        {"bsdf_spheres/test_texturedprincipled1_path.xml", "5: unsupported bsdf plugin 'principled' (supported:"},
-        {"bsdf_spheres/test_texturedprincipled2_path.xml", "5: unsupported bsdf plugin 'principled' (supported:"},
-        {"bsdf_spheres/test_texturedprincipledthin_path.xml", "4: unsupported bsdf plugin 'principledthin' (supported:"},
         {"instancing/test_instancing_path.xml", "41: unsupported shape plugin 'shapegroup' (supported: obj,"},
         {"mesh_attributes/test_mesh_attributes_1_face_direct.xml",
          "34: unsupported texture plugin 'mesh_attribute' (supported:"},
