@@ -49,6 +49,7 @@ void run_conformance(const std::string& folder, const std::string& scene, int sp
         write_exr(stem + "-render.exr", mean);
         write_exr(stem + "-errors.exr", mask);
     }
+    std::cout << "[ztest] " << folder << "/" << scene << " at " << spp << " spp: " << z.summary() << "\n";
     EXPECT_TRUE(z.passed) << folder << "/" << scene << " at " << spp << " spp: " << z.summary();
 }
 

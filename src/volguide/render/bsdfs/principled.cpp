@@ -9,11 +9,9 @@
 #include "volguide/render/bsdfs/fresnel.h"
 #include "volguide/render/bsdfs/principled_lobes.h"
 
-namespace volguide {
+namespace volguide::principled {
 
 namespace {
-
-using namespace principled;
 
 // The textured values of one surface point and the two major lobes' weights.
 struct PrincipledPoint {
@@ -269,8 +267,12 @@ class Principled final : public BSDF {
 
 }  // namespace
 
+}  // namespace volguide::principled
+
+namespace volguide {
+
 ObjectPtr make_principled_bsdf(const Properties& props) {
-    return std::make_shared<Principled>(props);
+    return std::make_shared<principled::Principled>(props);
 }
 
 }  // namespace volguide

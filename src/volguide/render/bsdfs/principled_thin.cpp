@@ -10,11 +10,9 @@
 #include "volguide/render/bsdfs/fresnel.h"
 #include "volguide/render/bsdfs/principled_lobes.h"
 
-namespace volguide {
+namespace volguide::principled {
 
 namespace {
-
-using namespace principled;
 
 struct ThinPoint {
     CommonValues v;
@@ -202,8 +200,12 @@ class PrincipledThin final : public BSDF {
 
 }  // namespace
 
+}  // namespace volguide::principled
+
+namespace volguide {
+
 ObjectPtr make_principled_thin_bsdf(const Properties& props) {
-    return std::make_shared<PrincipledThin>(props);
+    return std::make_shared<principled::PrincipledThin>(props);
 }
 
 }  // namespace volguide
