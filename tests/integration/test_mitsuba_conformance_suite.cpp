@@ -58,6 +58,8 @@ void run_conformance(const std::string& folder, const std::string& scene, int sp
 TEST(MitsubaConformanceSuite, FloatingSphereDirectional) { run_conformance("floating_sphere", "test_directional_direct"); }
 TEST(MitsubaConformanceSuite, TextureInterp) { run_conformance("texture_interp", "test_texture_interp_direct"); }
 TEST(MitsubaConformanceSuite, InfiniteMirrors) { run_conformance("infinite_mirrors", "scene_path"); }
+// One shapegroup (mesh sphere, analytic sphere, rectangle) placed three times by Embree instances.
+TEST(MitsubaConformanceSuite, Instancing) { run_conformance("instancing", "test_instancing_path"); }
 TEST(MitsubaConformanceSuite, Orthographic) { run_conformance("orthographic_sensor", "test_orthographic_path"); }
 TEST(MitsubaConformanceSuite, BsdfRoughDielectric) { run_conformance("bsdf_spheres", "test_roughdielectric_path"); }
 TEST(MitsubaConformanceSuite, BsdfRoughPlasticLinear) {
@@ -157,7 +159,6 @@ TEST(MitsubaSuiteUnsupported, FailWithFileLineAndSupportedList) {
     };
     const Case cases[] = {
         {"bsdf_spheres/test_textured_roughconductor_path.xml", "23: unknown conductor material 'a-C'"},
-        {"instancing/test_instancing_path.xml", "41: unsupported shape plugin 'shapegroup' (supported: obj,"},
         {"mesh_attributes/test_mesh_attributes_1_face_direct.xml",
          "34: unsupported texture plugin 'mesh_attribute' (supported:"},
         {"projector/test_projector_constant_direct.xml", "37: unsupported emitter plugin 'projector' (supported:"},
