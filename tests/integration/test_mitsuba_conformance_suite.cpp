@@ -49,6 +49,7 @@ void run_conformance(const std::string& folder, const std::string& scene, int sp
         write_exr(stem + "-render.exr", mean);
         write_exr(stem + "-errors.exr", mask);
     }
+    std::cout << "[ztest] " << folder << "/" << scene << " at " << spp << " spp: " << z.summary() << "\n";
     EXPECT_TRUE(z.passed) << folder << "/" << scene << " at " << spp << " spp: " << z.summary();
 }
 
@@ -57,6 +58,8 @@ void run_conformance(const std::string& folder, const std::string& scene, int sp
 TEST(MitsubaConformanceSuite, FloatingSphereDirectional) { run_conformance("floating_sphere", "test_directional_direct"); }
 TEST(MitsubaConformanceSuite, TextureInterp) { run_conformance("texture_interp", "test_texture_interp_direct"); }
 TEST(MitsubaConformanceSuite, InfiniteMirrors) { run_conformance("infinite_mirrors", "scene_path"); }
+// One shapegroup (mesh sphere, analytic sphere, rectangle) placed three times by Embree instances.
+TEST(MitsubaConformanceSuite, Instancing) { run_conformance("instancing", "test_instancing_path"); }
 TEST(MitsubaConformanceSuite, Orthographic) { run_conformance("orthographic_sensor", "test_orthographic_path"); }
 TEST(MitsubaConformanceSuite, BsdfRoughDielectric) { run_conformance("bsdf_spheres", "test_roughdielectric_path"); }
 TEST(MitsubaConformanceSuite, BsdfRoughPlasticLinear) {
@@ -66,6 +69,16 @@ TEST(MitsubaConformanceSuite, BsdfRoughPlasticNonlinear) {
     run_conformance("bsdf_spheres", "test_roughplastic_nonlinear_path");
 }
 TEST(MitsubaConformanceSuite, BsdfTexturedDiffuse) { run_conformance("bsdf_spheres", "test_textured_diffuse_path"); }
+// principled / principledthin with checkerboard-textured weights (docs/theory.md §18).
+TEST(MitsubaConformanceSuite, BsdfTexturedPrincipled1) {
+    run_conformance("bsdf_spheres", "test_texturedprincipled1_path");
+}
+TEST(MitsubaConformanceSuite, BsdfTexturedPrincipled2) {
+    run_conformance("bsdf_spheres", "test_texturedprincipled2_path");
+}
+TEST(MitsubaConformanceSuite, BsdfTexturedPrincipledThin) {
+    run_conformance("bsdf_spheres", "test_texturedprincipledthin_path");
+}
 // The sphere grid with the two leaf-shaped `mask` rectangles, under four kinds of light.
 TEST(MitsubaConformanceSuite, BsdfAreaLight) { run_conformance("bsdf_spheres", "test_arealight_path"); }
 TEST(MitsubaConformanceSuite, BsdfConstant) { run_conformance("bsdf_spheres", "test_constant_path"); }
@@ -146,10 +159,6 @@ TEST(MitsubaSuiteUnsupported, FailWithFileLineAndSupportedList) {
     };
     const Case cases[] = {
         {"bsdf_spheres/test_textured_roughconductor_path.xml", "23: unknown conductor material 'a-C'"},
-        {"bsdf_spheres/test_texturedprincipled1_path.xml", "5: unsupported bsdf plugin 'principled' (supported:"},
-        {"bsdf_spheres/test_texturedprincipled2_path.xml", "5: unsupported bsdf plugin 'principled' (supported:"},
-        {"bsdf_spheres/test_texturedprincipledthin_path.xml", "4: unsupported bsdf plugin 'principledthin' (supported:"},
-        {"instancing/test_instancing_path.xml", "41: unsupported shape plugin 'shapegroup' (supported: obj,"},
         {"mesh_attributes/test_mesh_attributes_1_face_direct.xml",
          "34: unsupported texture plugin 'mesh_attribute' (supported:"},
         {"projector/test_projector_constant_direct.xml", "37: unsupported emitter plugin 'projector' (supported:"},

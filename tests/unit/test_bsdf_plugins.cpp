@@ -60,7 +60,7 @@ TEST(BsdfParams, Errors) {
     expect_input_error("conductor", {{"material", "Kryptonite"}}, "Kryptonite");
     expect_input_error("diffuse", {{"reflectance", Color3(-0.1f, 0.5f, 0.5f)}}, "reflectance");
     expect_input_error("diffuse", {{"alpha", 0.3}}, "alpha");  // unused parameter
-    expect_input_error("principled", {}, "unsupported bsdf plugin 'principled'");
+    expect_input_error("hair", {}, "unsupported bsdf plugin 'hair'");
     expect_input_error("twosided", {}, "nested BSDF");
     auto glass = make_bsdf("dielectric");
     expect_input_error("twosided", {{"", ObjectPtr(glass)}}, "transmission");

@@ -22,6 +22,11 @@ TEST(BsdfRobustness, FiniteAndNonNegativeEverywhere) {
         {"plastic", {}},
         {"roughplastic", {{"alpha", 0.05}}},
         {"null", {}},
+        {"principled", {{"roughness", 0.0}, {"metallic", 0.5}, {"clearcoat", 1.0}, {"clearcoat_gloss", 1.0},
+                        {"sheen", 1.0}, {"sheen_tint", 1.0}, {"spec_tint", 1.0}, {"flatness", 1.0}}},
+        {"principled", {{"roughness", 0.9}, {"spec_trans", 0.8}, {"anisotropic", 1.0}, {"eta", 1.0}}},
+        {"principledthin", {{"roughness", 0.01}, {"spec_trans", 0.6}, {"diff_trans", 2.0}, {"sheen", 1.0},
+                            {"spec_tint", 1.0}, {"eta", 1.0}}},
     };
     const float grazing = 1e-6f;
     const std::vector<Vec3f> wis = {Vec3f(0, 0, 1),

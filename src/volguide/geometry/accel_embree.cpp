@@ -1,15 +1,18 @@
 // Accel on Embree 3: the only translation unit that includes Embree. Triangle meshes share
 // their vertex/index buffers with Embree; analytic shapes are user geometries whose callbacks
-// call Shape::intersect. Scenes are built in robust mode with high quality.
+// call Shape::intersect. A shapegroup is its own Embree scene, built once and placed by Embree
+// instances (one per `instance`). Scenes are built in robust mode with high quality.
 #include <embree3/rtcore.h>
 #include <fmt/format.h>
 
+#include <map>
 #include <mutex>
 #include <stdexcept>
 #include <string>
 
 #include "volguide/core/tsan.h"
 #include "volguide/geometry/accel.h"
+#include "volguide/geometry/instance.h"
 
 namespace volguide {
 
@@ -61,7 +64,7 @@ void user_intersect(const RTCIntersectFunctionNArguments* args) {
     rh->hit.Ng_z = 1.f;
     rh->hit.primID = args->primID;
     rh->hit.geomID = args->geomID;
-    rh->hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rh->hit.instID[0] = args->context->instID[0];  // invalid outside an instance
 }
 
 void user_occluded(const RTCOccludedFunctionNArguments* args) {
@@ -81,6 +84,12 @@ struct Accel::Impl {
     RTCDevice device = nullptr;
     RTCScene scene = nullptr;
     std::vector<const Shape*> shapes;                    // by geometry id
+    // A shapegroup's own scene, built once however many instances place it.
+    struct GroupScene {
+        RTCScene scene = nullptr;
+        std::vector<const Shape*> shapes;  // by geometry id inside the group
+    };
+    std::map<const ShapeGroup*, GroupScene> groups;
     std::vector<std::vector<Point3f>> padded_positions;  // copies when a buffer cannot be shared
     std::vector<std::vector<uint32_t>> padded_indices;
 
@@ -108,7 +117,8 @@ struct Accel::Impl {
         return c.data();
     }
 
-    void add_triangles(const Shape* shape, const TriangleMesh& mesh) {
+    void add_triangles(RTCScene target, std::vector<const Shape*>& ids, const Shape* shape,
+                       const TriangleMesh& mesh) {
         RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
         const Point3f* pos = padded(mesh.positions, padded_positions);
         const uint32_t* idx = padded(mesh.indices, padded_indices);
@@ -116,27 +126,63 @@ struct Accel::Impl {
                                    sizeof(Point3f), mesh.positions.size());
         rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, idx, 0,
                                    3 * sizeof(uint32_t), mesh.triangle_count());
-        attach(geom, shape);
+        attach(target, ids, geom, shape);
     }
 
-    void add_user(const Shape* shape) {
+    void add_user(RTCScene target, std::vector<const Shape*>& ids, const Shape* shape) {
         RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_USER);
         rtcSetGeometryUserPrimitiveCount(geom, 1);
         rtcSetGeometryUserData(geom, const_cast<Shape*>(shape));
         rtcSetGeometryBoundsFunction(geom, user_bounds, nullptr);
         rtcSetGeometryIntersectFunction(geom, user_intersect);
         rtcSetGeometryOccludedFunction(geom, user_occluded);
-        attach(geom, shape);
+        attach(target, ids, geom, shape);
     }
 
-    void attach(RTCGeometry geom, const Shape* shape) {
+    void add_shape(RTCScene target, std::vector<const Shape*>& ids, const Shape* s) {
+        if (const auto* instance = dynamic_cast<const Instance*>(s))
+            add_instance(instance);
+        else if (const TriangleMesh* mesh = s->triangle_mesh())
+            add_triangles(target, ids, s, *mesh);
+        else
+            add_user(target, ids, s);
+    }
+
+    // The group's scene (built and committed on first use), placed by an Embree instance.
+    void add_instance(const Instance* instance) {
+        RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_INSTANCE);
+        rtcSetGeometryInstancedScene(geom, group_scene(instance->group()));
+        const Matrix4& m = instance->to_world().matrix();
+        float xfm[12];
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 4; ++c) xfm[4 * r + c] = float(m.m[r][c]);
+        rtcSetGeometryTransform(geom, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, xfm);
+        attach(scene, shapes, geom, instance);
+    }
+
+    RTCScene group_scene(const ShapeGroup& group) {
+        auto [it, inserted] = groups.try_emplace(&group);
+        GroupScene& g = it->second;
+        if (!inserted) return g.scene;
+        g.scene = rtcNewScene(device);
+        rtcSetSceneFlags(g.scene, RTC_SCENE_FLAG_ROBUST);
+        rtcSetSceneBuildQuality(g.scene, RTC_BUILD_QUALITY_HIGH);
+        for (const auto& s : group.shapes()) add_shape(g.scene, g.shapes, s.get());
+        for (const Shape* s : g.shapes) tsan_release(s);
+        rtcCommitScene(g.scene);
+        for (const Shape* s : g.shapes) tsan_acquire(s);
+        check("building a shapegroup's acceleration structure");
+        return g.scene;
+    }
+
+    void attach(RTCScene target, std::vector<const Shape*>& ids, RTCGeometry geom, const Shape* shape) {
         rtcSetGeometryBuildQuality(geom, RTC_BUILD_QUALITY_HIGH);
         rtcCommitGeometry(geom);
-        unsigned id = rtcAttachGeometry(scene, geom);
+        unsigned id = rtcAttachGeometry(target, geom);
         rtcReleaseGeometry(geom);
         check("adding a shape to the acceleration structure");
-        if (id != shapes.size()) throw std::logic_error("Embree returned an unexpected geometry id");
-        shapes.push_back(shape);
+        if (id != ids.size()) throw std::logic_error("Embree returned an unexpected geometry id");
+        ids.push_back(shape);
     }
 };
 
@@ -159,12 +205,7 @@ Accel::Accel(const std::vector<const Shape*>& shapes) : impl_(std::make_unique<I
     m.check("creating the Embree scene");
     m.padded_positions.reserve(shapes.size());
     m.padded_indices.reserve(shapes.size());
-    for (const Shape* s : shapes) {
-        if (const TriangleMesh* mesh = s->triangle_mesh())
-            m.add_triangles(s, *mesh);
-        else
-            m.add_user(s);
-    }
+    for (const Shape* s : shapes) m.add_shape(m.scene, m.shapes, s);
     // The build is a fork/join of Embree's (on TBB's threads) that ThreadSanitizer cannot see:
     // the user geometries' bounds callbacks see everything before the commit, and everything
     // after it sees them (no-ops outside a ThreadSanitizer build).
@@ -178,6 +219,8 @@ Accel::~Accel() {
     // Freeing what the build threads read (see the constructor).
     TsanIgnoredAccesses embree_teardown;
     if (impl_->scene) rtcReleaseScene(impl_->scene);
+    for (auto& [group, g] : impl_->groups)
+        if (g.scene) rtcReleaseScene(g.scene);
     if (impl_->device) rtcReleaseDevice(impl_->device);
 }
 
@@ -201,8 +244,15 @@ bool Accel::intersect(const Ray& ray, SurfaceInteraction& si) const {
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(impl_->scene, &ctx, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+    const Vec2f prim_uv(rh.hit.u, rh.hit.v);
+    if (rh.hit.instID[0] != RTC_INVALID_GEOMETRY_ID) {
+        const auto* instance = static_cast<const Instance*>(impl_->shapes[rh.hit.instID[0]]);
+        const Shape& inner = *instance->group().shapes()[rh.hit.geomID];
+        si = instance->interaction(inner, ray, rh.ray.tfar, rh.hit.primID, prim_uv);
+        return true;
+    }
     const Shape* shape = impl_->shapes[rh.hit.geomID];
-    si = shape->compute_surface_interaction(ray, rh.ray.tfar, rh.hit.primID, {rh.hit.u, rh.hit.v});
+    si = shape->compute_surface_interaction(ray, rh.ray.tfar, rh.hit.primID, prim_uv);
     return true;
 }
 

@@ -1,6 +1,7 @@
 // Shape plugins by XML type (Mitsuba 3 names).
 #include <string_view>
 
+#include "volguide/geometry/instance.h"
 #include "volguide/geometry/shapes/shape_plugins.h"
 #include "volguide/scene/factories.h"
 
@@ -16,7 +17,10 @@ ObjectPtr create_shape(const Properties& props) {
     if (type == "sphere") return create_sphere_shape(props);
     if (type == "disk") return create_disk_shape(props);
     if (type == "cylinder") return create_cylinder_shape(props);
-    props.fail_here("unsupported {} plugin '{}' (supported: obj, ply, serialized, rectangle, cube, sphere, disk, cylinder)",
+    if (type == "shapegroup") return create_shapegroup_shape(props);
+    if (type == "instance") return create_instance_shape(props);
+    props.fail_here("unsupported {} plugin '{}' (supported: obj, ply, serialized, rectangle, cube, sphere, disk, cylinder, "
+                    "shapegroup, instance)",
                     props.category(), type);
 }
 

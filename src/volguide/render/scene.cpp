@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "volguide/geometry/instance.h"
 #include "volguide/render/bsdf.h"
 
 namespace volguide {
@@ -22,8 +23,13 @@ Scene::Scene(const Properties& root, std::shared_ptr<Integrator> integrator,
              const std::shared_ptr<BSDF>& default_bsdf)
     : integrator_(std::move(integrator)) {
     for (const auto* e : root.children("shape")) {
+        // A shapegroup is only drawn through its instances.
+        if (std::dynamic_pointer_cast<ShapeGroup>(std::get<ObjectPtr>(e->value))) continue;
         auto shape = child_as<Shape>(e, "shape");
         if (!shape->bsdf()) shape->set_bsdf(default_bsdf);
+        if (const auto* instance = dynamic_cast<const Instance*>(shape.get()))
+            for (const auto& inner : instance->group().shapes())
+                if (!inner->bsdf()) inner->set_bsdf(default_bsdf);
         shapes_.push_back(shape);
         bbox_.expand(shape->bbox());
         if (shape->emitter_ptr()) emitters_.push_back(shape->emitter_ptr());

@@ -25,12 +25,15 @@ ObjectPtr create_bsdf(const Properties& props) {
         {"mask", make_mask_bsdf},
         {"normalmap", make_normalmap_bsdf},
         {"bumpmap", make_bumpmap_bsdf},
+        {"principled", make_principled_bsdf},
+        {"principledthin", make_principled_thin_bsdf},
     };
     for (const Entry& e : kTable)
         if (props.type() == e.name) return e.make(props);
     props.fail_here(
         "unsupported bsdf plugin '{}' (supported: diffuse, dielectric, thindielectric, roughdielectric, "
-        "conductor, roughconductor, plastic, roughplastic, twosided, null, mask, normalmap, bumpmap)",
+        "conductor, roughconductor, plastic, roughplastic, twosided, null, mask, normalmap, bumpmap, principled, "
+        "principledthin)",
         props.type());
 }
 

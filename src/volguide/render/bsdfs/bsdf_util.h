@@ -49,5 +49,7 @@ ObjectPtr make_null_bsdf(const Properties& props);
 ObjectPtr make_mask_bsdf(const Properties& props);
 ObjectPtr make_normalmap_bsdf(const Properties& props);
 ObjectPtr make_bumpmap_bsdf(const Properties& props);
+ObjectPtr make_principled_bsdf(const Properties& props);
+ObjectPtr make_principled_thin_bsdf(const Properties& props);
 
 }  // namespace volguide
