@@ -50,6 +50,11 @@ METHODS = {
         "guided": {"distance": "incremental", "direction": "product", "rrs": "grr"}},
     "guided_volpath distance=incremental direction=product rrs=grrs": {
         "guided": {"distance": "incremental", "direction": "product", "rrs": "grrs"}},
+    # The full system with issue 37's one decision per segment (theory §7.10) in place of the bins.
+    "guided_volpath distance=vsp direction=product rrs=grrs": {
+        "guided": {"distance": "vsp", "direction": "product", "rrs": "grrs"}},
+    "guided_volpath distance=vsp_product direction=product rrs=grrs": {
+        "guided": {"distance": "vsp_product", "direction": "product", "rrs": "grrs"}},
     # The full system without the guided distance decision (issue 22: is it worth its cost on fogbox?).
     "guided_volpath direction=product rrs=grrs": {"guided": {"direction": "product", "rrs": "grrs"}},
     # The peer (issue 19): Intel Open PGL's directional guiding as Cycles drives it, trained online
