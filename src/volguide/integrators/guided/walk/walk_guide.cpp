@@ -266,13 +266,21 @@ FreeFlightSample WalkGuide::vsp_distance(const Medium& medium, const Ray& ray, f
     return fs;
 }
 
+WalkGuide::ProductTarget::ProductTarget(const WalkGuide& guide, const PhaseFunction& phase, const Ray& ray, int origin,
+                                        const Color3& sigma_t, uint32_t& lookups)
+    : guide_(guide), phase_(phase), ray_(ray), sigma_t_(sigma_t), lookups_(lookups), hint_(origin),
+      floor_(guide.product_floor(origin, phase, ray.d)) {
+    lookups_ += 2;  // the floor's
+}
+
+float WalkGuide::ProductTarget::operator()(float t) {
+    return guide_.inscattered_along(phase_, ray_, t, sigma_t_, hint_, lookups_) + floor_;
+}
+
 HomogeneousVsp::Sample WalkGuide::vsp_product_sample(const HomogeneousVsp& vsp, float P, const Medium& medium,
                                                      const Ray& ray, int origin, const Color3& sigma_t,
                                                      Sampler& sampler, uint32_t& lookups) const {
-    const float floor = product_floor(origin, medium.phase(), ray.d);
-    int hint = origin;
-    lookups += 2;  // the floor's
-    auto target = [&](float t) { return inscattered_along(medium.phase(), ray, t, sigma_t, hint, lookups) + floor; };
+    ProductTarget target(*this, medium.phase(), ray, origin, sigma_t, lookups);
     return vsp.sample_resampled(P, settings_.product_candidates, target, sampler);
 }
 
@@ -300,7 +308,8 @@ FreeFlightSample WalkGuide::vsp_resampled(const Medium& medium, const Ray& ray, 
         return medium.sample_free_flight(ray, tmax, throughput, sampler);
     }
     ++stats.vsp_resampled;
-    const float c = vsp_unguided_share(origin, medium.eval(ray.o).sigma_t, c_T, camera);
+    const Color3 sigma_origin = medium.eval(ray.o).sigma_t;  // the confidences' (shapes P and the target only)
+    const float c = vsp_unguided_share(origin, sigma_origin, c_T, camera);
     uint32_t& lookups = scratch.decision.lookups;
     auto probability = [&](float unguided) {
         if (camera) return c * unguided + (1.f - c) * scratch.camera_guided;
@@ -311,11 +320,7 @@ FreeFlightSample WalkGuide::vsp_resampled(const Medium& medium, const Ray& ray, 
     FreeFlightSample fs;
     if (product) {
         ++stats.vsp_product;
-        const float floor = product_floor(origin, phase, ray.d);
-        lookups += 2;
-        int hint = origin;
-        const Color3 sigma_t = medium.eval(ray.o).sigma_t;  // the confidences' (shapes the target only)
-        auto target_of = [&](float t) { return inscattered_along(phase, ray, t, sigma_t, hint, lookups) + floor; };
+        ProductTarget target_of(*this, phase, ray, origin, sigma_origin, lookups);
         const SegmentTarget target(target_of);
         fs = resampled_segment_flight(medium, ray, tmax, throughput, probability, sampler, &target);
     } else {

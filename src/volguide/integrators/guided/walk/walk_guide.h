@@ -296,6 +296,24 @@ class WalkGuide {
     HomogeneousVsp::Sample vsp_product_sample(const HomogeneousVsp& vsp, float P, const Medium& medium, const Ray& ray,
                                               int origin, const Color3& sigma_t, Sampler& sampler,
                                               uint32_t& lookups) const;
+    // distance=vsp_product's resampling target h(t) = inscattered_along(t) + product_floor (§7.11), one
+    // object per segment: the floor read once, the candidates' leaf hint carried from one to the next,
+    // the field lookups counted in `lookups`.
+    class ProductTarget {
+      public:
+        ProductTarget(const WalkGuide& guide, const PhaseFunction& phase, const Ray& ray, int origin,
+                      const Color3& sigma_t, uint32_t& lookups);
+        float operator()(float t);
+
+      private:
+        const WalkGuide& guide_;
+        const PhaseFunction& phase_;
+        const Ray& ray_;
+        Color3 sigma_t_;
+        uint32_t& lookups_;
+        int hint_;
+        float floor_;
+    };
     // distance=vsp_product's target factor at ray(t): the field's in-scattered radiance along ray.d
     // (channel average; 0 outside the field) times the leaf's confidence at extinction sigma_t, from
     // the leaf `hint` when it holds the point, else after a descent (hint becomes that leaf); counts
