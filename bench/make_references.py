@@ -50,6 +50,10 @@ REFERENCES = {
     # and of finite variance here). 12 chunks on 2026-11-24 (0.119 of the best relMSE at 60 s, above
     # the 1/10 rule); 32 since 2026-11-25 (the first 12 are the same seeds, so the same bits).
     "densesphere": (["integrator=volpath", "rr_rule=bounded"], 512, 32),
+    # Issue 38's dense medium behind a rough dielectric: volpath with the bounded roulette, as
+    # densesphere (the strong unguided method in dense high-albedo media); 32 x 1024 spp is ~16x what
+    # that method renders in the benchmark's 60 s (so about 1/16 of its relMSE).
+    "glassfog": (["integrator=volpath", "rr_rule=bounded"], 1024, 32),
 }
 
 # Issue 22: where the full guided system made the best relMSE at 60 s so small that the volpath

@@ -23,7 +23,7 @@ import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
-SCENES = ["shafts", "backlit", "thin", "sss", "aniso", "cloud", "fogbox", "densesphere"]
+SCENES = ["shafts", "backlit", "thin", "sss", "aniso", "cloud", "fogbox", "densesphere", "glassfog"]
 BASELINE = "volpath"
 # The best unguided method of a scene (issue 21): the lowest relMSE at this budget among these; every
 # method's speed-up is also quoted against it ("vs best unguided").
@@ -134,6 +134,7 @@ CROPS = {
     "cloud": [(60, 45, 40, 30), (20, 30, 40, 30)],
     "fogbox": [(60, 60, 40, 30), (60, 20, 40, 30)],
     "densesphere": [(60, 40, 40, 30), (60, 85, 40, 30)],
+    "glassfog": [(60, 72, 40, 30), (10, 45, 40, 30)],
 }
 
 

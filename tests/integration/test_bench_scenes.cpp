@@ -36,4 +36,5 @@ TEST_P(BenchScene, RendersWithTheBaselines) {
 }
 
 INSTANTIATE_TEST_SUITE_P(AllScenes, BenchScene,
-                         ::testing::Values("shafts", "backlit", "thin", "sss", "aniso", "cloud", "fogbox", "densesphere"));
+                         ::testing::Values("shafts", "backlit", "thin", "sss", "aniso", "cloud", "fogbox", "densesphere",
+                                           "glassfog"));
