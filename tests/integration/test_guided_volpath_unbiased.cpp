@@ -582,6 +582,41 @@ TEST(GuidedVolPathUnbiased, OnlineLearningIsUnbiased) {
     EXPECT_EQ(s40.at("online_updates"), 7.0);
 }
 
+// Issue 37 deliverable 2: a render's medium vertices (GuidedVertex, one object per vertex begun before
+// the distance-stage continuation) make at most one leaf descent and build at most one direction
+// mixture each, and the vertices the distance-stage continuation ends (roulette) build none: mixtures
+// <= vertices - kills. An object that built its mixture at init, as the walk's direction decision did
+// before the object was begun ahead of the continuation, fails the last check (every vertex a mixture).
+// With ears (its own statistics, no estimate-driven kills) the descents per vertex are bounded too.
+TEST(GuidedVolPathUnbiased, GuidedVertexLooksUpOnceAndBuildsNothingForKilledPaths) {
+    TempDir dir("guided-vertex-counts");
+    const std::string grid = write_furnace_grid(dir);
+    for (const char* distance : {"vsp", "incremental"}) {
+        SCOPED_TRACE(distance);
+        const auto s = guide_stats(lit_fog_xml(false, grid, guided(distance, "product", 200000, -1.f, "",
+                                                                   rrs_xml("grrs"))));
+        ASSERT_TRUE(s.count("guided_vertices"));
+        EXPECT_GT(s.at("guided_vertices"), 1000.0);
+        EXPECT_GT(s.at("guided_vertex_descents"), 0.0);
+        EXPECT_LE(s.at("guided_vertex_descents"), 1.0);  // per vertex
+        EXPECT_GT(s.at("guided_vertex_distance_kills"), 0.01);
+        EXPECT_GT(s.at("guided_vertex_mixtures"), 0.1);
+        EXPECT_LE(s.at("guided_vertex_mixtures") + s.at("guided_vertex_distance_kills"), 1.0);
+        EXPECT_LE(s.at("guided_vertex_products"), s.at("guided_vertex_mixtures"));
+        EXPECT_GT(s.at("guided_vertex_products"), 0.0);
+    }
+    const auto ears = guide_stats(lit_fog_xml(false, grid, guided("incremental", "product", 200000, -1.f, "",
+                                                                  R"(<string name="rrs" value="ears"/>)")));
+    EXPECT_GT(ears.at("guided_vertices"), 1000.0);
+    EXPECT_LE(ears.at("guided_vertex_descents"), 1.0);
+    EXPECT_LE(ears.at("guided_vertex_mixtures") + ears.at("guided_vertex_distance_kills"), 1.0);
+    // Directions not guided: no mixture is built at all.
+    const auto phase = guide_stats(lit_fog_xml(false, grid, guided("vsp", "phase", 200000, -1.f, "", rrs_xml("grrs"))));
+    EXPECT_GT(phase.at("guided_vertices"), 1000.0);
+    EXPECT_EQ(phase.at("guided_vertex_mixtures"), 0.0);
+    EXPECT_LE(phase.at("guided_vertex_descents"), 1.0);
+}
+
 // Issue 37: distance="vsp" (one decision per segment, docs/theory.md §7.10): the white furnace stays 1
 // (homogeneous: the closed-form decision; heterogeneous: the resampled tentative collisions), the
 // point-lit fog's image means match volpath's (homogeneous and heterogeneous), and the statistics
