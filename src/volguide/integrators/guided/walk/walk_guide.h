@@ -204,11 +204,11 @@ struct DistanceScratch {
     } decision;
 };
 
-// The decisions take the VertexLeaf of the vertex they are made at (walk_policy.h): its kd leaf
-// when a decision before found it (-1: not known), so that the direction decision at a guided
-// scatter and the distance decision that leaves it need not descend the tree again (leaf_at showed
-// in aniso's profile, bench/RESULTS.md (issue 35)), and the decisions update it. A leaf handed on is trusted
-// only where SpatialTree::leaf_at would provably return it (holds_point).
+// The decisions at a medium vertex read its kd leaf from the vertex's object (GuidedVertex,
+// guided_vertex.h), found once per vertex; the distance decision hands the scattering vertex's leaf
+// on (VertexLeaf) when it knows it, so that the vertex need not descend the tree again (leaf_at
+// showed in aniso's profile, bench/RESULTS.md (issue 35)). A leaf handed on is trusted only where
+// SpatialTree::leaf_at would provably return it (holds_point).
 class WalkGuide {
   public:
     // The field and the scene must outlive the guide.
