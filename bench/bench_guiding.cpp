@@ -29,8 +29,11 @@
 //  - LeafTableLookup: one bin's read of L~_i and L~ from a leaf's 16x16 table (LeafEstimates::lookup,
 //    the ray's direction prepared once), random leaves of the demo field;
 //  - RouletteEstimate: the E[X] lookup of guided RR / splitting at a medium vertex
-//    (GuidedContinuation::estimate at the distance stage: leaf descent + table lookup) at random
+//    (GuidedVertex::estimate at the distance stage: init, leaf descent + table lookup) at random
 //    points of the demo's fog;
+//  - GuidedVertex/{0,1}: one medium vertex's object as the walk asks it (init, the distance-stage
+//    estimate, the next segment's scatter probability; 1: with the direction mixture built between),
+//    counters `descents_per_vertex`, `products_per_vertex`;
 //  - LeafWalk{Cursor,Traverse}/{2000,50000}: the leaves crossed by a random ray through a kd-tree of
 //    the demo's photon positions split to ~2000 leaves (a benchmark scene's field) or ~50000, by the rope
 //    cursor the distance sampler uses and by the stack traversal; time per ray, `time_per_leaf`
@@ -51,7 +54,7 @@
 #include "volguide/guiding/guided_direction.h"
 #include "volguide/guiding/inscatter_cache.h"
 #include "volguide/integrators/guided/walk/distance_bins.h"
-#include "volguide/integrators/guided/walk/guided_continuation.h"
+#include "volguide/integrators/guided/walk/guided_vertex.h"
 #include "volguide/integrators/guided/guided_volpath.h"
 #include "volguide/integrators/guided/walk/walk_guide.h"
 #include "volguide/integrators/guided/training/photon_pass.h"
@@ -332,10 +335,21 @@ void BM_LeafTableLookup(benchmark::State& state) {
     }
 }
 
+// A medium vertex at the ray's origin in `medium` (what the walk begins a GuidedVertex with).
+MediumInteraction bench_vertex_at(const Ray& ray, const Medium& medium) {
+    MediumInteraction mi;
+    mi.p = ray.o;
+    mi.wi = -ray.d;
+    mi.medium = &medium;
+    mi.coeffs = medium.eval(ray.o);
+    return mi;
+}
+
 // Issue 37: one distance decision in the demo scene's homogeneous fog from a medium vertex whose leaf
-// the direction decision found (VertexLeaf known, as in the walk), along a random direction to the
-// field's bounds: range(0) = 0 the medium's free flight, 1 distance="vsp" (WalkGuide::sample_distance:
-// one table lookup, the segment decision), 2 distance="incremental" (the bins, for comparison).
+// the direction decision found (its GuidedVertex's leaf known, as in the walk; the object's init is
+// timed with the decision), along a random direction to the field's bounds: range(0) = 0 the
+// medium's free flight, 1 distance="vsp" (WalkGuide::sample_distance: one table lookup, the segment
+// decision), 2 distance="incremental" (the bins, for comparison).
 void BM_SegmentDecision(benchmark::State& state) {
     const Scene& scene = demo_scene();
     const GuidingField& field = demo_field();
@@ -361,6 +375,7 @@ void BM_SegmentDecision(benchmark::State& state) {
         int leaf;
     };
     std::vector<Query> queries;
+    std::vector<MediumInteraction> vertices;
     for (int i = 0; i < 4096; ++i) {
         Sampler s(7, 0, uint64_t(i));
         const Vec3f e = b.extents();
@@ -369,16 +384,20 @@ void BM_SegmentDecision(benchmark::State& state) {
         float t0, t1;
         b.ray_intersect(ray, t0, t1);
         queries.push_back({ray, t1, field.tree().leaf_at(ray.o)});
+        vertices.push_back(bench_vertex_at(ray, *medium));
     }
     DistanceScratch scratch;
+    GuidedVertex origin(guide);
     uint64_t i = 0, scattered = 0;
     for (auto _ : state) {
         const Query& q = queries[i & 4095];
+        VertexLeaf vertex_leaf;
+        if (state.range(0) != 0) origin.init(vertices[i & 4095], VertexLeaf{q.leaf});
         Sampler rng(3, 0, i++);
-        VertexLeaf vertex_leaf{q.leaf};
         const FreeFlightSample f =
             state.range(0) == 0 ? medium->sample_free_flight(q.ray, q.end, Color3(1.f), rng)
-                                : guide.sample_distance(*medium, q.ray, q.end, Color3(1.f), rng, vertex_leaf, scratch);
+                                : guide.sample_distance(*medium, q.ray, q.end, Color3(1.f), rng, &origin, vertex_leaf,
+                                                        scratch);
         scattered += f.scattered;
         benchmark::DoNotOptimize(f);
     }
@@ -420,23 +439,27 @@ void BM_SegmentDecisionEquiangular(benchmark::State& state) {
     const WalkGuide guide(scene, field, settings);
     // Vertices inside the box (the fog's cube: |x|, |y| < 1, z in (-1, 1)).
     std::vector<std::pair<Ray, int>> queries;
+    std::vector<MediumInteraction> vertices;
     for (int i = 0; i < 4096; ++i) {
         Sampler s(7, 0, uint64_t(i));
         const Point3f o(1.9f * s.next_1d() - 0.95f, 1.9f * s.next_1d() - 0.95f, 1.9f * s.next_1d() - 0.95f);
         queries.push_back({Ray(o, warp::square_to_uniform_sphere(s.next_2d())), field.tree().leaf_at(o)});
+        vertices.push_back(bench_vertex_at(queries.back().first, *medium));
     }
     const BBox3f b = field.tree().bounds();
     DistanceScratch scratch;
+    GuidedVertex origin(guide);
     uint64_t i = 0, scattered = 0;
     for (auto _ : state) {
         const auto& [ray, leaf] = queries[i & 4095];
         float t0, t1;
         b.ray_intersect(ray, t0, t1);
+        VertexLeaf vertex_leaf;
+        if (state.range(0) != 0) origin.init(vertices[i & 4095], VertexLeaf{leaf});
         Sampler rng(3, 0, i++);
-        VertexLeaf vertex_leaf{leaf};
-        const FreeFlightSample f = state.range(0) == 0
-                                       ? medium->sample_free_flight(ray, t1, Color3(1.f), rng)
-                                       : guide.sample_distance(*medium, ray, t1, Color3(1.f), rng, vertex_leaf, scratch);
+        const FreeFlightSample f =
+            state.range(0) == 0 ? medium->sample_free_flight(ray, t1, Color3(1.f), rng)
+                                : guide.sample_distance(*medium, ray, t1, Color3(1.f), rng, &origin, vertex_leaf, scratch);
         scattered += f.scattered;
         benchmark::DoNotOptimize(f);
     }
@@ -461,7 +484,6 @@ void BM_RouletteEstimate(benchmark::State& state) {
     settings.distance = DistanceGuiding::Incremental;  // the tables the estimates read
     settings.direction = DirectionGuiding::Product;
     const WalkGuide guide(scene, field, settings);
-    const GuidedContinuation continuation(guide, nullptr, 1.f);  // the estimate alone
     const BBox3f b = field.tree().bounds();
     std::vector<std::pair<MediumInteraction, Vec3f>> queries;
     for (int i = 0; i < 4096; ++i) {
@@ -475,12 +497,63 @@ void BM_RouletteEstimate(benchmark::State& state) {
         mi.wi = -d;
         queries.push_back({mi, d});
     }
+    GuidedVertex vertex(guide);  // the continuation's estimate is the vertex's
     size_t i = 0;
     for (auto _ : state) {
         const auto& [mi, d] = queries[i++ & 4095];
-        VertexLeaf vertex_leaf;  // not known: a descent, as after an unguided distance decision
-        benchmark::DoNotOptimize(continuation.estimate(ContinuationStage::Distance, mi, d, vertex_leaf));
+        vertex.init(mi, VertexLeaf());  // not known: a descent, as after an unguided distance decision
+        benchmark::DoNotOptimize(vertex.estimate(ContinuationStage::Distance, d));
     }
+}
+
+// Issue 37 deliverable 2: one medium vertex's GuidedVertex in the demo scene's fog as the walk asks
+// it, leaf not handed on (one descent): init, the distance-stage continuation's estimate along the
+// arriving ray, the next segment's scatter probability along a second direction; range(0) = 1 also
+// builds the direction mixture (the leaf VMM x phase product) between them, as a vertex that
+// survives the distance stage does.
+void BM_GuidedVertex(benchmark::State& state) {
+    const Scene& scene = demo_scene();
+    const GuidingField& field = demo_field();
+    const Medium* medium = nullptr;
+    for (const auto& shape : scene.shapes())
+        if (!medium) medium = shape->interior_medium();
+    if (!medium) medium = scene.sensor().medium();
+    if (!medium) {
+        state.SkipWithError("the demo scene has no medium");
+        return;
+    }
+    WalkGuideSettings settings;
+    settings.distance = DistanceGuiding::Vsp;
+    settings.direction = DirectionGuiding::Product;
+    const WalkGuide guide(scene, field, settings);
+    const BBox3f b = field.tree().bounds();
+    struct Query {
+        MediumInteraction mi;
+        Vec3f w;
+    };
+    std::vector<Query> queries;
+    for (int i = 0; i < 4096; ++i) {
+        Sampler s(8, 0, uint64_t(i));
+        const Vec3f e = b.extents();
+        const Ray ray(b.lo + Vec3f(e.x * s.next_1d(), e.y * s.next_1d(), e.z * s.next_1d()),
+                      warp::square_to_uniform_sphere(s.next_2d()));
+        queries.push_back({bench_vertex_at(ray, *medium), warp::square_to_uniform_sphere(s.next_2d())});
+    }
+    const bool direction = state.range(0) == 1;
+    GuidedVertex vertex(guide);
+    size_t i = 0;
+    for (auto _ : state) {
+        const Query& q = queries[i++ & 4095];
+        vertex.init(q.mi, VertexLeaf());
+        benchmark::DoNotOptimize(vertex.estimate(ContinuationStage::Distance, -q.mi.wi));
+        if (direction) vertex.prepare_direction();
+        benchmark::DoNotOptimize(vertex.scatter_probability(q.w, 0.9f, 0.5f));
+    }
+    const WalkGuideStats st = guide.stats();
+    state.counters["descents_per_vertex"] = st.vertices ? double(st.vertex_descents) / double(st.vertices) : 0.0;
+    state.counters["products_per_vertex"] = st.vertices ? double(st.vertex_products) / double(st.vertices) : 0.0;
+    state.SetLabel(direction ? "init, estimate, direction mixture, scatter probability"
+                             : "init, estimate, scatter probability");
 }
 
 // An 8-lobe leaf with concentrations between 1 and 50 in random directions.
@@ -543,6 +616,7 @@ BENCHMARK(BM_LeafTableLookup);
 BENCHMARK(BM_SegmentDecision)->Arg(0)->Arg(1)->Arg(2)->Arg(3);
 BENCHMARK(BM_SegmentDecisionEquiangular)->Arg(0)->Arg(1)->Arg(2);
 BENCHMARK(BM_RouletteEstimate);
+BENCHMARK(BM_GuidedVertex)->Arg(0)->Arg(1);
 BENCHMARK(BM_LeafWalk<true>)->Name("BM_LeafWalkCursor")->Arg(2000)->Arg(50000);
 BENCHMARK(BM_LeafWalk<false>)->Name("BM_LeafWalkTraverse")->Arg(2000)->Arg(50000);
 BENCHMARK(BM_PhotonPass)->Unit(benchmark::kMillisecond)->UseRealTime();

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Bit-identity check for refactors (issue 18's acceptance): renders the benchmark scenes shafts, sss,
 # cloud and fogbox at 64x48, 8 spp, fixed seed, with volpath and with guided_volpath (the defaults,
-# and each guided decision alone), every guided render from a field saved once per scene.
+# each guided decision alone, and distance=vsp / vsp_product, rrs=ears and the learned selection with
+# the per-cell distance method), every guided render from a field saved once per scene.
 #
 #   scripts/identity_check.sh render BUILD_DIR OUT_DIR [FIELDS_DIR]
 #       renders every case into OUT_DIR/<scene>__<case>.exr; without FIELDS_DIR it first trains and
@@ -23,6 +24,12 @@ declare -A cases=(
   [incident]="distance=standard direction=incident rrs=standard"
   [grrs]="distance=standard direction=phase rrs=grrs"
   [grr]="distance=incremental direction=product rrs=grr"
+  # issue 37/38's decisions (the per-vertex object: vsp's P_G, ears' leaf, the pilot's records)
+  [vsp]="distance=vsp direction=product rrs=grrs"
+  [vspproduct]="distance=vsp_product direction=product rrs=grrs"
+  [vspphase]="distance=vsp direction=phase rrs=standard"
+  [ears]="distance=incremental direction=product rrs=ears"
+  [selection]="distance=vsp direction=product rrs=grrs selection_spp=2 selection_distance_method=true"
 )
 
 integrator_xml() {  # $1 = file, $2.. = name=value

@@ -284,8 +284,9 @@ TEST(GuidedVolPathUnbiased, TransmittanceStrategiesAloneGiveUnitWeights) {
         for (int i = 0; i < 2000; ++i) {
             Sampler s(9, 0, uint64_t(i));
             const Ray ray(Point3f(0.f), warp::square_to_uniform_sphere(s.next_2d()));
-            VertexLeaf vertex_leaf;  // the origin's leaf is not known
-            const FreeFlightSample f = guide.sample_distance(*medium, ray, 0.999f, Color3(1.f), s, vertex_leaf, scratch);
+            VertexLeaf vertex_leaf;  // no origin vertex: the origin's leaf is not known
+            const FreeFlightSample f =
+                guide.sample_distance(*medium, ray, 0.999f, Color3(1.f), s, nullptr, vertex_leaf, scratch);
             scattered += f.scattered;
             ASSERT_NEAR(f.weight.r, 1.f, 2e-4f) << "query " << i << (f.scattered ? " scattered" : " passed");
         }
@@ -297,9 +298,11 @@ TEST(GuidedVolPathUnbiased, TransmittanceStrategiesAloneGiveUnitWeights) {
 
 // Issue 37: the per-vertex object (GuidedVertex) answers what the decisions it replaces answered,
 // from one leaf lookup and one product: the direction density of WalkGuide::direction_sampler's
-// sampler, the continuation's estimate of GuidedContinuation::estimate, and the segment's guided
-// scattering probability of WalkGuide::guided_scatter_probability at its leaf (in [0, 1] or NaN).
-// With c_T = 1, distance="vsp" is free flight: grey albedo-1 weights are exactly 1.
+// sampler at the vertex's leaf, the continuation's estimate (the trusted leaf's L~_i / L~), and the
+// segment's guided scattering probability of WalkGuide::guided_scatter_probability at its leaf (in
+// [0, 1] or NaN). It looks nothing up at init, descends once at most however often it is asked, and
+// builds its direction mixture once. With c_T = 1, distance="vsp" is free flight: grey albedo-1
+// weights are exactly 1.
 TEST(GuidedVolPathUnbiased, GuidedVertexAnswersAsTheDecisionsItReplaces) {
     TempDir dir("guided-vertex");
     std::string xml = guided_furnace_xml(false, "", guided("vsp", "product", 100000));
@@ -319,7 +322,6 @@ TEST(GuidedVolPathUnbiased, GuidedVertexAnswersAsTheDecisionsItReplaces) {
     ws.distance = DistanceGuiding::Vsp;
     ws.direction = DirectionGuiding::Product;
     const WalkGuide guide(*scene, integrator.field(), ws);
-    const GuidedContinuation continuation(guide, nullptr, 0.f);
     int with_leaf = 0, with_probability = 0;
     for (int i = 0; i < 500; ++i) {
         Sampler s(4, 0, uint64_t(i));
@@ -328,23 +330,34 @@ TEST(GuidedVolPathUnbiased, GuidedVertexAnswersAsTheDecisionsItReplaces) {
         mi.wi = warp::square_to_uniform_sphere(s.next_2d());
         mi.medium = medium;
         mi.coeffs = medium->eval(mi.p);
-        VertexLeaf vl, vl_ref;
+        const WalkGuideStats before = guide.stats();
         GuidedVertex vertex(guide);
-        vertex.init(mi, vl);
+        vertex.init(mi, VertexLeaf());
+        ASSERT_EQ(vertex.known_leaf(), -1);  // init looks nothing up
+        ASSERT_EQ(guide.stats().vertex_descents, before.vertex_descents);
+        const int leaf = guide.leaf_of(mi.p, VertexLeaf());
         std::optional<GuidedDirectionSampler> ref;
-        guide.direction_sampler(mi, medium->phase(), vl_ref, ref);
-        ASSERT_EQ(vl.leaf, vl_ref.leaf);
-        ASSERT_EQ(vertex.guided(), ref->guided());
-        with_leaf += vl.leaf >= 0;
+        guide.direction_sampler(mi, medium->phase(), leaf, ref);
         const Vec3f w = warp::square_to_uniform_sphere(s.next_2d());
-        ASSERT_EQ(vertex.direction_pdf(w), ref->pdf(w));
-        for (ContinuationStage stage : {ContinuationStage::Distance, ContinuationStage::Direction}) {
-            VertexLeaf vc{vl.leaf};
-            ASSERT_EQ(vertex.estimate(stage, w), continuation.estimate(stage, mi, w, vc));
+        for (int again = 0; again < 2; ++again) {  // a second round asks the same object again
+            vertex.prepare_direction();
+            ASSERT_EQ(vertex.leaf(), leaf);
+            ASSERT_EQ(vertex.guided(), ref->guided());
+            ASSERT_EQ(vertex.direction_pdf(w), ref->pdf(w));
+            const int trusted = guide.trusted_leaf(leaf, mi.coeffs.sigma_t);
+            ASSERT_EQ(vertex.estimate(ContinuationStage::Distance, w),
+                      trusted < 0 ? Color3(0.f) : guide.leaf_inscattered(trusted, medium->phase(), w));
+            ASSERT_EQ(vertex.estimate(ContinuationStage::Direction, w),
+                      trusted < 0 ? Color3(0.f) : guide.leaf_incident(trusted, medium->phase(), w));
         }
+        const WalkGuideStats after = guide.stats();
+        ASSERT_EQ(after.vertices, before.vertices + 1);
+        ASSERT_EQ(after.vertex_descents, before.vertex_descents + 1);  // the one descent (no hint: a fresh object)
+        ASSERT_EQ(after.vertex_mixtures, before.vertex_mixtures + 1);
+        ASSERT_LE(after.vertex_products, before.vertex_products + 1);
+        with_leaf += leaf >= 0;
         const float p = vertex.scatter_probability(w, 1.f, 0.6f);
-        VertexLeaf vt{vl.leaf};
-        const float want = guide.guided_scatter_probability(guide.trusted_vertex_leaf(mi, vt), medium->phase(), w, 1.f, 0.6f);
+        const float want = guide.guided_scatter_probability(leaf, medium->phase(), w, 1.f, 0.6f);
         if (std::isnan(want)) {
             ASSERT_TRUE(std::isnan(p));
         } else {
@@ -365,7 +378,8 @@ TEST(GuidedVolPathUnbiased, GuidedVertexAnswersAsTheDecisionsItReplaces) {
         Sampler s(9, 0, uint64_t(i));
         const Ray ray(Point3f(0.f), warp::square_to_uniform_sphere(s.next_2d()));
         VertexLeaf vertex_leaf;
-        const FreeFlightSample f = unguided.sample_distance(*medium, ray, 0.999f, Color3(1.f), s, vertex_leaf, scratch);
+        const FreeFlightSample f =
+            unguided.sample_distance(*medium, ray, 0.999f, Color3(1.f), s, nullptr, vertex_leaf, scratch);
         scattered += f.scattered;
         ASSERT_NEAR(f.weight.r, 1.f, 2e-4f) << "query " << i << (f.scattered ? " scattered" : " passed");
     }
@@ -566,6 +580,41 @@ TEST(GuidedVolPathUnbiased, OnlineLearningIsUnbiased) {
                                  R"(<integer name="online_spp" value="40"/>)";
     const auto s40 = guide_stats(lit_fog_xml(false, grid, guided("incremental", "product", 200000, -1.f, online40)), 40);
     EXPECT_EQ(s40.at("online_updates"), 7.0);
+}
+
+// Issue 37 deliverable 2: a render's medium vertices (GuidedVertex, one object per vertex begun before
+// the distance-stage continuation) make at most one leaf descent and build at most one direction
+// mixture each, and the vertices the distance-stage continuation ends (roulette) build none: mixtures
+// <= vertices - kills. An object that built its mixture at init, as the walk's direction decision did
+// before the object was begun ahead of the continuation, fails the last check (every vertex a mixture).
+// With ears (its own statistics, no estimate-driven kills) the descents per vertex are bounded too.
+TEST(GuidedVolPathUnbiased, GuidedVertexLooksUpOnceAndBuildsNothingForKilledPaths) {
+    TempDir dir("guided-vertex-counts");
+    const std::string grid = write_furnace_grid(dir);
+    for (const char* distance : {"vsp", "incremental"}) {
+        SCOPED_TRACE(distance);
+        const auto s = guide_stats(lit_fog_xml(false, grid, guided(distance, "product", 200000, -1.f, "",
+                                                                   rrs_xml("grrs"))));
+        ASSERT_TRUE(s.count("guided_vertices"));
+        EXPECT_GT(s.at("guided_vertices"), 1000.0);
+        EXPECT_GT(s.at("guided_vertex_descents"), 0.0);
+        EXPECT_LE(s.at("guided_vertex_descents"), 1.0);  // per vertex
+        EXPECT_GT(s.at("guided_vertex_distance_kills"), 0.01);
+        EXPECT_GT(s.at("guided_vertex_mixtures"), 0.1);
+        EXPECT_LE(s.at("guided_vertex_mixtures") + s.at("guided_vertex_distance_kills"), 1.0);
+        EXPECT_LE(s.at("guided_vertex_products"), s.at("guided_vertex_mixtures"));
+        EXPECT_GT(s.at("guided_vertex_products"), 0.0);
+    }
+    const auto ears = guide_stats(lit_fog_xml(false, grid, guided("incremental", "product", 200000, -1.f, "",
+                                                                  R"(<string name="rrs" value="ears"/>)")));
+    EXPECT_GT(ears.at("guided_vertices"), 500.0);
+    EXPECT_LE(ears.at("guided_vertex_descents"), 1.0);
+    EXPECT_LE(ears.at("guided_vertex_mixtures") + ears.at("guided_vertex_distance_kills"), 1.0);
+    // Directions not guided: no mixture is built at all.
+    const auto phase = guide_stats(lit_fog_xml(false, grid, guided("vsp", "phase", 200000, -1.f, "", rrs_xml("grrs"))));
+    EXPECT_GT(phase.at("guided_vertices"), 1000.0);
+    EXPECT_EQ(phase.at("guided_vertex_mixtures"), 0.0);
+    EXPECT_LE(phase.at("guided_vertex_descents"), 1.0);
 }
 
 // Issue 37: distance="vsp" (one decision per segment, docs/theory.md §7.10): the white furnace stays 1

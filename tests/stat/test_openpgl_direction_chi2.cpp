@@ -98,8 +98,8 @@ struct MediumVertex {
         mi.medium = &medium;
         policy = std::make_unique<OpenPglWalkPolicy>(settings, ts, field());
         Sampler s(3, 0, 0);
-        VertexLeaf vertex_leaf;
-        policy->prepare_direction(mi, vertex_leaf, s);
+        policy->begin_vertex(mi, VertexLeaf());
+        policy->prepare_direction(mi, s);
     }
     TestHomogeneousMedium medium;
     OpenPglSettings settings;

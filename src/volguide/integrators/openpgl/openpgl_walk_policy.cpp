@@ -31,7 +31,7 @@ FreeFlightSample OpenPglWalkPolicy::sample_distance(const Medium& medium, const 
     return fs;
 }
 
-void OpenPglWalkPolicy::prepare_direction(const MediumInteraction& mi, VertexLeaf&, Sampler& sampler) {
+void OpenPglWalkPolicy::prepare_direction(const MediumInteraction& mi, Sampler& sampler) {
     volume_ready_ = false;
     segment_vsp_ = std::numeric_limits<float>::quiet_NaN();
     ++ts_.medium_vertices;

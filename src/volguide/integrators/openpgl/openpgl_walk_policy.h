@@ -46,9 +46,9 @@ class OpenPglWalkPolicy final : public WalkPolicy {
 
     bool guides_distance() const override { return settings_.vsp; }
     FreeFlightSample sample_distance(const Medium& medium, const Ray& ray, float tmax, const Color3& throughput,
-                                     Sampler& sampler, VertexLeaf& vertex_leaf, DecisionRecord* record) override;
+                                     Sampler& sampler, VertexLeaf& scattering_leaf, DecisionRecord* record) override;
 
-    void prepare_direction(const MediumInteraction& mi, VertexLeaf& vertex_leaf, Sampler& sampler) override;
+    void prepare_direction(const MediumInteraction& mi, Sampler& sampler) override;
     float direction_pdf(const MediumInteraction& mi, const Vec3f& wo) const override;
     PhaseSample sample_direction(const MediumInteraction& mi, Sampler& sampler, DecisionRecord* record) override;
 

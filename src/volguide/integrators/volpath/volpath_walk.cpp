@@ -24,7 +24,10 @@ VolumeWalk::VolumeWalk(const Scene& scene, const VolPathSettings& settings, Samp
 Color3 VolumeWalk::run(const Ray& camera_ray) {
     state_.ray = camera_ray;
     state_.medium = scene_.sensor().medium();
-    if (policy_) state_.split_allowance = policy_->branch_budget();
+    if (policy_) {
+        state_.split_allowance = policy_->branch_budget();
+        policy_->end_vertex();  // the camera ray leaves from no medium vertex
+    }
     walk_branch();
     // The waiting branches of this camera sample, last made first.
     while (!stack_.empty()) {
@@ -35,12 +38,20 @@ Color3 VolumeWalk::run(const Ray& camera_ray) {
         rng_ = &branch_sampler_;
         need_intersection_ = true;
         if (recorder_) recorder_->resume_branch(b.record_point);
+        if (policy_) resume_policy_vertex(b);
         if (b.at_vertex && !scatter(b.vertex)) continue;  // the copy ended at its vertex
         walk_branch();
     }
     if (policy_) policy_->end_camera_sample(branches_);
     if (recorder_) recorder_->end_camera_sample(branches_);
     return result_;
+}
+
+void VolumeWalk::resume_policy_vertex(const PendingBranch& b) {
+    if (b.has_vertex)
+        policy_->begin_vertex(b.vertex.mi, VertexLeaf());
+    else
+        policy_->end_vertex();
 }
 
 void VolumeWalk::walk_branch() {
@@ -80,8 +91,9 @@ VolumeWalk::Step VolumeWalk::medium_step(MediumVertex& v) {
     if (settings_.equiangular && !guide_distance_ && medium.is_homogeneous() && medium.sample_emitters())
         return equiangular_step(medium, tmax, v);
     DecisionRecord record;
+    VertexLeaf leaf;  // the scattering vertex's, handed to the policy's vertex
     const FreeFlightSample ff = policy_ ? policy_->sample_distance(medium, state_.ray, tmax, state_.throughput, *rng_,
-                                                                  state_.vertex_leaf, decision_record(record))
+                                                                  leaf, decision_record(record))
                                         : medium.sample_free_flight(state_.ray, tmax, state_.throughput, *rng_);
     report_decision(DecisionKind::Distance, record);
     state_.throughput *= ff.weight;
@@ -90,7 +102,9 @@ VolumeWalk::Step VolumeWalk::medium_step(MediumVertex& v) {
     v.mi = ff.mi;
     if (!v.mi.medium) v.mi.medium = &medium;
     ++state_.depth;
-    return depth_ok(state_.depth) ? Step::Scatter : Step::End;
+    if (!depth_ok(state_.depth)) return Step::End;
+    if (policy_) policy_->begin_vertex(v.mi, leaf);
+    return Step::Scatter;
 }
 
 VolumeWalk::Step VolumeWalk::equiangular_step(const Medium& medium, float tmax, MediumVertex& v) {
@@ -105,15 +119,16 @@ VolumeWalk::Step VolumeWalk::equiangular_step(const Medium& medium, float tmax, 
     if (state_.throughput.is_black()) return Step::End;
     if (!ff.scattered) return Step::Surface;
     v.mi = ff.mi;
-    state_.vertex_leaf = VertexLeaf();  // the new vertex's is not known
     ++state_.depth;
-    return depth_ok(state_.depth) ? Step::Scatter : Step::End;
+    if (!depth_ok(state_.depth)) return Step::End;
+    if (policy_) policy_->begin_vertex(v.mi, VertexLeaf());  // the new vertex's leaf is not known
+    return Step::Scatter;
 }
 
 bool VolumeWalk::at_medium_vertex(const MediumVertex& v) {
     // Distance-stage continuation: the vertex collects ~ L_i(x_j, w_{j-1}) from here on; every copy
     // does its own NEE and direction (docs/theory.md §9.3).
-    if (policy_ && !continue_path(ContinuationStage::Distance, v.mi, state_.ray.d, &v)) return false;
+    if (policy_ && !continue_path(ContinuationStage::Distance, v, state_.ray.d)) return false;
     return scatter(v);
 }
 
@@ -131,7 +146,7 @@ bool VolumeWalk::scatter(const MediumVertex& v) {
     }
     if (recorder_) recorder_->record_medium_hit(mi);
     // One direction sampler per vertex, used by NEE's MIS and the continuation.
-    if (policy_) policy_->prepare_direction(mi, s.vertex_leaf, *rng_);
+    if (policy_) policy_->prepare_direction(mi, *rng_);
     if (mi.medium->sample_emitters()) {
         s.specular_chain = false;
         sample_nee_medium(v);
@@ -152,7 +167,7 @@ bool VolumeWalk::scatter(const MediumVertex& v) {
     s.ray = mi.spawn_ray(ps.wo);
     need_intersection_ = true;
     // Direction-stage continuation: the continuation along w_j collects ~ L(x_j, w_j).
-    if (policy_ && !s.throughput.is_black()) return continue_path(ContinuationStage::Direction, mi, ps.wo, nullptr);
+    if (policy_ && !s.throughput.is_black()) return continue_path(ContinuationStage::Direction, v, ps.wo);
     return true;
 }
 
@@ -208,7 +223,7 @@ bool VolumeWalk::surface_step() {
     }
     s.medium = medium_after(si_, wo, s.medium);
     s.ray = si_.spawn_ray(wo);
-    s.vertex_leaf = VertexLeaf();  // the ray leaves a surface, not the vertex the leaf belongs to
+    if (policy_) policy_->end_vertex();  // the ray leaves a surface: no medium vertex
     need_intersection_ = true;
     if (policy_ && (bs.sampled_flags & bsdf_flags::Diffuse) && policy_->decides_at_surfaces())
         return continue_at_surface(wo);
@@ -216,10 +231,9 @@ bool VolumeWalk::surface_step() {
 }
 
 bool VolumeWalk::continue_at_surface(const Vec3f& wo) {
-    VertexLeaf leaf;  // the surface's, for the recorder only: the ray's own stays cleared
     const Continuation c =
-        policy_->surface_continuation(si_, wo, state_.throughput, branches_, state_.split_allowance, *rng_, leaf);
-    return continue_copies(c, ContinuationStage::Surface, wo, nullptr, leaf);
+        policy_->surface_continuation(si_, wo, state_.throughput, branches_, state_.split_allowance, *rng_);
+    return continue_copies(c, ContinuationStage::Surface, wo, nullptr);
 }
 
 void VolumeWalk::emitter_hit() {
@@ -251,33 +265,30 @@ void VolumeWalk::sample_nee_surface(const BSDF& bsdf) {
     add(state_.throughput * f * es.weight * w);
 }
 
-bool VolumeWalk::continue_path(ContinuationStage stage, const MediumInteraction& mi, const Vec3f& w,
-                               const MediumVertex* at_vertex) {
-    const Continuation c = policy_->continuation(stage, mi, w, state_.throughput, branches_, state_.split_allowance,
-                                                 *rng_, state_.vertex_leaf, records_decisions_);
-    return continue_copies(c, stage, w, at_vertex, state_.vertex_leaf);
+bool VolumeWalk::continue_path(ContinuationStage stage, const MediumVertex& v, const Vec3f& w) {
+    const Continuation c = policy_->continuation(stage, v.mi, w, state_.throughput, branches_, state_.split_allowance,
+                                                 *rng_, records_decisions_);
+    return continue_copies(c, stage, w, &v);
 }
 
 bool VolumeWalk::continue_copies(const Continuation& c, ContinuationStage stage, const Vec3f& w,
-                                 const MediumVertex* at_vertex, const VertexLeaf& leaf) {
+                                 const MediumVertex* vertex) {
     if (c.guided) state_.rr_depth_done = state_.depth;  // replaces throughput RR at this depth
     if (c.n == 0 && c.q != 1.f) return false;
     if (c.q != 1.f) state_.throughput *= 1.f / c.q;
     // The point is reported with its weight after the decision, before its copies (branch_point).
-    if (recorder_) recorder_->record_continuation(stage, leaf, w, c.estimate, state_.throughput);
+    if (recorder_) recorder_->record_continuation(stage, VertexLeaf{c.leaf}, w, c.estimate, state_.throughput);
     if (c.q == 1.f || c.n <= 1) return true;
     // The n copies share the path's allowance, so the live branches' allowances never sum to more
     // than the camera sample's budget.
     state_.split_allowance /= float(c.n);
-    for (int k = 1; k < c.n; ++k) {
-        PendingBranch b{state_, rng_->fork(uint64_t(k)), at_vertex != nullptr, at_vertex ? *at_vertex : MediumVertex(),
-                        recorder_ ? recorder_->branch_point() : 0};
-        // A copy finds its own vertex leaf: with the one it was made at, a copy's first distance
-        // decision could skip the guided walk where its original did not (WalkGuide::sample_distance),
-        // and splitting would draw other random numbers than before the vertex leaf moved into the state.
-        b.state.vertex_leaf = VertexLeaf();
-        stack_.push_back(std::move(b));
-    }
+    // A copy's vertex is begun again when it resumes (resume_policy_vertex), its leaf not known: with
+    // the one its original found, a copy's first distance decision could skip the guided walk where
+    // its original did not (WalkGuide::sample_distance), and splitting would draw other random numbers.
+    const bool at_vertex = vertex && stage == ContinuationStage::Distance;
+    for (int k = 1; k < c.n; ++k)
+        stack_.push_back(PendingBranch{state_, rng_->fork(uint64_t(k)), at_vertex, vertex != nullptr,
+                                       vertex ? *vertex : MediumVertex(), recorder_ ? recorder_->branch_point() : 0});
     branches_ += c.n - 1;
     return true;
 }

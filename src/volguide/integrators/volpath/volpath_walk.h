@@ -37,7 +37,6 @@ struct WalkState {
     Interaction last_vertex;   // last real scattering vertex and the pdf of the direction it sampled
     float last_pdf = 1.f;
     EquiVertex last_equi;      // equiangular bookkeeping of the last medium vertex (MIS of hits)
-    VertexLeaf vertex_leaf;        // the policy's leaf of the vertex the ray leaves from
     // The branches this path may still become (the policy's branch budget, shared by a split's copies).
     float split_allowance = std::numeric_limits<float>::infinity();
 };
@@ -57,6 +56,17 @@ class VolumeWalk {
     Color3 run(const Ray& camera_ray);
 
   private:
+    // One branch of the camera sample waiting on the stack: its state, its own random stream,
+    // and, for a copy made at a medium vertex, that vertex.
+    struct PendingBranch {
+        WalkState state;
+        Sampler sampler;
+        bool at_vertex = false;    // resume at `vertex`, else trace state.ray
+        bool has_vertex = false;   // made at the medium vertex `vertex` (state.ray leaves from it)
+        MediumVertex vertex;
+        int record_point = 0;  // the recorder's branch_point() when the copy was made
+    };
+
     // One branch from the current state to its end.
     void walk_branch();
     // Throughput Russian roulette, once per depth from rr_depth on; false: the path ends.
@@ -76,16 +86,17 @@ class VolumeWalk {
     bool surface_step();
     void emitter_hit();
     void sample_nee_surface(const BSDF& bsdf);
-    // The policy's continuation decision, reported to the recorder, then continue_copies().
-    bool continue_path(ContinuationStage stage, const MediumInteraction& mi, const Vec3f& w,
-                       const MediumVertex* at_vertex);
+    // The policy's continuation decision at the medium vertex v, reported to the recorder, then
+    // continue_copies().
+    bool continue_path(ContinuationStage stage, const MediumVertex& v, const Vec3f& w);
     // The walk's part of a continuation decision c of `stage` (w: see ContinuationStage): the path's
-    // weight 1/q, the point's report to the recorder, and its n - 1 copies; copies made at a vertex
-    // (at_vertex) resume before its NEE and direction, the others trace the state's ray. False when
-    // the path ends.
-    // `leaf`: the point's, for the recorder.
-    bool continue_copies(const Continuation& c, ContinuationStage stage, const Vec3f& w,
-                         const MediumVertex* at_vertex, const VertexLeaf& leaf);
+    // weight 1/q, the point's report to the recorder, and its n - 1 copies; copies made at the
+    // distance stage resume at `vertex` before its NEE and direction, the others trace the state's
+    // ray (from `vertex` when not null: the policy's vertex again). False when the path ends.
+    bool continue_copies(const Continuation& c, ContinuationStage stage, const Vec3f& w, const MediumVertex* vertex);
+    // A branch taken from the stack: the policy's vertex is the one it was made at (not known to the
+    // decisions before, as for any copy), or none.
+    void resume_policy_vertex(const PendingBranch& b);
     // The policy's continuation decision after a diffuse direction wo at the surface si_ (the state
     // already leaves along wo), then continue_copies(). False when the path ends.
     bool continue_at_surface(const Vec3f& wo);
@@ -96,15 +107,6 @@ class VolumeWalk {
     void add(const Color3& c);
     bool depth_ok(int d) const { return settings_.max_depth < 0 || d < settings_.max_depth; }
 
-    // One branch of the camera sample waiting on the stack: its state, its own random stream,
-    // and, for a copy made at a medium vertex before its NEE and direction, that vertex.
-    struct PendingBranch {
-        WalkState state;
-        Sampler sampler;
-        bool at_vertex = false;  // resume at `vertex`, else trace state.ray
-        MediumVertex vertex;
-        int record_point = 0;  // the recorder's branch_point() when the copy was made
-    };
 
     const Scene& scene_;
     const VolPathSettings& settings_;

@@ -14,12 +14,17 @@
 // draws (free flight, phase and BSDF sampling, no continuation decision): a policy overrides what
 // it adds. A guiding backend is one policy class (guided/walk/guided_walk_policy.h for the guiding
 // field's WalkGuide, openpgl/openpgl_walk_policy.h). A policy object serves one walk at a time (it
-// keeps the prepared samplers and scratch between the calls of one vertex): not shared between
-// threads.
+// keeps the current vertex's prepared samplers and scratch between the calls of one vertex): not
+// shared between threads.
 //
-// What one decision hands to the next at the same vertex (the vertex leaf: the guiding structure's leaf
-// around the vertex, which the distance decision finds and the direction and continuation decisions reuse)
-// travels in a VertexLeaf that the walk keeps with the vertex and clears when the path leaves it.
+// The medium vertex the decisions are made at is the policy's (Open PGL's Init / Sample / PDF shape):
+// the walk tells it where a vertex begins (begin_vertex, after the distance decision that reached it
+// and before every decision at it) and when the path's ray no longer leaves from one (end_vertex: the
+// camera, a surface); the policy keeps one object for it that the distance-stage continuation, the
+// direction decision, the direction-stage continuation and the next segment's distance decision
+// read. What the distance decision hands on to that object (the vertex leaf: the guiding structure's
+// leaf around the scattering vertex when the decision found it) travels from sample_distance to
+// begin_vertex in a VertexLeaf (the walk keeps it in no state).
 #include <cstdint>
 #include <limits>
 #include <utility>
@@ -51,6 +56,8 @@ struct Continuation {
     // The estimate of what the path collects from here on per unit weight that the decision read
     // (channel average), when asked to report it; 0: none (for the recorders, path_recorder.h).
     float estimate = 0.f;
+    // The guiding structure's leaf of the point as the decision left it (for the recorders); -1: not known.
+    int leaf = -1;
 };
 
 // The sampling decisions, in the order of guiding/selection.h's SelectionDecision.
@@ -73,19 +80,30 @@ class WalkPolicy {
     virtual ~WalkPolicy() = default;
 
     // Whether sample_distance departs from free flight (the walk's equiangular sampling, which
-    // needs the distance density, is not combined with such a policy). `vertex_leaf` is the ray
-    // origin's on entry, the scattering vertex's on return. The sampling decisions fill `record`
-    // when it is not null (the defaults leave it a decision without a mixture).
+    // needs the distance density, is not combined with such a policy). The ray leaves from the
+    // policy's current vertex (begin_vertex; none after end_vertex). `scattering_leaf` (out): the
+    // scattering vertex's leaf when the decision knows it (-1: not known), for begin_vertex. The
+    // sampling decisions fill `record` when it is not null (the defaults leave it a decision without
+    // a mixture).
     virtual bool guides_distance() const { return false; }
     virtual FreeFlightSample sample_distance(const Medium& medium, const Ray& ray, float tmax,
-                                             const Color3& throughput, Sampler& sampler, VertexLeaf& vertex_leaf,
+                                             const Color3& throughput, Sampler& sampler, VertexLeaf& scattering_leaf,
                                              DecisionRecord* record) {
         return medium.sample_free_flight(ray, tmax, throughput, sampler);
     }
 
-    // The direction decision at the medium vertex mi (mi.medium set): prepare, then pdf and sample.
-    // prepare may draw from `sampler` (Open PGL's stochastic lookup of its own regions); the defaults draw nothing.
-    virtual void prepare_direction(const MediumInteraction& mi, VertexLeaf& vertex_leaf, Sampler& sampler) {}
+    // A real scattering event at mi (mi.medium set): the decisions that follow, up to and including
+    // the distance decision of the segment leaving it, are this vertex's. `handed`: what the distance
+    // decision that reached it handed on (a split copy's vertex: not known). The default keeps nothing.
+    virtual void begin_vertex(const MediumInteraction& mi, const VertexLeaf& handed) {}
+    // The path's ray leaves from no medium vertex (the camera, a surface): the next distance decision
+    // has no origin vertex.
+    virtual void end_vertex() {}
+
+    // The direction decision at the current medium vertex mi (mi.medium set): prepare, then pdf and
+    // sample. prepare may draw from `sampler` (Open PGL's stochastic lookup of its own regions); the
+    // defaults draw nothing.
+    virtual void prepare_direction(const MediumInteraction& mi, Sampler& sampler) {}
     virtual float direction_pdf(const MediumInteraction& mi, const Vec3f& wo) const {
         return mi.medium->phase().pdf(mi.wi, wo);
     }
@@ -107,20 +125,20 @@ class WalkPolicy {
         return bsdf.sample(ctx, si, u1, u2);
     }
 
-    // The continuation decision at the medium vertex mi of a path of weight `throughput` (w: see
-    // ContinuationStage), when the camera sample has `branches` branches so far and this branch
+    // The continuation decision at the current medium vertex mi of a path of weight `throughput` (w:
+    // see ContinuationStage), when the camera sample has `branches` branches so far and this branch
     // the allowance `allowance` (see branch_budget): n must not exceed floor(allowance).
     // `report`: also read and return the estimate (Continuation::estimate) where no decision is made.
     virtual Continuation continuation(ContinuationStage stage, const MediumInteraction& mi, const Vec3f& w,
                                       const Color3& throughput, int branches, float allowance, Sampler& sampler,
-                                      VertexLeaf& vertex_leaf, bool report) {
+                                      bool report) {
         return {};
     }
     // The continuation decision at the surface vertex si after its BSDF sampled the diffuse direction
-    // w (asked only when decides_at_surfaces()); the leaf the decision used, for the recorders, in `leaf`.
+    // w (asked only when decides_at_surfaces()); the leaf the decision used in Continuation::leaf.
     virtual bool decides_at_surfaces() const { return false; }
     virtual Continuation surface_continuation(const SurfaceInteraction& si, const Vec3f& w, const Color3& throughput,
-                                              int branches, float allowance, Sampler& sampler, VertexLeaf& leaf) {
+                                              int branches, float allowance, Sampler& sampler) {
         return {};
     }
     // A camera sample's branch allowance: the walk gives each of a split's n copies 1/n of their

@@ -5,53 +5,55 @@
 
 namespace volguide {
 
-Continuation GuidedContinuation::decide(ContinuationStage stage, const MediumInteraction& mi, const Vec3f& w,
+Continuation GuidedContinuation::decide(ContinuationStage stage, GuidedVertex& vertex, const Vec3f& w,
                                         const Color3& throughput, int branches, float allowance, Sampler& sampler,
-                                        VertexLeaf& vertex_leaf, bool report) const {
-    if (ears_ && rrs_) return decide_ears(stage, mi, w, throughput, branches, allowance, sampler, vertex_leaf, report);
+                                        bool report) const {
+    if (ears_ && rrs_) return decide_ears(stage, vertex, w, throughput, branches, allowance, sampler, report);
     Continuation c;
-    if (!rrs_ && !report) return c;
-    const Color3 estimate = this->estimate(stage, mi, w, vertex_leaf);
-    const bool usable = estimate.max_value() > 0.f;
-    if (report && usable) c.estimate = estimate.average();
-    if (!rrs_) return c;
-    if (usable && !selected(stage, vertex_leaf.leaf)) return c;  // learned: throughput RR
-    c.guided = usable;
-    c.q = rrs_->factor(throughput, estimate, pixel_, branches, allowance);
-    draw(c, sampler);
+    if (rrs_ || report) {
+        const Color3 estimate = vertex.estimate(stage, w);
+        const bool usable = estimate.max_value() > 0.f;
+        if (report && usable) c.estimate = estimate.average();
+        if (rrs_ && !(usable && !selected(stage, vertex.known_leaf()))) {  // else learned: throughput RR
+            c.guided = usable;
+            c.q = rrs_->factor(throughput, estimate, pixel_, branches, allowance);
+            draw(c, sampler);
+        }
+    }
+    c.leaf = vertex.known_leaf();
     return c;
 }
 
-Continuation GuidedContinuation::decide_ears(ContinuationStage stage, const MediumInteraction& mi, const Vec3f& w,
+Continuation GuidedContinuation::decide_ears(ContinuationStage stage, GuidedVertex& vertex, const Vec3f& w,
                                              const Color3& throughput, int branches, float allowance,
-                                             Sampler& sampler, VertexLeaf& vertex_leaf, bool report) const {
-    Continuation c;
-    if (vertex_leaf.leaf < 0 && leaf_hint_ >= 0) vertex_leaf.leaf = guide_.leaf_of(mi.p, VertexLeaf{leaf_hint_});
+                                             Sampler& sampler, bool report) const {
     // The field's estimate only for a recorder that reads it; either way the vertex leaf is found
-    // (kept in vertex_leaf, trusted or not: the statistics are the cell's, not the field's estimate).
+    // (trusted or not: the statistics are the cell's, not the field's estimate).
+    float estimate = 0.f;
     if (report) {
-        const Color3 estimate = this->estimate(stage, mi, w, vertex_leaf);
-        if (estimate.max_value() > 0.f) c.estimate = estimate.average();
+        const Color3 e = vertex.estimate(stage, w);
+        if (e.max_value() > 0.f) estimate = e.average();
     } else {
-        guide_.trusted_vertex_leaf(mi, vertex_leaf);
+        vertex.leaf();
     }
-    leaf_hint_ = vertex_leaf.leaf;
-    const float q = ears_->factor(stage, guide_.selection_cell(vertex_leaf.leaf), continuation_direction_bin(w),
-                                  throughput.average() / pixel_);
-    const float estimate = c.estimate;
-    c = ears_outcome(q, throughput, branches, allowance, sampler);
+    const int leaf = vertex.known_leaf();
+    const float q =
+        ears_->factor(stage, guide_.selection_cell(leaf), continuation_direction_bin(w), throughput.average() / pixel_);
+    Continuation c = ears_outcome(q, throughput, branches, allowance, sampler);
     c.estimate = estimate;
+    c.leaf = leaf;
     return c;
 }
 
 Continuation GuidedContinuation::decide_surface(const SurfaceInteraction& si, const Vec3f& w, const Color3& throughput,
-                                                int branches, float allowance, Sampler& sampler,
-                                                VertexLeaf& leaf) const {
+                                                int branches, float allowance, Sampler& sampler, int hint) const {
     if (!decides_at_surfaces()) return {};
-    leaf.leaf = guide_.leaf_of(si.p, VertexLeaf{leaf_hint_});
-    const float q = ears_->factor(ContinuationStage::Surface, guide_.selection_cell(leaf.leaf),
+    const int leaf = guide_.leaf_of(si.p, VertexLeaf{hint});
+    const float q = ears_->factor(ContinuationStage::Surface, guide_.selection_cell(leaf),
                                   continuation_direction_bin(w), throughput.average() / pixel_);
-    return ears_outcome(q, throughput, branches, allowance, sampler);
+    Continuation c = ears_outcome(q, throughput, branches, allowance, sampler);
+    c.leaf = leaf;
+    return c;
 }
 
 Continuation GuidedContinuation::ears_outcome(float q, const Color3& throughput, int branches, float allowance,
@@ -83,18 +85,6 @@ float GuidedContinuation::branch_budget() const {
 
 void GuidedContinuation::end_camera_sample(int branches) const {
     if (rrs_) rrs_->count_camera_sample(branches);
-}
-
-Color3 GuidedContinuation::estimate(ContinuationStage stage, const MediumInteraction& mi, const Vec3f& w,
-                                    VertexLeaf& vertex_leaf) const {
-    const int leaf = mi.medium ? guide_.trusted_vertex_leaf(mi, vertex_leaf) : -1;
-    if (leaf < 0) return Color3(0.f);
-    const PhaseFunction& phase = mi.medium->phase();
-    // After the direction decision the full L~, although NEE took the direct light at x: the
-    // continuation still collects the emitter hits MIS gives it (a sky), and the indirect part
-    // alone under-estimated it.
-    return stage == ContinuationStage::Distance ? guide_.leaf_inscattered(leaf, phase, w)
-                                                : guide_.leaf_incident(leaf, phase, w);
 }
 
 bool GuidedContinuation::selected(ContinuationStage stage, int leaf) const {

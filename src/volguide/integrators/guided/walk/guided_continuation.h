@@ -1,11 +1,15 @@
 #pragma once
 // Guided Russian roulette and splitting's decision at a medium vertex (docs/theory.md §9.3), made here
 // and nowhere else: volpath's walk asks its policy for a continuation once per vertex stage
-// (walk_policy.h's ContinuationStage) and GuidedWalkPolicy forwards to this class. The decision
-// reads
-//  - the field's estimate for the stage (estimate()): L~_i(x, d) after the distance decision (what
-//    the vertex collects from here on, d the ray's direction), L~(x, w) after the direction
-//    decision (what the continuation along w collects);
+// (walk_policy.h's ContinuationStage) and GuidedWalkPolicy forwards to this class with its vertex
+// object (GuidedVertex, guided_vertex.h), whose leaf and estimate the decision reads:
+//  - the field's estimate for the stage (GuidedVertex::estimate): L~_i(x, d) after the distance
+//    decision (what the vertex collects from here on, d the ray's direction), L~(x, w) after the
+//    direction decision (what the continuation along w collects), 0 (no guided decision: throughput
+//    RR) where the field has no valid leaf, and where the leaf's confidence is below WalkGuide's
+//    skip threshold: deep in a dense medium one estimate per leaf cannot follow radiance that varies
+//    on the scale of a free path, and RR by it compounds into heavy-tailed weights from leaves
+//    estimated too dark;
 //  - the learned selection's switch for the vertex's selection cell (guiding/selection.h);
 //  - the pixel estimate I of the camera sample's pixel (estimates/pixel_estimate.h);
 // and hands them to RouletteSplitting's scene-free weight window (guiding/roulette_splitting.h):
@@ -22,6 +26,7 @@
 #include "volguide/geometry/interaction.h"
 #include "volguide/guiding/roulette_splitting.h"
 #include "volguide/integrators/guided/estimates/continuation_stats.h"
+#include "volguide/integrators/guided/walk/guided_vertex.h"
 #include "volguide/integrators/guided/walk/walk_guide.h"
 #include "volguide/integrators/volpath/walk_policy.h"
 
@@ -35,34 +40,26 @@ class GuidedContinuation {
                        const ContinuationSnapshot* ears = nullptr)
         : guide_(guide), rrs_(rrs), pixel_(pixel), ears_(ears) {}
 
-    // WalkPolicy::continuation's decision (its arguments there). Without rrs it decides nothing;
-    // `report` still reads the estimate and returns it in Continuation::estimate.
-    Continuation decide(ContinuationStage stage, const MediumInteraction& mi, const Vec3f& w,
-                        const Color3& throughput, int branches, float allowance, Sampler& sampler,
-                        VertexLeaf& vertex_leaf, bool report) const;
+    // WalkPolicy::continuation's decision at `vertex` (its other arguments there). Without rrs it
+    // decides nothing; `report` still reads the estimate and returns it in Continuation::estimate.
+    // Continuation::leaf: the vertex's known leaf after the decision.
+    Continuation decide(ContinuationStage stage, GuidedVertex& vertex, const Vec3f& w, const Color3& throughput,
+                        int branches, float allowance, Sampler& sampler, bool report) const;
     // rrs=ears's decision after the BSDF sampled the diffuse direction w at the surface vertex si, from
-    // the statistics of the surface's leaf (kept in `leaf`); no decision (q = 1) without ears.
+    // the statistics of the surface's leaf (found with the guess `hint`, returned in Continuation::leaf);
+    // no decision (q = 1) without ears.
     Continuation decide_surface(const SurfaceInteraction& si, const Vec3f& w, const Color3& throughput, int branches,
-                                float allowance, Sampler& sampler, VertexLeaf& leaf) const;
+                                float allowance, Sampler& sampler, int hint) const;
     bool decides_at_surfaces() const { return ears_ && rrs_; }
     // The camera sample's branch allowance (+inf without a budget or without rrs).
     float branch_budget() const;
     // Counts a finished camera sample's branches.
     void end_camera_sample(int branches) const;
 
-    // The field's estimate for `stage` at the medium vertex mi (w: see ContinuationStage), from the
-    // distance decisions' per-leaf tables when they exist; the vertex's leaf is kept in `vertex_leaf`.
-    // 0 (no guided decision: throughput RR) where the field has no valid leaf, and where the
-    // leaf's confidence is below WalkGuide's skip threshold: deep in a dense medium one estimate
-    // per leaf cannot follow radiance that varies on the scale of a free path, and RR by it
-    // compounds into heavy-tailed weights from leaves estimated too dark.
-    Color3 estimate(ContinuationStage stage, const MediumInteraction& mi, const Vec3f& w, VertexLeaf& vertex_leaf) const;
-
   private:
     // rrs=ears's decision (decide()'s arguments).
-    Continuation decide_ears(ContinuationStage stage, const MediumInteraction& mi, const Vec3f& w,
-                             const Color3& throughput, int branches, float allowance, Sampler& sampler,
-                             VertexLeaf& vertex_leaf, bool report) const;
+    Continuation decide_ears(ContinuationStage stage, GuidedVertex& vertex, const Vec3f& w, const Color3& throughput,
+                             int branches, float allowance, Sampler& sampler, bool report) const;
     // The decision from ears' factor q (< 0: too few statistics, no decision) for a path of weight
     // `throughput`: bounded, then drawn.
     Continuation ears_outcome(float q, const Color3& throughput, int branches, float allowance, Sampler& sampler) const;
@@ -76,10 +73,6 @@ class GuidedContinuation {
     const RouletteSplitting* rrs_;
     float pixel_;
     const ContinuationSnapshot* ears_;
-    // rrs=ears: the leaf of the last medium vertex this walk decided at, tried first at the next one
-    // (in a dense medium the next vertex is a free path away, mostly in the same leaf; leaf_of checks
-    // that it holds the point, so the leaf found is the descent's).
-    mutable int leaf_hint_ = -1;
 };
 
 }  // namespace volguide

@@ -1,15 +1,46 @@
 #include "volguide/integrators/guided/walk/guided_vertex.h"
 
-#include <limits>
-
 namespace volguide {
 
-void GuidedVertex::init(const MediumInteraction& mi, VertexLeaf& vertex_leaf) {
+void GuidedVertex::init(const MediumInteraction& mi, const VertexLeaf& handed) {
+    clear();
     mi_ = mi;
-    has_mi_ = true;
+    active_ = true;
+    known_ = handed.leaf;
+    guide_.count_vertex();
+}
+
+void GuidedVertex::clear() {
+    if (found_valid_ && found_ >= 0) hint_ = found_;
+    active_ = false;
+    known_ = -1;
+    found_valid_ = false;
+    prepared_ = false;
     direction_.reset();
-    if (guide_.guides_direction()) guide_.direction_sampler(mi, mi.medium->phase(), vertex_leaf, direction_);
-    leaf_ = vertex_leaf.leaf;
+}
+
+int GuidedVertex::find() {
+    if (!found_valid_) {
+        found_ = guide_.vertex_leaf_of(mi_.p, known_ >= 0 ? known_ : hint_);
+        found_valid_ = true;
+    }
+    return found_;
+}
+
+int GuidedVertex::leaf() {
+    const int l = find();
+    if (l >= 0) known_ = l;  // the decisions that follow at this vertex know it
+    return l;
+}
+
+int GuidedVertex::trusted_leaf() { return guide_.trusted_leaf(leaf(), mi_.coeffs.sigma_t); }
+
+void GuidedVertex::prepare_direction() {
+    if (prepared_) return;
+    prepared_ = true;
+    if (!guide_.guides_direction()) return;
+    guide_.direction_sampler(mi_, mi_.medium->phase(), leaf(), direction_);
+    guide_.count_vertex_mixture(direction_ && direction_->product() != nullptr);
 }
 
 GuidedDirectionSampler::Sample GuidedVertex::sample_direction(Point2f u, float u_strategy) const {
@@ -28,19 +59,17 @@ float GuidedVertex::direction_pdf(const Vec3f& wo) const {
     return direction_ ? direction_->pdf(wo) : mi_.medium->phase().pdf(mi_.wi, wo);
 }
 
-float GuidedVertex::scatter_probability(const Vec3f& w, float albedo, float unguided) const {
-    if (!has_mi_) return std::numeric_limits<float>::quiet_NaN();
-    VertexLeaf vl{leaf_};
-    const int leaf = guide_.trusted_vertex_leaf(mi_, vl);
-    return guide_.guided_scatter_probability(leaf, mi_.medium->phase(), w, albedo, unguided);
+float GuidedVertex::scatter_probability(const Vec3f& w, float albedo, float unguided) {
+    return guide_.guided_scatter_probability(origin_leaf(), mi_.medium->phase(), w, albedo, unguided);
 }
 
-Color3 GuidedVertex::estimate(ContinuationStage stage, const Vec3f& w) const {
-    if (!has_mi_ || !mi_.medium) return Color3(0.f);
-    VertexLeaf vl{leaf_};
-    const int leaf = guide_.trusted_vertex_leaf(mi_, vl);
+Color3 GuidedVertex::estimate(ContinuationStage stage, const Vec3f& w) {
+    const int leaf = trusted_leaf();
     if (leaf < 0) return Color3(0.f);
     const PhaseFunction& phase = mi_.medium->phase();
+    // After the direction decision the full L~, although NEE took the direct light at x: the
+    // continuation still collects the emitter hits MIS gives it (a sky), and the indirect part
+    // alone under-estimated it.
     return stage == ContinuationStage::Distance ? guide_.leaf_inscattered(leaf, phase, w)
                                                 : guide_.leaf_incident(leaf, phase, w);
 }

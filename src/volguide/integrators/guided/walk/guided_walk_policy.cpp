@@ -3,17 +3,19 @@
 namespace volguide {
 
 FreeFlightSample GuidedWalkPolicy::sample_distance(const Medium& medium, const Ray& ray, float tmax,
-                                                   const Color3& throughput, Sampler& sampler, VertexLeaf& vertex_leaf,
-                                                   DecisionRecord* record) {
+                                                   const Color3& throughput, Sampler& sampler,
+                                                   VertexLeaf& scattering_leaf, DecisionRecord* record) {
     if (!guide_.guides_distance()) {
-        vertex_leaf = VertexLeaf();  // the scattering vertex's is not known
+        scattering_leaf = VertexLeaf();  // the scattering vertex's is not known
         return medium.sample_free_flight(ray, tmax, throughput, sampler);
     }
     scratch_.record = record != nullptr;
     // The camera-ray buffer's P_G for the first decision only, and only along the camera ray.
     scratch_.camera_guided = ray.d == camera_d_ ? camera_guided_ : std::numeric_limits<float>::quiet_NaN();
     camera_guided_ = std::numeric_limits<float>::quiet_NaN();
-    FreeFlightSample fs = guide_.sample_distance(medium, ray, tmax, throughput, sampler, vertex_leaf, scratch_);
+    // The origin is the current vertex (its known leaf, and P_G its answer), none after a surface.
+    FreeFlightSample fs = guide_.sample_distance(medium, ray, tmax, throughput, sampler,
+                                                 vertex_.active() ? &vertex_ : nullptr, scattering_leaf, scratch_);
     const DistanceScratch::Decision& d = scratch_.decision;
     if (record) {
         if (d.mixture) *record = {true, d.leaf, d.pdf, d.p_u, d.p_g};
@@ -23,8 +25,14 @@ FreeFlightSample GuidedWalkPolicy::sample_distance(const Medium& medium, const R
     return fs;
 }
 
-void GuidedWalkPolicy::prepare_direction(const MediumInteraction& mi, VertexLeaf& vertex_leaf, Sampler&) {
-    vertex_.init(mi, vertex_leaf);
+void GuidedWalkPolicy::prepare_direction(const MediumInteraction&, Sampler&) { vertex_.prepare_direction(); }
+
+Continuation GuidedWalkPolicy::continuation(ContinuationStage stage, const MediumInteraction&, const Vec3f& w,
+                                            const Color3& throughput, int branches, float allowance, Sampler& sampler,
+                                            bool report) {
+    const Continuation c = continuation_.decide(stage, vertex_, w, throughput, branches, allowance, sampler, report);
+    if (stage == ContinuationStage::Distance && c.n == 0 && c.q != 1.f) guide_.count_vertex_distance_kill();
+    return c;
 }
 
 float GuidedWalkPolicy::direction_pdf(const MediumInteraction&, const Vec3f& wo) const {

@@ -4,7 +4,9 @@
 // splitting against the pixel estimate I of the camera sample's pixel (GuidedContinuation,
 // guided_continuation.h, makes that decision; the policy forwards). Decisions the guide does not
 // make are the unguided ones, with the same random numbers. One object per camera sample (it holds
-// the vertex's prepared samplers and the distance decisions' scratch). What the walk records
+// the current medium vertex's object, GuidedVertex (guided_vertex.h), which the continuation, the
+// direction decision and the next segment's distance decision read, and the distance decisions'
+// scratch). What the walk records
 // (training, the selection pilot) is its PathRecorder's: the policy fills the DecisionRecord the
 // walk hands it with each decision's mixture densities, and reports the continuation's estimate
 // when asked.
@@ -40,9 +42,12 @@ class GuidedWalkPolicy final : public WalkPolicy {
 
     bool guides_distance() const override { return guide_.guides_distance(); }
     FreeFlightSample sample_distance(const Medium& medium, const Ray& ray, float tmax, const Color3& throughput,
-                                     Sampler& sampler, VertexLeaf& vertex_leaf, DecisionRecord* record) override;
+                                     Sampler& sampler, VertexLeaf& scattering_leaf, DecisionRecord* record) override;
 
-    void prepare_direction(const MediumInteraction& mi, VertexLeaf& vertex_leaf, Sampler& sampler) override;
+    void begin_vertex(const MediumInteraction& mi, const VertexLeaf& handed) override { vertex_.init(mi, handed); }
+    void end_vertex() override { vertex_.clear(); }
+
+    void prepare_direction(const MediumInteraction& mi, Sampler& sampler) override;
     float direction_pdf(const MediumInteraction& mi, const Vec3f& wo) const override;
     PhaseSample sample_direction(const MediumInteraction& mi, Sampler& sampler, DecisionRecord* record) override;
 
@@ -54,15 +59,14 @@ class GuidedWalkPolicy final : public WalkPolicy {
                                                            const BSDF& bsdf, float u1, Point2f u2, Sampler& sampler,
                                                            DecisionRecord* record) override;
 
+    // At the current vertex (begin_vertex's: `mi` is its interaction).
     Continuation continuation(ContinuationStage stage, const MediumInteraction& mi, const Vec3f& w,
                               const Color3& throughput, int branches, float allowance, Sampler& sampler,
-                              VertexLeaf& vertex_leaf, bool report) override {
-        return continuation_.decide(stage, mi, w, throughput, branches, allowance, sampler, vertex_leaf, report);
-    }
+                              bool report) override;
     bool decides_at_surfaces() const override { return continuation_.decides_at_surfaces(); }
     Continuation surface_continuation(const SurfaceInteraction& si, const Vec3f& w, const Color3& throughput,
-                                      int branches, float allowance, Sampler& sampler, VertexLeaf& leaf) override {
-        return continuation_.decide_surface(si, w, throughput, branches, allowance, sampler, leaf);
+                                      int branches, float allowance, Sampler& sampler) override {
+        return continuation_.decide_surface(si, w, throughput, branches, allowance, sampler, vertex_.hint());
     }
     float branch_budget() const override { return continuation_.branch_budget(); }
     void end_camera_sample(int branches) override { continuation_.end_camera_sample(branches); }
@@ -71,7 +75,7 @@ class GuidedWalkPolicy final : public WalkPolicy {
     const WalkGuide& guide_;
     GuidedContinuation continuation_;
     DistanceScratch scratch_;
-    GuidedVertex vertex_;      // the current medium vertex's guided decisions
+    GuidedVertex vertex_;      // the current medium vertex's guided decisions (inactive: none)
     int surface_leaf_ = -1;    // the leaf beside the current surface vertex
     Vec3f camera_d_{0.f};      // set_camera_segment's direction
     float camera_guided_ = std::numeric_limits<float>::quiet_NaN();  // until the first distance decision

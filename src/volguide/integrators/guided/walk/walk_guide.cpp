@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "volguide/integrators/guided/walk/distance_bins.h"
+#include "volguide/integrators/guided/walk/guided_vertex.h"
 #include "volguide/integrators/guided/walk/vsp_distance.h"
 #include "volguide/guiding/guided_collision.h"
 #include "volguide/guiding/surface_guide.h"
@@ -99,13 +100,13 @@ DistanceGuiding selected_method(uint8_t method, DistanceGuiding configured) {
 }  // namespace
 
 FreeFlightSample WalkGuide::sample_distance(const Medium& medium, const Ray& ray, float tmax,
-                                            const Color3& throughput, Sampler& sampler, VertexLeaf& vertex_leaf,
-                                            DistanceScratch& scratch) const {
-    // A query from the vertex of the last guided scatter: its leaf is known. Where that leaf's
-    // confidence is below kSkipConfidence the guided share would be small, and the guided walk
+                                            const Color3& throughput, Sampler& sampler, GuidedVertex* from,
+                                            VertexLeaf& vertex_leaf, DistanceScratch& scratch) const {
+    // A query from a vertex whose leaf a decision there knows (GuidedVertex::known_leaf). Where that
+    // leaf's confidence is below kSkipConfidence the guided share would be small, and the guided walk
     // (a leaf lookup per bin) costs more than it can return: free flight, as for leaves without
     // estimates.
-    const int origin_leaf = vertex_leaf.leaf;
+    const int origin_leaf = from ? from->known_leaf() : -1;
     vertex_leaf.leaf = -1;
     scratch.decision = DistanceScratch::Decision();
     // The origin's leaf, kept on the free-flight paths below where the scattering vertex is in it
@@ -129,7 +130,7 @@ FreeFlightSample WalkGuide::sample_distance(const Medium& medium, const Ray& ray
     // (Only when some distance share was learned or the pilot records: heterogeneous media under
     // guided tracking record none, and a descent per decision would then be work for nothing.)
     if (selection_.learned(SelectionDecision::Distance) || scratch.record) {
-        if (origin < 0) origin = leaf_of(ray.o, VertexLeaf());
+        if (origin < 0) origin = from ? from->origin_leaf() : leaf_of(ray.o, VertexLeaf());
         const size_t cell = selection_cell(origin);
         const float share = selection_.share(SelectionDecision::Distance, cell);
         method = selected_method(selection_.distance_method(cell), method);
@@ -139,19 +140,20 @@ FreeFlightSample WalkGuide::sample_distance(const Medium& medium, const Ray& ray
         }
         if (share != LearnedSelection::kDefault) c_T = 1.f - share;
     }
-    return guided_distance(method, medium, ray, tmax, origin, c_T, throughput, sampler, vertex_leaf, scratch);
+    return guided_distance(method, medium, ray, tmax, origin, from, c_T, throughput, sampler, vertex_leaf, scratch);
 }
 
 FreeFlightSample WalkGuide::guided_distance(DistanceGuiding method, const Medium& medium, const Ray& ray, float tmax,
-                                            int origin, float c_T, const Color3& throughput, Sampler& sampler,
-                                            VertexLeaf& vertex_leaf, DistanceScratch& scratch) const {
+                                            int origin, GuidedVertex* from, float c_T, const Color3& throughput,
+                                            Sampler& sampler, VertexLeaf& vertex_leaf, DistanceScratch& scratch) const {
     if (method == DistanceGuiding::Vsp || method == DistanceGuiding::VspProduct) {
-        if (origin < 0) origin = leaf_of(ray.o, VertexLeaf());
+        if (origin < 0) origin = from ? from->origin_leaf() : leaf_of(ray.o, VertexLeaf());
         scratch.decision.leaf = origin;
         const bool product = method == DistanceGuiding::VspProduct;
         if (!medium.is_homogeneous())
-            return vsp_resampled(medium, ray, tmax, origin, c_T, product, throughput, sampler, vertex_leaf, scratch);
-        return vsp_distance(medium, ray, tmax, origin, c_T, product, throughput, sampler, vertex_leaf, scratch);
+            return vsp_resampled(medium, ray, tmax, origin, from, c_T, product, throughput, sampler, vertex_leaf,
+                                 scratch);
+        return vsp_distance(medium, ray, tmax, origin, from, c_T, product, throughput, sampler, vertex_leaf, scratch);
     }
     scratch.decision.leaf = origin;
     float b0, b1;
@@ -210,9 +212,16 @@ float WalkGuide::product_floor(int origin, const PhaseFunction& phase, const Vec
     return std::isfinite(L) && L > 0.f ? kProductFloor * L : 1.f;
 }
 
-FreeFlightSample WalkGuide::vsp_distance(const Medium& medium, const Ray& ray, float tmax, int origin, float c_T,
-                                         bool product, const Color3& throughput, Sampler& sampler,
-                                         VertexLeaf& vertex_leaf, DistanceScratch& scratch) const {
+float WalkGuide::origin_scatter_probability(GuidedVertex* from, int origin, const PhaseFunction& phase, const Ray& ray,
+                                            float albedo, float unguided) const {
+    // The vertex object's origin leaf is `origin` (both: the known leaf, else the one at ray.o = its point).
+    return from ? from->scatter_probability(ray.d, albedo, unguided)
+                : guided_scatter_probability(origin, phase, ray.d, albedo, unguided);
+}
+
+FreeFlightSample WalkGuide::vsp_distance(const Medium& medium, const Ray& ray, float tmax, int origin,
+                                         GuidedVertex* from, float c_T, bool product, const Color3& throughput,
+                                         Sampler& sampler, VertexLeaf& vertex_leaf, DistanceScratch& scratch) const {
     const MediumCoefficients at_origin = medium.eval(ray.o);
     const HomogeneousVsp vsp(at_origin.sigma_t, tmax, channel_probabilities(throughput));
     const float st = at_origin.sigma_t.average();
@@ -220,7 +229,7 @@ FreeFlightSample WalkGuide::vsp_distance(const Medium& medium, const Ray& ray, f
     // A camera segment's P_G from the per-pixel buffer (§7.10.2), else the origin leaf's lookup.
     const bool camera = !std::isnan(scratch.camera_guided);
     const float guided = camera ? scratch.camera_guided
-                                : guided_scatter_probability(origin, medium.phase(), ray.d, albedo, vsp.unguided());
+                                : origin_scatter_probability(from, origin, medium.phase(), ray, albedo, vsp.unguided());
     scratch.decision.lookups = camera ? 0 : 1;
     WalkGuideStats& stats = stats_.local();
     ++stats.distance_queries;
@@ -291,9 +300,9 @@ float WalkGuide::vsp_unguided_share(int origin, const Color3& sigma_t, float c_T
     return std::max(1.f - (1.f - c_T) * confidence, kVspMinUnguided);
 }
 
-FreeFlightSample WalkGuide::vsp_resampled(const Medium& medium, const Ray& ray, float tmax, int origin, float c_T,
-                                          bool product, const Color3& throughput, Sampler& sampler,
-                                          VertexLeaf& vertex_leaf, DistanceScratch& scratch) const {
+FreeFlightSample WalkGuide::vsp_resampled(const Medium& medium, const Ray& ray, float tmax, int origin,
+                                          GuidedVertex* from, float c_T, bool product, const Color3& throughput,
+                                          Sampler& sampler, VertexLeaf& vertex_leaf, DistanceScratch& scratch) const {
     // The albedo field at the origin (the extinction there may be 0 on the medium's boundary).
     const float albedo = medium.albedo(ray.o).average();  // shapes P_G only
     const PhaseFunction& phase = medium.phase();
@@ -303,7 +312,7 @@ FreeFlightSample WalkGuide::vsp_resampled(const Medium& medium, const Ray& ray, 
     ++stats.vsp_queries;
     stats.vsp_camera += camera;
     scratch.decision.lookups = camera ? 0 : 1;
-    if (!camera && std::isnan(guided_scatter_probability(origin, phase, ray.d, albedo, 1.f))) {
+    if (!camera && std::isnan(origin_scatter_probability(from, origin, phase, ray, albedo, 1.f))) {
         ++stats.vsp_unguided;
         return medium.sample_free_flight(ray, tmax, throughput, sampler);
     }
@@ -314,7 +323,7 @@ FreeFlightSample WalkGuide::vsp_resampled(const Medium& medium, const Ray& ray, 
     auto probability = [&](float unguided) {
         if (camera) return c * unguided + (1.f - c) * scratch.camera_guided;
         ++lookups;
-        const float guided = guided_scatter_probability(origin, phase, ray.d, albedo, unguided);
+        const float guided = origin_scatter_probability(from, origin, phase, ray, albedo, unguided);
         return std::isnan(guided) ? unguided : c * unguided + (1.f - c) * guided;
     };
     FreeFlightSample fs;
@@ -411,23 +420,15 @@ FreeFlightSample WalkGuide::binned_flight(const Medium& medium, const Ray& ray, 
     return fs;
 }
 
-void WalkGuide::direction_sampler(const MediumInteraction& mi, const PhaseFunction& phase, VertexLeaf& vertex_leaf,
+void WalkGuide::direction_sampler(const MediumInteraction& mi, const PhaseFunction& phase, int index,
                                   std::optional<GuidedDirectionSampler>& out) const {
     const GuidingLeaf* leaf = nullptr;
-    if (!field_.empty()) {
-        leaf = vertex_leaf.leaf >= 0 && field_.tree().holds_point(vertex_leaf.leaf, mi.p) ? &field_.leaves()[size_t(vertex_leaf.leaf)]
-                                                                               : field_.leaf_at(mi.p);
-    }
-    // The distance decision that follows starts here: it then knows its origin leaf (and may skip
-    // the guided walk in a leaf of low confidence) without a descent of its own.
-    if (leaf) vertex_leaf.leaf = int(leaf - field_.leaves().data());
-    if (leaf && settings_.direction_indirect)
-        leaf = &direction_leaves_[size_t(leaf - field_.leaves().data())];
+    if (index >= 0) leaf = settings_.direction_indirect ? &direction_leaves_[size_t(index)] : &field_.leaves()[size_t(index)];
     const auto it = phase_vmms_.find(phase.mean_cosine());
     float phase_prob = settings_.phase_prob;
     if (leaf) {
-        const float confidence = leaf_confidence(vertex_leaf.leaf, mi.coeffs.sigma_t);
-        const float share = selection_.share(SelectionDecision::Direction, size_t(vertex_leaf.leaf));
+        const float confidence = leaf_confidence(index, mi.coeffs.sigma_t);
+        const float share = selection_.share(SelectionDecision::Direction, size_t(index));
         if (confidence < kSkipConfidence) {
             // The product is not worth building: the phase function alone.
             phase_prob = 1.f;
@@ -492,12 +493,27 @@ int WalkGuide::leaf_of(const Point3f& x, const VertexLeaf& vertex_leaf) const {
     return field_.tree().leaf_at(x);
 }
 
-int WalkGuide::trusted_vertex_leaf(const MediumInteraction& mi, VertexLeaf& vertex_leaf) const {
-    const int leaf = leaf_of(mi.p, vertex_leaf);
-    if (leaf < 0) return -1;
-    vertex_leaf.leaf = leaf;  // the decisions that follow at this vertex need no descent
-    return leaf_confidence(leaf, mi.coeffs.sigma_t) < kSkipConfidence ? -1 : leaf;
+int WalkGuide::vertex_leaf_of(const Point3f& x, int hint) const {
+    if (field_.empty()) return -1;
+    if (hint >= 0 && field_.tree().holds_point(hint, x)) return hint;
+    ++stats_.local().vertex_descents;
+    return field_.tree().leaf_at(x);
 }
+
+int WalkGuide::trusted_leaf(int leaf, const Color3& sigma_t) const {
+    if (leaf < 0) return -1;
+    return leaf_confidence(leaf, sigma_t) < kSkipConfidence ? -1 : leaf;
+}
+
+void WalkGuide::count_vertex() const { ++stats_.local().vertices; }
+
+void WalkGuide::count_vertex_mixture(bool product) const {
+    WalkGuideStats& st = stats_.local();
+    ++st.vertex_mixtures;
+    st.vertex_products += product;
+}
+
+void WalkGuide::count_vertex_distance_kill() const { ++stats_.local().vertex_distance_kills; }
 
 Color3 WalkGuide::leaf_inscattered(int leaf, const PhaseFunction& phase, const Vec3f& d) const {
     // The distance decisions' tables when they exist (one bilinear lookup instead of K x J lobes).

@@ -44,6 +44,7 @@
 
 namespace volguide {
 
+class GuidedVertex;
 class Scene;
 
 // Vsp: one decision per segment from the vertex's leaf (vsp_distance.h, docs/theory.md §7.10): in
@@ -158,7 +159,17 @@ struct WalkGuideSettings {
     /* ... surface decisions made unguided */                                                              \
     X(surface_unselected, "selection_surface_unguided", 1)                                                 \
     /* ... continuation points where guided RR/splitting was switched off */                               \
-    X(rrs_unselected, "selection_rrs_off", 1)
+    X(rrs_unselected, "selection_rrs_off", 1)                                                              \
+    /* medium vertices begun (GuidedVertex, guided_vertex.h; a split copy's vertex again) */                \
+    X(vertices, "guided_vertices", 1)                                                                      \
+    /* ... kd-tree descents they made to find their leaf (at most one per vertex) */                      \
+    X(vertex_descents, "guided_vertex_descents", vertices)                                                 \
+    /* ... direction mixtures they built (at most one per vertex, none where the path ended before) */    \
+    X(vertex_mixtures, "guided_vertex_mixtures", vertices)                                                 \
+    /* ... of which with the leaf VMM x phase product */                                                   \
+    X(vertex_products, "guided_vertex_products", vertices)                                                 \
+    /* ... ended by the distance-stage continuation decision (roulette) */                                \
+    X(vertex_distance_kills, "guided_vertex_distance_kills", vertices)
 
 struct WalkGuideStats {
 #define VOLGUIDE_WALK_GUIDE_MEMBER(member, name, of) uint64_t member = 0;
@@ -193,11 +204,11 @@ struct DistanceScratch {
     } decision;
 };
 
-// The decisions take the VertexLeaf of the vertex they are made at (walk_policy.h): its kd leaf
-// when a decision before found it (-1: not known), so that the direction decision at a guided
-// scatter and the distance decision that leaves it need not descend the tree again (leaf_at showed
-// in aniso's profile, bench/RESULTS.md (issue 35)), and the decisions update it. A leaf handed on is trusted
-// only where SpatialTree::leaf_at would provably return it (holds_point).
+// The decisions at a medium vertex read its kd leaf from the vertex's object (GuidedVertex,
+// guided_vertex.h), found once per vertex; the distance decision hands the scattering vertex's leaf
+// on (VertexLeaf) when it knows it, so that the vertex need not descend the tree again (leaf_at
+// showed in aniso's profile, bench/RESULTS.md (issue 35)). A leaf handed on is trusted only where
+// SpatialTree::leaf_at would provably return it (holds_point).
 class WalkGuide {
   public:
     // The field and the scene must outlive the guide.
@@ -209,9 +220,12 @@ class WalkGuide {
     bool guides_surfaces() const { return settings_.surface && guides_direction(); }
 
     // Medium::sample_free_flight's contract (weight, mi when scattered) with guided probabilities,
-    // from the vertex of `vertex_leaf` (ray.o); `vertex_leaf` becomes the scattering vertex's (-1: not known).
+    // from the medium vertex `origin` at ray.o (its leaf and P_G are its answers; null: the ray
+    // leaves from no medium vertex, the field is asked at ray.o); `scattering` (out): the scattering
+    // vertex's leaf when the decision knows it (-1: not known).
     FreeFlightSample sample_distance(const Medium& medium, const Ray& ray, float tmax, const Color3& throughput,
-                                     Sampler& sampler, VertexLeaf& vertex_leaf, DistanceScratch& scratch) const;
+                                     Sampler& sampler, GuidedVertex* origin, VertexLeaf& scattering,
+                                     DistanceScratch& scratch) const;
 
     // Learned selection (guiding/selection.h): per selection cell, the guided share of each decision and
     // whether guided RR/splitting acts; empty (the default) keeps the configured mixtures.
@@ -226,9 +240,9 @@ class WalkGuide {
     // The guided shares the configuration sets (what the pilot samples with): distance, direction, surface.
     std::array<float, kSelectionDecisions> configured_shares() const;
 
-    // Builds the direction sampler of a medium vertex in `out` (in place: it holds a ~3 KB product
-    // mixture); phase only where the field has no valid leaf.
-    void direction_sampler(const MediumInteraction& mi, const PhaseFunction& phase, VertexLeaf& vertex_leaf,
+    // Builds the direction sampler of the medium vertex mi in its kd leaf `leaf` (-1: none) in `out`
+    // (in place: it holds a ~3 KB product mixture); phase only where the field has no valid leaf.
+    void direction_sampler(const MediumInteraction& mi, const PhaseFunction& phase, int leaf,
                            std::optional<GuidedDirectionSampler>& out) const;
     // Counts one sampled direction (guided: drawn from the guiding part of the mixture).
     void count_direction(bool guided) const;
@@ -255,12 +269,19 @@ class WalkGuide {
     // estimates say nothing (L~ and L~_i both 0, or not finite). It shapes a probability only.
     float guided_scatter_probability(int leaf, const PhaseFunction& phase, const Vec3f& w, float albedo,
                                      float unguided) const;
-    // The leaf at mi.p (vertex_leaf), kept in `vertex_leaf`, if its confidence at mi is at least
+    // `leaf` (a vertex's, -1: none) if its confidence at extinction sigma_t is at least
     // kSkipConfidence, else -1.
-    int trusted_vertex_leaf(const MediumInteraction& mi, VertexLeaf& vertex_leaf) const;
+    int trusted_leaf(int leaf, const Color3& sigma_t) const;
     // The leaf at x (-1 outside the field), without a descent when `vertex_leaf` (a guess: x's, or a
     // nearby vertex's) holds it.
     int leaf_of(const Point3f& x, const VertexLeaf& vertex_leaf) const;
+    // leaf_of for a medium vertex (GuidedVertex), counting the descent it makes (guided_vertex_descents).
+    int vertex_leaf_of(const Point3f& x, int hint) const;
+    // GuidedVertex's counters: a vertex begun, a direction mixture built (with a product or not).
+    void count_vertex() const;
+    void count_vertex_mixture(bool product) const;
+    // A vertex the distance-stage continuation ended (GuidedWalkPolicy).
+    void count_vertex_distance_kill() const;
 
     WalkGuideStats stats() const;
     // The distance walk's leaf groups per phase mean cosine and their total (0 without merging).
@@ -272,22 +293,27 @@ class WalkGuide {
     // sample_distance's decision on the bins of (0, t_end) (distance_bins.h; t_end: where the ray
     // leaves the field or reaches tmax), weighted by binned_flight.
     // The guided decision of `method` (not Standard) from the origin's leaf `origin` (-1: not known).
+    // `from`: the origin's vertex object (null: none), which answers P_G.
     FreeFlightSample guided_distance(DistanceGuiding method, const Medium& medium, const Ray& ray, float tmax,
-                                     int origin, float c_T, const Color3& throughput, Sampler& sampler,
-                                     VertexLeaf& vertex_leaf, DistanceScratch& scratch) const;
+                                     int origin, GuidedVertex* from, float c_T, const Color3& throughput,
+                                     Sampler& sampler, VertexLeaf& vertex_leaf, DistanceScratch& scratch) const;
     FreeFlightSample binned_distance(DistanceGuiding method, const Medium& medium, const Ray& ray, float tmax, float t_end,
                                      const LeafEstimates* estimates, float c_T, const Color3& throughput,
                                      Sampler& sampler, VertexLeaf& vertex_leaf, DistanceScratch& scratch) const;
     // distance=vsp's decision over (0, tmax) in a homogeneous medium from the origin's leaf `origin`
-    // (-1: none; then free flight), c_T the unguided share; `product`: distance=vsp_product's resampled
-    // distance inside the segment.
-    FreeFlightSample vsp_distance(const Medium& medium, const Ray& ray, float tmax, int origin, float c_T,
-                                  bool product, const Color3& throughput, Sampler& sampler, VertexLeaf& vertex_leaf,
-                                  DistanceScratch& scratch) const;
+    // (-1: none; then free flight) and vertex object `from` (null: none), c_T the unguided share;
+    // `product`: distance=vsp_product's resampled distance inside the segment.
+    FreeFlightSample vsp_distance(const Medium& medium, const Ray& ray, float tmax, int origin, GuidedVertex* from,
+                                  float c_T, bool product, const Color3& throughput, Sampler& sampler,
+                                  VertexLeaf& vertex_leaf, DistanceScratch& scratch) const;
     // The same in any medium by resampling the segment's tentative collisions (resampled_segment_flight).
-    FreeFlightSample vsp_resampled(const Medium& medium, const Ray& ray, float tmax, int origin, float c_T,
-                                   bool product, const Color3& throughput, Sampler& sampler, VertexLeaf& vertex_leaf,
-                                   DistanceScratch& scratch) const;
+    FreeFlightSample vsp_resampled(const Medium& medium, const Ray& ray, float tmax, int origin, GuidedVertex* from,
+                                   float c_T, bool product, const Color3& throughput, Sampler& sampler,
+                                   VertexLeaf& vertex_leaf, DistanceScratch& scratch) const;
+    // P_G of the segment along ray.d: the origin vertex's answer (GuidedVertex::scatter_probability)
+    // when there is one, else from the leaf `origin`.
+    float origin_scatter_probability(GuidedVertex* from, int origin, const PhaseFunction& phase, const Ray& ray,
+                                     float albedo, float unguided) const;
     // The defensive unguided share c of distance=vsp's mixture from `origin` (§7.10): with the
     // camera-ray buffer's P_G (camera = true) the leaf's confidence does not apply.
     float vsp_unguided_share(int origin, const Color3& sigma_t, float c_T, bool camera) const;
