@@ -48,6 +48,9 @@ class BitmapTexture final : public Texture {
 // clipping: normal maps, raw parameters).
 std::shared_ptr<Texture> make_rawconstant_texture(const Properties& props);
 
+// `mesh_attribute`: `name` ("vertex_..." or "face_..."), `scale` (default 1).
+std::shared_ptr<Texture> make_mesh_attribute_texture(const Properties& props);
+
 // `bitmap` from the scene: filename (relative paths also tried next to the scene file),
 // filter_type (bilinear | nearest), wrap_mode (repeat | mirror | clamp), raw, to_uv,
 // format (variant | fp32: stored as float32; fp16: values rounded to half precision, as Mitsuba stores them).
