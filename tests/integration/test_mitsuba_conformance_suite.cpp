@@ -70,6 +70,10 @@ TEST(MitsubaConformanceSuite, MeshAttributes3Face) {
 TEST(MitsubaConformanceSuite, MeshAttributes3Vertex) {
     run_conformance("mesh_attributes", "test_mesh_attributes_3_vertex_direct");
 }
+// The projector emitter (constant and bitmap images) and a spot light with a projection texture.
+TEST(MitsubaConformanceSuite, ProjectorConstant) { run_conformance("projector", "test_projector_constant_direct"); }
+TEST(MitsubaConformanceSuite, ProjectorTextured) { run_conformance("projector", "test_projector_textured_direct"); }
+TEST(MitsubaConformanceSuite, SpotProjectionTexture) { run_conformance("spot_light", "test_spot_direct"); }
 TEST(MitsubaConformanceSuite, Orthographic) { run_conformance("orthographic_sensor", "test_orthographic_path"); }
 TEST(MitsubaConformanceSuite, BsdfRoughDielectric) { run_conformance("bsdf_spheres", "test_roughdielectric_path"); }
 TEST(MitsubaConformanceSuite, BsdfRoughPlasticLinear) {
@@ -169,8 +173,6 @@ TEST(MitsubaSuiteUnsupported, FailWithFileLineAndSupportedList) {
     };
     const Case cases[] = {
         {"bsdf_spheres/test_textured_roughconductor_path.xml", "23: unknown conductor material 'a-C'"},
-        {"projector/test_projector_constant_direct.xml", "37: unsupported emitter plugin 'projector' (supported:"},
-        {"spot_light/test_spot_direct.xml", "13: emitter 'spot': projection textures ('texture') are not supported"},
         {"various_emitters/test_various_emitters_ptracer.xml",
          "17: unsupported integrator plugin 'ptracer' (supported: path,"},
         {"various_shapes/test_various_shapes_path.xml", "141: unsupported shape plugin 'sdfgrid' (supported:"},

@@ -31,6 +31,7 @@ class BitmapTexture final : public Texture {
     bool has_gradient() const override { return true; }
     Vec2f eval_1_grad(const SurfaceInteraction& si) const override;
     std::string to_string() const override { return "BitmapTexture[]"; }
+    std::pair<int, int> resolution() const override { return {image_.width, image_.height}; }
 
     Color3 lookup(Vec2f uv) const;  // after to_uv
 
