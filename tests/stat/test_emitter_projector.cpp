@@ -92,23 +92,24 @@ const Transform kProjectorToWorld =
 }  // namespace
 
 TEST(EmitterProjector, ImageMappingAndWeight) {
-    // A 4 x 2 image (aspect 2), horizontal fov 90 degrees: tan(fov / 2) = 1.
+    // An 8 x 4 image (aspect 2), horizontal fov 90 degrees: tan(fov / 2) = 1.
     auto e = EmitterBuilder("projector")
-                 .set("irradiance", ObjectPtr(projector_test_image(4, 2)), "texture")
+                 .set("irradiance", ObjectPtr(projector_test_image(8, 4)), "texture")
                  .set("fov", 90.0, "float")
                  .set("scale", 2.0, "float")
                  .set("to_world", kProjectorToWorld, "transform")
                  .build();
-    // Local (x, y, z) = (0.4, -0.1, 2): uv = (0.5 - 0.4 / 4, 0.5 + 2 * 0.1 / 4) = (0.4, 0.55): texel (1, 1).
-    const Vec3f local(0.4f, -0.1f, 2.f);
+    // Local (x, y, z) = (0.4, -0.55, 2): uv = (0.5 - 0.4 / 4, 0.5 + 2 * 0.55 / 4) = (0.4, 0.775):
+    // texel (3, 3) = (4, 4, 28) (without the aspect in v it would be row 2, with x unflipped column 4).
+    const Vec3f local(0.4f, -0.55f, 2.f);
     const Point3f p = kProjectorToWorld.apply_point(Point3f(local.x, local.y, local.z));
     auto [ds, w] = e->sample_direction(reference_point(p), {0.5f, 0.5f});
     EXPECT_TRUE(ds.delta);
     const float cos_theta = local.z / norm(local);
     const float expected = Pi * 2.f / (local.z * local.z * cos_theta);
-    EXPECT_NEAR(w.r, 2.f * expected, 1e-4f * expected);
-    EXPECT_NEAR(w.g, 2.f * expected, 1e-4f * expected);
-    EXPECT_NEAR(w.b, 6.f * expected, 1e-4f * expected);
+    EXPECT_NEAR(w.r, 4.f * expected, 1e-4f * expected);
+    EXPECT_NEAR(w.g, 4.f * expected, 1e-4f * expected);
+    EXPECT_NEAR(w.b, 28.f * expected, 1e-4f * expected);
     // Outside the image (|uv.x| beyond 1) and behind the projector: nothing.
     EXPECT_TRUE(e->sample_direction(reference_point(kProjectorToWorld.apply_point(Point3f(2.5f, 0.f, 2.f))), {}).second.is_black());
     EXPECT_TRUE(e->sample_direction(reference_point(kProjectorToWorld.apply_point(Point3f(0.f, 0.f, -1.f))), {}).second.is_black());
@@ -142,18 +143,18 @@ TEST(EmitterSpotTexture, MappingAndEmissionMatchSampleDirection) {
                  .set("cutoff_angle", double(cutoff), "float")
                  .set("beam_width", 20.0, "float")
                  .set("intensity", Color3(2.f, 1.f, 0.5f), "rgb")
-                 .set("texture", ObjectPtr(projector_test_image(2, 2)), "texture")
+                 .set("texture", ObjectPtr(projector_test_image(10, 10)), "texture")
                  .build();
-    // Local direction (x, y, 1) with x = 0.5 tan(cutoff), y = -0.2 tan(cutoff): uv (0.75, 0.4):
-    // texel (1, 0) = (2, 1, 2); inside the beam (angle < 20 degrees).
+    // Local direction (x, y, 1) with x = 0.55 tan(cutoff), y = -0.25 tan(cutoff): uv (0.775, 0.375):
+    // texel (7, 3) = (8, 4, 38); inside the beam (angle < 20 degrees).
     const float t = std::tan(deg_to_rad(cutoff));
-    const Vec3f local(0.5f * t, -0.2f * t, 1.f);
+    const Vec3f local(0.55f * t, -0.25f * t, 1.f);
     const Point3f p = kProjectorToWorld.apply_point(Point3f(local.x, local.y, local.z) * 2.f);
     auto [ds, w] = e->sample_direction(reference_point(p), {0.5f, 0.5f});
     const float inv_d2 = 1.f / (4.f * squared_norm(local));
-    EXPECT_NEAR(w.r, 2.f * 2.f * inv_d2, 1e-4f);
-    EXPECT_NEAR(w.g, 1.f * 1.f * inv_d2, 1e-4f);
-    EXPECT_NEAR(w.b, 0.5f * 2.f * inv_d2, 1e-4f);
+    EXPECT_NEAR(w.r, 2.f * 8.f * inv_d2, 1e-4f);
+    EXPECT_NEAR(w.g, 1.f * 4.f * inv_d2, 1e-4f);
+    EXPECT_NEAR(w.b, 0.5f * 38.f * inv_d2, 1e-4f);
     projector_expect_mean_is_power(*e, 1e-2);
     const Point3f origin = kProjectorToWorld.apply_point(Point3f(0.f));
     const Vec3f d = normalize(kProjectorToWorld.apply_vector({0.15f, 0.1f, 1.f}));
