@@ -60,6 +60,20 @@ TEST(MitsubaConformanceSuite, TextureInterp) { run_conformance("texture_interp",
 TEST(MitsubaConformanceSuite, InfiniteMirrors) { run_conformance("infinite_mirrors", "scene_path"); }
 // One shapegroup (mesh sphere, analytic sphere, rectangle) placed three times by Embree instances.
 TEST(MitsubaConformanceSuite, Instancing) { run_conformance("instancing", "test_instancing_path"); }
+// Mesh attributes of a PLY sphere: per-face weights of a blendbsdf, per-face and per-vertex colours.
+TEST(MitsubaConformanceSuite, MeshAttributes1Face) {
+    run_conformance("mesh_attributes", "test_mesh_attributes_1_face_direct");
+}
+TEST(MitsubaConformanceSuite, MeshAttributes3Face) {
+    run_conformance("mesh_attributes", "test_mesh_attributes_3_face_direct");
+}
+TEST(MitsubaConformanceSuite, MeshAttributes3Vertex) {
+    run_conformance("mesh_attributes", "test_mesh_attributes_3_vertex_direct");
+}
+// The projector emitter (constant and bitmap images) and a spot light with a projection texture.
+TEST(MitsubaConformanceSuite, ProjectorConstant) { run_conformance("projector", "test_projector_constant_direct"); }
+TEST(MitsubaConformanceSuite, ProjectorTextured) { run_conformance("projector", "test_projector_textured_direct"); }
+TEST(MitsubaConformanceSuite, SpotProjectionTexture) { run_conformance("spot_light", "test_spot_direct"); }
 TEST(MitsubaConformanceSuite, Orthographic) { run_conformance("orthographic_sensor", "test_orthographic_path"); }
 TEST(MitsubaConformanceSuite, BsdfRoughDielectric) { run_conformance("bsdf_spheres", "test_roughdielectric_path"); }
 TEST(MitsubaConformanceSuite, BsdfRoughPlasticLinear) {
@@ -159,10 +173,6 @@ TEST(MitsubaSuiteUnsupported, FailWithFileLineAndSupportedList) {
     };
     const Case cases[] = {
         {"bsdf_spheres/test_textured_roughconductor_path.xml", "23: unknown conductor material 'a-C'"},
-        {"mesh_attributes/test_mesh_attributes_1_face_direct.xml",
-         "34: unsupported texture plugin 'mesh_attribute' (supported:"},
-        {"projector/test_projector_constant_direct.xml", "37: unsupported emitter plugin 'projector' (supported:"},
-        {"spot_light/test_spot_direct.xml", "13: emitter 'spot': projection textures ('texture') are not supported"},
         {"various_emitters/test_various_emitters_ptracer.xml",
          "17: unsupported integrator plugin 'ptracer' (supported: path,"},
         {"various_shapes/test_various_shapes_path.xml", "141: unsupported shape plugin 'sdfgrid' (supported:"},

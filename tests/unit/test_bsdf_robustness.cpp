@@ -27,6 +27,10 @@ TEST(BsdfRobustness, FiniteAndNonNegativeEverywhere) {
         {"principled", {{"roughness", 0.9}, {"spec_trans", 0.8}, {"anisotropic", 1.0}, {"eta", 1.0}}},
         {"principledthin", {{"roughness", 0.01}, {"spec_trans", 0.6}, {"diff_trans", 2.0}, {"sheen", 1.0},
                             {"spec_tint", 1.0}, {"eta", 1.0}}},
+        {"blendbsdf", {{"weight", 0.3}, {"", ObjectPtr(make_bsdf("roughdielectric", {{"alpha", 0.2}}))},
+                       {"", ObjectPtr(make_bsdf("conductor"))}}},
+        {"blendbsdf", {{"weight", 1.0}, {"", ObjectPtr(make_bsdf("diffuse"))}, {"", ObjectPtr(make_bsdf("plastic"))}}},
+        {"blendbsdf", {{"weight", 0.0}, {"", ObjectPtr(make_bsdf("diffuse"))}, {"", ObjectPtr(make_bsdf("null"))}}},
     };
     const float grazing = 1e-6f;
     const std::vector<Vec3f> wis = {Vec3f(0, 0, 1),

@@ -4,6 +4,7 @@
 // intersection routine, and build the SurfaceInteraction of a hit.
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "volguide/core/bbox.h"
@@ -36,12 +37,22 @@ struct DirectionSample {
     const Emitter* emitter = nullptr;
 };
 
+// A named per-vertex or per-face value of a mesh (Mitsuba 3's mesh attributes, read from PLY files):
+// "vertex_<name>" is interpolated with the hit's barycentrics, "face_<name>" is constant per triangle.
+struct MeshAttribute {
+    std::string name;           // with its "vertex_" or "face_" prefix
+    int channels = 1;           // 1 or 3
+    std::vector<float> values;  // channels per vertex or per triangle
+    bool per_face() const { return name.rfind("face_", 0) == 0; }
+};
+
 // World-space triangle data (to_world already applied).
 struct TriangleMesh {
     std::vector<Point3f> positions;
     std::vector<Normal3f> normals;  // per vertex, empty = flat shading
     std::vector<Vec2f> uvs;         // per vertex, empty = barycentric defaults
     std::vector<uint32_t> indices;  // 3 per triangle
+    std::vector<MeshAttribute> attributes;
     size_t triangle_count() const { return indices.size() / 3; }
 };
 
@@ -65,6 +76,13 @@ public:
     // Solid-angle sampling from a reference point; the default converts sample_position.
     virtual DirectionSample sample_direction(const Interaction& ref, Point2f u) const;
     virtual float pdf_direction(const Interaction& ref, const DirectionSample& ds) const;
+
+    // Mesh attributes (the `mesh_attribute` texture): the channel count of attribute `name`, 0 when the
+    // shape has none of that name; and its value at a hit of this shape (1 channel: gray).
+    virtual int attribute_channels(const std::string& name) const { return 0; }
+    virtual Color3 eval_attribute(const std::string& name, const SurfaceInteraction& si) const {
+        return Color3(0.f);
+    }
 
     const BSDF* bsdf() const { return bsdf_.get(); }
     const Emitter* emitter() const { return emitter_.get(); }

@@ -3,6 +3,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include "volguide/core/color.h"
 #include "volguide/core/object.h"
@@ -22,6 +23,8 @@ public:
     // has_gradient) return zero.
     virtual bool has_gradient() const { return is_constant(); }
     virtual Vec2f eval_1_grad(const SurfaceInteraction&) const { return Vec2f(0.f, 0.f); }
+    // Pixel resolution (width, height) of image textures; (1, 1) otherwise (Mitsuba's resolution()).
+    virtual std::pair<int, int> resolution() const { return {1, 1}; }
 };
 
 class ConstantTexture final : public Texture {

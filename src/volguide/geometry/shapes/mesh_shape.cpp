@@ -73,6 +73,8 @@ MeshShape::MeshShape(const Properties& props, TriangleMesh mesh, const MeshOptio
     if (!mesh_.uvs.empty() && mesh_.uvs.size() != nv)
         props.fail_here("mesh \"{}\": texture coordinate count differs from vertex count", name_);
 
+    check_attributes(props);
+
     transform_mesh(mesh_, opts.to_world);
     for (const auto& p : mesh_.positions) {
         if (!all_finite(p)) props.fail_here("mesh \"{}\" contains invalid vertex positions", name_);
@@ -168,6 +170,56 @@ PositionSample MeshShape::sample_position(Point2f u) const {
     ps.n = normalize(n);
     if (flip_normals_) ps.n = -ps.n;
     return ps;
+}
+
+void MeshShape::check_attributes(const Properties& props) const {
+    for (const MeshAttribute& a : mesh_.attributes) {
+        const size_t count = a.per_face() ? mesh_.triangle_count() : mesh_.positions.size();
+        if ((a.channels != 1 && a.channels != 3) || a.values.size() != count * size_t(a.channels))
+            props.fail_here("mesh \"{}\": attribute '{}' has {} values for {} {} of {} channel(s)", name_, a.name,
+                            a.values.size(), count, a.per_face() ? "triangles" : "vertices", a.channels);
+    }
+}
+
+const MeshAttribute* MeshShape::find_attribute(const std::string& name) const {
+    for (const MeshAttribute& a : mesh_.attributes)
+        if (a.name == name) return &a;
+    return nullptr;
+}
+
+int MeshShape::attribute_channels(const std::string& name) const {
+    const MeshAttribute* a = find_attribute(name);
+    return a ? a->channels : 0;
+}
+
+namespace {
+
+// Barycentrics (b0, b1, b2) of `p` in triangle (p0, p1, p2), from the sub-triangle areas as
+// Mitsuba's Mesh::barycentric_coordinates does (the hit point lies in the triangle's plane).
+Vec3f mesh_barycentrics(const Point3f& p, const Point3f& p0, const Point3f& p1, const Point3f& p2) {
+    const Vec3f e1 = p1 - p0, e2 = p2 - p0, rel = p - p0;
+    const float d11 = dot(e1, e1), d12 = dot(e1, e2), d22 = dot(e2, e2);
+    const float r1 = dot(rel, e1), r2 = dot(rel, e2);
+    const float det = d11 * d22 - d12 * d12;
+    if (!(det > 0.f)) return Vec3f(1.f, 0.f, 0.f);  // degenerate triangle (zero area): never hit
+    const float b1 = (d22 * r1 - d12 * r2) / det, b2 = (d11 * r2 - d12 * r1) / det;
+    return Vec3f(1.f - b1 - b2, b1, b2);
+}
+
+Color3 attribute_value(const MeshAttribute& a, size_t index) {
+    const float* v = &a.values[index * size_t(a.channels)];
+    return a.channels == 1 ? Color3(v[0]) : Color3(v[0], v[1], v[2]);
+}
+
+}  // namespace
+
+Color3 MeshShape::eval_attribute(const std::string& name, const SurfaceInteraction& si) const {
+    const MeshAttribute* a = find_attribute(name);
+    if (!a) return Color3(0.f);  // the scene loader refuses textures naming an absent attribute
+    if (a->per_face()) return attribute_value(*a, si.prim_index);
+    const uint32_t* idx = &mesh_.indices[3 * size_t(si.prim_index)];
+    const Vec3f b = mesh_barycentrics(si.p, mesh_.positions[idx[0]], mesh_.positions[idx[1]], mesh_.positions[idx[2]]);
+    return attribute_value(*a, idx[0]) * b.x + attribute_value(*a, idx[1]) * b.y + attribute_value(*a, idx[2]) * b.z;
 }
 
 std::string MeshShape::to_string() const {

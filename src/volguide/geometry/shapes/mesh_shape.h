@@ -37,12 +37,17 @@ class MeshShape : public Shape {
     SurfaceInteraction compute_surface_interaction(const Ray& ray, float t, uint32_t prim_index,
                                                    Vec2f prim_uv) const override;
     PositionSample sample_position(Point2f u) const override;
+    int attribute_channels(const std::string& name) const override;
+    Color3 eval_attribute(const std::string& name, const SurfaceInteraction& si) const override;
     float pdf_position(const PositionSample&) const override { return inv_area_; }
     bool flip_normals() const { return flip_normals_; }
     const std::string& name() const { return name_; }
     std::string to_string() const override;
 
   private:
+    void check_attributes(const Properties& props) const;
+    const MeshAttribute* find_attribute(const std::string& name) const;
+
     TriangleMesh mesh_;
     DiscreteDistribution area_distr_;
     BBox3f bbox_;

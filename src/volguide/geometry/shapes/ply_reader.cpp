@@ -1,6 +1,7 @@
 // A small Stanford PLY reader (Debian has no PLY library). Reads the whole file, parses the
 // header, then walks every element in order (ascii tokens or packed binary of either byte
-// order); only vertex positions/normals/uvs and face index lists are kept.
+// order); vertex positions/normals/uvs, face index lists and Mitsuba 3's mesh attributes are kept.
+#include <array>
 #include <bit>
 #include <cctype>
 #include <charconv>
@@ -233,6 +234,93 @@ std::pair<int, int> find_uv_props(const Element& e) {
     return {iu, iv};
 }
 
+// ---- mesh attributes (Mitsuba 3's PLY naming) --------------------------------------------------
+// Consecutive scalar properties `{prefix}_{c}` whose suffixes run through one column of the table
+// below (x y z w | r g b a | 0 1 2 3 | 1 2 3 4) form the attribute "{element}_{prefix}" (the r g b
+// column adds "_color"); r g b / red green blue without a prefix form "{element}_color". Only 1 and
+// 3 channels are kept (Mitsuba ignores the other counts); integer properties are read as numbers,
+// not normalised (as Mitsuba).
+struct AttributeGroup {
+    std::string name;
+    std::vector<int> props;  // property indices, one per channel
+};
+
+constexpr const char* kAttributeSuffixes[4] = {"xr01", "yg12", "zb23", "wa34"};
+
+std::vector<AttributeGroup> color_without_prefix(const Element& e, const std::string& element,
+                                                 std::vector<bool>& taken) {
+    for (auto names : {std::array<const char*, 3>{"r", "g", "b"}, std::array<const char*, 3>{"red", "green", "blue"}}) {
+        AttributeGroup g{element + "_color", {}};
+        for (const char* n : names) g.props.push_back(find_prop(e, {n}));
+        if (g.props[0] < 0 || g.props[1] < 0 || g.props[2] < 0) continue;
+        for (int k : g.props) taken[size_t(k)] = true;
+        for (const char* alpha : {"a", "alpha"})
+            if (int ia = find_prop(e, {alpha}); ia >= 0) taken[size_t(ia)] = true;  // alpha is not read
+        return {g};
+    }
+    return {};
+}
+
+// Splits "prefix_c" into its prefix and one-character suffix; false for other names.
+bool split_attribute_name(const std::string& name, std::string& prefix, char& suffix) {
+    const size_t pos = name.find_last_of('_');
+    if (pos == std::string::npos || pos == 0 || pos + 2 != name.size()) return false;
+    prefix = name.substr(0, pos);
+    suffix = name[pos + 1];
+    return true;
+}
+
+void flush_group(AttributeGroup& g, int column, std::vector<AttributeGroup>& out) {
+    if (g.props.size() == 1 || g.props.size() == 3) {
+        if (column == 1) g.name += "_color";
+        out.push_back(g);
+    }
+    g = AttributeGroup{};
+}
+
+std::vector<AttributeGroup> attribute_groups(const Element& e, const std::string& element,
+                                             std::vector<bool> taken) {
+    std::vector<AttributeGroup> out = color_without_prefix(e, element, taken);
+    AttributeGroup cur;
+    std::string cur_prefix;
+    int column = -1;
+    for (size_t k = 0; k < e.props.size(); ++k) {
+        std::string prefix;
+        char suffix = 0;
+        const bool named = !taken[k] && !e.props[k].is_list && split_attribute_name(e.props[k].name, prefix, suffix);
+        if (!cur.props.empty() && (!named || prefix != cur_prefix ||
+                                   cur.props.size() >= 4 || suffix != kAttributeSuffixes[cur.props.size()][column]))
+            flush_group(cur, column, out);
+        if (!named) continue;
+        if (cur.props.empty()) {
+            const char* first = std::strchr(kAttributeSuffixes[0], suffix);
+            if (!first) continue;
+            column = int(first - kAttributeSuffixes[0]);
+            cur_prefix = prefix;
+            cur.name = element + "_" + prefix;
+        }
+        cur.props.push_back(int(k));
+    }
+    if (!cur.props.empty()) flush_group(cur, column, out);
+    return out;
+}
+
+std::vector<MeshAttribute> start_attributes(const std::vector<AttributeGroup>& groups, size_t count) {
+    std::vector<MeshAttribute> attrs;
+    for (const AttributeGroup& g : groups) {
+        MeshAttribute a{g.name, int(g.props.size()), {}};
+        a.values.reserve(count * g.props.size());
+        attrs.push_back(std::move(a));
+    }
+    return attrs;
+}
+
+void append_attributes(const std::vector<AttributeGroup>& groups, const std::vector<double>& values,
+                       std::vector<MeshAttribute>& attrs) {
+    for (size_t i = 0; i < groups.size(); ++i)
+        for (int k : groups[i].props) attrs[i].values.push_back(float(values[size_t(k)]));
+}
+
 void read_vertices(BodyReader& reader, const Element& e, TriangleMesh& mesh) {
     std::vector<double> values(e.props.size(), 0.0);
     int ix = find_prop(e, {"x"}), iy = find_prop(e, {"y"}), iz = find_prop(e, {"z"});
@@ -241,6 +329,11 @@ void read_vertices(BodyReader& reader, const Element& e, TriangleMesh& mesh) {
     bool normals = inx >= 0 && iny >= 0 && inz >= 0;
     const auto [iu, iv] = find_uv_props(e);
     bool uvs = iu >= 0 && iv >= 0;
+    std::vector<bool> taken(e.props.size(), false);
+    for (int k : {ix, iy, iz, inx, iny, inz, iu, iv})
+        if (k >= 0) taken[size_t(k)] = true;
+    const std::vector<AttributeGroup> groups = attribute_groups(e, "vertex", taken);
+    std::vector<MeshAttribute> attrs = start_attributes(groups, e.count);
     mesh.positions.reserve(e.count + 1);
     for (size_t i = 0; i < e.count; ++i) {
         for (size_t k = 0; k < e.props.size(); ++k) {
@@ -255,7 +348,9 @@ void read_vertices(BodyReader& reader, const Element& e, TriangleMesh& mesh) {
         mesh.positions.emplace_back(float(values[ix]), float(values[iy]), float(values[iz]));
         if (normals) mesh.normals.emplace_back(float(values[inx]), float(values[iny]), float(values[inz]));
         if (uvs) mesh.uvs.emplace_back(float(values[iu]), float(values[iv]));
+        append_attributes(groups, values, attrs);
     }
+    for (MeshAttribute& a : attrs) mesh.attributes.push_back(std::move(a));
 }
 
 // Face `face`'s index list of n entries: a triangle, or a quad split along its 0-2 diagonal.
@@ -279,12 +374,16 @@ void read_faces(BodyReader& reader, const Element& e, TriangleMesh& mesh) {
         for (size_t k = 0; k < e.props.size() && list < 0; ++k)
             if (e.props[k].is_list && e.props[k].name == name) list = int(k);
     if (list < 0) ply_fail("face element has no vertex_indices/vertex_index list");
+    const std::vector<AttributeGroup> groups = attribute_groups(e, "face", std::vector<bool>(e.props.size(), false));
+    std::vector<MeshAttribute> attrs = start_attributes(groups, e.count);
+    std::vector<double> values(e.props.size(), 0.0);
     mesh.indices.reserve(3 * e.count + 1);
     for (size_t i = 0; i < e.count; ++i) {
+        const size_t triangles_before = mesh.triangle_count();
         for (size_t k = 0; k < e.props.size(); ++k) {
             const Property& p = e.props[k];
             if (!p.is_list) {
-                reader.read(p.type);
+                values[k] = reader.read(p.type);
                 continue;
             }
             size_t n = reader.read_count(p);
@@ -294,7 +393,10 @@ void read_faces(BodyReader& reader, const Element& e, TriangleMesh& mesh) {
             }
             read_face_indices(reader, p, i, n, mesh);
         }
+        // A quad split in two gives both triangles its values.
+        for (size_t t = triangles_before; t < mesh.triangle_count(); ++t) append_attributes(groups, values, attrs);
     }
+    for (MeshAttribute& a : attrs) mesh.attributes.push_back(std::move(a));
 }
 
 // Entries without properties hold no bytes (their count is not bounded by the file: a fuzzed

@@ -27,13 +27,14 @@ ObjectPtr create_bsdf(const Properties& props) {
         {"bumpmap", make_bumpmap_bsdf},
         {"principled", make_principled_bsdf},
         {"principledthin", make_principled_thin_bsdf},
+        {"blendbsdf", make_blend_bsdf},
     };
     for (const Entry& e : kTable)
         if (props.type() == e.name) return e.make(props);
     props.fail_here(
         "unsupported bsdf plugin '{}' (supported: diffuse, dielectric, thindielectric, roughdielectric, "
         "conductor, roughconductor, plastic, roughplastic, twosided, null, mask, normalmap, bumpmap, principled, "
-        "principledthin)",
+        "principledthin, blendbsdf)",
         props.type());
 }
 

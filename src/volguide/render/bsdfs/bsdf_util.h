@@ -47,6 +47,7 @@ ObjectPtr make_rough_plastic_bsdf(const Properties& props);
 ObjectPtr make_twosided_bsdf(const Properties& props);
 ObjectPtr make_null_bsdf(const Properties& props);
 ObjectPtr make_mask_bsdf(const Properties& props);
+ObjectPtr make_blend_bsdf(const Properties& props);
 ObjectPtr make_normalmap_bsdf(const Properties& props);
 ObjectPtr make_bumpmap_bsdf(const Properties& props);
 ObjectPtr make_principled_bsdf(const Properties& props);

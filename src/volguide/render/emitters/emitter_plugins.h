@@ -11,5 +11,6 @@ ObjectPtr make_spot_emitter(const Properties& props);         // spot.cpp
 ObjectPtr make_directional_emitter(const Properties& props);  // directional.cpp
 ObjectPtr make_constant_emitter(const Properties& props);     // constant.cpp
 ObjectPtr make_envmap_emitter(const Properties& props);       // envmap.cpp
+ObjectPtr make_projector_emitter(const Properties& props);    // projector.cpp
 
 }  // namespace volguide

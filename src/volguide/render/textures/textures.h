@@ -31,6 +31,7 @@ class BitmapTexture final : public Texture {
     bool has_gradient() const override { return true; }
     Vec2f eval_1_grad(const SurfaceInteraction& si) const override;
     std::string to_string() const override { return "BitmapTexture[]"; }
+    std::pair<int, int> resolution() const override { return {image_.width, image_.height}; }
 
     Color3 lookup(Vec2f uv) const;  // after to_uv
 
@@ -47,6 +48,9 @@ class BitmapTexture final : public Texture {
 // `rawconstant`: `value`, a float or a `<vector>` of three, used as is (no colour conversion or
 // clipping: normal maps, raw parameters).
 std::shared_ptr<Texture> make_rawconstant_texture(const Properties& props);
+
+// `mesh_attribute`: `name` ("vertex_..." or "face_..."), `scale` (default 1).
+std::shared_ptr<Texture> make_mesh_attribute_texture(const Properties& props);
 
 // `bitmap` from the scene: filename (relative paths also tried next to the scene file),
 // filter_type (bilinear | nearest), wrap_mode (repeat | mirror | clamp), raw, to_uv,
