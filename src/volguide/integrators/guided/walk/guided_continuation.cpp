@@ -8,6 +8,7 @@ namespace volguide {
 Continuation GuidedContinuation::decide(ContinuationStage stage, const MediumInteraction& mi, const Vec3f& w,
                                         const Color3& throughput, int branches, float allowance, Sampler& sampler,
                                         VertexLeaf& vertex_leaf, bool report) const {
+    if (rrs_ && volpath_cell(mi, vertex_leaf)) return {};  // learned: volpath's roulette, no estimate read
     if (ears_ && rrs_) return decide_ears(stage, mi, w, throughput, branches, allowance, sampler, vertex_leaf, report);
     Continuation c;
     if (!rrs_ && !report) return c;
@@ -95,6 +96,12 @@ Color3 GuidedContinuation::estimate(ContinuationStage stage, const MediumInterac
     // alone under-estimated it.
     return stage == ContinuationStage::Distance ? guide_.leaf_inscattered(leaf, phase, w)
                                                 : guide_.leaf_incident(leaf, phase, w);
+}
+
+bool GuidedContinuation::volpath_cell(const MediumInteraction& mi, VertexLeaf& vertex_leaf) const {
+    if (!guide_.selection().has_volpath_cells() || !mi.medium) return false;
+    vertex_leaf.leaf = guide_.leaf_of(mi.p, vertex_leaf);  // finding the cell (kept for the next decision)
+    return guide_.selection().volpath(guide_.selection_cell(vertex_leaf.leaf));
 }
 
 bool GuidedContinuation::selected(ContinuationStage stage, int leaf) const {
