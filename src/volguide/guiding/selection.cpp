@@ -192,7 +192,7 @@ MethodFit gather_methods(const SelectionStatistics& stats, const SelectionSettin
 // kMethodIterations), starting from volpath's decisions everywhere: guiding has to earn each cell
 // against the time it adds (started from the variance-only choice instead, a cell's share of a time
 // inflated by every other cell's guiding is small, and a lookup a million decisions dear did not
-// switch one cell off). Ties go to the cheaper method.
+// switch one cell off). Ties go to the cheaper method, then to volpath, free flight, vsp, the product, the bins.
 constexpr int kMethodIterations = 10;
 
 double method_round_cost(const MethodFit& f, const std::vector<uint8_t>& chosen) {
@@ -203,9 +203,13 @@ double method_round_cost(const MethodFit& f, const std::vector<uint8_t>& chosen)
 }
 
 uint8_t best_method(const MethodFit& f, size_t r, double T) {
-    size_t best = 0;
-    double best_value = std::numeric_limits<double>::infinity();
-    for (size_t k = 0; k < size_t(kDistanceMethods); ++k) {
+    constexpr std::array<DistanceMethod, kDistanceMethods> order = {DistanceMethod::Volpath, DistanceMethod::FreeFlight,
+                                                                  DistanceMethod::Vsp, DistanceMethod::VspProduct,
+                                                                  DistanceMethod::Bins};
+    size_t best = size_t(order[0]);
+    double best_value = f.M[r][best] / f.V + f.C[r][best] / T;
+    for (DistanceMethod m : order) {
+        const size_t k = size_t(m);
         const double value = f.M[r][k] / f.V + f.C[r][k] / T;
         if (value < best_value || (value == best_value && f.C[r][k] < f.C[r][best])) {
             best_value = value;
