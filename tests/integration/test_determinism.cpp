@@ -142,4 +142,11 @@ TEST(Determinism, VspProductAndMethodChoiceSameImageForOneAndTwoThreads) {
                                        R"(<boolean name="selection_distance_method" value="true"/>)",
                                        "determinism-method-choice"),
                          "guided fogbox, per-cell distance method");
+    // Guided vertices made dear: the cells fall back to volpath (its decisions and throughput roulette).
+    expect_deterministic(guided_fogbox(R"(<integer name="photons" value="200000"/><string name="distance" value="vsp"/>)"
+                                       R"(<integer name="selection_spp" value="2"/><integer name="selection_min_samples" value="8"/>)"
+                                       R"(<boolean name="selection_distance_method" value="true"/>)"
+                                       R"(<float name="selection_cost_ns_guided_direction" value="1e7"/>)",
+                                       "determinism-method-volpath"),
+                         "guided fogbox, per-cell method with volpath cells");
 }

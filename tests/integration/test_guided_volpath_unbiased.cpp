@@ -756,22 +756,52 @@ TEST(GuidedVolPathUnbiased, VspProductAndMethodChoiceAreUnbiased) {
     Rendered chosen =
         render_scene_xml(lit_fog_xml(false, grid, guided("vsp", "product", 200000, -1.f, choose)), 1024, 8, false);
     expect_same_means(chosen, ref);
-    const std::string dear = choose + R"(<float name="selection_cost_lookup" value="1e6"/>)";
+    // Every guided event a second dear: every learned cell falls back to volpath's decisions (the
+    // volpath method: no guided distance, direction or surface decision, no guided RR/splitting).
+    const std::string dear = choose + R"(<float name="selection_cost_lookup" value="1e9"/>)"
+                                      R"(<float name="selection_cost_ns_vsp" value="1e9"/>)"
+                                      R"(<float name="selection_cost_ns_vsp_product" value="1e9"/>)"
+                                      R"(<float name="selection_cost_ns_guided_direction" value="1e9"/>)"
+                                      R"(<float name="selection_cost_ns_guided_surface" value="1e9"/>)";
+    const std::string grrs = R"(<string name="rrs" value="grrs"/>)";
     Rendered fallback =
-        render_scene_xml(lit_fog_xml(false, grid, guided("vsp", "product", 200000, -1.f, dear)), 1024, 9, false);
+        render_scene_xml(lit_fog_xml(false, grid, guided("vsp", "product", 200000, -1.f, dear, grrs)), 1024, 9, false);
     expect_same_means(fallback, ref);
 
     const auto c = guide_stats(lit_fog_xml(false, grid, guided("vsp", "product", 200000, -1.f, choose)));
     double cells = 0.0;
-    for (const char* m : {"free_flight", "vsp", "vsp_product", "bins"})
+    for (const char* m : {"free_flight", "vsp", "vsp_product", "bins", "volpath"})
         cells += c.at(std::string("selection_method_cells_") + m);
     EXPECT_GT(cells, 0.0);
-    // Lookups a million decisions dear: every learned cell falls back to volpath's decision, and the
-    // render's distance decisions are made by free flight there.
-    const auto f = guide_stats(lit_fog_xml(false, grid, guided("vsp", "product", 200000, -1.f, dear)));
-    EXPECT_GT(f.at("selection_method_cells_free_flight"), 0.0);
-    EXPECT_EQ(f.at("selection_method_cells_vsp") + f.at("selection_method_cells_vsp_product") +
-                  f.at("selection_method_cells_bins"),
+    EXPECT_GT(c.at("selection_method_cost_ns_per_sample_vsp"), 0.0);
+    const auto f = guide_stats(lit_fog_xml(false, grid, guided("vsp", "product", 200000, -1.f, dear, grrs)));
+    EXPECT_GT(f.at("selection_method_cells_volpath"), 0.0);
+    EXPECT_EQ(f.at("selection_method_cells_free_flight") + f.at("selection_method_cells_vsp") +
+                  f.at("selection_method_cells_vsp_product") + f.at("selection_method_cells_bins"),
               0.0);
+    // Volpath's roulette in the render: no guided RR/splitting decision (the pilot walks without
+    // it, so this counter is the render's; the guide's sampling counters include the pilot's
+    // guided rounds and cannot show the render's decisions alone).
     EXPECT_GT(f.at("selection_distance_unguided"), 0.0);
+    EXPECT_EQ(f.at("rrs_decisions"), 0.0);
+    const auto g = guide_stats(lit_fog_xml(false, grid, guided("vsp", "product", 200000, -1.f, choose, grrs)));
+    EXPECT_GT(g.at("rrs_decisions"), 0.0);  // where cells stay guided, it decides
+}
+
+// Issue 37 deliverable 4: where guiding cannot help — a white furnace, every camera sample worth
+// the same with volpath's decisions — the cost model makes most cells choose volpath, and the
+// image stays the furnace's 1.
+TEST(GuidedVolPathUnbiased, MethodChoiceFallsBackToVolpathInTheFurnace) {
+    TempDir dir("guided-method-furnace");
+    const std::string grid = write_furnace_grid(dir);
+    const std::string choose = R"(<integer name="selection_spp" value="8"/><integer name="selection_min_samples" value="16"/>)"
+                               R"(<boolean name="selection_distance_method" value="true"/>)";
+    const std::string xml = guided_furnace_xml(false, grid, guided("vsp", "product", 100000, -1.f, choose));
+    const auto s = guide_stats(xml);
+    double cells = 0.0;
+    for (const char* m : {"free_flight", "vsp", "vsp_product", "bins", "volpath"})
+        cells += s.at(std::string("selection_method_cells_") + m);
+    ASSERT_GT(cells, 0.0);
+    EXPECT_GT(s.at("selection_method_cells_volpath"), 0.5 * cells);
+    expect_constant_image(render_scene_xml(xml, 256, 21, false), 1.0);
 }

@@ -418,6 +418,10 @@ TEST(GuidedVolPath, BadRouletteSplittingParametersAreErrorsNamingTheLine) {
              {R"(<string name="distance" value="standard"/><boolean name="selection_distance_method" value="true"/>)",
               "selection_distance_method needs a learned selection"},
              {R"(<float name="selection_cost_lookup" value="0.5"/>)", "selection_cost_lookup only applies"},
+             {R"(<float name="selection_cost_ns_guided_direction" value="5"/>)",
+              "selection_cost_ns_guided_direction only applies"},
+             {R"(<boolean name="selection_distance_method" value="true"/><float name="selection_cost_ns_segment" value="-1"/>)",
+              "selection_cost_ns_segment must be a finite value"},
              {R"(<integer name="product_candidates" value="8"/>)", "product_candidates only applies"},
              {R"(<string name="distance" value="vsp_product"/><integer name="product_candidates" value="0"/>)",
               "product_candidates"}}) {

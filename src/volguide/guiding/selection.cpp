@@ -133,15 +133,22 @@ void choose_with_cost(Entries& entries, const SelectionStatistics& stats, const 
     }
 }
 
-// Per-cell distance methods (selection.h): a cell's moment and cost per method, and the rounds' figures.
+// Per-cell methods (selection.h): a cell's moment and cost (ns) per method, and the rounds' figures.
 // Entry `cells` is the rest: the sums over the cells with fewer than min_samples decisions in some
 // round, which choose one method together (as the shares' shrinkage lets few samples follow the
 // scene's verdict; kept at the configured method they would carry its cost into T unexamined).
 struct MethodFit {
     std::vector<std::array<double, kDistanceMethods>> M, C;
     std::vector<bool> learned;
-    double V = 0.0, other = 0.0;  // camera-sample second moment and cost outside the distance decisions, per round
+    double V = 0.0, other = 0.0;  // camera-sample second moment and cost outside the cells, per round
 };
+
+// The cost no cell holds, per round: the surface vertices' segments (a surface decision's
+// intersection and NEE ray; a guided surface decision's extra is its cell's).
+double outside_cost(const SelectionStatistics& stats, const SelectionCosts& costs, DistanceMethod method) {
+    const auto& round = stats.method_round(method);
+    return double(costs.segment) * double(round.decisions[size_t(SelectionDecision::Surface)]);
+}
 
 MethodFit gather_methods(const SelectionStatistics& stats, const SelectionSettings& settings) {
     const size_t cells = stats.cells();
@@ -165,7 +172,7 @@ MethodFit gather_methods(const SelectionStatistics& stats, const SelectionSettin
             // Shrunk towards the pooled mean per decision as the shares' moments are (shrink_towards_pooled).
             const double prior = pooled_n[size_t(k)] > 0.0 ? pooled_m[size_t(k)] / pooled_n[size_t(k)] : 0.0;
             f.M[r][size_t(k)] = n > 0.0 ? n * (mm.m.value() + n0 * prior) / (n + n0) : 0.0;
-            f.C[r][size_t(k)] = n + double(settings.lookup_cost) * double(mm.lookups);
+            f.C[r][size_t(k)] = method_cell_cost(stats, settings.costs, DistanceMethod(k), r);
         }
     for (size_t r = 0; r < cells; ++r)
         if (!f.learned[r])
@@ -174,19 +181,18 @@ MethodFit gather_methods(const SelectionStatistics& stats, const SelectionSettin
                 f.C[cells][size_t(k)] += f.C[r][size_t(k)];
             }
     for (int k = 0; k < kDistanceMethods; ++k) {
-        const auto& round = stats.method_round(DistanceMethod(k));
-        f.V += round.camera_moment.value() / kDistanceMethods;
-        f.other += std::max(0.0, double(round.decisions) - pooled_n[size_t(k)]) / kDistanceMethods;
+        f.V += stats.method_round(DistanceMethod(k)).camera_moment.value() / kDistanceMethods;
+        f.other += outside_cost(stats, settings.costs, DistanceMethod(k)) / kDistanceMethods;
     }
     return f;
 }
 
 // argmin_m M_r(m) / V + C_r(m) / T per learned cell; T (the cost of a round with every cell's
 // choice) depends on the choices, so the rule is iterated until no cell changes (at most
-// kMethodIterations), starting from volpath's decision everywhere: guiding has to earn each cell
+// kMethodIterations), starting from volpath's decisions everywhere: guiding has to earn each cell
 // against the time it adds (started from the variance-only choice instead, a cell's share of a time
 // inflated by every other cell's guiding is small, and a lookup a million decisions dear did not
-// switch one cell off). Ties go to the cheaper-listed method (free flight first).
+// switch one cell off). Ties go to the cheaper method, then to volpath, free flight, vsp, the product, the bins.
 constexpr int kMethodIterations = 10;
 
 double method_round_cost(const MethodFit& f, const std::vector<uint8_t>& chosen) {
@@ -196,9 +202,26 @@ double method_round_cost(const MethodFit& f, const std::vector<uint8_t>& chosen)
     return T;
 }
 
+uint8_t best_method(const MethodFit& f, size_t r, double T) {
+    constexpr std::array<DistanceMethod, kDistanceMethods> order = {DistanceMethod::Volpath, DistanceMethod::FreeFlight,
+                                                                  DistanceMethod::Vsp, DistanceMethod::VspProduct,
+                                                                  DistanceMethod::Bins};
+    size_t best = size_t(order[0]);
+    double best_value = f.M[r][best] / f.V + f.C[r][best] / T;
+    for (DistanceMethod m : order) {
+        const size_t k = size_t(m);
+        const double value = f.M[r][k] / f.V + f.C[r][k] / T;
+        if (value < best_value || (value == best_value && f.C[r][k] < f.C[r][best])) {
+            best_value = value;
+            best = k;
+        }
+    }
+    return uint8_t(best);
+}
+
 std::vector<uint8_t> choose_methods(const SelectionStatistics& stats, const SelectionSettings& settings) {
     const MethodFit f = gather_methods(stats, settings);
-    std::vector<uint8_t> chosen(f.M.size(), uint8_t(DistanceMethod::FreeFlight));
+    std::vector<uint8_t> chosen(f.M.size(), uint8_t(DistanceMethod::Volpath));
     const size_t rest = chosen.size() - 1;
     for (int iteration = 0; iteration < kMethodIterations && f.V > 0.0; ++iteration) {
         const double T = method_round_cost(f, chosen);
@@ -206,9 +229,7 @@ std::vector<uint8_t> choose_methods(const SelectionStatistics& stats, const Sele
         bool changed = false;
         for (size_t r = 0; r < chosen.size(); ++r) {
             if (!f.learned[r]) continue;
-            std::array<double, kDistanceMethods> value{};
-            for (size_t k = 0; k < value.size(); ++k) value[k] = f.M[r][k] / f.V + f.C[r][k] / T;
-            const uint8_t best = uint8_t(std::min_element(value.begin(), value.end()) - value.begin());
+            const uint8_t best = best_method(f, r, T);
             changed |= best != chosen[r];
             chosen[r] = best;
         }
@@ -270,15 +291,59 @@ void SelectionStatistics::add_method_decision(DistanceMethod method, size_t cell
     if (cell >= methods_.size() || !std::isfinite(s2)) return;
     MethodMoments& m = methods_[cell][size_t(method)];
     ++m.count;
-    m.lookups += lookups;
+    ++m.events[size_t(CostEvent::Segment)];
+    ++m.events[size_t(CostEvent::DistanceDecision)];
+    m.events[size_t(CostEvent::BinLookup)] += lookups;
     m.m.add(s2);
 }
 
-void SelectionStatistics::add_method_camera_sample(DistanceMethod method, double s2, uint64_t decisions) {
+void SelectionStatistics::add_method_event(DistanceMethod method, size_t cell, CostEvent event, uint64_t n) {
+    if (cell >= methods_.size()) return;
+    methods_[cell][size_t(method)].events[size_t(event)] += n;
+}
+
+void SelectionStatistics::add_method_split_cost(DistanceMethod method, size_t cell, double ns) {
+    if (cell >= methods_.size() || !std::isfinite(ns)) return;
+    MethodMoments& m = methods_[cell][size_t(method)];
+    if (ns > 0.0)
+        m.split_ns.add(ns);
+    else
+        m.roulette_ns.add(-ns);
+}
+
+void SelectionStatistics::add_method_camera_sample(DistanceMethod method, double s2,
+                                                   const std::array<uint64_t, kSelectionDecisions>& decisions) {
     MethodRound& r = rounds_[size_t(method)];
     ++r.camera_samples;
-    r.decisions += decisions;
+    for (int d = 0; d < kSelectionDecisions; ++d) r.decisions[size_t(d)] += decisions[size_t(d)];
     if (std::isfinite(s2)) r.camera_moment.add(s2);
+}
+
+double method_cell_cost(const SelectionStatistics& stats, const SelectionCosts& costs, DistanceMethod method,
+                        size_t cell) {
+    const auto& e = stats.method_moments(method, cell).events;
+    auto n = [&](CostEvent ev) { return double(e[size_t(ev)]); };
+    double c = n(CostEvent::Segment) * double(costs.segment) +
+               n(CostEvent::DistanceDecision) * double(costs.decision[size_t(method)]) +
+               n(CostEvent::GuidedDirection) * double(costs.guided_direction) +
+               n(CostEvent::GuidedSurface) * double(costs.guided_surface);
+    // The bins' decision is a walk over lookups; vsp's and the product's constants include theirs.
+    if (method == DistanceMethod::Bins) c += n(CostEvent::BinLookup) * double(costs.bin_lookup);
+    // Guided RR/splitting reads the estimate at every continuation point of a guided cell (the
+    // pilot walks without it: its reads are counted, its extra branches are not).
+    if (method != DistanceMethod::Volpath) c += n(CostEvent::Continuation) * double(costs.estimate);
+    // Guided RR/splitting's copies and kills (selection_pilot.h); the cell's cost stays >= 0.
+    const auto& mm = stats.method_moments(method, cell);
+    return std::max(0.0, c + mm.split_ns.value() - mm.roulette_ns.value());
+}
+
+double method_round_cost_per_sample(const SelectionStatistics& stats, const SelectionCosts& costs,
+                                    DistanceMethod method) {
+    const auto& round = stats.method_round(method);
+    if (round.camera_samples == 0) return 0.0;
+    double c = outside_cost(stats, costs, method);
+    for (size_t r = 0; r < stats.cells(); ++r) c += method_cell_cost(stats, costs, method, r);
+    return c / double(round.camera_samples);
 }
 
 void SelectionStatistics::add_decision(SelectionDecision d, size_t cell, double s2, float q_cur, float p_u,
@@ -340,12 +405,15 @@ SelectionStatistics& SelectionStatistics::operator+=(const SelectionStatistics& 
             const MethodMoments& b = o.methods_[r][size_t(k)];
             a.m += b.m;
             a.count += b.count;
-            a.lookups += b.lookups;
+            for (int e = 0; e < kCostEvents; ++e) a.events[size_t(e)] += b.events[size_t(e)];
+            a.split_ns += b.split_ns;
+            a.roulette_ns += b.roulette_ns;
         }
     for (int k = 0; k < kDistanceMethods; ++k) {
         rounds_[size_t(k)].camera_moment += o.rounds_[size_t(k)].camera_moment;
         rounds_[size_t(k)].camera_samples += o.rounds_[size_t(k)].camera_samples;
-        rounds_[size_t(k)].decisions += o.rounds_[size_t(k)].decisions;
+        for (int d = 0; d < kSelectionDecisions; ++d)
+            rounds_[size_t(k)].decisions[size_t(d)] += o.rounds_[size_t(k)].decisions[size_t(d)];
     }
     unrecorded_ += o.unrecorded_;
     camera_samples_ += o.camera_samples_;
@@ -365,11 +433,16 @@ LearnedSelection LearnedSelection::fit(const SelectionStatistics& stats, const S
         out.cells_[r] = fitted_cell(entries[r], stats, r, settings);
     if (settings.choose_distance_method) {
         // The method replaces the distance share: free flight is share 0, the guided methods keep
-        // the configured mixture (the rounds measured them with it).
+        // the configured mixture (the rounds measured them with it); volpath: every share 0 and
+        // guided RR/splitting off, as in its round.
         const std::vector<uint8_t> methods = choose_methods(stats, settings);
         for (size_t r = 0; r < entries.size(); ++r) {
             Cell& c = out.cells_[r];
             c.distance_method = methods[r];
+            if (methods[r] == uint8_t(DistanceMethod::Volpath)) {
+                c = volpath_cell();
+                continue;
+            }
             c.share[size_t(SelectionDecision::Distance)] =
                 methods[r] == uint8_t(DistanceMethod::FreeFlight) ? 0.f : kDefault;
         }
@@ -381,13 +454,24 @@ LearnedSelection LearnedSelection::fit(const SelectionStatistics& stats, const S
 LearnedSelection LearnedSelection::forced_method(size_t cells, DistanceMethod method) {
     LearnedSelection out;
     out.cells_.resize(cells);
+    for (Cell& c : out.cells_) c = method == DistanceMethod::Volpath ? volpath_cell() : Cell{};
     for (Cell& c : out.cells_) c.distance_method = uint8_t(method);
     out.update_learned();
     return out;
 }
 
+LearnedSelection::Cell LearnedSelection::volpath_cell() {
+    Cell c;
+    c.share = {0.f, 0.f, 0.f};
+    c.rrs = {0, 0};
+    c.distance_method = uint8_t(DistanceMethod::Volpath);
+    return c;
+}
+
 void LearnedSelection::update_learned() {
     learned_ = {};
+    has_volpath_ = false;
+    for (const Cell& r : cells_) has_volpath_ |= r.distance_method == uint8_t(DistanceMethod::Volpath);
     for (const Cell& r : cells_)
         for (int d = 0; d < kSelectionDecisions; ++d)
             if (r.share[size_t(d)] != kDefault) learned_[size_t(d)] = true;

@@ -29,15 +29,18 @@
 // (they kill the paths that carry their light) or too bright (splitting for nothing); measured, it
 // does more harm than good (SelectionSettings::rrs_ratio).
 //
-// Per-cell distance method (issue 37, docs/theory.md §7.12; SelectionSettings::choose_distance_method):
-// the pilot runs once per method of DistanceMethod, every cell forced to it, and records per cell
-// and method the sum of (S / I)^2 over its distance decisions, their count and the field lookups they
-// made (counted work, not time: the same for any thread count). fit() picks per cell
-//   argmin_m  M_r(m) / V + C_r(m) / T,   C_r(m) = n_r(m) + lookup_cost x lookups_r(m),
+// Per-cell method (issue 37, docs/theory.md §7.12; SelectionSettings::choose_distance_method): the
+// pilot runs once per method of DistanceMethod, every cell forced to it, and records per cell and
+// method the sum of (S / I)^2 over its distance decisions and the counted work of the cell's vertices
+// in that round (CostEvent: decisions, lookups, guided directions, estimate reads — counts, never
+// time: the same for any thread count). fit() picks per cell
+//   argmin_m  M_r(m) / V + C_r(m) / T,   C_r(m) = sum over the cell's events of cost_ns[event],
 // V the pilot's camera-sample second moment and T its total cost (the cells' chosen methods plus
-// every other decision), shrunk towards the pooled mean as the shares are. Free flight costs no
-// lookup: a cell that chooses it makes volpath's decision and reads nothing of the field for it.
-//
+// what no cell holds), shrunk towards the pooled mean as the shares are. Free flight costs no
+// lookup: a cell that chooses it makes volpath's distance decision and reads nothing of the field for
+// it; the other decisions of its vertices stay guided. Volpath: every decision of a vertex in the
+// cell is volpath's (free flight, the phase function, the BSDF, the walk's throughput roulette),
+// nothing of the field is read for them beyond finding the cell.
 // Only probabilities change: any learned value gives an unbiased estimator. Sums are exact
 // (fixed point, 128-bit integers), so the result is independent of the order the pilot's samples
 // arrive in, hence of the thread count. Cells with fewer than min_samples pilot decisions keep the
@@ -55,13 +58,38 @@ inline constexpr int kSelectionDecisions = 3;
 inline constexpr int kSelectionStages = 2;
 // The guided shares the pilot evaluates.
 inline constexpr std::array<float, 6> kSelectionShares = {0.f, 0.1f, 0.25f, 0.5f, 0.75f, 0.9f};
-// The distance methods a cell can choose among (the integrators' distance=standard, vsp, vsp_product,
-// incremental); kMethodDefault: keep the configured one.
-enum class DistanceMethod : uint8_t { FreeFlight = 0, Vsp = 1, VspProduct = 2, Bins = 3 };
-inline constexpr int kDistanceMethods = 4;
+// The methods a cell can choose among: the distance decision of the integrators' distance=standard,
+// vsp, vsp_product, incremental (the other decisions guided as configured), and volpath (every
+// decision of the cell's vertices unguided, no guided RR/splitting); kMethodDefault: keep the configured one.
+enum class DistanceMethod : uint8_t { FreeFlight = 0, Vsp = 1, VspProduct = 2, Bins = 3, Volpath = 4 };
+inline constexpr int kDistanceMethods = 5;
 inline constexpr uint8_t kMethodDefault = 255;
 inline constexpr std::array<const char*, kDistanceMethods> kDistanceMethodNames = {"free_flight", "vsp", "vsp_product",
-                                                                                  "bins"};
+                                                                                  "bins", "volpath"};
+
+// The counted work of the method choice's cost model (docs/theory.md §7.12): per cell and round, how
+// many of each event its vertices made.
+enum class CostEvent : uint8_t {
+    Segment = 0,          // a distance decision's segment: its intersection, the vertex's NEE ray, the unguided sampling
+    DistanceDecision = 1, // the distance decision itself (its cost depends on the round's method)
+    BinLookup = 2,        // one field lookup of the incremental bins
+    GuidedDirection = 3,  // a guided direction decision: the product built, the mixture sampled, its pdf for NEE's MIS
+    GuidedSurface = 4,    // a guided surface decision: the cosine product, the mixture sampled
+    Continuation = 5,     // a continuation point: guided RR/splitting reads the field's estimate there
+};
+inline constexpr int kCostEvents = 6;
+
+// Cost constants in ns per event (bench/RESULTS.md "issue 37: the cost model" says where each comes
+// from); the time of a cell's round is estimated from counts, never measured, so the choice is the
+// same for any thread count.
+struct SelectionCosts {
+    float segment = 460.f;
+    std::array<float, kDistanceMethods> decision = {68.f, 128.f, 306.f, 68.f, 68.f};  // per DistanceMethod
+    float bin_lookup = 120.f;
+    float guided_direction = 674.f;
+    float guided_surface = 674.f;
+    float estimate = 53.f;
+};
 
 struct SelectionSettings {
     int pilot_spp = 2;  // camera samples per pixel of the pilot (0: no learned selection)
@@ -81,10 +109,8 @@ struct SelectionSettings {
     float rrs_ratio = 0.f;
     // Choose the distance method per cell (above); off by default (its pilot costs one round per method).
     bool choose_distance_method = false;
-    // The cost of one field lookup (a tree descent or an estimate read) in units of a decision: the
-    // guided distance decision's kappa of 1 was set for incremental bins' decisions of 6-10 bins, each
-    // a lookup (bench/RESULTS.md, issue 35 profiles), so about 0.1-0.17 per lookup.
-    float lookup_cost = 0.15f;
+    // The cost model of the per-cell method choice (ns per counted event).
+    SelectionCosts costs;
 };
 
 // An exact sum of non-negative terms: fixed point with 2^-32 resolution in 128 bits (two words),
@@ -120,15 +146,24 @@ class SelectionStatistics {
     // The per-method rounds (above): a distance decision in `cell` of the round of `method`, s2 =
     // (S / I)^2 of what followed it, and the field lookups it made.
     void add_method_decision(DistanceMethod method, size_t cell, double s2, uint64_t lookups);
-    // A camera sample of the round of `method` (s2 as add_camera_sample) and the decisions it made.
-    void add_method_camera_sample(DistanceMethod method, double s2, uint64_t decisions);
+    // `n` events of a kind other than a distance decision in `cell` of the round of `method`.
+    void add_method_event(DistanceMethod method, size_t cell, CostEvent event, uint64_t n = 1);
+    // The expected extra cost (ns; negative: saved) of guided RR/splitting at a continuation point in `cell`.
+    void add_method_split_cost(DistanceMethod method, size_t cell, double ns);
+    // A camera sample of the round of `method` (s2 as add_camera_sample) and the decisions it made
+    // (per DecisionKind / SelectionDecision).
+    void add_method_camera_sample(DistanceMethod method, double s2,
+                                  const std::array<uint64_t, kSelectionDecisions>& decisions);
     struct MethodMoments {
         ExactSum m;
-        uint64_t count = 0, lookups = 0;
+        uint64_t count = 0;  // distance decisions (= events[Segment] = events[DistanceDecision])
+        std::array<uint64_t, kCostEvents> events{};
+        ExactSum split_ns, roulette_ns;  // guided splitting's expected extra cost and its roulette's savings, ns
     };
     struct MethodRound {
         ExactSum camera_moment;
-        uint64_t camera_samples = 0, decisions = 0;
+        uint64_t camera_samples = 0;
+        std::array<uint64_t, kSelectionDecisions> decisions{};
     };
     const MethodMoments& method_moments(DistanceMethod method, size_t cell) const {
         return methods_[cell][size_t(method)];
@@ -183,8 +218,14 @@ class LearnedSelection {
     uint8_t distance_method(size_t cell) const {
         return cell < cells_.size() ? cells_[cell].distance_method : kMethodDefault;
     }
-    // Every cell of `cells` forced to `method` (the pilot's rounds), nothing else learned.
+    // Every cell of `cells` forced to `method` (the pilot's rounds), nothing else learned (volpath:
+    // every share 0 and guided RR/splitting off).
     static LearnedSelection forced_method(size_t cells, DistanceMethod method);
+    // Whether `cell` makes volpath's decisions (DistanceMethod::Volpath), and whether any cell does.
+    bool volpath(size_t cell) const {
+        return cell < cells_.size() && cells_[cell].distance_method == uint8_t(DistanceMethod::Volpath);
+    }
+    bool has_volpath_cells() const { return has_volpath_; }
     // Whether guided RR/splitting acts at `stage` in `cell` (true where not learned).
     bool rrs_acts(int stage, size_t cell) const {
         return cell >= cells_.size() || cells_[cell].rrs[size_t(stage)] != 0;
@@ -212,9 +253,18 @@ class LearnedSelection {
     const std::vector<Cell>& table() const { return cells_; }
 
   private:
+    static Cell volpath_cell();  // every share 0, guided RR/splitting off
     void update_learned();
     std::vector<Cell> cells_;
     std::array<bool, kSelectionDecisions> learned_{};
+    bool has_volpath_ = false;
 };
+
+// The cost model's estimate (ns) of `cell`'s events in the round of `method` (docs/theory.md §7.12).
+double method_cell_cost(const SelectionStatistics& stats, const SelectionCosts& costs, DistanceMethod method,
+                        size_t cell);
+// Its estimate (ns) of a camera sample of that round with every cell on `method`.
+double method_round_cost_per_sample(const SelectionStatistics& stats, const SelectionCosts& costs,
+                                    DistanceMethod method);
 
 }  // namespace volguide

@@ -257,7 +257,8 @@ void GuidedVolPathIntegrator::learn_selection(const Scene& scene, const Preproce
                 GuidedWalkPolicy policy(*guide_, nullptr, 0.f);
                 return walk_.walk(scene, sampler, ray, &policy, &recorder);
             },
-            context, method_round);
+            context, method_round, settings_.selection.costs,
+            settings_.roulette.mode == RouletteMode::Standard ? nullptr : &settings_.roulette);
     };
     SelectionStatistics stats;
     if (settings_.selection.choose_distance_method) {
@@ -286,10 +287,25 @@ void GuidedVolPathIntegrator::learn_selection(const Scene& scene, const Preproce
                             {"selection_direction_mean_share", sum.mean_share[1]},
                             {"selection_surface_mean_share", sum.mean_share[2]},
                             {"selection_rrs_cells_off", double(sum.rrs_off)}});
-    if (settings_.selection.choose_distance_method)
-        for (int k = 0; k < kDistanceMethods; ++k)
-            training_stats_.emplace_back(std::string("selection_method_cells_") + kDistanceMethodNames[size_t(k)],
-                                         double(sum.methods[size_t(k)]));
+    if (settings_.selection.choose_distance_method) add_method_stats(stats, sum);
+}
+
+// Per method: the cells that chose it, and the cost model's ns per camera sample of its pilot round
+// with the segments (distance and surface decisions) per camera sample it counted (the calibration's
+// figures, bench/RESULTS.md "issue 37: the cost model").
+void GuidedVolPathIntegrator::add_method_stats(const SelectionStatistics& stats, const LearnedSelection::Summary& sum) {
+    for (int k = 0; k < kDistanceMethods; ++k) {
+        const std::string name = kDistanceMethodNames[size_t(k)];
+        const auto& round = stats.method_round(DistanceMethod(k));
+        const double samples = double(std::max<uint64_t>(1, round.camera_samples));
+        const double segments = double(round.decisions[size_t(SelectionDecision::Distance)] +
+                                       round.decisions[size_t(SelectionDecision::Surface)]);
+        training_stats_.insert(training_stats_.end(),
+                               {{"selection_method_cells_" + name, double(sum.methods[size_t(k)])},
+                                {"selection_method_cost_ns_per_sample_" + name,
+                                 method_round_cost_per_sample(stats, settings_.selection.costs, DistanceMethod(k))},
+                                {"selection_method_segments_per_sample_" + name, segments / samples}});
+    }
 }
 
 std::string GuidedVolPathIntegrator::prepass_state() const {

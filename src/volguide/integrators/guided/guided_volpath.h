@@ -94,6 +94,7 @@ private:
     void make_pixel_estimate(const Scene& scene, const PreprocessContext& context);
     void use_given_pixel_estimate();
     void learn_selection(const Scene& scene, const PreprocessContext& context);
+    void add_method_stats(const SelectionStatistics& stats, const LearnedSelection::Summary& sum);
     // The guide, the pixel estimate, RR/splitting and the learned selection of field_ (preprocess(),
     // and every online update, `update` true: the RR/splitting statistics carry on).
     void build_from_field(const Scene& scene, const PreprocessContext& context, bool update);

@@ -202,14 +202,38 @@ void read_ears(const Properties& props, GuidedVolPathSettings& s) {
     if (!props.has("rr_rule")) s.walk.rr_rule = RouletteRule::Bounded;
 }
 
+// The method choice's cost model (guiding/selection.h SelectionCosts, ns per event):
+// selection_cost_lookup (a lookup of the bins), selection_cost_ns_<event> for the others; only with
+// selection_distance_method=true.
+void read_method_costs(const Properties& props, SelectionSettings& s) {
+    SelectionCosts& c = s.costs;
+    const std::array<std::pair<const char*, float*>, 9> costs = {{
+        {"selection_cost_lookup", &c.bin_lookup},
+        {"selection_cost_ns_segment", &c.segment},
+        {"selection_cost_ns_free_flight", &c.decision[size_t(DistanceMethod::FreeFlight)]},
+        {"selection_cost_ns_vsp", &c.decision[size_t(DistanceMethod::Vsp)]},
+        {"selection_cost_ns_vsp_product", &c.decision[size_t(DistanceMethod::VspProduct)]},
+        {"selection_cost_ns_guided_direction", &c.guided_direction},
+        {"selection_cost_ns_guided_surface", &c.guided_surface},
+        {"selection_cost_ns_estimate", &c.estimate},
+        {"selection_cost_ns_volpath_decision", &c.decision[size_t(DistanceMethod::Volpath)]},
+    }};
+    for (const auto& [name, value] : costs) {
+        if (props.has(name) && !s.choose_distance_method)
+            props.fail_at(name, "guided_volpath: {} only applies with selection_distance_method=true", name);
+        *value = finite_at_least(props, name, *value, 0.f);
+    }
+    // The bins' decision outside its lookups is free flight's arithmetic (SelectionCosts).
+    c.decision[size_t(DistanceMethod::Bins)] = c.decision[size_t(DistanceMethod::FreeFlight)];
+}
+
 // Learned selection (guiding/selection.h): selection_spp (0: off), selection_min_samples,
 // selection_cost_distance / _direction / _surface (kappa), selection_rrs_ratio.
-// selection_distance_method (issue 37: the per-cell choice among free flight, vsp, vsp_product and
-// the incremental bins) with selection_cost_lookup, the cost of one field lookup in decisions.
+// selection_distance_method (issue 37: the per-cell choice among free flight, vsp, vsp_product, the
+// incremental bins and volpath) with selection_cost_lookup, the cost model's ns per lookup of the bins.
 void read_selection(const Properties& props, DistanceGuiding distance, SelectionSettings& s) {
     s.pilot_spp = int_in(props, "selection_spp", s.pilot_spp, 0, 64, " (0: off)");
     s.choose_distance_method = props.get_bool("selection_distance_method", s.choose_distance_method);
-    s.lookup_cost = finite_at_least(props, "selection_cost_lookup", s.lookup_cost, 0.f);
     if (s.choose_distance_method && (s.pilot_spp == 0 || distance == DistanceGuiding::Standard))
         props.fail_at("selection_distance_method",
                       "guided_volpath: selection_distance_method needs a learned selection (selection_spp > 0) and a "
@@ -218,9 +242,7 @@ void read_selection(const Properties& props, DistanceGuiding distance, Selection
         props.fail_at("product_candidates",
                       "guided_volpath: product_candidates only applies to distance=vsp_product or "
                       "selection_distance_method=true");
-    if (props.has("selection_cost_lookup") && !s.choose_distance_method)
-        props.fail_at("selection_cost_lookup",
-                      "guided_volpath: selection_cost_lookup only applies with selection_distance_method=true");
+    read_method_costs(props, s);
     s.min_samples = int_in(props, "selection_min_samples", s.min_samples, 1, 1 << 30);
     s.kappa[0] = finite_at_least(props, "selection_cost_distance", s.kappa[0], 0.f);
     s.kappa[1] = finite_at_least(props, "selection_cost_direction", s.kappa[1], 0.f);

@@ -8,6 +8,7 @@ namespace volguide {
 Continuation GuidedContinuation::decide(ContinuationStage stage, GuidedVertex& vertex, const Vec3f& w,
                                         const Color3& throughput, int branches, float allowance, Sampler& sampler,
                                         bool report) const {
+    if (rrs_ && volpath_cell(vertex)) return {};  // learned: volpath's roulette, no estimate read
     if (ears_ && rrs_) return decide_ears(stage, vertex, w, throughput, branches, allowance, sampler, report);
     Continuation c;
     if (rrs_ || report) {
@@ -85,6 +86,12 @@ float GuidedContinuation::branch_budget() const {
 
 void GuidedContinuation::end_camera_sample(int branches) const {
     if (rrs_) rrs_->count_camera_sample(branches);
+}
+
+bool GuidedContinuation::volpath_cell(GuidedVertex& vertex) const {
+    if (!guide_.selection().has_volpath_cells() || !vertex.active()) return false;
+    // Finding the cell: the vertex's leaf, found once and kept for the decisions after this one.
+    return guide_.selection().volpath(guide_.selection_cell(vertex.leaf()));
 }
 
 bool GuidedContinuation::selected(ContinuationStage stage, int leaf) const {

@@ -68,6 +68,9 @@ class GuidedContinuation {
     // Whether guided RR/splitting acts at `stage` in the learned selection's cell of `leaf`;
     // counts the points where it does not.
     bool selected(ContinuationStage stage, int leaf) const;
+    // Whether the learned selection makes volpath's decisions in the vertex's cell (finds the cell,
+    // reads nothing else).
+    bool volpath_cell(GuidedVertex& vertex) const;
 
     const WalkGuide& guide_;
     const RouletteSplitting* rrs_;
