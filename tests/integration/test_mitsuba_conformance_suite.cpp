@@ -61,8 +61,11 @@ TEST(MitsubaConformanceSuite, InfiniteMirrors) { run_conformance("infinite_mirro
 // One shapegroup (mesh sphere, analytic sphere, rectangle) placed three times by Embree instances.
 TEST(MitsubaConformanceSuite, Instancing) { run_conformance("instancing", "test_instancing_path"); }
 // ptracer: light paths splatted onto the film (its image is path's, which made the reference); 512 x 64,
-// the suite's budget of 61 spp is 2·10^6 light paths.
-TEST(MitsubaConformanceSuite, VariousEmitters) { run_conformance("various_emitters", "test_various_emitters_ptracer"); }
+// the suite's budget of 61 spp is 2·10^6 light paths. Disabled: the scene also has a spot light with a
+// projection texture and a `projector`, which volguide does not support yet (MitsubaSuiteUnsupported).
+TEST(MitsubaConformanceSuite, DISABLED_VariousEmitters) {
+    run_conformance("various_emitters", "test_various_emitters_ptracer");
+}
 // obj, ply, serialized, sphere, cylinder, disk, rectangle, cube and an sdfgrid placed by an instance;
 // 480 x 480 at the suite's 9 spp.
 TEST(MitsubaConformanceSuite, VariousShapes) { run_conformance("various_shapes", "test_various_shapes_path"); }
@@ -164,8 +167,7 @@ TEST(MitsubaSuiteUnsupported, FailWithFileLineAndSupportedList) {
         {"projector/test_projector_constant_direct.xml", "37: unsupported emitter plugin 'projector' (supported:"},
         {"spot_light/test_spot_direct.xml", "13: emitter 'spot': projection textures ('texture') are not supported"},
         {"various_emitters/test_various_emitters_ptracer.xml",
-         "17: unsupported integrator plugin 'ptracer' (supported: path,"},
-        {"various_shapes/test_various_shapes_path.xml", "141: unsupported shape plugin 'sdfgrid' (supported:"},
+         "141: emitter 'spot': projection textures ('texture') are not supported"},
     };
     TempDir dir("suite-unsupported");
     for (const Case& c : cases) {

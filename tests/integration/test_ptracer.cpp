@@ -23,7 +23,8 @@ namespace {
 
 std::string ptracer_room_xml(const std::string& integrator) {
     return R"(<scene version="3.0.0">
-  <integrator type=")" + integrator + R"(">
+  <integrator type=")" +
+           integrator + R"(">
     <integer name="max_depth" value="4"/>
     <integer name="rr_depth" value="2"/>
   </integrator>
@@ -50,7 +51,8 @@ std::string ptracer_room_xml(const std::string& integrator) {
 </scene>)";
 }
 
-RenderResult ptracer_render(const std::string& path, int spp, uint64_t seed, int threads = 0, bool variance = false) {
+RenderResult ptracer_render(const std::string& path, int spp, uint64_t seed, int threads = 0,
+                            bool variance = false) {
     auto scene = load_scene(path);
     RenderOptions options;
     options.spp = spp;
@@ -88,7 +90,8 @@ TEST(Ptracer, SameImageAsPath) {
     TempDir dir("ptracer-vs-path");
     const RenderResult p = ptracer_render(dir.write("path.xml", ptracer_room_xml("path")), 1024, 7, 0, true);
     const BenchRender path{p.mean, p.variance, p.spp};
-    const BenchRender light = ptracer_mean_of_renders(dir.write("ptracer.xml", ptracer_room_xml("ptracer")), 128, 8);
+    const BenchRender light =
+        ptracer_mean_of_renders(dir.write("ptracer.xml", ptracer_room_xml("ptracer")), 128, 8);
     expect_same_expectation(path, light, "ptracer room", "path", "ptracer");
 }
 
@@ -97,14 +100,16 @@ TEST(Ptracer, SameImageForOneAndTwoThreads) {
     const std::string path = dir.write("ptracer.xml", ptracer_room_xml("ptracer"));
     const RenderResult one = ptracer_render(path, 6, 3, 1), two = ptracer_render(path, 6, 3, 2);
     ASSERT_EQ(one.mean.pixels.size(), two.mean.pixels.size());
-    for (size_t i = 0; i < one.mean.pixels.size(); ++i) ASSERT_EQ(one.mean.pixels[i], two.mean.pixels[i]) << i;
+    for (size_t i = 0; i < one.mean.pixels.size(); ++i)
+        ASSERT_EQ(one.mean.pixels[i], two.mean.pixels[i]) << i;
     EXPECT_EQ(one.spp, 6);
 }
 
 TEST(Ptracer, HideEmittersRemovesOnlyTheVisibleEmitter) {
     TempDir dir("ptracer-hide");
     std::string xml = ptracer_room_xml("ptracer");
-    xml.replace(xml.find("<integer name=\"rr_depth\""), 0, "<boolean name=\"hide_emitters\" value=\"true\"/>");
+    xml.replace(xml.find("<integer name=\"rr_depth\""), 0,
+                "<boolean name=\"hide_emitters\" value=\"true\"/>");
     const Image shown = ptracer_render(dir.write("a.xml", ptracer_room_xml("ptracer")), 16, 5).mean;
     const Image hidden = ptracer_render(dir.write("b.xml", xml), 16, 5).mean;
     double sum_shown = 0, sum_hidden = 0;
@@ -119,7 +124,8 @@ TEST(Ptracer, HideEmittersRemovesOnlyTheVisibleEmitter) {
 TEST(Ptracer, ErrorsNameFileAndLine) {
     TempDir dir("ptracer-errors");
     std::string bad = ptracer_room_xml("ptracer");
-    bad.replace(bad.find("<integer name=\"rr_depth\" value=\"2\"/>"), 0, "<integer name=\"samples_per_pass\" value=\"0\"/>");
+    bad.replace(bad.find("<integer name=\"rr_depth\" value=\"2\"/>"), 0,
+                "<integer name=\"samples_per_pass\" value=\"0\"/>");
     const std::string bad_path = dir.write("bad.xml", bad);
     try {
         load_scene(bad_path);

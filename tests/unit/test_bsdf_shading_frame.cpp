@@ -38,11 +38,13 @@ TEST(BsdfShadingFrame, ShadowTerminatorByHand) {
     EXPECT_NEAR(ShadingFrameBSDF::shadow_terminator(shading_frame_dir_tan2(8.f), shading_frame_dir_tan2(3.f)),
                 2.f / 3.f, 1e-5f);
     // tan²θ_n = 0.8 -> a² = 0.1; tan²θ_o = 10: G = 2 / (1 + sqrt(2)).
-    EXPECT_NEAR(ShadingFrameBSDF::shadow_terminator(shading_frame_dir_tan2(0.8f), shading_frame_dir_tan2(10.f)),
-                2.f / (1.f + std::sqrt(2.f)), 1e-5f);
+    EXPECT_NEAR(
+        ShadingFrameBSDF::shadow_terminator(shading_frame_dir_tan2(0.8f), shading_frame_dir_tan2(10.f)),
+        2.f / (1.f + std::sqrt(2.f)), 1e-5f);
     // a² is capped at 1: tan²θ_n = 80 shadows as much as 8.
-    EXPECT_NEAR(ShadingFrameBSDF::shadow_terminator(shading_frame_dir_tan2(80.f), shading_frame_dir_tan2(3.f)),
-                2.f / 3.f, 1e-5f);
+    EXPECT_NEAR(
+        ShadingFrameBSDF::shadow_terminator(shading_frame_dir_tan2(80.f), shading_frame_dir_tan2(3.f)),
+        2.f / 3.f, 1e-5f);
 }
 
 TEST(BsdfShadingFrame, InvalidNormalIsMirroredAboutTheShadingNormal) {
@@ -61,9 +63,11 @@ TEST(BsdfShadingFrame, InvalidNormalIsMirroredAboutTheShadingNormal) {
     EXPECT_NEAR(shading_frame_normalmap(n, true, false)->eval(ctx, si, wo).r, expected, 1e-5f);
     // And the shadowing term multiplies the value, not the pdf.
     auto both = shading_frame_normalmap(n, true, true);
-    EXPECT_NEAR(both->eval(ctx, si, wo).r, expected * ShadingFrameBSDF::shadow_terminator(flipped, wo), 1e-5f);
+    EXPECT_NEAR(both->eval(ctx, si, wo).r, expected * ShadingFrameBSDF::shadow_terminator(flipped, wo),
+                1e-5f);
     EXPECT_NEAR(both->pdf(ctx, si, wo), expected, 1e-5f);
     // A valid normal (wi from +x) is not flipped.
     const SurfaceInteraction front = local_si(Vec3f(0.6f, 0.f, 0.8f));
-    EXPECT_NEAR(shading_frame_normalmap(n, true, false)->eval(ctx, front, wo).r, dot(wo, n) / float(M_PI), 1e-5f);
+    EXPECT_NEAR(shading_frame_normalmap(n, true, false)->eval(ctx, front, wo).r, dot(wo, n) / float(M_PI),
+                1e-5f);
 }

@@ -60,7 +60,8 @@ class SplatFilm {
         Image img(w, h);
         const double inv = spp > 0 ? 1.0 / spp : 0.0;
         for (size_t p = 0; p < size_t(w) * size_t(h); ++p)
-            img.pixels[p] = Color3(float(sum_[3 * p] * inv), float(sum_[3 * p + 1] * inv), float(sum_[3 * p + 2] * inv));
+            img.pixels[p] =
+                Color3(float(sum_[3 * p] * inv), float(sum_[3 * p + 1] * inv), float(sum_[3 * p + 2] * inv));
         return img;
     }
 
@@ -72,8 +73,10 @@ class SplatFilm {
     void add_filtered(const LightSplat& s) {
         const float r = splatter_.radius();
         const float qx = s.pos.x - 0.5f, qy = s.pos.y - 0.5f;
-        const int x0 = std::max(int(std::ceil(qx - r)), 0), x1 = std::min(int(std::floor(qx + r)), splatter_.film_width() - 1);
-        const int y0 = std::max(int(std::ceil(qy - r)), 0), y1 = std::min(int(std::floor(qy + r)), splatter_.film_height() - 1);
+        const int x0 = std::max(int(std::ceil(qx - r)), 0),
+                  x1 = std::min(int(std::floor(qx + r)), splatter_.film_width() - 1);
+        const int y0 = std::max(int(std::ceil(qy - r)), 0),
+                  y1 = std::min(int(std::floor(qy + r)), splatter_.film_height() - 1);
         double total = 0.0;
         for (int y = y0; y <= y1; ++y)
             for (int x = x0; x <= x1; ++x) total += weight(x - qx, y - qy);
@@ -112,7 +115,8 @@ class LightTracingRenderer {
           height_(scene.sensor().film().height()),
           grid_{width_, height_, 0},
           budget_(options.time_budget > 0 ? options.time_budget : 0.0),
-          target_(options.spp > 0 ? options.spp : (budget_ > 0 ? 0 : std::max(scene.sensor().sample_count(), 1))),
+          target_(options.spp > 0 ? options.spp
+                                  : (budget_ > 0 ? 0 : std::max(scene.sensor().sample_count(), 1))),
           deadline_(budget_ > 0 ? job_start + std::chrono::duration_cast<Clock::duration>(
                                                   std::chrono::duration<double>(budget_))
                                 : Clock::time_point::max()),
@@ -173,9 +177,8 @@ class LightTracingRenderer {
             std::vector<std::unique_ptr<LightTile>> wave(end - begin);
             std::atomic<bool> stop{false};
             arena_execute(arena_, [&] {
-                parallel_for(size_t(0), wave.size(), [&](size_t i) {
-                    wave[i] = trace_tile(tiles_[begin + i], spp_done, n, stop);
-                });
+                parallel_for(size_t(0), wave.size(),
+                             [&](size_t i) { wave[i] = trace_tile(tiles_[begin + i], spp_done, n, stop); });
             });
             if (stop) {
                 film_ = std::move(before);
@@ -195,7 +198,8 @@ class LightTracingRenderer {
         return true;
     }
 
-    std::unique_ptr<LightTile> trace_tile(const PixelRect& rect, int spp_done, int n, std::atomic<bool>& stop) const {
+    std::unique_ptr<LightTile> trace_tile(const PixelRect& rect, int spp_done, int n,
+                                          std::atomic<bool>& stop) const {
         auto tile = std::make_unique<LightTile>();
         for (int y = rect.y0; y < rect.y1; ++y) {
             // Stop checks once per row: a cancelled or late pass is dropped as a whole.
@@ -230,10 +234,12 @@ class LightTracingRenderer {
 
 }  // namespace
 
-RenderResult render_light_tracing(const Scene& scene, const Integrator& integrator, const RenderOptions& options,
-                                  tbb::task_arena& arena, Clock::time_point job_start) {
+RenderResult render_light_tracing(const Scene& scene, const Integrator& integrator,
+                                  const RenderOptions& options, tbb::task_arena& arena,
+                                  Clock::time_point job_start) {
     if (!scene.sensor().supports_connections())
-        throw std::invalid_argument("a light tracer (ptracer) needs a pinhole sensor ('perspective' without an aperture)");
+        throw std::invalid_argument(
+            "a light tracer (ptracer) needs a pinhole sensor ('perspective' without an aperture)");
     if (options.variance || integrator.writes_variance())
         throw std::invalid_argument("a light tracer (ptracer) has no per-sample variance image");
     if (options.spp < 0) throw std::invalid_argument("render: spp must be >= 0");

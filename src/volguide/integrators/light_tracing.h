@@ -7,9 +7,9 @@
 // sum (each spread by the reconstruction filter normalised over the pixels it reaches, Mitsuba's
 // normalised image block); the image is that sum over the samples per pixel done. Passes, time budget,
 // cancellation, --samples FIRST:COUNT and progress as render_loop.h: a stopped pass is dropped whole.
-#include <chrono>
-
 #include <tbb/task_arena.h>
+
+#include <chrono>
 
 #include "volguide/integrators/render_loop.h"
 
@@ -17,7 +17,8 @@ namespace volguide {
 
 // Called by render() for an integrator that traces_from_emitters(). Throws std::invalid_argument when
 // the sensor cannot be connected to (not a pinhole) or a variance image is asked for.
-RenderResult render_light_tracing(const Scene& scene, const Integrator& integrator, const RenderOptions& options,
-                                  tbb::task_arena& arena, std::chrono::steady_clock::time_point job_start);
+RenderResult render_light_tracing(const Scene& scene, const Integrator& integrator,
+                                  const RenderOptions& options, tbb::task_arena& arena,
+                                  std::chrono::steady_clock::time_point job_start);
 
 }  // namespace volguide

@@ -28,7 +28,8 @@ float ptracer_shading_correction(const SurfaceInteraction& si, const Vec3f& wi_l
 PtracerSettings PtracerSettings::from(const Properties& props) {
     PtracerSettings s;
     const int64_t max_depth = props.get_int("max_depth", -1);
-    if (max_depth < -1) props.fail_at("max_depth", "max_depth must be -1 (unbounded) or >= 0, got {}", max_depth);
+    if (max_depth < -1)
+        props.fail_at("max_depth", "max_depth must be -1 (unbounded) or >= 0, got {}", max_depth);
     const int64_t rr_depth = props.get_int("rr_depth", 5);
     if (rr_depth <= 0) props.fail_at("rr_depth", "rr_depth must be > 0, got {}", rr_depth);
     const int64_t per_pass = props.get_int("samples_per_pass", -1);
@@ -47,11 +48,13 @@ std::string ParticleTracerIntegrator::to_string() const {
 }
 
 Color3 ParticleTracerIntegrator::Li(const Scene&, Sampler&, const CameraRay&) const {
-    throw std::logic_error("ptracer traces from the emitters and splats onto the film: it has no estimate along "
-                           "a camera ray (render it through the render loop)");
+    throw std::logic_error(
+        "ptracer traces from the emitters and splats onto the film: it has no estimate along "
+        "a camera ray (render it through the render loop)");
 }
 
-void ParticleTracerIntegrator::trace_from_emitters(const Scene& scene, Sampler& sampler, FilmSplats& splats) const {
+void ParticleTracerIntegrator::trace_from_emitters(const Scene& scene, Sampler& sampler,
+                                                   FilmSplats& splats) const {
     if (settings_.max_depth != 0 && !settings_.hide_emitters) splat_visible_emitter(scene, sampler, splats);
     const auto [emitter, probability] = scene.sample_emitter_for_emission(sampler.next_1d());
     const Point2f u_pos = sampler.next_2d(), u_dir = sampler.next_2d();
@@ -63,7 +66,8 @@ void ParticleTracerIntegrator::trace_from_emitters(const Scene& scene, Sampler& 
 
 // One point of a non-delta emitter, drawn by the emitter's direction sampling from the sensor's
 // position, splatted where the sensor sees it: importance x radiance / pdf (solid angle at the sensor).
-void ParticleTracerIntegrator::splat_visible_emitter(const Scene& scene, Sampler& sampler, FilmSplats& splats) const {
+void ParticleTracerIntegrator::splat_visible_emitter(const Scene& scene, Sampler& sampler,
+                                                     FilmSplats& splats) const {
     const auto [emitter, probability] = scene.sample_emitter_for_emission(sampler.next_1d());
     const Point2f u = sampler.next_2d();
     if (!emitter || emitter->is_delta() || !(probability > 0.f)) return;
@@ -84,8 +88,8 @@ void ParticleTracerIntegrator::splat_visible_emitter(const Scene& scene, Sampler
     if (c.weight > 0.f) splats.splat(c.film_pos, radiance_weight * (c.weight / probability));
 }
 
-void ParticleTracerIntegrator::trace_light_path(const Scene& scene, Ray ray, Color3 throughput, Sampler& sampler,
-                                                FilmSplats& splats) const {
+void ParticleTracerIntegrator::trace_light_path(const Scene& scene, Ray ray, Color3 throughput,
+                                                Sampler& sampler, FilmSplats& splats) const {
     const PtracerSettings& s = settings_;
     BSDFContext ctx;
     ctx.mode = TransportMode::Importance;
@@ -111,8 +115,9 @@ void ParticleTracerIntegrator::trace_light_path(const Scene& scene, Ray ray, Col
     }
 }
 
-void ParticleTracerIntegrator::connect_surface(const Scene& scene, const SurfaceInteraction& si, const BSDF& bsdf,
-                                               const Color3& throughput, FilmSplats& splats) const {
+void ParticleTracerIntegrator::connect_surface(const Scene& scene, const SurfaceInteraction& si,
+                                               const BSDF& bsdf, const Color3& throughput,
+                                               FilmSplats& splats) const {
     const SensorConnection c = scene.sensor().connect(si.p);
     if (!(c.weight > 0.f)) return;
     const Vec3f local = si.to_local(c.d);

@@ -26,7 +26,7 @@ struct PtracerSettings {
 };
 
 class ParticleTracerIntegrator final : public Integrator {
-public:
+  public:
     explicit ParticleTracerIntegrator(const Properties& props) : settings_(PtracerSettings::from(props)) {}
     explicit ParticleTracerIntegrator(PtracerSettings s) : settings_(s) {}
     // Not an estimator along camera rays: throws std::logic_error (the render loop calls
@@ -36,11 +36,12 @@ public:
     void trace_from_emitters(const Scene& scene, Sampler& sampler, FilmSplats& splats) const override;
     std::string to_string() const override;
 
-private:
+  private:
     void splat_visible_emitter(const Scene& scene, Sampler& sampler, FilmSplats& splats) const;
-    void trace_light_path(const Scene& scene, Ray ray, Color3 throughput, Sampler& sampler, FilmSplats& splats) const;
-    void connect_surface(const Scene& scene, const SurfaceInteraction& si, const BSDF& bsdf, const Color3& throughput,
-                         FilmSplats& splats) const;
+    void trace_light_path(const Scene& scene, Ray ray, Color3 throughput, Sampler& sampler,
+                          FilmSplats& splats) const;
+    void connect_surface(const Scene& scene, const SurfaceInteraction& si, const BSDF& bsdf,
+                         const Color3& throughput, FilmSplats& splats) const;
 
     PtracerSettings settings_;
 };

@@ -26,14 +26,16 @@ struct SdfCubic {
 // f = a0 + a1 x + a2 y + a3 z + a4 xy + a5 xz + a6 yz + a7 xyz expanded in t.
 SdfCubic sdf_voxel_cubic(const std::array<float, 8>& s, const Vec3f& o, const Vec3f& d) {
     const float a0 = s[0], a1 = s[1] - s[0], a2 = s[2] - s[0], a3 = s[4] - s[0];
-    const float a4 = s[3] - s[1] - s[2] + s[0], a5 = s[5] - s[1] - s[4] + s[0], a6 = s[6] - s[2] - s[4] + s[0];
+    const float a4 = s[3] - s[1] - s[2] + s[0], a5 = s[5] - s[1] - s[4] + s[0],
+                a6 = s[6] - s[2] - s[4] + s[0];
     const float a7 = s[7] - s[3] - s[5] - s[6] + s[1] + s[2] + s[4] - s[0];
     SdfCubic c;
     c.c0 = a0 + a1 * o.x + a2 * o.y + a3 * o.z + a4 * o.x * o.y + a5 * o.x * o.z + a6 * o.y * o.z +
            a7 * o.x * o.y * o.z;
     c.c1 = a1 * d.x + a2 * d.y + a3 * d.z + a4 * (o.x * d.y + o.y * d.x) + a5 * (o.x * d.z + o.z * d.x) +
            a6 * (o.y * d.z + o.z * d.y) + a7 * (d.x * o.y * o.z + o.x * d.y * o.z + o.x * o.y * d.z);
-    c.c2 = a4 * d.x * d.y + a5 * d.x * d.z + a6 * d.y * d.z + a7 * (d.x * d.y * o.z + d.x * o.y * d.z + o.x * d.y * d.z);
+    c.c2 = a4 * d.x * d.y + a5 * d.x * d.z + a6 * d.y * d.z +
+           a7 * (d.x * d.y * o.z + d.x * o.y * d.z + o.x * d.y * d.z);
     c.c3 = a7 * d.x * d.y * d.z;
     return c;
 }
@@ -110,8 +112,8 @@ SdfValues sdf_values_from_file(const Properties& props) {
     if (g.channels != 1)
         props.fail_at("filename", "sdfgrid: '{}' has {} channels, expected 1", path, g.channels);
     if (g.nx < 2 || g.ny < 2 || g.nz < 2)
-        props.fail_at("filename", "sdfgrid: '{}' is {}x{}x{}: at least 2 values per axis are needed", path, g.nx,
-                      g.ny, g.nz);
+        props.fail_at("filename", "sdfgrid: '{}' is {}x{}x{}: at least 2 values per axis are needed", path,
+                      g.nx, g.ny, g.nz);
     return SdfValues{g.nx, g.ny, g.nz, g.values};
 }
 
@@ -136,13 +138,16 @@ SdfGrid::SdfGrid(const Properties& props) : grid_(sdf_values_from_file(props)) {
         props.fail_at("filename", "sdfgrid: {}", e.what());
     }
     init_common(props);
-    if (emitter_) props.fail_at(props.children("emitter")[0]->name, "sdfgrid: an SDF grid cannot be an area emitter");
+    if (emitter_)
+        props.fail_at(props.children("emitter")[0]->name, "sdfgrid: an SDF grid cannot be an area emitter");
 }
 
 void SdfGrid::build(const Transform& to_world, bool smooth_normals) {
     const SdfValues& g = grid_;
-    if (g.nx < 2 || g.ny < 2 || g.nz < 2) throw std::invalid_argument("at least 2 values per axis are needed");
-    if (g.values.size() != size_t(g.nx) * g.ny * g.nz) throw std::invalid_argument("value count does not match");
+    if (g.nx < 2 || g.ny < 2 || g.nz < 2)
+        throw std::invalid_argument("at least 2 values per axis are needed");
+    if (g.values.size() != size_t(g.nx) * g.ny * g.nz)
+        throw std::invalid_argument("value count does not match");
     to_world_ = to_world;
     to_object_ = to_world.inverse();
     smooth_ = smooth_normals;
@@ -154,7 +159,8 @@ void SdfGrid::build(const Transform& to_world, bool smooth_normals) {
                 if (!tight_box(x, y, z, local)) continue;
                 BBox3f world;
                 for (int c = 0; c < 8; ++c) {
-                    const Point3f q((c & 1 ? local.hi.x : local.lo.x) + float(x), (c & 2 ? local.hi.y : local.lo.y) + float(y),
+                    const Point3f q((c & 1 ? local.hi.x : local.lo.x) + float(x),
+                                    (c & 2 ? local.hi.y : local.lo.y) + float(y),
                                     (c & 4 ? local.hi.z : local.lo.z) + float(z));
                     const Point3f p = to_world_.apply_point(q * voxel_size_);
                     if (c == 0) world = BBox3f{p, p};
@@ -163,7 +169,8 @@ void SdfGrid::build(const Transform& to_world, bool smooth_normals) {
                 voxels_.push_back(uint32_t(x + (g.nx - 1) * (y + (g.ny - 1) * z)));
                 boxes_.push_back(world);
             }
-    if (voxels_.empty()) throw std::invalid_argument("the surface crosses no voxel (no sign change in the grid)");
+    if (voxels_.empty())
+        throw std::invalid_argument("the surface crosses no voxel (no sign change in the grid)");
 }
 
 float SdfGrid::corner(int x, int y, int z) const {
@@ -207,7 +214,8 @@ float SdfGrid::value(const Point3f& p) const {
               z = std::min(int(q.z), grid_.nz - 2);
     const float u = q.x - float(x), v = q.y - float(y), w = q.z - float(z);
     auto lerp = [](float a, float b, float s) { return a + (b - a) * s; };
-    const float c00 = lerp(corner(x, y, z), corner(x + 1, y, z), u), c10 = lerp(corner(x, y + 1, z), corner(x + 1, y + 1, z), u);
+    const float c00 = lerp(corner(x, y, z), corner(x + 1, y, z), u),
+                c10 = lerp(corner(x, y + 1, z), corner(x + 1, y + 1, z), u);
     const float c01 = lerp(corner(x, y, z + 1), corner(x + 1, y, z + 1), u),
                 c11 = lerp(corner(x, y + 1, z + 1), corner(x + 1, y + 1, z + 1), u);
     return lerp(lerp(c00, c10, v), lerp(c01, c11, v), w);
@@ -215,9 +223,10 @@ float SdfGrid::value(const Point3f& p) const {
 
 Vec3f SdfGrid::voxel_gradient(const Point3f& p, int vx, int vy, int vz) const {
     const Point3f lo(float(vx) * voxel_size_.x, float(vy) * voxel_size_.y, float(vz) * voxel_size_.z);
-    return Vec3f((value(Point3f(lo.x + voxel_size_.x, p.y, p.z)) - value(Point3f(lo.x, p.y, p.z))) / voxel_size_.x,
-                 (value(Point3f(p.x, lo.y + voxel_size_.y, p.z)) - value(Point3f(p.x, lo.y, p.z))) / voxel_size_.y,
-                 (value(Point3f(p.x, p.y, lo.z + voxel_size_.z)) - value(Point3f(p.x, p.y, lo.z))) / voxel_size_.z);
+    return Vec3f(
+        (value(Point3f(lo.x + voxel_size_.x, p.y, p.z)) - value(Point3f(lo.x, p.y, p.z))) / voxel_size_.x,
+        (value(Point3f(p.x, lo.y + voxel_size_.y, p.z)) - value(Point3f(p.x, lo.y, p.z))) / voxel_size_.y,
+        (value(Point3f(p.x, p.y, lo.z + voxel_size_.z)) - value(Point3f(p.x, p.y, lo.z))) / voxel_size_.z);
 }
 
 // The normalised gradients of the 2x2x2 voxels around the corner nearest p, blended trilinearly by p's
@@ -263,7 +272,8 @@ bool SdfGrid::intersect_primitive(const Ray& world_ray, uint32_t prim, float& t,
     // Voxel coordinates: the voxel is [0,1]^3.
     const Vec3f scale(float(rx), float(ry), float(grid_.nz - 1));
     const Point3f entry = ray.o + ray.d * t0;
-    const Vec3f o = Vec3f(entry.x * scale.x - float(x), entry.y * scale.y - float(y), entry.z * scale.z - float(z));
+    const Vec3f o =
+        Vec3f(entry.x * scale.x - float(x), entry.y * scale.y - float(y), entry.z * scale.z - float(z));
     const Vec3f d(ray.d.x * scale.x, ray.d.y * scale.y, ray.d.z * scale.z);
     std::array<float, 8> s;
     for (int c = 0; c < 8; ++c) s[c] = corner(x + (c & 1), y + ((c >> 1) & 1), z + ((c >> 2) & 1));
@@ -274,11 +284,13 @@ bool SdfGrid::intersect_primitive(const Ray& world_ray, uint32_t prim, float& t,
     return t >= 0.f && t <= world_ray.tmax;
 }
 
-SurfaceInteraction SdfGrid::compute_surface_interaction(const Ray& ray, float t, uint32_t prim_index, Vec2f) const {
+SurfaceInteraction SdfGrid::compute_surface_interaction(const Ray& ray, float t, uint32_t prim_index,
+                                                        Vec2f) const {
     SurfaceInteraction si;
     si.t = t;
     const Point3f local = to_object_.apply_point(ray.o + ray.d * t);
-    const Vec3f s(local.x * float(grid_.nx - 1), local.y * float(grid_.ny - 1), local.z * float(grid_.nz - 1));
+    const Vec3f s(local.x * float(grid_.nx - 1), local.y * float(grid_.ny - 1),
+                  local.z * float(grid_.nz - 1));
     const Vec3f grad = voxel_gradient(local, int(s.x), int(s.y), int(s.z));
     si.p = to_world_.apply_point(local);
     si.n = normalize(to_world_.apply_normal(grad));
@@ -294,7 +306,8 @@ SurfaceInteraction SdfGrid::compute_surface_interaction(const Ray& ray, float t,
 BBox3f SdfGrid::bbox() const {
     BBox3f b;
     for (int c = 0; c < 8; ++c) {
-        const Point3f p = to_world_.apply_point(Point3f(float(c & 1), float((c >> 1) & 1), float((c >> 2) & 1)));
+        const Point3f p =
+            to_world_.apply_point(Point3f(float(c & 1), float((c >> 1) & 1), float((c >> 2) & 1)));
         if (c == 0) b = BBox3f{p, p};
         b.expand(p);
     }

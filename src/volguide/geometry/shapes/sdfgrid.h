@@ -56,9 +56,9 @@ class SdfGrid final : public Shape {
     SdfValues grid_;
     Transform to_world_, to_object_;
     bool smooth_ = true;
-    Vec3f voxel_size_;                   // 1 / (n - 1) per axis
-    std::vector<uint32_t> voxels_;       // crossed voxels: x + (nx - 1) (y + (ny - 1) z)
-    std::vector<BBox3f> boxes_;          // their tight boxes, world space
+    Vec3f voxel_size_;              // 1 / (n - 1) per axis
+    std::vector<uint32_t> voxels_;  // crossed voxels: x + (nx - 1) (y + (ny - 1) z)
+    std::vector<BBox3f> boxes_;     // their tight boxes, world space
 };
 
 }  // namespace volguide
