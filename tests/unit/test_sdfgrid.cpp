@@ -107,3 +107,18 @@ TEST(SdfGrid, RejectsGridsWithoutSurface) {
     g.values.resize(7);
     EXPECT_THROW(SdfGrid(g, Transform(), true), std::invalid_argument);
 }
+
+// One voxel whose interpolant meets a diagonal ray twice: corners (0,0,0) and (1,1,1) at +1, the rest at
+// -1, so along x = y = z = s it is 1 - 6s + 6s², roots s = (3 ∓ √3) / 6. The first must be found, not
+// the second (the derivative's root s = 1/2 lies between them).
+TEST(SdfGrid, FirstOfTwoRootsInOneVoxel) {
+    SdfValues g{2, 2, 2, {1.f, -1.f, -1.f, -1.f, -1.f, -1.f, -1.f, 1.f}};
+    const SdfGrid grid(g, Transform(), false);
+    float t;
+    uint32_t prim;
+    ASSERT_TRUE(sdfgrid_nearest(grid, Ray(Point3f(-1.f), Vec3f(1.f), Infinity), t, prim));
+    EXPECT_NEAR(t, 1.f + (3.f - std::sqrt(3.f)) / 6.f, 1e-4f);
+    // From inside the first region (s = 0.5, where the value is -0.5) forward: the second root.
+    ASSERT_TRUE(sdfgrid_nearest(grid, Ray(Point3f(0.5f), Vec3f(1.f), Infinity), t, prim));
+    EXPECT_NEAR(t, (3.f + std::sqrt(3.f)) / 6.f - 0.5f, 1e-4f);
+}
