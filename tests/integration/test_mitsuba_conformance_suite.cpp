@@ -95,7 +95,7 @@ TEST(MitsubaConformanceSuite, BsdfEnvmap) { run_conformance("bsdf_spheres", "tes
 TEST(MitsubaConformanceSuite, BsdfPointLight) { run_conformance("bsdf_spheres", "test_pointlight_path"); }
 // bumpmap (a raw PNG height map, scale 0.02) over diffuse, and normalmap over diffuse and an
 // anisotropic rough conductor (bitmap `format`, `rawconstant`): the references have Mitsuba 3's flip
-// of invalid normals and its shadowing term (docs/theory.md §19), without which these scenes fail.
+// of invalid normals and its shadowing term (docs/theory.md §20), without which these scenes fail.
 TEST(MitsubaConformanceSuite, BsdfBumpmap) { run_conformance("bsdf_spheres", "test_bumpmap_path"); }
 TEST(MitsubaConformanceSuite, BsdfNormalmap) { run_conformance("bsdf_spheres", "test_normalmap_path"); }
 TEST(MitsubaConformanceSuite, BsdfNormalmapIdentityRoughConductor) {

@@ -1,5 +1,5 @@
 // The perturbed shading frame of `normalmap` / `bumpmap` (render/bsdfs/shading_frame_bsdf.h,
-// docs/theory.md §19): Estevez et al.'s shadowing term against hand-computed values, and the flip of
+// docs/theory.md §20): Estevez et al.'s shadowing term against hand-computed values, and the flip of
 // invalid normals on a constant normal map over a diffuse BSDF against the value computed by hand in
 // the mirrored frame.
 #include <gtest/gtest.h>

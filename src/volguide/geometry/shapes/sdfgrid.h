@@ -8,7 +8,7 @@
 // normal is the SDF's gradient by central differences across the hit's voxel; `normals="smooth"`
 // (default) blends the gradients of the eight voxels nearest the hit (the JCGT paper's smooth normals),
 // "analytic" uses the geometric one. No uv (0), no area (0): it cannot be an area emitter (Mitsuba's
-// limits). docs/theory.md §20.
+// limits). docs/theory.md §21.
 #include <cstdint>
 #include <vector>
 

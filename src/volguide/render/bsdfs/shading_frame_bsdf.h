@@ -8,7 +8,7 @@
 // - the frame: that normal, the tangent made orthogonal to it (Gram-Schmidt);
 // - wi and wo carried into it; a direction on opposite sides of the two frames' surfaces gives zero;
 // - `use_shadowing_function` (default true): the value (not the pdf) times Estevez et al.'s microfacet
-//   shadowing term G = 2 / (1 + sqrt(1 + a² tan²θ_o)), a² = min(tan²θ_n / 8, 1) (docs/theory.md §19).
+//   shadowing term G = 2 / (1 + sqrt(1 + a² tan²θ_o)), a² = min(tan²θ_n / 8, 1) (docs/theory.md §20).
 #include <algorithm>
 #include <cmath>
 #include <memory>
@@ -46,7 +46,7 @@ class ShadingFrameBSDF : public BSDF {
     }
 
     // Estevez et al. 2019's shadowing term for a perturbed normal n and a direction wo, both relative
-    // to the unperturbed shading frame (docs/theory.md §19).
+    // to the unperturbed shading frame (docs/theory.md §20).
     static float shadow_terminator(const Vec3f& n, const Vec3f& wo) {
         const float a2 = std::min(0.125f * Frame::tan_theta_2(n), 1.f);
         if (a2 == 0.f) return 1.f;
