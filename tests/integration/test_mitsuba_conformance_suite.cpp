@@ -74,6 +74,15 @@ TEST(MitsubaConformanceSuite, MeshAttributes3Vertex) {
 TEST(MitsubaConformanceSuite, ProjectorConstant) { run_conformance("projector", "test_projector_constant_direct"); }
 TEST(MitsubaConformanceSuite, ProjectorTextured) { run_conformance("projector", "test_projector_textured_direct"); }
 TEST(MitsubaConformanceSuite, SpotProjectionTexture) { run_conformance("spot_light", "test_spot_direct"); }
+// ptracer: light paths splatted onto the film (its image is path's, which made the reference); 512 x 64,
+// the suite's budget of 61 spp is 2·10^6 light paths. The scene also has a spot light with a projection
+// texture and a `projector`.
+TEST(MitsubaConformanceSuite, VariousEmitters) {
+    run_conformance("various_emitters", "test_various_emitters_ptracer");
+}
+// obj, ply, serialized, sphere, cylinder, disk, rectangle, cube and an sdfgrid placed by an instance;
+// 480 x 480 at the suite's 9 spp.
+TEST(MitsubaConformanceSuite, VariousShapes) { run_conformance("various_shapes", "test_various_shapes_path"); }
 TEST(MitsubaConformanceSuite, Orthographic) { run_conformance("orthographic_sensor", "test_orthographic_path"); }
 TEST(MitsubaConformanceSuite, BsdfRoughDielectric) { run_conformance("bsdf_spheres", "test_roughdielectric_path"); }
 TEST(MitsubaConformanceSuite, BsdfRoughPlasticLinear) {
@@ -98,21 +107,15 @@ TEST(MitsubaConformanceSuite, BsdfAreaLight) { run_conformance("bsdf_spheres", "
 TEST(MitsubaConformanceSuite, BsdfConstant) { run_conformance("bsdf_spheres", "test_constant_path"); }
 TEST(MitsubaConformanceSuite, BsdfEnvmap) { run_conformance("bsdf_spheres", "test_envmap_path"); }
 TEST(MitsubaConformanceSuite, BsdfPointLight) { run_conformance("bsdf_spheres", "test_pointlight_path"); }
-// bumpmap (a raw PNG height map, scale 0.02) over diffuse. Fails like the JPEG normal-map scenes
-// below (83 of 6912 pixel-channels at 868 spp, 17 allowed), while the identity normal map passes:
-// the common factor is a texture-perturbed shading normal on the sphere. Disabled until understood.
-TEST(MitsubaConformanceSuite, DISABLED_BsdfBumpmap) { run_conformance("bsdf_spheres", "test_bumpmap_path"); }
-
-// normalmap over diffuse and an anisotropic rough conductor (bitmap `format`, `rawconstant`).
-// The two scenes with the JPEG normal map fail (78 and 61 of 6912 pixel-channels at 868 spp, 17
-// allowed; scattered, most near the silhouette). Not the JPEG decoder: stb and libjpeg differ by 1/255
-// in 1 % of its texels. Disabled until understood (docs/scene-format.md); run with
-// --gtest_also_run_disabled_tests.
-TEST(MitsubaConformanceSuite, DISABLED_BsdfNormalmap) { run_conformance("bsdf_spheres", "test_normalmap_path"); }
+// bumpmap (a raw PNG height map, scale 0.02) over diffuse, and normalmap over diffuse and an
+// anisotropic rough conductor (bitmap `format`, `rawconstant`): the references have Mitsuba 3's flip
+// of invalid normals and its shadowing term (docs/theory.md §20), without which these scenes fail.
+TEST(MitsubaConformanceSuite, BsdfBumpmap) { run_conformance("bsdf_spheres", "test_bumpmap_path"); }
+TEST(MitsubaConformanceSuite, BsdfNormalmap) { run_conformance("bsdf_spheres", "test_normalmap_path"); }
 TEST(MitsubaConformanceSuite, BsdfNormalmapIdentityRoughConductor) {
     run_conformance("bsdf_spheres", "test_normalmap_identity_roughconductor_path");
 }
-TEST(MitsubaConformanceSuite, DISABLED_BsdfNormalmapRoughConductor) {
+TEST(MitsubaConformanceSuite, BsdfNormalmapRoughConductor) {
     run_conformance("bsdf_spheres", "test_normalmap_roughconductor_path");
 }
 
@@ -173,9 +176,6 @@ TEST(MitsubaSuiteUnsupported, FailWithFileLineAndSupportedList) {
     };
     const Case cases[] = {
         {"bsdf_spheres/test_textured_roughconductor_path.xml", "23: unknown conductor material 'a-C'"},
-        {"various_emitters/test_various_emitters_ptracer.xml",
-         "17: unsupported integrator plugin 'ptracer' (supported: path,"},
-        {"various_shapes/test_various_shapes_path.xml", "141: unsupported shape plugin 'sdfgrid' (supported:"},
     };
     TempDir dir("suite-unsupported");
     for (const Case& c : cases) {

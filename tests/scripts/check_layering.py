@@ -45,6 +45,10 @@ EXCEPTIONS = {
     ("geometry/shape.cpp", "render/bsdf.h"): "a shape reads its <bsdf> child",
     ("geometry/shape.cpp", "render/emitter.h"): "a shape reads its <emitter> child",
     ("geometry/shape.cpp", "media/medium.h"): "a shape reads its interior/exterior media",
+    # Mitsuba 3's sdfgrid reads its signed distances from a one-channel .vol file: one reader of the
+    # format (media/vol_file.cpp, bounded and fuzzed), not a second copy in geometry/.
+    ("geometry/shapes/sdfgrid.cpp", "media/grid_data.h"):
+        "the sdfgrid shape reads its .vol file with the media's reader",
     # One factory function per XML tag is declared in scene/factories.h and implemented beside the
     # plugins it creates (docs/architecture.md, "Plugins and the factory table"); the integrators'
     # factory creates every integrator, the subfolders' included.

@@ -36,7 +36,7 @@ void error_callback(void* user, RTCError code, const char* str) {
 void user_bounds(const RTCBoundsFunctionArguments* args) {
     const auto* shape = static_cast<const Shape*>(args->geometryUserPtr);
     tsan_acquire(shape);
-    BBox3f b = shape->bbox();
+    BBox3f b = shape->primitive_bbox(args->primID);
     args->bounds_o->lower_x = b.lo.x;
     args->bounds_o->lower_y = b.lo.y;
     args->bounds_o->lower_z = b.lo.z;
@@ -56,7 +56,7 @@ void user_intersect(const RTCIntersectFunctionNArguments* args) {
             rh->ray.tfar);
     float t;
     Vec2f uv;
-    if (!shape->intersect(ray, t, uv) || !(t >= rh->ray.tnear)) return;
+    if (!shape->intersect_primitive(ray, args->primID, t, uv) || !(t >= rh->ray.tnear)) return;
     rh->ray.tfar = t;
     rh->hit.u = uv.x;
     rh->hit.v = uv.y;
@@ -74,7 +74,8 @@ void user_occluded(const RTCOccludedFunctionNArguments* args) {
     Ray ray({r->org_x, r->org_y, r->org_z}, {r->dir_x, r->dir_y, r->dir_z}, r->tfar);
     float t;
     Vec2f uv;
-    if (shape->intersect(ray, t, uv) && t >= r->tnear) r->tfar = -Infinity;  // Embree's "occluded" mark
+    // -Infinity: Embree's "occluded" mark.
+    if (shape->intersect_primitive(ray, args->primID, t, uv) && t >= r->tnear) r->tfar = -Infinity;
 }
 
 }  // namespace
@@ -131,7 +132,7 @@ struct Accel::Impl {
 
     void add_user(RTCScene target, std::vector<const Shape*>& ids, const Shape* shape) {
         RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_USER);
-        rtcSetGeometryUserPrimitiveCount(geom, 1);
+        rtcSetGeometryUserPrimitiveCount(geom, shape->primitive_count());
         rtcSetGeometryUserData(geom, const_cast<Shape*>(shape));
         rtcSetGeometryBoundsFunction(geom, user_bounds, nullptr);
         rtcSetGeometryIntersectFunction(geom, user_intersect);

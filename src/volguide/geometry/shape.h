@@ -66,6 +66,13 @@ public:
     // Analytic shapes: nearest hit with t in (0, ray.tmax); prim_uv is passed back to
     // compute_surface_interaction.
     virtual bool intersect(const Ray& ray, float& t, Vec2f& prim_uv) const { return false; }
+    // Analytic shapes made of several primitives, each its own Embree user primitive (sdfgrid: one
+    // per voxel the surface crosses); the defaults are one primitive, the whole shape.
+    virtual uint32_t primitive_count() const { return 1; }
+    virtual BBox3f primitive_bbox(uint32_t prim) const { return bbox(); }
+    virtual bool intersect_primitive(const Ray& ray, uint32_t prim, float& t, Vec2f& prim_uv) const {
+        return intersect(ray, t, prim_uv);
+    }
     // Builds the full hit record; prim_uv are Embree's barycentrics for triangles.
     virtual SurfaceInteraction compute_surface_interaction(const Ray& ray, float t, uint32_t prim_index,
                                                            Vec2f prim_uv) const = 0;

@@ -17,10 +17,11 @@ ObjectPtr create_shape(const Properties& props) {
     if (type == "sphere") return create_sphere_shape(props);
     if (type == "disk") return create_disk_shape(props);
     if (type == "cylinder") return create_cylinder_shape(props);
+    if (type == "sdfgrid") return create_sdfgrid_shape(props);
     if (type == "shapegroup") return create_shapegroup_shape(props);
     if (type == "instance") return create_instance_shape(props);
     props.fail_here("unsupported {} plugin '{}' (supported: obj, ply, serialized, rectangle, cube, sphere, disk, cylinder, "
-                    "shapegroup, instance)",
+                    "sdfgrid, shapegroup, instance)",
                     props.category(), type);
 }
 

@@ -36,10 +36,25 @@ struct CameraRay {
     Point2f film_uv;  // [0, 1]^2 over the film; outside it in a filter's border
 };
 
+// Where a light tracer's paths land on the film (film position in pixels, value). The render loop
+// gives each light path its own and sums them in a fixed order (integrators/light_tracing.h).
+class FilmSplats {
+public:
+    virtual void splat(Point2f film_pos, const Color3& value) = 0;
+
+protected:
+    ~FilmSplats() = default;
+};
+
 class Integrator : public Object {
 public:
     // Radiance along a camera ray, one sample.
     virtual Color3 Li(const Scene& scene, Sampler& sampler, const CameraRay& camera) const = 0;
+    // Light tracers (ptracer) do not estimate along camera rays: they trace one path from the emitters
+    // per call and splat its connections to the sensor; the image is the splats' sum over the film
+    // divided by the samples per pixel. The render loop calls trace_from_emitters instead of Li then.
+    virtual bool traces_from_emitters() const { return false; }
+    virtual void trace_from_emitters(const Scene& scene, Sampler& sampler, FilmSplats& splats) const {}
     // The `moment` integrator also writes the per-sample variance image.
     virtual bool writes_variance() const { return false; }
     // Work before rendering (training, pre-passes), counted in the time budget. Default: none.

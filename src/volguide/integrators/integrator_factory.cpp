@@ -8,6 +8,7 @@
 #include "volguide/integrators/integrator_configuration.h"
 #include "volguide/integrators/moment.h"
 #include "volguide/integrators/path.h"
+#include "volguide/integrators/ptracer.h"
 #include "volguide/integrators/simple_volpath.h"
 #include "volguide/integrators/volpath/volpath.h"
 #include "volguide/scene/factories.h"
@@ -28,6 +29,7 @@ std::shared_ptr<Integrator> make_integrator(const Properties& props) {
     // media already weight chromatic extinction spectrally, so both map to one integrator.
     if (type == "volpath" || type == "volpathmis" || type == "prbvolpath") return std::make_shared<VolPathIntegrator>(props);
     if (type == "direct") return std::make_shared<DirectIntegrator>(props);
+    if (type == "ptracer") return std::make_shared<ParticleTracerIntegrator>(props);
     if (type == "simple_volpath") return std::make_shared<SimpleVolPathIntegrator>(props);
     if (type == "moment") return std::make_shared<MomentIntegrator>(props);
     if (type == "guided_volpath") return std::make_shared<GuidedVolPathIntegrator>(props);
@@ -41,7 +43,7 @@ std::shared_ptr<Integrator> make_integrator(const Properties& props) {
             "when configuring; `volguide --version` says whether it is built in)");
 #endif
     }
-    props.fail_here("unsupported integrator plugin '{}' (supported: path, prb, volpath, volpathmis, prbvolpath, direct, simple_volpath, guided_volpath, openpgl_volpath, moment)", type);
+    props.fail_here("unsupported integrator plugin '{}' (supported: path, prb, volpath, volpathmis, prbvolpath, direct, ptracer, simple_volpath, guided_volpath, openpgl_volpath, moment)", type);
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 #include "volguide/core/parallel.h"
 #include "volguide/integrators/camera_sample.h"
 #include "volguide/integrators/integrator.h"
+#include "volguide/integrators/light_tracing.h"
 #include "volguide/render/scene.h"
 #include "volguide/render/sensors/film_buffer.h"
 #include "volguide/render/sensors/rfilters.h"
@@ -341,7 +342,9 @@ RenderResult render(const Scene& scene, Integrator& integrator, const RenderOpti
         arena_execute(arena, [&] { integrator.end_pass(spp, seconds); });
         if (options.end_pass) options.end_pass(spp, seconds);
     };
-    RenderResult result = render_frame_impl(setup, radiance, pass_options, arena, job_start);
+    RenderResult result = integrator.traces_from_emitters()
+                              ? render_light_tracing(scene, integrator, pass_options, arena, job_start)
+                              : render_frame_impl(setup, radiance, pass_options, arena, job_start);
     result.stats.preprocess_seconds = preprocess_seconds;
     return result;
 }

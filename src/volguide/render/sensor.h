@@ -42,6 +42,18 @@ private:
 
 class Medium;
 
+// Where a sensor sees a world point (light tracing: Mitsuba 3's Sensor::sample_direction for a pinhole):
+// the film position in pixels, the direction from the point to the sensor's position p, the distance,
+// and the importance per unit solid angle at the sensor divided by dist² (zero when the sensor does not
+// see the point: outside the film, behind, or outside the clip range).
+struct SensorConnection {
+    Point3f p;
+    Vec3f d;
+    float dist = 0.f;
+    Point2f film_pos;
+    float weight = 0.f;
+};
+
 class Sensor : public Object {
 public:
     // The medium the camera sits in (nullptr = vacuum), from the sensor's `medium` reference.
@@ -52,6 +64,12 @@ public:
     // Whether sample_ray uses its aperture sample (thin lens): only then does a camera sample draw one,
     // so pinhole renders keep their random-number layout.
     virtual bool needs_aperture_sample() const { return false; }
+    // Light tracing (ptracer): whether connect/importance are implemented (pinhole cameras).
+    virtual bool supports_connections() const { return false; }
+    virtual SensorConnection connect(const Point3f& ref) const { return {}; }
+    // For a world direction d leaving the sensor's position: the importance per unit solid angle
+    // (the clip range ignored: for emitters at infinity) in `weight`, and the film position.
+    virtual SensorConnection importance(const Vec3f& d) const { return {}; }
     const Film& film() const { return *film_; }
     int sample_count() const { return sample_count_; }
     // The sampler's `seed` (default 0); the CLI's --seed overrides it.

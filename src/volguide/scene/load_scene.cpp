@@ -25,6 +25,9 @@ std::unique_ptr<Scene> make_scene(const Properties& root) {
     auto scene = std::make_unique<Scene>(root, integrator, bsdf);
     if (integrators.size() > 1) fail(integrators[1]->loc, "only one top-level <integrator> is supported");
     if (!integrator) fail(integrators[0]->loc, "<integrator> is not a integrator");
+    if (integrator->traces_from_emitters() && !scene->sensor().supports_connections())
+        fail(integrators[0]->loc,
+             "a light tracer (ptracer) connects its paths to a pinhole sensor: 'perspective' without an aperture");
     return scene;
 }
 

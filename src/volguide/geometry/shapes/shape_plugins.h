@@ -13,5 +13,6 @@ ObjectPtr create_cube_shape(const Properties& props);
 ObjectPtr create_sphere_shape(const Properties& props);
 ObjectPtr create_disk_shape(const Properties& props);
 ObjectPtr create_cylinder_shape(const Properties& props);
+ObjectPtr create_sdfgrid_shape(const Properties& props);
 
 }  // namespace volguide

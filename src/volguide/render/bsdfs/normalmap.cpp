@@ -1,7 +1,7 @@
 // `normalmap` (Mitsuba 3): a nested BSDF evaluated in a shading frame whose normal is read from the
-// `normalmap` texture (RGB in [0, 1] → 2·rgb − 1, in the surface's shading frame; usually a raw
-// bitmap) and whose tangent is dp_du made orthogonal to it (Gram-Schmidt). wi and wo are carried into
-// that frame; a direction on opposite sides of the two frames' surfaces gives zero, as Mitsuba.
+// `normalmap` texture (RGB in [0, 1] → 2·rgb − 1, relative to the surface's shading frame; usually a
+// raw bitmap) and whose tangent is the shading frame's own tangent made orthogonal to it, as Mitsuba
+// builds it. The flip of invalid normals, the frame change and the shadowing term: ShadingFrameBSDF.
 #include "volguide/core/frame.h"
 #include "volguide/render/bsdf.h"
 #include "volguide/render/bsdfs/bsdf_util.h"
@@ -13,7 +13,8 @@ namespace {
 
 class NormalMapBSDF final : public ShadingFrameBSDF {
   public:
-    explicit NormalMapBSDF(const Properties& props) : normals_(texture_param(props, "normalmap")) {
+    explicit NormalMapBSDF(const Properties& props)
+        : ShadingFrameBSDF(props), normals_(texture_param(props, "normalmap")) {
         auto children = props.children("bsdf");
         if (children.size() != 1)
             props.fail_here("normalmap: exactly one nested BSDF is required, got {}", children.size());
@@ -25,15 +26,11 @@ class NormalMapBSDF final : public ShadingFrameBSDF {
     std::string to_string() const override { return "NormalMap[]"; }
 
   private:
-    SurfaceInteraction perturbed(const SurfaceInteraction& si) const override {
+    Vec3f local_normal(const SurfaceInteraction& si) const override {
         const Color3 c = normals_->eval(si);
-        const Vec3f n_local(2.f * c.r - 1.f, 2.f * c.g - 1.f, 2.f * c.b - 1.f);
-        Frame f;
-        f.n = normalize(si.to_world(n_local));
-        f.s = normalize(si.dp_du - f.n * dot(f.n, si.dp_du));
-        f.t = cross(f.n, f.s);
-        return with_frame(si, f);
+        return Vec3f(2.f * c.r - 1.f, 2.f * c.g - 1.f, 2.f * c.b - 1.f);
     }
+    Vec3f local_tangent(const SurfaceInteraction&) const override { return Vec3f(1.f, 0.f, 0.f); }
 
     std::shared_ptr<Texture> normals_;
 };

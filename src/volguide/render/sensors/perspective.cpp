@@ -150,6 +150,44 @@ std::pair<Ray, Color3> PerspectiveCamera::sample_ray(Point2f film_uv, Point2f ap
     return {Ray(o + d * near_t, d, far_t - near_t), Color3(1.f)};
 }
 
+// Inverse of sample_ray's film mapping. Importance per unit solid angle W(w) = 1 / (A cos³θ), A the
+// film's area on the plane z = 1, so that splatting W L / pdf over W·H·spp light paths, each scaled by
+// 1/spp, gives each pixel its mean radiance (Mitsuba 3's perspective importance).
+SensorConnection PerspectiveCamera::project(const Vec3f& local) const {
+    SensorConnection c;
+    c.p = origin_;
+    if (!(local.z > 0.f)) return c;
+    const float px = local.x / local.z, py = local.y / local.z;
+    const float u = 0.5f * (1.f - px / tan_half_x_) - principal_point_offset_.x;
+    const float v = 0.5f * (1.f - py * aspect_ / tan_half_x_) - principal_point_offset_.y;
+    if (!(u >= 0.f && u < 1.f && v >= 0.f && v < 1.f)) return c;
+    c.film_pos = Point2f(u * float(film_->width()), v * float(film_->height()));
+    const float cos_theta = local.z / norm(local);
+    const float area = 4.f * tan_half_x_ * tan_half_x_ / aspect_;
+    c.weight = 1.f / (area * cos_theta * cos_theta * cos_theta);
+    return c;
+}
+
+SensorConnection PerspectiveCamera::connect(const Point3f& ref) const {
+    const Vec3f local = to_world_.inverse().apply_vector(ref - origin_);
+    if (!(local.z >= near_clip_ && local.z <= far_clip_)) {
+        SensorConnection none;
+        none.p = origin_;
+        return none;
+    }
+    SensorConnection c = project(local);
+    c.dist = norm(ref - origin_);
+    c.d = (origin_ - ref) / c.dist;
+    c.weight /= c.dist * c.dist;
+    return c;
+}
+
+SensorConnection PerspectiveCamera::importance(const Vec3f& d) const {
+    SensorConnection c = project(to_world_.inverse().apply_vector(d));
+    c.d = -d;
+    return c;
+}
+
 std::string PerspectiveCamera::to_string() const {
     return fmt::format("perspective[x_fov={:.4g}, near_clip={}, far_clip={}]", x_fov_, near_clip_, far_clip_);
 }

@@ -25,11 +25,17 @@ class PerspectiveCamera final : public ProjectiveCamera {
     std::pair<Ray, Color3> sample_ray(Point2f film_uv, Point2f aperture) const override;
     float x_fov() const { return x_fov_; }
     bool needs_aperture_sample() const override { return aperture_radius_ > 0.f; }
+    // Light tracing: the pinhole only (a thin lens has no connection here).
+    bool supports_connections() const override { return aperture_radius_ == 0.f; }
+    SensorConnection connect(const Point3f& ref) const override;
+    SensorConnection importance(const Vec3f& d) const override;
     std::string to_string() const override;
 
   private:
     void configure(const Properties* props);
     void read_lens(const Properties& props);
+    // The film position and importance of a camera-space direction `local` (z forward, unnormalised).
+    SensorConnection project(const Vec3f& local) const;
     float x_fov_;
     float tan_half_x_;                        // tan(x_fov / 2)
     Vec2f principal_point_offset_{0.f, 0.f};  // in film units (fractions of width and height)
