@@ -74,6 +74,10 @@ EXTRA_METHODS = {
     "guided_volpath rrs=ears": {"guided": {"rrs": "ears"}},
     "guided_volpath distance=incremental direction=product rrs=ears": {
         "guided": {"distance": "incremental", "direction": "product", "rrs": "ears"}},
+    # Issue 37: the per-cell choice among volpath, free flight, vsp, vsp_product and the bins by the
+    # cost model in counted ns (docs/theory.md §7.12), vsp where a cell has too few pilot decisions.
+    "guided_volpath distance=vsp direction=product rrs=grrs selection_distance_method=true": {
+        "guided": {"distance": "vsp", "direction": "product", "rrs": "grrs", "selection_distance_method": True}},
     # Heterogeneous media: the bins (docs/theory.md §7.7 H1) instead of guided tracking (H2, the default).
     "guided_volpath distance=incremental hetero_distance=bins": {
         "guided": {"distance": "incremental", "hetero_distance": "bins"}},
