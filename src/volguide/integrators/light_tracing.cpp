@@ -93,14 +93,6 @@ class SplatFilm {
     std::vector<double> sum_;
 };
 
-std::vector<PixelRect> light_tiles(int width, int height, int size) {
-    std::vector<PixelRect> tiles;
-    for (int y = 0; y < height; y += size)
-        for (int x = 0; x < width; x += size)
-            tiles.push_back({x, y, std::min(x + size, width), std::min(y + size, height)});
-    return tiles;
-}
-
 class LightTracingRenderer {
   public:
     LightTracingRenderer(const Scene& scene, const Integrator& integrator, const RenderOptions& options,
@@ -120,7 +112,7 @@ class LightTracingRenderer {
           deadline_(budget_ > 0 ? job_start + std::chrono::duration_cast<Clock::duration>(
                                                   std::chrono::duration<double>(budget_))
                                 : Clock::time_point::max()),
-          tiles_(light_tiles(width_, height_, options.tile_size)),
+          tiles_(make_tiles(width_, height_, 0, options.tile_size)),
           film_(scene.sensor().film().filter(), width_, height_) {}
 
     RenderResult run() {
@@ -130,7 +122,7 @@ class LightTracingRenderer {
         const auto render_start = Clock::now();
         int spp_done = 0;
         for (int pass = 0; target_ == 0 || spp_done < target_; ++pass) {
-            if (stopped(spp_done == 0, result.stats)) break;
+            if (stopped_before_pass(options_, deadline_, spp_done == 0, result.stats)) break;
             const int n = target_ > 0 ? std::min(pass_size(pass), target_ - spp_done) : pass_size(pass);
             if (!run_pass(spp_done, n, result.stats)) break;
             spp_done += n;
@@ -147,12 +139,6 @@ class LightTracingRenderer {
     }
 
   private:
-    bool stopped(bool first, RenderStats& stats) const {
-        if (options_.cancel && options_.cancel->load()) return stats.cancelled = true;
-        if (!first && Clock::now() >= deadline_) return stats.time_limited = true;
-        return false;
-    }
-
     void report(int spp_done) const {
         const double seconds = std::chrono::duration<double>(Clock::now() - job_start_).count();
         if (options_.progress) {

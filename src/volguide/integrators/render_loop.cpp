@@ -33,6 +33,21 @@ std::vector<int> pass_schedule(int spp) {
     return passes;
 }
 
+std::vector<PixelRect> make_tiles(int W, int H, int border, int T) {
+    std::vector<PixelRect> tiles;
+    for (int y = -border; y < H + border; y += T)
+        for (int x = -border; x < W + border; x += T)
+            tiles.push_back({x, y, std::min(x + T, W + border), std::min(y + T, H + border)});
+    return tiles;
+}
+
+bool stopped_before_pass(const RenderOptions& options, std::chrono::steady_clock::time_point deadline, bool first,
+                         RenderStats& stats) {
+    if (options.cancel && options.cancel->load()) return stats.cancelled = true;
+    if (!first && std::chrono::steady_clock::now() >= deadline) return stats.time_limited = true;
+    return false;
+}
+
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -98,15 +113,6 @@ std::unique_ptr<tbb::global_control> thread_limit(int requested) {
                                                  size_t(requested));
 }
 
-// The tiles covering the sampled grid (the film and `border` pixels around it), row by row.
-std::vector<PixelRect> make_tiles(int W, int H, int border, int T) {
-    std::vector<PixelRect> tiles;
-    for (int y = -border; y < H + border; y += T)
-        for (int x = -border; x < W + border; x += T)
-            tiles.push_back({x, y, std::min(x + T, W + border), std::min(y + T, H + border)});
-    return tiles;
-}
-
 // What the tiles of one pass leave: their buffers and non-finite samples (merged in tile order),
 // and whether the pass was stopped.
 struct PassOutput {
@@ -151,7 +157,7 @@ class FrameRenderer {
         const auto render_start = Clock::now();
         int spp_done = 0;
         for (int pass = 0; target_ == 0 || spp_done < target_; ++pass) {
-            if (stopped_before_pass(spp_done == 0, stats)) break;
+            if (stopped_before_pass(options_, deadline_, spp_done == 0, stats)) break;
             const int n = target_ > 0 ? std::min(pass_size(pass), target_ - spp_done) : pass_size(pass);
             if (!run_pass(spp_done, n, stats)) break;
             spp_done += n;
@@ -172,19 +178,6 @@ class FrameRenderer {
   private:
     uint64_t grid_samples(int n) const {
         return uint64_t(grid_.width + 2 * grid_.border) * uint64_t(grid_.height + 2 * grid_.border) * uint64_t(n);
-    }
-
-    // Cancelled, or out of time (the first pass always runs).
-    bool stopped_before_pass(bool first, RenderStats& stats) const {
-        if (options_.cancel && options_.cancel->load()) {
-            stats.cancelled = true;
-            return true;
-        }
-        if (!first && Clock::now() >= deadline_) {
-            stats.time_limited = true;
-            return true;
-        }
-        return false;
     }
 
     // Samples [spp_done, spp_done + n) of every pixel, merged into the film when the pass completes;

@@ -6,6 +6,7 @@
 // Sampler(seed, pixel, sample index) and tiles are merged in a fixed order: with a sample count the
 // image is bit-identical for any number of threads.
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -14,6 +15,7 @@
 #include "volguide/core/progress.h"
 #include "volguide/core/sampler.h"
 #include "volguide/render/sensor.h"
+#include "volguide/render/sensors/film_buffer.h"
 
 namespace volguide {
 
@@ -77,6 +79,13 @@ struct RenderResult {
 int pass_size(int index);
 // The passes of a render with `spp` samples per pixel (the last one truncated).
 std::vector<int> pass_schedule(int spp);
+// The tiles (T x T) covering a W x H grid and `border` pixels around it, row by row (the camera loop's and
+// the light-tracing loop's).
+std::vector<PixelRect> make_tiles(int W, int H, int border, int T);
+// Whether a render stops before its next pass: cancelled, or past `deadline` (the first pass always
+// runs); sets the reason in `stats`.
+bool stopped_before_pass(const RenderOptions& options, std::chrono::steady_clock::time_point deadline, bool first,
+                         RenderStats& stats);
 
 // The integrator's pre-pass alone, as render() runs it (seed, time budget, threads, progress,
 // cancellation from `options`): what `volguide train` saves. Returns its seconds.
