@@ -11,6 +11,7 @@
 #include <cstdio>
 
 #include "support/emitter_test_util.h"
+#include "support/running_stats.h"
 #include "volguide/core/frame.h"
 #include "volguide/core/sampler.h"
 #include "volguide/core/transform.h"
@@ -20,20 +21,6 @@ using namespace volguide;
 using namespace volguide::test;
 
 namespace {
-
-struct ProjectorStats {
-    double sum[3] = {0, 0, 0}, sum2[3] = {0, 0, 0};
-    uint64_t n = 0;
-    void add(const Color3& c) {
-        for (int i = 0; i < 3; ++i) sum[i] += c[i], sum2[i] += double(c[i]) * c[i];
-        ++n;
-    }
-    double mean(int i) const { return sum[i] / double(n); }
-    double se(int i) const {
-        const double m = mean(i);
-        return std::sqrt(std::max(0.0, sum2[i] / double(n) - m * m) / double(n));
-    }
-};
 
 // A w x h image whose texel (x, y) is (x + 1, y + 1, 1 + x + w y), nearest lookup, clamped.
 std::shared_ptr<Texture> projector_test_image(int w, int h) {
@@ -45,7 +32,7 @@ std::shared_ptr<Texture> projector_test_image(int w, int h) {
 
 void projector_expect_mean_is_power(const Emitter& e, double rel_tol) {
     Sampler s(7, 0, 0);
-    ProjectorStats st;
+    ColorStats st;
     for (int i = 0; i < 200000; ++i) st.add(e.sample_ray(s.next_2d(), s.next_2d()).weight);
     const Color3 p = e.power();
     for (int c = 0; c < 3; ++c)
@@ -58,7 +45,7 @@ void projector_expect_reciprocity(const Emitter& e, const Point3f& c, const Vec3
     const Vec3f n = normalize(n_in);
     const Frame frame(n);
     Sampler s(11, 0, 0);
-    ProjectorStats flux, irr;
+    ColorStats flux, irr;
     uint64_t hits = 0;
     for (int i = 0; i < 2000000; ++i) {
         const RaySample rs = e.sample_ray(s.next_2d(), s.next_2d());

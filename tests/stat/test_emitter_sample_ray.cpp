@@ -13,6 +13,7 @@
 #include "support/emitter_test_util.h"
 #include "support/cli.h"
 #include "support/mock_square.h"
+#include "support/running_stats.h"
 #include "volguide/core/frame.h"
 #include "volguide/core/transform.h"
 #include "volguide/render/emitters/emitter_common.h"
@@ -28,21 +29,6 @@ namespace {
 constexpr uint64_t MeanSamples = 200000;
 constexpr int Chi2Tests = 10;  // chi-square tests in this file, for the Sidak correction
 const BBox3f Bounds({-1.f, -1.f, -1.f}, {1.f, 2.f, 1.f});
-
-// Running mean and standard error of a colour, per channel.
-struct ColorStats {
-    double sum[3] = {0, 0, 0}, sum2[3] = {0, 0, 0};
-    uint64_t n = 0;
-    void add(const Color3& c) {
-        for (int i = 0; i < 3; ++i) sum[i] += c[i], sum2[i] += double(c[i]) * c[i];
-        ++n;
-    }
-    double mean(int i) const { return sum[i] / double(n); }
-    double se(int i) const {
-        const double m = mean(i);
-        return std::sqrt(std::max(0.0, sum2[i] / double(n) - m * m) / double(n));
-    }
-};
 
 ChiSquareOptions chi2_options() {
     ChiSquareOptions opt;
