@@ -90,6 +90,14 @@ const GuidingField& demo_field() {
     return f;
 }
 
+// The demo scene's fog: the first shape's interior medium, else the sensor's (null: none).
+const Medium* demo_medium() {
+    const Scene& scene = demo_scene();
+    for (const auto& shape : scene.shapes())
+        if (const Medium* m = shape->interior_medium()) return m;
+    return scene.sensor().medium();
+}
+
 // The demo's photon positions split into ~2000 leaves (a benchmark scene's field; its tree fits in
 // the L2 cache) or ~50000 (a 50 M-photon field's size; it does not).
 SpatialTree make_walk_tree(int leaves) {
@@ -353,10 +361,7 @@ MediumInteraction bench_vertex_at(const Ray& ray, const Medium& medium) {
 void BM_SegmentDecision(benchmark::State& state) {
     const Scene& scene = demo_scene();
     const GuidingField& field = demo_field();
-    const Medium* medium = nullptr;
-    for (const auto& shape : scene.shapes())
-        if (!medium) medium = shape->interior_medium();
-    if (!medium) medium = scene.sensor().medium();
+    const Medium* medium = demo_medium();
     if (!medium || !medium->is_homogeneous()) {
         state.SkipWithError("the demo scene has no homogeneous medium");
         return;
@@ -472,10 +477,7 @@ void BM_SegmentDecisionEquiangular(benchmark::State& state) {
 void BM_RouletteEstimate(benchmark::State& state) {
     const Scene& scene = demo_scene();
     const GuidingField& field = demo_field();
-    const Medium* medium = nullptr;
-    for (const auto& shape : scene.shapes())
-        if (!medium) medium = shape->interior_medium();
-    if (!medium) medium = scene.sensor().medium();
+    const Medium* medium = demo_medium();
     if (!medium) {
         state.SkipWithError("the demo scene has no medium");
         return;
@@ -514,10 +516,7 @@ void BM_RouletteEstimate(benchmark::State& state) {
 void BM_GuidedVertex(benchmark::State& state) {
     const Scene& scene = demo_scene();
     const GuidingField& field = demo_field();
-    const Medium* medium = nullptr;
-    for (const auto& shape : scene.shapes())
-        if (!medium) medium = shape->interior_medium();
-    if (!medium) medium = scene.sensor().medium();
+    const Medium* medium = demo_medium();
     if (!medium) {
         state.SkipWithError("the demo scene has no medium");
         return;
