@@ -387,3 +387,105 @@ TEST(SpatialTree, RayCursorYieldsTheTraversalSequence) {
     }
     EXPECT_GT(total, 2000);  // the rays cross many leaves (2373 measured)
 }
+
+namespace {
+
+// A complete tree of midpoint splits cycling x, y, z to `depth` (its splits fall on start-grid cell
+// boundaries when the cells per axis are powers of two).
+SpatialTree spatial_tree_midpoint(const BBox3f& bounds, int depth) {
+    std::vector<SpatialTree::Node> nodes(1);
+    struct Item {
+        uint32_t node;
+        BBox3f box;
+        int depth;
+    };
+    std::vector<Item> todo{{0u, bounds, 0}};
+    uint32_t leaves = 0;
+    for (size_t k = 0; k < todo.size(); ++k) {
+        const Item it = todo[k];
+        if (it.depth == depth) {
+            nodes[it.node] = SpatialTree::Node{0.f, leaves++, 3};
+            continue;
+        }
+        const int a = it.depth % 3;
+        const float split = 0.5f * (it.box.lo[a] + it.box.hi[a]);
+        const uint32_t child = uint32_t(nodes.size());
+        nodes[it.node] = SpatialTree::Node{split, child, uint8_t(a)};
+        nodes.resize(nodes.size() + 2);
+        BBox3f lo = it.box, hi = it.box;
+        lo.hi[a] = split;
+        hi.lo[a] = split;
+        todo.push_back({child, lo, it.depth + 1});
+        todo.push_back({child + 1, hi, it.depth + 1});
+    }
+    return SpatialTree::from_nodes(bounds, std::move(nodes));
+}
+
+// Points where the start grid could go wrong: on every leaf face and a few floats to either side,
+// on the start grid's cell boundaries and beside them, on the bounds' faces, and random ones.
+std::vector<Point3f> spatial_tree_probe_points(const SpatialTree& tree) {
+    std::vector<Point3f> out;
+    const BBox3f b = tree.bounds();
+    auto near = [&](Point3f p, int axis, float v) {
+        for (int step = -2; step <= 2; ++step) {
+            float x = v;
+            for (int k = 0; k < std::abs(step); ++k) x = std::nextafter(x, step < 0 ? -Infinity : Infinity);
+            p[axis] = x;
+            out.push_back(p);
+        }
+    };
+    for (int l = 0; l < tree.leaf_count(); l += std::max(1, tree.leaf_count() / 400)) {
+        const BBox3f& box = tree.leaf_bounds(l);
+        for (int a = 0; a < 3; ++a) {
+            near(box.center(), a, box.lo[a]);
+            near(box.center(), a, box.hi[a]);
+        }
+        out.push_back(box.lo);
+        out.push_back(box.hi);
+    }
+    const auto res = tree.start_grid_resolution();
+    for (int a = 0; a < 3; ++a)
+        for (int i = 0; i <= res[size_t(a)]; ++i) {
+            Sampler s(3, uint32_t(a), uint64_t(i));
+            const Point3f p = b.lo + Vec3f(s.next_1d() * b.extents().x, s.next_1d() * b.extents().y,
+                                           s.next_1d() * b.extents().z);
+            near(p, a, b.lo[a] + b.extents()[a] * float(i) / float(res[size_t(a)]));
+        }
+    for (int i = 0; i < 20000; ++i) {
+        Sampler s(4, 0, uint64_t(i));
+        out.push_back(b.lo + Vec3f(s.next_1d() * b.extents().x, s.next_1d() * b.extents().y,
+                                   s.next_1d() * b.extents().z));
+    }
+    return out;
+}
+
+}  // namespace
+
+// leaf_at starts its descent from the start grid's node: exactly the root descent's leaf, for
+// photon-like trees of any size, a tree whose splits lie on the grid's cell boundaries, a flat one,
+// and points on faces, on cell boundaries and outside.
+TEST(SpatialTree, StartGridLookupIsTheRootDescent) {
+    std::vector<SpatialTree> trees;
+    for (int max_samples : {4000, 200, 20, 2}) {
+        SpatialTreeSettings settings;
+        settings.max_samples = max_samples;
+        trees.push_back(SpatialTree::build(kBounds, points(20000, 11), settings));
+    }
+    trees.push_back(spatial_tree_midpoint(BBox3f(Point3f(0.f), Point3f(1.f)), 12));
+    trees.push_back(spatial_tree_midpoint(kBounds, 9));
+    std::vector<Point3f> flat = points(5000, 12);
+    for (Point3f& p : flat) p.z = 0.5f;
+    trees.push_back(SpatialTree::build(BBox3f(Point3f(-2.f, -1.f, 0.5f), Point3f(2.f, 3.f, 0.5f)), flat));
+    for (const SpatialTree& tree : trees) {
+        SCOPED_TRACE(testing::Message() << tree.leaf_count() << " leaves");
+        const auto res = tree.start_grid_resolution();
+        if (tree.leaf_count() > 1) {
+            EXPECT_GT(res[0] * res[1] * res[2], 1);
+        }
+        for (const Point3f& p : spatial_tree_probe_points(tree)) {
+            ASSERT_EQ(tree.leaf_at(p), tree.leaf_at_from_root(p)) << p.x << " " << p.y << " " << p.z;
+        }
+        EXPECT_EQ(tree.leaf_at(tree.bounds().hi + Vec3f(1e-3f)), -1);
+        EXPECT_EQ(tree.leaf_at(Point3f(std::nanf(""), 0.f, 0.f)), -1);
+    }
+}
