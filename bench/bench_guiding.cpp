@@ -45,8 +45,8 @@
 //    do. SizedDistance/{0,1,2}/L: one distance decision per segment from a vertex of known leaf (as
 //    SegmentDecision): vsp, vsp_product, the incremental bins (their cost grows with the leaves crossed:
 //    `lookups`). SizedDirection/L: one direction decision (direction="product") with its leaf lookup
-//    (init, descent, leaf VMM x phase product, one sample; `descents` per vertex). SizedLeafAt/{0,1}/L:
-//    the descent alone, from the root (0) or from leaf_at's start grid (1). Counters `depth`, `valid` (fraction of fitted leaves), `lobes` (per valid leaf).
+//    (init, descent, leaf VMM x phase product, one sample; `descents` per vertex). SizedLeafAt/L: the
+//    descent alone. Counters `depth`, `valid` (fraction of fitted leaves), `lobes` (per valid leaf).
 //   cmake --build build --target bench_guiding && build/bench_guiding
 #include <benchmark/benchmark.h>
 
@@ -740,21 +740,15 @@ void BM_SizedDirection(benchmark::State& state) {
     state.counters["guided"] = double(guided) / n;
 }
 
-// The leaf lookup alone at the sized queries' points: the tree descent the direction decision makes
-// when no leaf was handed on; range(0) = 0 the descent from the root (leaf_at_from_root), 1 leaf_at
-// (from its start grid; the same leaves); range(1) the leaf count asked for.
+// The leaf lookup alone (SpatialTree::leaf_at) at the sized queries' points: the tree descent the
+// direction decision makes when no leaf was handed on; range(0) the leaf count asked for.
 void BM_SizedLeafAt(benchmark::State& state) {
-    const int leaves = int(state.range(1));
+    const int leaves = int(state.range(0));
     const SpatialTree& tree = sized_field(leaves).tree();
     const std::vector<SizedQuery>& queries = sized_queries(leaves);
-    const bool grid = state.range(0) == 1;
     uint64_t i = 0;
-    for (auto _ : state) {
-        const Point3f& p = queries[i++ & (kSizedQueries - 1)].p;
-        benchmark::DoNotOptimize(grid ? tree.leaf_at(p) : tree.leaf_at_from_root(p));
-    }
+    for (auto _ : state) benchmark::DoNotOptimize(tree.leaf_at(queries[i++ & (kSizedQueries - 1)].p));
     sized_field_counters(state, sized_field(leaves));
-    state.SetLabel(grid ? "start grid" : "from the root");
 }
 
 // An 8-lobe leaf with concentrations between 1 and 50 in random directions.
@@ -820,7 +814,7 @@ BENCHMARK(BM_RouletteEstimate);
 BENCHMARK(BM_GuidedVertex)->Arg(0)->Arg(1);
 BENCHMARK(BM_SizedDistance)->ArgsProduct({{0, 1, 2}, {1000, 4000, 16000, 64000}});
 BENCHMARK(BM_SizedDirection)->Arg(1000)->Arg(4000)->Arg(16000)->Arg(64000);
-BENCHMARK(BM_SizedLeafAt)->ArgsProduct({{0, 1}, {1000, 4000, 16000, 64000}});
+BENCHMARK(BM_SizedLeafAt)->Arg(1000)->Arg(4000)->Arg(16000)->Arg(64000);
 BENCHMARK(BM_LeafWalk<true>)->Name("BM_LeafWalkCursor")->Arg(2000)->Arg(50000);
 BENCHMARK(BM_LeafWalk<false>)->Name("BM_LeafWalkTraverse")->Arg(2000)->Arg(50000);
 BENCHMARK(BM_PhotonPass)->Unit(benchmark::kMillisecond)->UseRealTime();

@@ -261,91 +261,7 @@ bool SpatialTree::RayCursor::next(int& leaf, float& t_enter, float& t_exit) {
 
 int SpatialTree::leaf_at(const Point3f& p) const {
     if (!bounds_.contains(p)) return -1;
-    const uint32_t start = grid_[start_cell(p)];
-    if (start & kGridLeaf) return int(start & ~kGridLeaf);
-    return leaf_below(start, p);
-}
-
-uint32_t SpatialTree::start_cell(const Point3f& p) const {
-    // p is inside the bounds: its cell on each axis, the upper faces' points in the last cell.
-    uint32_t index = 0;
-    for (int a = 2; a >= 0; --a) {
-        const int i = std::min(int((p[a] - bounds_.lo[a]) * grid_scale_[a]), grid_res_[a] - 1);
-        index = index * uint32_t(grid_res_[a]) + uint32_t(i);
-    }
-    return index;
-}
-
-namespace {
-
-// Cells per axis of a start grid of about `cells` cells over `extents` (one cell across a flat axis).
-std::array<int, 3> start_grid_cells(const Vec3f& extents, double cells) {
-    double volume = 1.0;
-    int dims = 0;
-    for (int a = 0; a < 3; ++a)
-        if (extents[a] > 0.f) volume *= double(extents[a]), ++dims;
-    std::array<int, 3> res{1, 1, 1};
-    if (dims == 0) return res;
-    const double per_unit = std::pow(cells / volume, 1.0 / double(dims));
-    // At most 1024 cells on an axis: the cell index's rounding stays far below the build's margin.
-    for (int a = 0; a < 3; ++a)
-        if (extents[a] > 0.f) res[size_t(a)] = int(std::clamp(std::round(double(extents[a]) * per_unit), 1.0, 1024.0));
-    return res;
-}
-
-}  // namespace
-
-void SpatialTree::build_start_grid() {
-    const size_t leaves = leaf_bounds_.size();
-    grid_res_ = start_grid_cells(bounds_.extents(),
-                                 std::min(kStartCellsPerLeaf * double(leaves), double(kStartGridMaxCells)));
-    for (int a = 0; a < 3; ++a) {
-        const float e = bounds_.extents()[a];
-        grid_scale_[a] = grid_res_[size_t(a)] > 1 ? float(grid_res_[size_t(a)]) / e : 0.f;
-    }
-    if (nodes_.size() >= kGridLeaf) throw std::invalid_argument("spatial tree: too many nodes");
-    // A cell's extent on axis a as the lookup sorts points into it (the float scale's cells), grown
-    // by kMargin cells: the rounding of (p - lo) * scale is below 1e-4 cells at 1024 cells per axis.
-    constexpr double kMargin = 0.01;
-    auto cell_range = [&](int a, int i, double& lo, double& hi) {
-        const double scale = double(grid_scale_[a]);
-        if (scale == 0.0) {  // one cell: the whole axis
-            lo = -double(Infinity);
-            hi = double(Infinity);
-            return;
-        }
-        lo = i == 0 ? -double(Infinity) : double(bounds_.lo[a]) + (double(i) - kMargin) / scale;
-        hi = i == grid_res_[size_t(a)] - 1 ? double(Infinity) : double(bounds_.lo[a]) + (double(i) + 1.0 + kMargin) / scale;
-    };
-    grid_.assign(size_t(grid_res_[0]) * size_t(grid_res_[1]) * size_t(grid_res_[2]), 0u);
-    for (int iz = 0; iz < grid_res_[2]; ++iz)
-        for (int iy = 0; iy < grid_res_[1]; ++iy)
-            for (int ix = 0; ix < grid_res_[0]; ++ix) {
-                double lo[3], hi[3];
-                cell_range(0, ix, lo[0], hi[0]);
-                cell_range(1, iy, lo[1], hi[1]);
-                cell_range(2, iz, lo[2], hi[2]);
-                const uint32_t node = start_node(lo, hi);
-                const size_t cell = (size_t(iz) * size_t(grid_res_[1]) + size_t(iy)) * size_t(grid_res_[0]) + size_t(ix);
-                grid_[cell] = nodes_[node].is_leaf() ? kGridLeaf | nodes_[node].child : node;
-            }
-}
-
-uint32_t SpatialTree::start_node(const double lo[3], const double hi[3]) const {
-    // Down from the root while the box lies on one side of the split (points on the plane go up,
-    // as in leaf_below).
-    uint32_t node = 0;
-    while (!nodes_[node].is_leaf()) {
-        const Node& n = nodes_[node];
-        const double split = double(n.split);
-        if (hi[n.axis] < split)
-            node = n.child;
-        else if (lo[n.axis] >= split)
-            node = n.child + 1;
-        else
-            break;
-    }
-    return node;
+    return leaf_below(0u, p);
 }
 
 void SpatialTree::compute_leaf_bounds() {
@@ -400,7 +316,6 @@ void SpatialTree::compute_leaf_bounds() {
             ropes_[leaf * 6 + size_t(face)] = node;
         }
     }
-    build_start_grid();
 }
 
 SpatialTree SpatialTree::from_nodes(const BBox3f& bounds, std::vector<Node> nodes) {

@@ -14,7 +14,6 @@
 // Queries: the leaf containing a point, and the leaves a ray segment crosses in order with their
 // entry/exit distances (the guided distance sampler's bins, docs/theory.md §7.3). Building is sequential
 // and order-preserving, so the tree is a pure function of the samples in their given order.
-#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -64,13 +63,7 @@ public:
     std::span<const uint32_t> leaf_samples(int leaf) const;
 
     // The leaf containing p, or -1 outside the bounds. Points on a split plane go to the upper side.
-    // The descent starts from the start grid's node for p (below), so its cost hardly grows with the
-    // tree's depth; the answer is the root's descent's.
     int leaf_at(const Point3f& p) const;
-    // The descent from the root, which leaf_at shortcuts (for tests and benchmarks).
-    int leaf_at_from_root(const Point3f& p) const {
-        return bounds_.contains(p) ? leaf_below(0u, p) : -1;
-    }
     // The leaf below `node` holding p (leaf_at's descent from a node whose region holds p).
     int leaf_below(uint32_t node, const Point3f& p) const {
         while (!nodes_[node].is_leaf()) {
@@ -141,34 +134,13 @@ public:
     // when the nodes do not form a valid tree.
     static SpatialTree from_nodes(const BBox3f& bounds, std::vector<Node> nodes);
 
-    // The start grid's cells per axis (docs: leaf_at).
-    const std::array<int, 3>& start_grid_resolution() const { return grid_res_; }
-
 private:
-    void compute_leaf_bounds();  // and the ropes, and the start grid
-    // The start grid: a uniform grid over the bounds of about kStartCellsPerLeaf cells per leaf
-    // (capped), each holding the deepest node whose region holds the cell (grown by a margin far
-    // above the rounding of the cell index): any point that leaf_at sorts into the cell takes the
-    // root's path to that node, so the descent from it ends in the root's leaf. A cell inside one
-    // leaf holds the leaf index itself, tagged with kGridLeaf: no node is read. At 64 k leaves the
-    // root's descent is ~17 dependent reads of nodes mostly out of the cache; from the grid, one
-    // read and a few levels where the light made the leaves finer than the cells.
-    void build_start_grid();
-    uint32_t start_cell(const Point3f& p) const;
-    // The deepest node whose region holds the box [lo, hi] (the root's descent while the box is on
-    // one side of each split).
-    uint32_t start_node(const double lo[3], const double hi[3]) const;
-    static constexpr uint32_t kGridLeaf = 0x80000000u;
-    static constexpr double kStartCellsPerLeaf = 2.0;
-    static constexpr size_t kStartGridMaxCells = size_t(1) << 22;
+    void compute_leaf_bounds();  // and the ropes
 
     BBox3f bounds_;
     std::vector<Node> nodes_;
     std::vector<BBox3f> leaf_bounds_;
     std::vector<uint32_t> ropes_;  // 6 per leaf (compute_leaf_bounds)
-    std::vector<uint32_t> grid_;   // start grid (build_start_grid): a node, or kGridLeaf | leaf
-    std::array<int, 3> grid_res_{1, 1, 1};
-    Vec3f grid_scale_{0.f, 0.f, 0.f};  // cells per unit length on each axis
     std::vector<uint32_t> sample_index_;  // samples grouped by leaf
     std::vector<uint32_t> leaf_offset_;   // leaf i: sample_index_[leaf_offset_[i] .. leaf_offset_[i + 1])
     int depth_ = 0;
