@@ -38,11 +38,22 @@
 //    the demo's photon positions split to ~2000 leaves (a benchmark scene's field) or ~50000, by the rope
 //    cursor the distance sampler uses and by the stack traversal; time per ray, `time_per_leaf`
 //    counter (leaves/ray is the `leaves` counter; both walks yield the same leaves).
+//  - Sized{Distance,Direction,LeafAt} (issue 39 deliverable 2): a guided decision's cost against the
+//    field's size, on demo-photon fields (4 M photons) of about 1 k, 4 k, 16 k and 64 k leaves (the last
+//    argument; `leaves` is the count reached), each queried at 2^18 random points of the fog with random
+//    directions, so that at 64 k leaves a query reads its leaf from memory as a render's scattered vertices
+//    do. SizedDistance/{0,1,2}/L: one distance decision per segment from a vertex of known leaf (as
+//    SegmentDecision): vsp, vsp_product, the incremental bins (their cost grows with the leaves crossed:
+//    `lookups`). SizedDirection/L: one direction decision (direction="product") with its leaf lookup
+//    (init, descent, leaf VMM x phase product, one sample; `descents` per vertex). SizedLeafAt/L: the
+//    descent alone. Counters `depth`, `valid` (fraction of fitted leaves), `lobes` (per valid leaf).
 //   cmake --build build --target bench_guiding && build/bench_guiding
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <memory>
 #include <stdexcept>
 #include <vector>
 
@@ -555,6 +566,191 @@ void BM_GuidedVertex(benchmark::State& state) {
                              : "init, estimate, scatter probability");
 }
 
+// Issue 39 deliverable 2: the guided decisions' cost against the field's size. Fields of about
+// 1 k, 4 k, 16 k and 64 k leaves over the demo's photons (kSizedPhotons, so that even the smallest
+// leaves hold enough samples to be fitted), leaf_samples found by bisection on the tree alone.
+constexpr int64_t kSizedPhotons = 4000000;
+constexpr size_t kSizedQueries = size_t(1) << 18;  // far more leaves than the caches hold at 64 k
+
+const std::vector<RadianceSample>& sized_photons() {
+    static const std::vector<RadianceSample> samples = [] {
+        PhotonPassSettings ps;
+        ps.photons = kSizedPhotons;
+        return trace_photons(demo_scene(), ps, PreprocessContext{}).samples;
+    }();
+    return samples;
+}
+
+// The least leaf_samples whose tree has at most `leaves` leaves (a tree of m samples per leaf has
+// between N / m and 2 N / m leaves, and fewer for larger m).
+int sized_leaf_samples(std::span<const Point3f> points, const BBox3f& bounds, int leaves) {
+    int lo = std::max(1, int(points.size()) / leaves), hi = 2 * lo + 1;
+    while (lo < hi) {
+        SpatialTreeSettings settings;
+        settings.max_samples = lo + (hi - lo) / 2;
+        if (SpatialTree::build(bounds, points, settings).leaf_count() <= leaves)
+            hi = settings.max_samples;
+        else
+            lo = settings.max_samples + 1;
+    }
+    return lo;
+}
+
+// One field per leaf count, built once (default settings but leaf_samples and min_samples).
+const GuidingField& sized_field(int leaves) {
+    static std::map<int, std::unique_ptr<GuidingField>> fields;
+    auto& f = fields[leaves];
+    if (!f) {
+        const auto& samples = sized_photons();
+        std::vector<Point3f> points;
+        for (const RadianceSample& r : samples) points.push_back(r.position);
+        GuidingFieldSettings settings;
+        settings.tree.max_samples = sized_leaf_samples(points, guiding_bounds(demo_scene()), leaves);
+        // At 64 k leaves a leaf holds a few dozen of the photons' samples: fitted all the same, so
+        // that every size guides (nearly) every leaf and the kernels compare the same decisions.
+        settings.min_samples = 16;
+        f = std::make_unique<GuidingField>(GuidingField::build(guiding_bounds(demo_scene()), samples, settings));
+    }
+    return *f;
+}
+
+// The guide of a sized field for one distance method (direction="product"), built once: a 64 k-leaf
+// guide's tables take long to prepare, and Google Benchmark calls a kernel several times.
+const WalkGuide& sized_guide(int leaves, DistanceGuiding distance) {
+    static std::map<std::pair<int, int>, std::unique_ptr<WalkGuide>> guides;
+    auto& g = guides[{leaves, int(distance)}];
+    if (!g) {
+        WalkGuideSettings settings;
+        settings.distance = distance;
+        settings.direction = DirectionGuiding::Product;
+        settings.vsp_equiangular = 0.f;  // the demo's lights are directional and an environment
+        g = std::make_unique<WalkGuide>(demo_scene(), sized_field(leaves), settings);
+    }
+    return *g;
+}
+
+// Random points of the demo's fog (the field's bounds are the medium's) and random directions,
+// with the point's leaf and the distance to the bounds along the direction: what a render spreads
+// over the field. Many more than the caches hold at 64 k leaves, so that each query reads its leaf
+// from memory as a render's random vertices do.
+struct SizedQuery {
+    Point3f p;
+    Vec3f d;
+    float end;
+    int leaf;
+};
+const std::vector<SizedQuery>& sized_queries(int leaves) {
+    static std::map<int, std::vector<SizedQuery>> queries;
+    std::vector<SizedQuery>& q = queries[leaves];
+    if (q.empty()) {
+        const GuidingField& field = sized_field(leaves);
+        const BBox3f b = field.tree().bounds();
+        const Vec3f e = b.extents();
+        for (size_t i = 0; i < kSizedQueries; ++i) {
+            Sampler s(11, 0, uint64_t(i));
+            const Ray ray(b.lo + Vec3f(e.x * s.next_1d(), e.y * s.next_1d(), e.z * s.next_1d()),
+                          warp::square_to_uniform_sphere(s.next_2d()));
+            float t0, t1;
+            b.ray_intersect(ray, t0, t1);
+            q.push_back({ray.o, ray.d, t1, field.tree().leaf_at(ray.o)});
+        }
+    }
+    return q;
+}
+
+void sized_field_counters(benchmark::State& state, const GuidingField& field) {
+    size_t valid = 0, lobes = 0;
+    for (const GuidingLeaf& l : field.leaves())
+        if (l.valid) ++valid, lobes += size_t(l.vmm.size());
+    state.counters["leaves"] = double(field.tree().leaf_count());
+    state.counters["valid"] = double(valid) / double(field.tree().leaf_count());
+    state.counters["lobes"] = valid ? double(lobes) / double(valid) : 0.0;
+    state.counters["depth"] = double(field.tree().depth());
+}
+
+// One distance decision per segment as the walk makes it from a medium vertex whose leaf the
+// direction decision there found (the GuidedVertex's leaf known; its init is timed with the
+// decision), along a random direction to the field's bounds: range(0) = 0 distance="vsp" (one table
+// lookup), 1 distance="vsp_product" (vsp plus the candidates' point lookups when it scatters), 2
+// distance="incremental" (the bins: one per leaf crossed, so its cost grows with the field);
+// range(1) the leaf count asked for. Counters: `lookups` per decision (descents and table reads
+// beyond free flight's: for the bins, the leaves crossed), `scattered`.
+void BM_SizedDistance(benchmark::State& state) {
+    const DistanceGuiding kinds[] = {DistanceGuiding::Vsp, DistanceGuiding::VspProduct, DistanceGuiding::Incremental};
+    const int leaves = int(state.range(1));
+    const WalkGuide& guide = sized_guide(leaves, kinds[state.range(0)]);
+    const std::vector<SizedQuery>& queries = sized_queries(leaves);
+    const Medium* medium = demo_medium();
+    if (!medium || !medium->is_homogeneous()) {
+        state.SkipWithError("the demo scene has no homogeneous medium");
+        return;
+    }
+    DistanceScratch scratch;
+    GuidedVertex origin(guide);
+    uint64_t i = 0, scattered = 0, lookups = 0;
+    for (auto _ : state) {
+        const SizedQuery& q = queries[i & (kSizedQueries - 1)];
+        const Ray ray(q.p, q.d);
+        origin.init(bench_vertex_at(ray, *medium), VertexLeaf{q.leaf});
+        Sampler rng(3, 0, i++);
+        VertexLeaf vertex_leaf;
+        const FreeFlightSample f =
+            guide.sample_distance(*medium, ray, q.end, Color3(1.f), rng, &origin, vertex_leaf, scratch);
+        scattered += f.scattered;
+        lookups += scratch.decision.lookups;
+        benchmark::DoNotOptimize(f);
+    }
+    sized_field_counters(state, sized_field(leaves));
+    state.counters["scattered"] = double(scattered) / double(std::max<uint64_t>(i, 1));
+    state.counters["lookups"] = double(lookups) / double(std::max<uint64_t>(i, 1));
+    const char* labels[] = {"vsp", "vsp_product", "incremental bins"};
+    state.SetLabel(labels[state.range(0)]);
+}
+
+// One direction decision (direction="product") at a medium vertex as the walk makes it: the vertex
+// begun without a handed leaf, its leaf found (a descent unless the last vertex's leaf holds the
+// point), the mixture of the leaf VMM x phase product built, one direction sampled; range(0) the
+// leaf count asked for. Counters: `descents` per decision, `guided` (the fraction of vertices whose
+// mixture is guided).
+void BM_SizedDirection(benchmark::State& state) {
+    const int leaves = int(state.range(0));
+    const WalkGuide& guide = sized_guide(leaves, DistanceGuiding::Vsp);
+    const std::vector<SizedQuery>& queries = sized_queries(leaves);
+    const Medium* medium = demo_medium();
+    if (!medium) {
+        state.SkipWithError("the demo scene has no medium");
+        return;
+    }
+    const WalkGuideStats before = guide.stats();
+    GuidedVertex vertex(guide);
+    uint64_t i = 0, guided = 0;
+    for (auto _ : state) {
+        const SizedQuery& q = queries[i & (kSizedQueries - 1)];
+        vertex.init(bench_vertex_at(Ray(q.p, q.d), *medium), VertexLeaf());
+        Sampler rng(4, 0, i++);
+        vertex.prepare_direction();
+        guided += vertex.guided();
+        const float u_strategy = rng.next_1d();
+        benchmark::DoNotOptimize(vertex.sample_direction(rng.next_2d(), u_strategy));
+    }
+    const WalkGuideStats after = guide.stats();
+    sized_field_counters(state, sized_field(leaves));
+    const double n = double(std::max<uint64_t>(i, 1));
+    state.counters["descents"] = double(after.vertex_descents - before.vertex_descents) / n;
+    state.counters["guided"] = double(guided) / n;
+}
+
+// The leaf lookup alone (SpatialTree::leaf_at) at the sized queries' points: the tree descent the
+// direction decision makes when no leaf was handed on; range(0) the leaf count asked for.
+void BM_SizedLeafAt(benchmark::State& state) {
+    const int leaves = int(state.range(0));
+    const SpatialTree& tree = sized_field(leaves).tree();
+    const std::vector<SizedQuery>& queries = sized_queries(leaves);
+    uint64_t i = 0;
+    for (auto _ : state) benchmark::DoNotOptimize(tree.leaf_at(queries[i++ & (kSizedQueries - 1)].p));
+    sized_field_counters(state, sized_field(leaves));
+}
+
 // An 8-lobe leaf with concentrations between 1 and 50 in random directions.
 GuidingLeaf bench_leaf() {
     GuidingLeaf leaf;
@@ -616,6 +812,9 @@ BENCHMARK(BM_SegmentDecision)->Arg(0)->Arg(1)->Arg(2)->Arg(3);
 BENCHMARK(BM_SegmentDecisionEquiangular)->Arg(0)->Arg(1)->Arg(2);
 BENCHMARK(BM_RouletteEstimate);
 BENCHMARK(BM_GuidedVertex)->Arg(0)->Arg(1);
+BENCHMARK(BM_SizedDistance)->ArgsProduct({{0, 1, 2}, {1000, 4000, 16000, 64000}});
+BENCHMARK(BM_SizedDirection)->Arg(1000)->Arg(4000)->Arg(16000)->Arg(64000);
+BENCHMARK(BM_SizedLeafAt)->Arg(1000)->Arg(4000)->Arg(16000)->Arg(64000);
 BENCHMARK(BM_LeafWalk<true>)->Name("BM_LeafWalkCursor")->Arg(2000)->Arg(50000);
 BENCHMARK(BM_LeafWalk<false>)->Name("BM_LeafWalkTraverse")->Arg(2000)->Arg(50000);
 BENCHMARK(BM_PhotonPass)->Unit(benchmark::kMillisecond)->UseRealTime();
