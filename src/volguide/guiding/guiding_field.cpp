@@ -1,9 +1,11 @@
 #include "volguide/guiding/guiding_field.h"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 #include "volguide/core/parallel.h"
+#include "volguide/vmm/vmm_variance_aware.h"
 
 namespace volguide {
 
@@ -18,7 +20,7 @@ GuidingLeaf fit_leaf(std::span<const RadianceSample> samples, std::span<const ui
                      const BBox3f& box, const GuidingFieldSettings& settings) {
     GuidingLeaf leaf;
     leaf.samples = uint32_t(indices.size());
-    std::vector<DirectionalSample> directions, indirect;
+    std::vector<DirectionalSample> directions, indirect, second_moments;
     directions.reserve(indices.size());
     bool any_direct = false;
     double sum[3] = {0, 0, 0}, count = 0;
@@ -36,6 +38,8 @@ GuidingLeaf fit_leaf(std::span<const RadianceSample> samples, std::span<const ui
             else
                 indirect.push_back({s.direction, w});
         }
+        if (settings.variance_aware && s.second_moment > 0.f && std::isfinite(s.second_moment))
+            second_moments.push_back({s.direction, s.second_moment});
     }
     const double norm =
         settings.fluence == FluenceEstimator::PerVolume ? box_volume(box) : std::max(count, 1.0);
@@ -45,6 +49,9 @@ GuidingLeaf fit_leaf(std::span<const RadianceSample> samples, std::span<const ui
     if (int(directions.size()) >= settings.min_samples) {
         fit_vmm(leaf.vmm, directions, fit);
         leaf.valid = leaf.vmm.size() > 0;
+        // The lobes stay the radiance fit's; their weights follow sqrt(E[L^2]) (theory §23). A
+        // leaf whose samples carry no second moment keeps the radiance weights.
+        if (leaf.valid && settings.variance_aware) variance_aware_weights(leaf.vmm, second_moments, fit);
     }
     if (!any_direct) {
         leaf.vmm_indirect = leaf.vmm;

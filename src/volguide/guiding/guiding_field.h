@@ -32,6 +32,11 @@ struct RadianceSample {
     // estimation samples at every medium vertex. Fields whose samples carry this flag also fit
     // each leaf's distribution without it (GuidingLeaf::vmm_indirect).
     bool direct = false;
+    // The sample's second-moment contribution L^2 / p (channel mean of the squares) for the
+    // variance-aware target (GuidingFieldSettings::variance_aware, docs/theory.md §23): set by the
+    // training recorder for camera-path vertices; 0 for photons and NEE samples (the direction
+    // decision's estimator does not carry what NEE collects, §23.3).
+    float second_moment = 0.f;
 };
 
 // How a leaf turns its samples' weights into fluence.
@@ -51,6 +56,10 @@ struct GuidingFieldSettings {
     int min_samples = 64;      // fewer (positive-weight) samples: the leaf is invalid
     VmmFitSettings fit;        // fit.initial_lobes is overridden by `lobes`
     FluenceEstimator fluence = FluenceEstimator::PerVolume;
+    // `guide_target=variance` (camera-path training only): after the radiance fit, each leaf's lobe
+    // weights follow sqrt of the second moment (RadianceSample::second_moment; vmm_variance_aware.h,
+    // docs/theory.md §23). The fluence stays the mean.
+    bool variance_aware = false;
 };
 
 struct GuidingLeaf {
