@@ -1,9 +1,10 @@
 // The variance-aware target on a fitted mixture (vmm/vmm_variance_aware.h, docs/theory.md §23):
-//  - the effective solid angle 1 / integral v^2 against quadrature;
-//  - on an exact second-moment field sqrt(E[L^2]) = sum_k s_k v_k (a broad and a narrow lobe, so the
-//    effective solid angle matters), the lobe weights become s / sum(s);
+//  - on an exact second-moment field sqrt(E[L^2]) = sum_k s_k v_k, the lobe weights become s / sum(s):
+//    a broad and a narrow lobe, whose cross term 2 s_1 s_2 v_1 v_2 sits under the narrow lobe and
+//    is as large as the broad lobe's own square there (the radiance fit's responsibilities would
+//    credit it to the broad lobe: 0.43 instead of 1/3);
 //  - on noisy one-sample estimates L^ / p of a known mean: noise-free estimates give the radiance
-//    weights back, and estimates that are 1/q-or-0 (q = 1/4) on one lobe's side double its share;
+//    weights back, and one lobe's light estimated 1/q-or-0 (q = 1/4) doubles that lobe's share;
 //  - no second moment: the mixture is left as it is.
 #include <gtest/gtest.h>
 
@@ -19,8 +20,7 @@ using namespace volguide;
 
 namespace {
 
-// A broad lobe on +z and a narrow one on -z with the given weights: their overlap is ~1 % of the
-// narrow lobe's L2 norm, so the model "sqrt(E[L^2]) has the lobes' shapes" holds to that accuracy.
+// A broad lobe on +z and a narrow one on -z with the given weights.
 Vmm variance_aware_two_lobes(float w_broad, float w_narrow) {
     Vmm m;
     m.add_lobe(w_broad, VmfLobe(Vec3f(0.f, 0.f, 1.f), 0.8f));
@@ -39,21 +39,6 @@ std::vector<Vec3f> variance_aware_grid(int n_t, int n_phi) {
 }
 
 }  // namespace
-
-TEST(VmmVarianceAware, EffectiveSolidAngleIsOneOverTheSquaredLobesIntegral) {
-    for (double kappa : {0.0, 0.3, 0.8, 5.0, 50.0, 2000.0}) {
-        // integral of v^2 = 2 pi int_{-1}^{1} c~^2 exp(2 kappa (t - 1)) dt, midpoint rule in t.
-        const double c = vmf_normalization(kappa);
-        const int n = 200000;
-        double sum = 0.0;
-        for (int i = 0; i < n; ++i) {
-            const double t = -1.0 + 2.0 * (i + 0.5) / n;
-            sum += c * c * std::exp(2.0 * kappa * (t - 1.0));
-        }
-        const double integral = 2.0 * double(Pi) * sum * 2.0 / n;
-        EXPECT_NEAR(vmf_effective_solid_angle(kappa) * integral, 1.0, 1e-4) << kappa;
-    }
-}
 
 TEST(VmmVarianceAware, ExactSecondMomentFieldGivesItsSquareRootsWeights) {
     // sqrt(E[L^2])(w) = s_1 v_1(w) + s_2 v_2(w) with s = (1, 2): second-moment samples on an
@@ -74,21 +59,21 @@ TEST(VmmVarianceAware, ExactSecondMomentFieldGivesItsSquareRootsWeights) {
 }
 
 TEST(VmmVarianceAware, NoisyEstimatesShiftWeightTowardsTheNoisyLobe) {
-    // E[L^](w) = V(w) with V the radiance mixture (weights 1/2, 1/2). Directions from p = 1/2 uniform +
-    // 1/2 V. Noise-free: L^ = V, so sqrt(E[L^2]) = V and the weights stay 1/2, 1/2. Noisy on the narrow
-    // lobe's side (z < 0): L^ = V / q with probability q = 1/4, else 0, so E[L^2] = V^2 / q there and
-    // sqrt(E[L^2]) = 2 V: weights 1/3, 2/3.
+    // E[L^](w) = V(w) = v_1 / 2 + v_2 / 2, the radiance mixture. Directions from p = 1/2 uniform + 1/2 V.
+    // Noise-free: L^ = V, so sqrt(E[L^2]) = V and the weights stay 1/2, 1/2. Noisy: the narrow lobe's
+    // light arrives through a path that finds it with probability q = 1/4, L^ = v_1 / 2 + (v_2 / 2) B / q
+    // (B ~ Bernoulli(q)), so E[L^2] = (v_1 / 2 + v_2)^2 - v_1 v_2 / 2 ~ (v_1 / 2 + v_2)^2 (the cross
+    // term integrates to < 1 % of v_2^2): weights 1/3, 2/3.
     const Vmm radiance = variance_aware_two_lobes(0.5f, 0.5f);
     std::vector<DirectionalSample> clean, noisy;
     for (int i = 0; i < 200000; ++i) {
         Sampler s(11, 0, uint64_t(i));
         const Vec3f w = s.next_1d() < 0.5f ? warp::square_to_uniform_sphere(s.next_2d()) : radiance.sample(s.next_2d());
         const double p = 0.5 * double(InvFourPi) + 0.5 * double(radiance.pdf(w));
-        const double L = radiance.eval(w);
-        clean.push_back({w, float(L * L / p)});
-        const double q = w.z < 0.f ? 0.25 : 1.0;
-        const double Lq = s.next_1d() < q ? L / q : 0.0;
-        noisy.push_back({w, float(Lq * Lq / p)});
+        const double L1 = 0.5 * double(radiance.lobe(0).eval(w)), L2 = 0.5 * double(radiance.lobe(1).eval(w));
+        clean.push_back({w, float((L1 + L2) * (L1 + L2) / p)});
+        const double q = 0.25, L = L1 + (s.next_1d() < q ? L2 / q : 0.0);
+        noisy.push_back({w, float(L * L / p)});
     }
     Vmm a = radiance, b = radiance;
     ASSERT_TRUE(variance_aware_weights(a, clean));
