@@ -541,13 +541,15 @@ TEST(GuidedVolPathProgressive, BadOnlineLearningIsAnErrorNamingFileAndLine) {
     EXPECT_FALSE(std::filesystem::exists(dir.file("o.exr")));
 }
 
-// guide_target=variance needs the camera paths' second moments: with photon training it is an error
-// naming the file and line; an unknown target is one too.
+// guide_target=variance needs the camera paths' second moments and the direction decisions' own
+// distribution: with photon training or direction_radiance=all it is an error naming the file and
+// line; an unknown target is one too.
 TEST(GuidedVolPathProgressive, BadGuideTargetIsAnErrorNamingFileAndLine) {
     TempDir dir("guide-target-errors");
     const std::string cases[] = {
         R"(<integrator type="guided_volpath"><string name="guide_target" value="variance"/></integrator>)",
-        progressive_integrator(R"(<string name="guide_target" value="second_moment"/>)")};
+        progressive_integrator(R"(<string name="guide_target" value="second_moment"/>)"),
+        progressive_integrator(R"(<string name="guide_target" value="variance"/><string name="direction_radiance" value="all"/>)")};
     for (const std::string& integrator : cases) {
         const std::string xml = progressive_point_light_scene(Point3f(0.f), 0.5f, 0.5f, 8, integrator);
         CliResult r = run_cli({"render", dir.write("s.xml", xml), "-o", dir.file("o.exr"), "--spp", "1", "--quiet"});

@@ -197,8 +197,9 @@ TEST(GuidingField, IdenticalForOneAndTwoThreads) {
 
 // guide_target=variance (GuidingFieldSettings::variance_aware, docs/theory.md §23): radiance arriving
 // equally from +x and -x, the -x side's estimates noisier (second moment 4x: sqrt 2x). The radiance
-// field weighs the two lobes 1/2, 1/2; the variance-aware one 1/3, 2/3 with the same lobes; without
-// second moments (photons) it is the radiance field, bit for bit.
+// field weighs the two lobes 1/2, 1/2; the variance-aware field's direction distribution
+// (vmm_indirect) 1/3, 2/3 with the same lobes, while its estimates (vmm, fluence) stay the radiance
+// field's; without second moments (photons) it is the radiance field, bit for bit.
 TEST(GuidingField, VarianceAwareWeightsFollowTheSecondMoment) {
     Vmm q;  // the samples' density: weight L^ / q = 1
     q.add_lobe(0.5f, VmfLobe(Vec3f(1.f, 0.f, 0.f), 20.f));
@@ -219,18 +220,19 @@ TEST(GuidingField, VarianceAwareWeightsFollowTheSecondMoment) {
     fs.variance_aware = true;
     const GuidingField variance = GuidingField::build(kFieldBox, samples, fs);
     ASSERT_EQ(variance.leaves().size(), 1u);
-    const Vmm& a = radiance.leaves()[0].vmm;
-    const Vmm& b = variance.leaves()[0].vmm;
+    const Vmm& a = radiance.leaves()[0].vmm_indirect;
+    const Vmm& b = variance.leaves()[0].vmm_indirect;
     ASSERT_EQ(a.size(), 2);
     ASSERT_EQ(b.size(), 2);
+    ASSERT_TRUE(variance.leaves()[0].valid_indirect);
     const int minus = b.mu_x[0] < 0.f ? 0 : 1;
     EXPECT_NEAR(a.weight[minus], 0.5f, 0.05f);
     EXPECT_NEAR(b.weight[minus], 2.f / 3.f, 0.05f);
     EXPECT_EQ(a.kappa[minus], b.kappa[minus]);  // the lobes are the radiance fit's
-    EXPECT_EQ(radiance.leaves()[0].fluence, variance.leaves()[0].fluence);  // the mean
-    // The indirect copy (no direct flags) follows.
-    EXPECT_EQ(variance.leaves()[0].vmm_indirect.weight[minus], b.weight[minus]);
+    // The estimates: the radiance target.
+    EXPECT_EQ(std::memcmp(&variance.leaves()[0].vmm, &radiance.leaves()[0].vmm, sizeof(Vmm)), 0);
+    EXPECT_EQ(radiance.leaves()[0].fluence, variance.leaves()[0].fluence);
     for (RadianceSample& r : samples) r.second_moment = 0.f;
     const GuidingField none = GuidingField::build(kFieldBox, samples, fs);
-    EXPECT_EQ(std::memcmp(&none.leaves()[0].vmm, &a, sizeof(Vmm)), 0);
+    EXPECT_EQ(std::memcmp(&none.leaves()[0].vmm_indirect, &a, sizeof(Vmm)), 0);
 }

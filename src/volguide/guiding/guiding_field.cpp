@@ -49,13 +49,14 @@ GuidingLeaf fit_leaf(std::span<const RadianceSample> samples, std::span<const ui
     if (int(directions.size()) >= settings.min_samples) {
         fit_vmm(leaf.vmm, directions, fit);
         leaf.valid = leaf.vmm.size() > 0;
-        // The lobes stay the radiance fit's; their weights follow sqrt(E[L^2]) (theory §23). A
-        // leaf whose samples carry no second moment keeps the radiance weights.
-        if (leaf.valid && settings.variance_aware) variance_aware_weights(leaf.vmm, second_moments, fit);
     }
     if (!any_direct) {
         leaf.vmm_indirect = leaf.vmm;
         leaf.valid_indirect = leaf.valid;
+        // The direction decisions' copy: the radiance fit's lobes, their weights following
+        // sqrt(E[L^2]) (theory §23.4); the estimates keep reading the radiance target (vmm). A
+        // leaf whose samples carry no second moment keeps the radiance weights.
+        if (leaf.valid && settings.variance_aware) variance_aware_weights(leaf.vmm_indirect, second_moments, fit);
     } else if (int(indirect.size()) >= settings.min_samples) {
         fit_vmm(leaf.vmm_indirect, indirect, fit);
         leaf.valid_indirect = leaf.vmm_indirect.size() > 0;

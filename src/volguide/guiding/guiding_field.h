@@ -56,9 +56,10 @@ struct GuidingFieldSettings {
     int min_samples = 64;      // fewer (positive-weight) samples: the leaf is invalid
     VmmFitSettings fit;        // fit.initial_lobes is overridden by `lobes`
     FluenceEstimator fluence = FluenceEstimator::PerVolume;
-    // `guide_target=variance` (camera-path training only): after the radiance fit, each leaf's lobe
-    // weights follow sqrt of the second moment (RadianceSample::second_moment; vmm_variance_aware.h,
-    // docs/theory.md §23). The fluence stays the mean.
+    // `guide_target=variance` (camera-path training only): each leaf's direction distribution
+    // (vmm_indirect, which camera fields otherwise copy from vmm) keeps the radiance fit's lobes with
+    // weights following sqrt of the second moment (RadianceSample::second_moment;
+    // vmm_variance_aware.h, docs/theory.md §23). vmm and the fluence stay the mean: the estimates.
     bool variance_aware = false;
 };
 
@@ -69,7 +70,9 @@ struct GuidingLeaf {
     bool valid = false;  // enough samples: guided decisions may use it (otherwise defensive only)
     // The directional shape of the light that did not come straight from an emitter (samples
     // without RadianceSample::direct), for direction guiding next to NEE. A field trained without
-    // direct flags (camera-path training) holds a copy of vmm / valid here.
+    // direct flags (camera-path training) holds a copy of vmm / valid here, with the variance-aware
+    // target (GuidingFieldSettings::variance_aware) its weights refitted to sqrt(E[L^2]), which NEE's
+    // light does not enter either.
     Vmm vmm_indirect;
     bool valid_indirect = false;
     // The share of the leaf's volume inside a scattering medium, measured by the renderer (it needs

@@ -111,6 +111,11 @@ void read_training(const Properties& props, GuidedVolPathSettings& s) {
     if (s.field.variance_aware && s.training != TrainingMethod::Progressive)
         props.fail_at("guide_target", "guided_volpath: guide_target=\"variance\" needs training=\"progressive\" (photons "
                                       "carry no second moment of the camera paths' radiance estimates)");
+    // The target shapes the direction decisions' distribution, which direction_radiance=all replaces
+    // by the estimates' (walk_guide.h).
+    if (s.field.variance_aware && !read_choice<bool>(props, "direction_radiance", true, kDirectionRadiance))
+        props.fail_at("guide_target", "guided_volpath: guide_target=\"variance\" needs direction_radiance=\"indirect\" "
+                                      "(the direction decisions read the variance-aware distribution only there)");
     s.training_fraction = props.get_float("training_fraction", s.training_fraction);
     if (!(s.training_fraction > 0.f && s.training_fraction < 1.f))
         props.fail_at("training_fraction", "guided_volpath: training_fraction must be in (0, 1), got {}",
