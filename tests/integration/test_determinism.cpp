@@ -15,10 +15,11 @@ namespace {
 struct Renders {
     std::string one_thread, two_threads, other_seed;
 };
-Renders render_three(const std::string& scene, const std::vector<std::string>& defines, const std::string& tag) {
+Renders render_three(const std::string& scene, const std::vector<std::string>& defines, const std::string& tag,
+                     const std::string& spp = "8") {
     TempDir dir(tag);
     auto run = [&](const std::string& seed, const std::string& threads, const std::string& out) {
-        std::vector<std::string> args = {"render", scene, "--spp", "8", "--seed", seed, "--threads", threads,
+        std::vector<std::string> args = {"render", scene, "--spp", spp, "--seed", seed, "--threads", threads,
                                          "--quiet", "-o", dir.file(out)};
         for (const std::string& d : defines) args.insert(args.end(), {"-D", d});
         CliResult r = run_cli(args);
@@ -37,19 +38,21 @@ void expect_deterministic(const Renders& r, const std::string& what) {
 
 // render_three on the benchmark scene `bench_scene` at 32x24 with guided_volpath and the integrator
 // parameters `params` (XML elements).
-Renders guided_bench_scene(const std::string& bench_scene, const std::string& params, const std::string& tag) {
+Renders guided_bench_scene(const std::string& bench_scene, const std::string& params, const std::string& tag,
+                           const std::string& spp = "8") {
     TempDir dir(tag + "-settings");
     const std::string integrator = dir.write(
         "integrator.xml",
         R"(<scene version="3.0.0"><integrator type="guided_volpath"><integer name="max_depth" value="$max_depth"/>)" +
             params + "</integrator></scene>");
     return render_three(source_dir() + "/bench/scenes/" + bench_scene + ".xml",
-                        {"width=32", "height=24", "integrator=guided_volpath", "integrator_xml=" + integrator}, tag);
+                        {"width=32", "height=24", "integrator=guided_volpath", "integrator_xml=" + integrator}, tag,
+                        spp);
 }
 
 // ... on the benchmark's fog-filled Cornell box.
-Renders guided_fogbox(const std::string& params, const std::string& tag) {
-    return guided_bench_scene("fogbox", params, tag);
+Renders guided_fogbox(const std::string& params, const std::string& tag, const std::string& spp = "8") {
+    return guided_bench_scene("fogbox", params, tag, spp);
 }
 
 }  // namespace
@@ -92,6 +95,17 @@ TEST(Determinism, OnlineLearningSameImageForOneAndTwoThreads) {
                                        R"(<integer name="online_spp" value="4"/><integer name="leaf_samples" value="400"/>)",
                                        "determinism-online"),
                          "guided fogbox, online learning");
+}
+
+// Refinement during the render (issue 39): without a time budget the schedule reads only the passes'
+// noise, a pure function of the samples, and the further photon pass is traced and added in photon and
+// leaf order. 24 spp (passes of 1, 1, 2, 4, 8, 8): the pass ending at 4 spp fixes the noise's normaliser,
+// the one ending at 8 measures it and a refinement follows; at 16 the schedule judges it.
+TEST(Determinism, RefinementSameImageForOneAndTwoThreads) {
+    expect_deterministic(guided_fogbox(R"(<integer name="photons" value="200000"/><integer name="refine_passes" value="2"/>)"
+                                       R"(<integer name="refine_spp" value="2"/><float name="refine_gain" value="0"/>)",
+                                       "determinism-refine", "24"),
+                         "guided fogbox, refine_passes");
 }
 
 // guide_target=variance (docs/theory.md §23): each leaf's weights are refitted sequentially over its

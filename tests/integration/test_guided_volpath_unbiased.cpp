@@ -583,6 +583,30 @@ TEST(GuidedVolPathUnbiased, OnlineLearningIsUnbiased) {
     EXPECT_EQ(s40.at("online_updates"), 7.0);
 }
 
+// Issue 39: refinement during the render (refine_passes): further photon passes, added to the field
+// between passes at doublings of spp (refine_spp 4: 4, 8, 16, ...), change the guide; every pass
+// samples one fixed field, so the image is still volpath's in expectation. refine_gain 0 refines while
+// the noise does not rise (and undoes a refinement that raised it).
+TEST(GuidedVolPathUnbiased, RefinementDuringTheRenderIsUnbiased) {
+    TempDir dir("guided-refine");
+    const std::string grid = write_furnace_grid(dir);
+    const std::string refine = R"(<integer name="refine_passes" value="3"/><integer name="refine_spp" value="4"/>)"
+                               R"(<float name="refine_gain" value="0"/>)";
+    for (bool het : {false, true}) {
+        SCOPED_TRACE(het ? "heterogeneous" : "homogeneous");
+        Rendered ref = render_scene_xml(lit_fog_xml(het, grid, R"(<integrator type="volpath"/>)"), 1024, 7, false);
+        Rendered g = render_scene_xml(
+            lit_fog_xml(het, grid, guided("incremental", "product", 200000, -1.f, refine, rrs_xml("grrs", 5.f))), 1024,
+            8, false);
+        expect_same_means(g, ref);
+    }
+    const auto s = guide_stats(lit_fog_xml(false, grid, guided("incremental", "product", 200000, -1.f, refine)), 64);
+    EXPECT_GE(s.at("refine_passes"), 1.0);
+    EXPECT_GT(s.at("refine_deposits"), 0.0);
+    EXPECT_GT(s.at("field_memory_bytes"), 0.0);
+    EXPECT_GT(s.at("refine_stretch1_inefficiency"), 0.0);
+}
+
 // guide_target=variance (docs/theory.md §23): the leaves' lobe weights follow the square root of the
 // recorded vertices' second moments, in the training's rebuilds and online learning's. Only
 // probabilities change, so the image is volpath's in expectation. The same seed with the radiance

@@ -506,6 +506,44 @@ TEST(GuidedVolPathProgressive, LeafContrastIsCheckedAndShapesTheTree) {
     EXPECT_GT(shaped, plain);
 }
 
+// refine_passes (issue 39) adds photon passes to a photon field trained in the render: with progressive
+// training, a loaded field or estimate it is an error naming the file and line, as are its parameters
+// without it; a given pre-pass (render --field) is refused before rendering.
+TEST(GuidedVolPathProgressive, BadRefinementIsAnErrorNamingFileAndLine) {
+    TempDir dir("refine-errors");
+    const std::string field = dir.file("f.vgfield");
+    const std::string photons = R"(<integrator type="guided_volpath"><integer name="photons" value="20000"/>)";
+    {
+        const std::string xml = progressive_point_light_scene(
+            Point3f(0.f), 0.5f, 0.5f, 8, photons + fmt::format(R"(<string name="save_field" value="{}"/></integrator>)", field));
+        ASSERT_EQ(run_cli({"render", dir.write("save.xml", xml), "-o", dir.file("s.exr"), "--spp", "1", "--quiet"}).exit_code, 0);
+    }
+    const std::pair<std::string, const char*> cases[] = {
+        {progressive_integrator(R"(<integer name="refine_passes" value="2"/>)"), "refine_passes"},
+        {photons + fmt::format(R"(<integer name="refine_passes" value="2"/><string name="load_field" value="{}"/></integrator>)", field), "refine_passes"},
+        {photons + R"(<integer name="refine_passes" value="2"/><string name="estimate" value="incident"/></integrator>)", "refine_passes"},
+        {photons + R"(<integer name="refine_spp" value="8"/></integrator>)", "refine_spp"},
+        {photons + R"(<float name="leaf_merge" value="0.2"/></integrator>)", "leaf_merge"},
+        {photons + R"(<integer name="refine_passes" value="2"/><float name="refine_gain" value="1"/></integrator>)", "refine_gain"},
+        {photons + R"(<integer name="refine_passes" value="-1"/></integrator>)", "refine_passes"}};
+    for (const auto& [integrator, name] : cases) {
+        const std::string xml = progressive_point_light_scene(Point3f(0.f), 0.5f, 0.5f, 8, integrator);
+        CliResult r = run_cli({"render", dir.write("s.xml", xml), "-o", dir.file("o.exr"), "--spp", "1", "--quiet"});
+        EXPECT_EQ(r.exit_code, 1) << integrator;
+        EXPECT_NE(r.err.find("s.xml:2"), std::string::npos) << r.err;
+        EXPECT_NE(r.err.find(name), std::string::npos) << r.err;
+        EXPECT_FALSE(std::filesystem::exists(dir.file("o.exr")));
+    }
+    const std::string xml = progressive_point_light_scene(Point3f(0.f), 0.5f, 0.5f, 8,
+                                                          photons + R"(<integer name="refine_passes" value="2"/></integrator>)");
+    const std::string scene = dir.write("refine.xml", xml);
+    ASSERT_EQ(run_cli({"train", scene, "-o", dir.file("t.vgtrain"), "--quiet"}).exit_code, 0);
+    CliResult r = run_cli({"render", scene, "--field", dir.file("t.vgtrain"), "-o", dir.file("o.exr"), "--spp", "1", "--quiet"});
+    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_NE(r.err.find("refine_passes"), std::string::npos) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(dir.file("o.exr")));
+}
+
 // online_spp rebuilds the field from the progressive training's samples: with photon training, a
 // loaded field or a negative count it is an error naming the file and line; a given pre-pass
 // (render --field) has no samples either.

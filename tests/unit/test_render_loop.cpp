@@ -212,5 +212,52 @@ TEST(RenderLoop, MeanAndPerSampleVariance) {
     for (int x = 0; x < 24; ++x) EXPECT_NEAR(rr.mean.at(x, 2).r, (x + 0.5f) / 24.f, 4e-3f) << x;
 }
 
+// PassReport::relative_variance (issue 39): per pixel the unbiased variance of the pass's samples'
+// luminance over (m^2 + 0.01), m the pixel's mean when the first pass of two samples was merged, averaged
+// over the film. A signal 1 + a (u - 1/2), u uniform, has variance a^2 / 12 and mean 1 in every pixel
+// (a small a keeps the noise of m negligible); a constant one has none; passes of one sample per pixel
+// have no estimate (NaN). The same value for one and two threads (tile-order sums).
+TEST(RenderLoop, PassReportsThePerSampleNoise) {
+    BoxFilter box;
+    FrameSetup setup{24, 16, &box, false, 4, 5, false};
+    const float a = 0.2f;
+    auto uniform = [&](Point2f, Sampler& s) { return Color3(1.f + a * (s.next_1d() - 0.5f)); };  // luminance = value
+    std::vector<PassReport> passes;
+    RenderOptions opt;
+    opt.spp = 36;  // passes of 1, 1, 2, 4, 8, 8, 8, 4
+    opt.end_pass = [&](const PassReport& p) { passes.push_back(p); };
+    render_frame(setup, uniform, opt);
+    ASSERT_EQ(passes.size(), 8u);
+    // Passes of one sample, and the first of two (it fixes the normaliser), report none.
+    for (int k : {0, 1, 2}) EXPECT_TRUE(std::isnan(passes[size_t(k)].relative_variance)) << k;
+    EXPECT_FALSE(std::isnan(passes[3].relative_variance));
+    const double expected = (a * a / 12.0) / (1.0 + 0.01);
+    double mean8 = 0;
+    for (int k : {4, 5, 6}) {
+        EXPECT_EQ(passes[size_t(k)].spp, 8);
+        mean8 += passes[size_t(k)].relative_variance / 3;
+    }
+    // 384 pixels x 3 passes: the mean's relative standard error is ~1 %; a biased (divide by n)
+    // variance would read 12.5 % low.
+    EXPECT_NEAR(mean8, expected, 0.05 * expected);
+    EXPECT_EQ(passes.back().spp_done, 36);
+    EXPECT_EQ(passes.back().spp, 4);
+    for (const PassReport& p : passes) EXPECT_GE(p.pass_seconds, 0.0);
+
+    std::vector<PassReport> constant;
+    opt.end_pass = [&](const PassReport& p) { constant.push_back(p); };
+    render_frame(setup, [](Point2f, Sampler&) { return Color3(0.7f); }, opt);
+    EXPECT_EQ(constant[4].relative_variance, 0.0);
+
+    std::vector<double> one, two;
+    for (auto [threads, out] : {std::pair{1, &one}, std::pair{2, &two}}) {
+        opt.threads = threads;
+        opt.end_pass = [out = out](const PassReport& p) { out->push_back(p.relative_variance); };
+        render_frame(setup, noisy, opt);
+    }
+    ASSERT_EQ(one.size(), two.size());
+    for (size_t k = 3; k < one.size(); ++k) EXPECT_EQ(one[k], two[k]) << k;
+}
+
 }  // namespace
 }  // namespace volguide

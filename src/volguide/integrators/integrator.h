@@ -3,6 +3,7 @@
 // (integrators/render_loop.h) drives them; they never touch the film or threads.
 #include <atomic>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -46,6 +47,23 @@ protected:
     ~FilmSplats() = default;
 };
 
+// What the render loop says of a pass once it is merged into the image (Integrator::end_pass).
+struct PassReport {
+    int spp_done = 0;         // samples per pixel in the image so far
+    int spp = 0;              // of this pass
+    double seconds = 0;       // since the job started (preprocessing included), like the time budget
+    double pass_seconds = 0;  // this pass's rendering alone
+    // The pass's per-sample noise: the mean over the film's pixels of the unbiased variance of the
+    // pass's samples' luminance divided by (m^2 + 0.01), m the pixel's luminance in the image when the
+    // first pass of two or more samples per pixel was merged (one normaliser for the whole render),
+    // the benchmark's relMSE per sample with its epsilon (docs/theory.md §22.4). NaN for passes of one
+    // sample per pixel, for that first pass of two or more, and for light tracers (a light path lands
+    // on many pixels). A pure function of the samples: the same for any thread count.
+    double relative_variance = std::numeric_limits<double>::quiet_NaN();
+    // Its standard error over the pixels (NaN with it).
+    double relative_variance_error = std::numeric_limits<double>::quiet_NaN();
+};
+
 class Integrator : public Object {
 public:
     // Radiance along a camera ray, one sample.
@@ -59,11 +77,11 @@ public:
     virtual bool writes_variance() const { return false; }
     // Work before rendering (training, pre-passes), counted in the time budget. Default: none.
     virtual void preprocess(const Scene& scene, const PreprocessContext& context) {}
-    // After each render pass is merged into the image: spp_done samples per pixel so far, seconds
-    // since the job started. Integrators that learn from their own render's samples (openpgl_volpath,
-    // as Cycles trains Open PGL) update there, between passes, so that every pass samples one fixed
-    // distribution. Default: nothing.
-    virtual void end_pass(int spp_done, double seconds) {}
+    // After each render pass is merged into the image (PassReport: samples per pixel so far, the
+    // job's seconds, the pass's noise). Integrators that learn from their own render's samples
+    // (openpgl_volpath, as Cycles trains Open PGL) or refine their guide (guided_volpath) update
+    // there, between passes, so that every pass samples one fixed distribution. Default: nothing.
+    virtual void end_pass(const PassReport& pass) {}
     // Named counters of the last render (e.g. guided decisions), for --stats. Default: none.
     virtual std::vector<std::pair<std::string, double>> statistics() const { return {}; }
 

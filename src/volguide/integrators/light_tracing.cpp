@@ -150,7 +150,12 @@ class LightTracingRenderer {
             p.fraction = target_ > 0 ? double(spp_done) / target_ : std::min(1.0, seconds / budget_);
             options_.progress(p);
         }
-        if (options_.end_pass) options_.end_pass(spp_done, seconds);
+        if (options_.end_pass) {
+            PassReport pass;  // no per-pixel noise: a light path lands on many pixels
+            pass.spp_done = spp_done;
+            pass.seconds = seconds;
+            options_.end_pass(pass);
+        }
         if (options_.on_pass) options_.on_pass(spp_done, seconds, film_.image(spp_done));
     }
 

@@ -24,7 +24,7 @@ public:
     std::string prepass_state() const override { return nested_->prepass_state(); }
     void use_prepass_state(const std::string& bytes) override { nested_->use_prepass_state(bytes); }
     const Integrator& nested() const { return *nested_; }
-    void end_pass(int spp_done, double seconds) override { nested_->end_pass(spp_done, seconds); }
+    void end_pass(const PassReport& pass) override { nested_->end_pass(pass); }
     std::vector<std::pair<std::string, double>> statistics() const override { return nested_->statistics(); }
     std::string to_string() const override { return "moment[" + nested_->to_string() + "]"; }
 

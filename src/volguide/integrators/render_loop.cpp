@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <stdexcept>
@@ -115,11 +117,56 @@ std::unique_ptr<tbb::global_control> thread_limit(int requested) {
 
 // What the tiles of one pass leave: their buffers and non-finite samples (merged in tile order),
 // and whether the pass was stopped.
+// One pixel's samples of a pass (their luminance): count, sum and sum of squares.
+struct PixelSamples {
+    int n = 0;
+    double sum = 0, sum_sq = 0;
+    void add(double v) {
+        ++n;
+        sum += v;
+        sum_sq += v * v;
+    }
+};
+
+// PassReport::relative_variance summed over pixels (a tile's, then the pass's in tile order).
+struct PixelNoise {
+    double relative_variance = 0, relative_variance_sq = 0;
+    uint64_t pixels = 0;
+    // The benchmark's relMSE epsilon (bench/run_bench.py): dark pixels do not dominate.
+    static constexpr double kEpsilon = 0.01;
+    // `scale`: the pixel's 1 / (mean^2 + epsilon), fixed for the render (NoiseScale).
+    void add(const PixelSamples& p, float scale) {
+        if (p.n < 2) return;
+        const double mean = p.sum / p.n;
+        const double variance = std::max(0.0, (p.sum_sq - p.sum * mean) / (p.n - 1));
+        const double v = variance * double(scale);
+        relative_variance += v;
+        relative_variance_sq += v * v;
+        ++pixels;
+    }
+    PixelNoise& operator+=(const PixelNoise& o) {
+        relative_variance += o.relative_variance;
+        relative_variance_sq += o.relative_variance_sq;
+        pixels += o.pixels;
+        return *this;
+    }
+    double mean() const {
+        return pixels > 0 ? relative_variance / double(pixels) : std::numeric_limits<double>::quiet_NaN();
+    }
+    // The standard error of mean() over the pixels (independent samples per pixel).
+    double error() const {
+        if (pixels < 2) return std::numeric_limits<double>::quiet_NaN();
+        const double m = mean();
+        return std::sqrt(std::max(0.0, relative_variance_sq / double(pixels) - m * m) / double(pixels - 1));
+    }
+};
+
 struct PassOutput {
-    explicit PassOutput(size_t tiles) : buffers(tiles), nonfinite(tiles, 0), first_bad(tiles) {}
+    explicit PassOutput(size_t tiles) : buffers(tiles), nonfinite(tiles, 0), first_bad(tiles), noise(tiles) {}
     std::vector<std::unique_ptr<TileBuffer>> buffers;
     std::vector<uint64_t> nonfinite;
     std::vector<SampleLocation> first_bad;
+    std::vector<PixelNoise> noise;
     std::atomic<bool> stop_cancel{false}, stop_time{false};
     std::atomic<uint64_t> samples_done{0};
 };
@@ -159,10 +206,16 @@ class FrameRenderer {
         for (int pass = 0; target_ == 0 || spp_done < target_; ++pass) {
             if (stopped_before_pass(options_, deadline_, spp_done == 0, stats)) break;
             const int n = target_ > 0 ? std::min(pass_size(pass), target_ - spp_done) : pass_size(pass);
-            if (!run_pass(spp_done, n, stats)) break;
+            const auto pass_start = Clock::now();
+            PassReport report;
+            if (!run_pass(spp_done, n, stats, report)) break;
             spp_done += n;
             reporter_.report(spp_done, spp_done, true);
-            if (options_.end_pass) options_.end_pass(spp_done, seconds_since(job_start_));
+            report.spp_done = spp_done;
+            report.spp = n;
+            report.pass_seconds = seconds_since(pass_start);
+            report.seconds = seconds_since(job_start_);
+            if (options_.end_pass) options_.end_pass(report);
             if (options_.on_pass) options_.on_pass(spp_done, seconds_since(job_start_), film_.mean());
         }
         result.spp = spp_done;
@@ -182,7 +235,7 @@ class FrameRenderer {
 
     // Samples [spp_done, spp_done + n) of every pixel, merged into the film when the pass completes;
     // false (nothing merged) when it was stopped.
-    bool run_pass(int spp_done, int n, RenderStats& stats) {
+    bool run_pass(int spp_done, int n, RenderStats& stats, PassReport& report) {
         PassOutput out(tiles_.size());
         arena_execute(arena_, [&] {
             parallel_for(tbb::blocked_range<size_t>(0, tiles_.size(), 1),
@@ -197,7 +250,9 @@ class FrameRenderer {
             return false;
         }
         // Merge in tile order: the same floating-point sums whatever thread rendered which tile.
+        PixelNoise noise;
         for (size_t t = 0; t < tiles_.size(); ++t) {
+            noise += out.noise[t];
             film_.add(*out.buffers[t]);
             out.buffers[t].reset();
             stats.nonfinite_samples += out.nonfinite[t];
@@ -205,6 +260,9 @@ class FrameRenderer {
         }
         stats.passes += 1;
         stats.samples += grid_samples(n);
+        report.relative_variance = noise.mean();
+        report.relative_variance_error = noise.error();
+        if (noise_scale_.empty() && n >= 2) set_noise_scale();
         return true;
     }
 
@@ -214,6 +272,7 @@ class FrameRenderer {
         const PixelRect& rect = tiles_[t];
         auto buf = std::make_unique<TileBuffer>(splatter_, splatter_.footprint(rect), setup_.variance);
         uint64_t bad = 0;
+        PixelNoise noise;
         for (int y = rect.y0; y < rect.y1; ++y) {
             // Stop checks once per row: a cancelled or late pass is dropped as a whole.
             if (options_.cancel && options_.cancel->load(std::memory_order_relaxed)) {
@@ -224,7 +283,8 @@ class FrameRenderer {
                 out.stop_time = true;
                 return;
             }
-            for (int x = rect.x0; x < rect.x1; ++x)
+            for (int x = rect.x0; x < rect.x1; ++x) {
+                PixelSamples pixel;
                 for (int k = spp_done; k < spp_done + n; ++k) {
                     const uint64_t s = options_.first_sample + uint64_t(k);
                     FilmSample fs = film_sample(grid_, seed_, x, y, s);
@@ -234,8 +294,13 @@ class FrameRenderer {
                         continue;
                     }
                     buf->splat(fs.pos, L);
+                    pixel.add(L.luminance());
                 }
+                if (!noise_scale_.empty() && x >= 0 && x < setup_.width && y >= 0 && y < setup_.height)
+                    noise.add(pixel, noise_scale_[size_t(y) * size_t(setup_.width) + size_t(x)]);
+            }
         }
+        out.noise[t] = noise;
         out.nonfinite[t] = bad;
         out.buffers[t] = std::move(buf);
         const uint64_t tile_samples = uint64_t(rect.width()) * rect.height() * n;
@@ -243,6 +308,22 @@ class FrameRenderer {
         reporter_.report(spp_done, spp_done + double(n) * double(done) / double(grid_samples(n)), false);
     }
 
+    // The per-sample noise's normaliser, fixed for the whole render so that passes of any size compare
+    // alike (PassReport::relative_variance): per pixel 1 / (m^2 + epsilon), m the luminance of the
+    // image once a pass has two or more samples per pixel. A pass's own mean would sit in the
+    // denominator of its own variance, a bias that depends on the pass's sample count; this pass
+    // therefore reports no noise, the later ones do.
+    void set_noise_scale() {
+        const Image mean = film_.mean();
+        noise_scale_.resize(size_t(setup_.width) * size_t(setup_.height));
+        for (int y = 0; y < setup_.height; ++y)
+            for (int x = 0; x < setup_.width; ++x) {
+                const double m = mean.at(x, y).luminance();
+                noise_scale_[size_t(y) * size_t(setup_.width) + size_t(x)] = float(1.0 / (m * m + PixelNoise::kEpsilon));
+            }
+    }
+
+    std::vector<float> noise_scale_;
     const FrameSetup& setup_;
     const RadianceFn& radiance_;
     const RenderOptions& options_;
@@ -331,9 +412,9 @@ RenderResult render(const Scene& scene, Integrator& integrator, const RenderOpti
     };
     // The integrator may learn from each pass (Integrator::end_pass), within the render's arena.
     RenderOptions pass_options = options;
-    pass_options.end_pass = [&](int spp, double seconds) {
-        arena_execute(arena, [&] { integrator.end_pass(spp, seconds); });
-        if (options.end_pass) options.end_pass(spp, seconds);
+    pass_options.end_pass = [&](const PassReport& pass) {
+        arena_execute(arena, [&] { integrator.end_pass(pass); });
+        if (options.end_pass) options.end_pass(pass);
     };
     RenderResult result = integrator.traces_from_emitters()
                               ? render_light_tracing(scene, integrator, pass_options, arena, job_start)

@@ -14,13 +14,13 @@
 #include "volguide/core/image.h"
 #include "volguide/core/progress.h"
 #include "volguide/core/sampler.h"
+#include "volguide/integrators/integrator.h"
 #include "volguide/render/sensor.h"
 #include "volguide/render/sensors/film_buffer.h"
 
 namespace volguide {
 
 class Scene;
-class Integrator;
 
 struct RenderOptions {
     int spp = 0;                   // > 0 overrides the sensor's sample_count
@@ -41,7 +41,7 @@ struct RenderOptions {
     std::function<void(int spp, double seconds, const Image& mean)> on_pass;
     // Called after each pass is merged, before on_pass, with no image (render() calls the
     // integrator's Integrator::end_pass first, then this; its cost counts toward the time budget).
-    std::function<void(int spp, double seconds)> end_pass;
+    std::function<void(const PassReport& pass)> end_pass;
 };
 
 // Where a sample went wrong, to replay it (tools/replay_sample): film_sample(grid, seed, x, y,

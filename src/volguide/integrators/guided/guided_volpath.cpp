@@ -31,13 +31,28 @@ void GuidedVolPathIntegrator::preprocess(const Scene& scene, const PreprocessCon
     online_updates_ = 0;
     online_updated_spp_ = 0;
     online_seconds_ = 0;
+    refinement_.reset();
+    schedule_.reset();
+    previous_field_ = GuidingField();
+    refine_stats_.clear();
+    photon_stream_next_ = photons_traced_ = deposits_ = 0;
+    time_budget_ = context.time_budget;
+    progress_ = context.progress;
+    cancel_ = context.cancel;
     walk_.preprocess(scene, context);
     warn_vsp_equiangular(scene);
     if (settings_.online_spp > 0 && given_prepass_)
         throw InputError(settings_.location, "guided_volpath: online_spp cannot continue a given pre-pass (render "
                                              "--field): it rebuilds the field from the training's samples");
+    if (settings_.refine.passes > 0 && given_prepass_)
+        throw InputError(settings_.location, "guided_volpath: refine_passes cannot refine a given pre-pass (render "
+                                             "--field): it keeps the statistics of the photons it was trained from");
+    const auto training_start = std::chrono::steady_clock::now();
     load_or_train_field(scene, context);
+    training_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - training_start).count();
     build_from_field(scene, context, false);
+    if (refinement_)
+        schedule_ = std::make_unique<RefinementSchedule>(settings_.refine, context.time_budget, training_seconds_);
     online_recording_ = settings_.online_spp > 0 && !estimator_;
     if (!settings_.save_field.empty()) {
         try {
@@ -112,10 +127,83 @@ void GuidedVolPathIntegrator::build_from_field(const Scene& scene, const Preproc
 // Updates at doublings: each costs about as much as all the earlier ones together (a rebuild from
 // every sample so far, a selection pilot), so updating after every pass of the render loop's 1, 1,
 // 2, 4, 8, 8, 8, ... spp would spend most of the learning on small steps late in the recording.
-void GuidedVolPathIntegrator::end_pass(int spp_done, double seconds) {
+void GuidedVolPathIntegrator::end_pass(const PassReport& pass) {
+    const int spp_done = pass.spp_done;
     if (ears_) ears_->end_pass(spp_done);
     if (online_recording_ && (spp_done >= 2 * online_updated_spp_ || spp_done >= settings_.online_spp))
         online_update(spp_done);
+    if (schedule_) refine(pass);
+}
+
+void GuidedVolPathIntegrator::refine(const PassReport& pass) {
+    const RefinementAction action = schedule_->on_pass(pass);
+    if (action == RefinementAction::Continue) return;
+    const auto start = std::chrono::steady_clock::now();
+    if (action == RefinementAction::Refine)
+        refine_field(pass.seconds);
+    else
+        undo_refinement();
+    schedule_->done(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+}
+
+PreprocessContext GuidedVolPathIntegrator::refinement_context() const {
+    PreprocessContext context;
+    context.seed = seed_;
+    context.progress = progress_;
+    context.cancel = cancel_;
+    return context;
+}
+
+// A further photon pass (new photons: the stream goes on from the last pass's), as many deposits as
+// all passes before it (at most refine_max_deposits), added to the field's statistics; then the
+// field's medium fractions and everything built from the field, as after the pre-pass.
+void GuidedVolPathIntegrator::refine_field(double job_seconds) {
+    const int64_t deposits = std::min(deposits_, settings_.refine_max_deposits);
+    const double remaining = time_budget_ > 0 ? std::max(0.0, time_budget_ - job_seconds) : 0.0;
+    PhotonPassSettings ps = photon_settings(time_budget_ > 0 ? settings_.training_fraction * remaining : 0.0);
+    ps.first_photon = photon_stream_next_;
+    ps.max_deposits = deposits;
+    // The photons the deposits need at the passes' rate so far, with a margin (the cap stops the pass).
+    ps.photons = std::max<int64_t>(1, int64_t(1.1 * double(photons_traced_) * double(deposits) /
+                                              double(std::max<int64_t>(deposits_, 1))));
+    const PreprocessContext context = refinement_context();
+    PhotonPassResult photons = trace_photons(*scene_, ps, context);
+    photon_stream_next_ += ps.photons;
+    if (photons.photons_traced == 0) return;
+    photons_traced_ += photons.photons_traced;
+    deposits_ += int64_t(photons.samples.size());
+    const RefinementReport r = refinement_->add(photons.samples, double(photons.photons_traced));
+    std::vector<RadianceSample>().swap(photons.samples);
+    previous_field_ = std::move(field_);
+    field_ = refinement_->field();
+    measure_medium_fractions(*scene_, seed_ + uint64_t(schedule_->refinements() + 1), true);
+    PreprocessContext build = context;
+    build.seed = seed_ + 1000 + uint64_t(schedule_->refinements());
+    build_from_field(*scene_, build, true);
+    auto add = [&](const char* name, double v) {
+        for (auto& [n, value] : refine_stats_)
+            if (n == name) return void(value += v);
+        refine_stats_.emplace_back(name, v);
+    };
+    add("refine_leaf_splits", r.leaf_splits);
+    add("refine_leaf_merges", r.leaf_merges);
+    add("refine_lobe_splits", r.lobe_splits);
+    add("refine_lobe_merges", r.lobe_merges);
+    std::erase_if(refine_stats_, [](const auto& v) { return v.first == "refine_deposits" || v.first == "field_memory_bytes"; });
+    refine_stats_.emplace_back("refine_deposits", double(deposits_));
+    refine_stats_.emplace_back("field_memory_bytes", double(refinement_->memory_bytes()));
+}
+
+// The last refinement made the render's noise worse (the schedule's judgement): its field goes, the
+// one before it comes back (the refinement's statistics are no longer used: refining has ended).
+void GuidedVolPathIntegrator::undo_refinement() {
+    if (previous_field_.empty()) return;
+    field_ = std::move(previous_field_);
+    previous_field_ = GuidingField();
+    PreprocessContext build = refinement_context();
+    build.seed = seed_ + 2000;
+    build_from_field(*scene_, build, true);
+    refine_stats_.emplace_back("refine_undone", 1.0);
 }
 
 // Joins the camera samples recorded since the last update (one or more passes) in stream-key order,
@@ -194,15 +282,21 @@ void GuidedVolPathIntegrator::measure_medium_fractions(const Scene& scene, uint6
         field_.set_medium_fractions(medium_fractions(scene, field_.tree(), kMediumFractionPoints, seed), photon_fluence);
 }
 
-GuidingField GuidedVolPathIntegrator::train_by_photons(const Scene& scene, const PreprocessContext& context) {
+PhotonPassSettings GuidedVolPathIntegrator::photon_settings(double time_limit) const {
     PhotonPassSettings ps;
     ps.photons = settings_.photons;
     ps.max_deposits = settings_.max_deposits;
     ps.focus = settings_.photon_focus;
     ps.max_depth = settings_.walk.max_depth;
     ps.rr_depth = settings_.walk.rr_depth;
+    ps.time_limit = time_limit;
+    return ps;
+}
+
+GuidingField GuidedVolPathIntegrator::train_by_photons(const Scene& scene, const PreprocessContext& context) {
     // Under a --time budget, training gets training_fraction of it (interface.md).
-    if (context.time_budget > 0) ps.time_limit = settings_.training_fraction * context.time_budget;
+    const PhotonPassSettings ps =
+        photon_settings(context.time_budget > 0 ? settings_.training_fraction * context.time_budget : 0.0);
     const PhotonPassResult photons = trace_photons(scene, ps, context);
     training_stats_ = {
         {"photons_traced", double(photons.photons_traced)},
@@ -211,7 +305,15 @@ GuidingField GuidedVolPathIntegrator::train_by_photons(const Scene& scene, const
          photons.photons_traced > 0 ? double(photons.photons_depositing) / double(photons.photons_traced) : 0.0},
         {"photon_deposits", double(photons.samples.size())},
         {"photon_deposit_limited", photons.deposit_limited ? 1.0 : 0.0}};
-    return GuidingField::build(guiding_bounds(scene), photons.samples, settings_.field);
+    GuidingField field = GuidingField::build(guiding_bounds(scene), photons.samples, settings_.field);
+    if (settings_.refine.passes > 0 && !field.empty() && photons.photons_traced > 0) {
+        refinement_ = std::make_unique<FieldRefinement>(field, photons.samples, double(photons.photons_traced),
+                                                        settings_.refinement);
+        photon_stream_next_ = ps.photons;
+        photons_traced_ = photons.photons_traced;
+        deposits_ = int64_t(photons.samples.size());
+    }
+    return field;
 }
 
 // The pixel estimate I (docs/theory.md §9.5), once, from the finished field.
@@ -384,6 +486,11 @@ Color3 GuidedVolPathIntegrator::recorded_Li(const Scene& scene, Sampler& sampler
 
 std::vector<std::pair<std::string, double>> GuidedVolPathIntegrator::statistics() const {
     std::vector<std::pair<std::string, double>> stats = training_stats_;
+    if (schedule_) {
+        const auto named = schedule_->named();
+        stats.insert(stats.end(), named.begin(), named.end());
+        stats.insert(stats.end(), refine_stats_.begin(), refine_stats_.end());
+    }
     if (settings_.online_spp > 0) {
         stats.emplace_back("online_updates", double(online_updates_));
         stats.emplace_back("online_seconds", online_seconds_);

@@ -18,6 +18,7 @@
 #include <memory>
 #include <string>
 
+#include "volguide/guiding/field_refinement.h"
 #include "volguide/guiding/guiding_field.h"
 #include "volguide/guiding/roulette_splitting.h"
 #include "volguide/integrators/guided/estimates/cache_estimate.h"
@@ -25,6 +26,8 @@
 #include "volguide/integrators/guided/prepass/guided_prepass.h"
 #include "volguide/integrators/guided/guided_volpath_settings.h"
 #include "volguide/integrators/guided/estimates/pixel_estimate.h"
+#include "volguide/integrators/guided/training/photon_pass.h"
+#include "volguide/integrators/guided/training/refinement_schedule.h"
 #include "volguide/integrators/guided/training/training_recorder.h"
 #include "volguide/integrators/volpath/volpath.h"
 #include "volguide/integrators/guided/walk/walk_guide.h"
@@ -46,7 +49,9 @@ public:
     // at online_spp), the field is rebuilt from the training's samples and every recorded pass so far,
     // and the guide, the pixel estimate and the learned selection with it. The next pass samples with
     // the new field.
-    void end_pass(int spp_done, double seconds) override;
+    // With refine_passes > 0, the refinement schedule (refinement_schedule.h) may add a further photon
+    // pass to the field here, or undo the last one.
+    void end_pass(const PassReport& pass) override;
     std::vector<std::pair<std::string, double>> statistics() const override;
     std::string to_string() const override;
     // The field and the pixel estimate (guided_prepass.h); use_prepass_state() makes preprocess()
@@ -102,6 +107,23 @@ private:
     void warn_vsp_equiangular(const Scene& scene) const;
     void record_field_stats();
     void online_update(int spp_done);
+    // Refinement during the render (issue 39): what the schedule asks after a pass; a further photon
+    // pass into the field; the field before the last refinement again.
+    void refine(const PassReport& pass);
+    void refine_field(double job_seconds);
+    void undo_refinement();
+    PhotonPassSettings photon_settings(double time_limit) const;
+    PreprocessContext refinement_context() const;
+    std::unique_ptr<FieldRefinement> refinement_;
+    std::unique_ptr<RefinementSchedule> schedule_;
+    GuidingField previous_field_;  // the field before the last refinement
+    int64_t photon_stream_next_ = 0;  // the first photon index a further pass draws from
+    int64_t photons_traced_ = 0, deposits_ = 0;
+    double training_seconds_ = 0;  // the pre-pass's field: photons and fit
+    double time_budget_ = 0;
+    ProgressCallback progress_;
+    const std::atomic<bool>* cancel_ = nullptr;
+    std::vector<std::pair<std::string, double>> refine_stats_;
     double pixel_estimate_seconds_ = 0;
     std::vector<std::pair<std::string, double>> training_stats_;  // of the last preprocess()
 

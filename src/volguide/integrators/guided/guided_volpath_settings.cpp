@@ -134,6 +134,39 @@ void read_training(const Properties& props, GuidedVolPathSettings& s) {
         int_in(props, "leaf_contrast_samples", s.field.tree.contrast_min_samples, 1, 1 << 30);
 }
 
+// refine_passes, refine_spp, refine_gain, refine_max_deposits, max_leaves, leaf_merge (issue 39); the
+// others are errors without refine_passes > 0, refine_passes with anything but a photon field trained here.
+void read_refinement(const Properties& props, GuidedVolPathSettings& s) {
+    RefinementScheduleSettings& r = s.refine;
+    r.passes = int_in(props, "refine_passes", r.passes, 0, 32, " (0: off)");
+    r.first_spp = int_in(props, "refine_spp", r.first_spp, 2, 1 << 20);
+    r.gain = props.get_float("refine_gain", float(r.gain));
+    if (!(r.gain >= 0.0 && r.gain < 1.0))
+        props.fail_at("refine_gain", "guided_volpath: refine_gain must be in [0, 1), got {}", r.gain);
+    s.refine_max_deposits = props.get_int("refine_max_deposits", s.refine_max_deposits);
+    if (s.refine_max_deposits < 1)
+        props.fail_at("refine_max_deposits", "guided_volpath: refine_max_deposits must be >= 1, got {}",
+                      s.refine_max_deposits);
+    FieldRefinementSettings& f = s.refinement;
+    f.max_leaves = int_in(props, "max_leaves", f.max_leaves, 1, 1 << 24);
+    f.merge_contrast = props.get_float("leaf_merge", f.merge_contrast);
+    if (!(f.merge_contrast >= 0.f && f.merge_contrast < 1.f))
+        props.fail_at("leaf_merge", "guided_volpath: leaf_merge must be in [0, 1) (0: off), got {}", f.merge_contrast);
+    f.merge_direction = f.merge_contrast;
+    f.field = s.field;
+    if (r.passes == 0) {
+        for (const char* name : {"refine_spp", "refine_gain", "refine_max_deposits", "max_leaves", "leaf_merge"})
+            if (props.has(name)) props.fail_at(name, "guided_volpath: {} only applies with refine_passes > 0", name);
+        return;
+    }
+    if (s.training != TrainingMethod::Photons)
+        props.fail_at("refine_passes", "guided_volpath: refine_passes needs training=\"photons\" (it adds further photon "
+                                       "passes to the field)");
+    if (props.has("load_field"))
+        props.fail_at("refine_passes", "guided_volpath: refine_passes cannot refine a loaded field (it keeps the "
+                                       "statistics of the photons it was trained from)");
+}
+
 // distance and its parameters (c_T, p_max, filter_A, distance_denominator, leaf_tau_max,
 // estimate_table, distance_merge, hetero_distance, vsp_equiangular, vsp_camera_buffer).
 void read_distance(const Properties& props, const VolPathSettings& walk, WalkGuideSettings& g) {
@@ -317,6 +350,7 @@ GuidedVolPathSettings GuidedVolPathSettings::from(const Properties& props) {
     s.location = props.location();
     s.walk = VolPathSettings::from(props);
     read_training(props, s);
+    read_refinement(props, s);
     // The guided decisions: distance, direction, RR and splitting (the paper's full system by default).
     read_distance(props, s.walk, s.guide);
     read_direction(props, s.guide);
@@ -325,6 +359,8 @@ GuidedVolPathSettings GuidedVolPathSettings::from(const Properties& props) {
     read_selection(props, s.guide.distance, s.selection);
     read_pixel_estimate(props, s);
     s.estimate = read_choice<FieldEstimate>(props, "estimate", s.estimate, kEstimate);
+    if (s.estimate != FieldEstimate::None && s.refine.passes > 0)
+        props.fail_at("refine_passes", "guided_volpath: refine_passes does not apply to estimate (no render to refine during)");
     if (props.has("save_field")) s.save_field = props.get_string("save_field");
     if (props.has("load_field")) s.load_field = resolve_field_path(props);
     return s;
@@ -333,11 +369,14 @@ GuidedVolPathSettings GuidedVolPathSettings::from(const Properties& props) {
 std::string GuidedVolPathSettings::to_string() const {
     return fmt::format(
         "max_depth={}, rr_depth={}, rr_rule={}, training={}, photons={}, training_iterations={}, online_spp={}, guide_target={}, "
+        "refine_passes={}, refine_spp={}, refine_gain={}, refine_max_deposits={}, max_leaves={}, leaf_merge={}, "
         "leaf_samples={}, leaf_contrast={}, leaf_contrast_samples={}, "
         "lobes={}, distance={}, distance_merge={}, vsp_equiangular={}, vsp_camera_buffer={}, hetero_distance={}, direction={}, surface_guiding={}, rrs={}, rrs_window={}, "
         "rrs_branch_budget={}, selection_spp={}, selection_distance_method={}, pixel_estimate={}, equiangular={}, estimate={}",
         walk.max_depth, walk.rr_depth, roulette_rule_name(walk.rr_rule), choice_name<TrainingMethod>(kTraining, training), photons,
-        training_iterations, online_spp, choice_name<bool>(kGuideTarget, field.variance_aware), field.tree.max_samples, field.tree.split_contrast,
+        training_iterations, online_spp, choice_name<bool>(kGuideTarget, field.variance_aware), refine.passes,
+        refine.first_spp, refine.gain, refine_max_deposits,
+        refinement.max_leaves, refinement.merge_contrast, field.tree.max_samples, field.tree.split_contrast,
         field.tree.contrast_min_samples, field.lobes,
         choice_name<DistanceGuiding>(kDistance, guide.distance), guide.distance_merge, guide.vsp_equiangular,
         guide.vsp_camera_buffer,

@@ -8,11 +8,13 @@
 #include <string>
 
 #include "volguide/core/properties.h"
+#include "volguide/guiding/field_refinement.h"
 #include "volguide/guiding/guiding_field.h"
 #include "volguide/guiding/roulette_splitting.h"
 #include "volguide/guiding/selection.h"
 #include "volguide/integrators/guided/estimates/continuation_stats.h"
 #include "volguide/integrators/guided/estimates/pixel_estimate.h"
+#include "volguide/integrators/guided/training/refinement_schedule.h"
 #include "volguide/integrators/volpath/volpath.h"
 #include "volguide/integrators/guided/walk/walk_guide.h"
 
@@ -46,6 +48,14 @@ struct GuidedVolPathSettings {
     int online_spp = 0;
     float training_fraction = 0.25f;
     GuidingFieldSettings field;  // leaf_samples -> field.tree.max_samples, lobes -> field.lobes
+    // Refinement while the image renders (issue 39, photon training only): refine_passes further
+    // photon passes at most, added to the field (field_refinement.h: max_leaves, leaf_merge) when the
+    // schedule says (refinement_schedule.h: refine_spp, refine_gain); each pass deposits as many
+    // collisions as all before it, at most refine_max_deposits. refine_passes 0: the field stays the
+    // pre-pass's.
+    RefinementScheduleSettings refine;
+    FieldRefinementSettings refinement;  // its `field` is a copy of `field`
+    int64_t refine_max_deposits = 8000000;
     // The distance and direction decisions (guide.distance, guide.direction) and their parameters
     // (c_T, p_max, filter_A, phase_prob, ...).
     WalkGuideSettings guide;

@@ -41,8 +41,10 @@ Color3 OpenPglVolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const 
     return L;
 }
 
-void OpenPglVolPathIntegrator::end_pass(int spp_done, double seconds) {
+void OpenPglVolPathIntegrator::end_pass(const PassReport& pass) {
     if (!training_) return;
+    const int spp_done = pass.spp_done;
+    const double seconds = pass.seconds;
     const auto start = std::chrono::steady_clock::now();
     field_->update();
     const double update = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

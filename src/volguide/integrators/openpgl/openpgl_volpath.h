@@ -28,7 +28,7 @@ class OpenPglVolPathIntegrator final : public Integrator {
     // A fresh field over the scene's bounds (every render trains its own).
     void preprocess(const Scene& scene, const PreprocessContext& context) override;
     // While training: Field::Update with the pass's samples.
-    void end_pass(int spp_done, double seconds) override;
+    void end_pass(const PassReport& pass) override;
     std::vector<std::pair<std::string, double>> statistics() const override;
     std::string to_string() const override;
     const OpenPglSettings& settings() const { return settings_; }

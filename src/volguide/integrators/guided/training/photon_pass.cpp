@@ -225,7 +225,7 @@ PhotonPassResult trace_photons(const Scene& scene, const PhotonPassSettings& set
             const int64_t first = b * kBatch, last = std::min(settings.photons, first + kBatch);
             BatchResult& out = per_batch[size_t(b)];
             for (int64_t i = first; i < last; ++i) {
-                Sampler sampler(context.seed, kPhotonStream, uint64_t(i));
+                Sampler sampler(context.seed, kPhotonStream, uint64_t(settings.first_photon + i));
                 trace_one(scene, settings, media, focus, sampler, out, nullptr);
             }
             done[size_t(b)] = 1;

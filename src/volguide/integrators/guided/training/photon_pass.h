@@ -20,6 +20,9 @@ class Scene;
 
 struct PhotonPassSettings {
     int64_t photons = 1000000;
+    // Photon i of this pass draws from the photon stream's index first_photon + i: a later pass of
+    // one render (guided_volpath's refinement) traces new photons, never the earlier passes' again.
+    int64_t first_photon = 0;
     int max_depth = -1;  // scattering events per photon (-1: until Russian roulette ends it)
     int rr_depth = 5;
     double time_limit = 0;  // seconds (> 0): stop starting new photon batches after this long
