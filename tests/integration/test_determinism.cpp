@@ -108,6 +108,16 @@ TEST(Determinism, RefinementSameImageForOneAndTwoThreads) {
                          "guided fogbox, refine_passes");
 }
 
+// guide_target=variance (docs/theory.md §23): each leaf's weights are refitted sequentially over its
+// samples in input order, in the training's rebuilds and the online updates alike.
+TEST(Determinism, VarianceAwareTargetSameImageForOneAndTwoThreads) {
+    expect_deterministic(guided_fogbox(R"(<string name="training" value="progressive"/><integer name="training_iterations" value="3"/>)"
+                                       R"(<integer name="online_spp" value="4"/><integer name="leaf_samples" value="400"/>)"
+                                       R"(<string name="guide_target" value="variance"/>)",
+                                       "determinism-variance"),
+                         "guided fogbox, variance-aware target");
+}
+
 // rrs=ears (issue 38): the continuation statistics are exact sums, frozen between passes, so the
 // decisions, and the image, do not depend on the thread count. 8 spp: statistics after the passes of
 // 1, 1 and 2 spp, decisions in the passes after them (ears_min_samples 4); after 2 spp half the camera

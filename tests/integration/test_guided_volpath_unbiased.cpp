@@ -18,7 +18,8 @@
 //    floor vertices);
 //  - guided RR and splitting (issue 8, docs/theory.md §9): the same furnace and lit fog with rrs=grr and
 //    rrs=grrs (windows s = 1 and 5, both pixel estimates, with and without guided sampling), and
-//    its statistics (kills, splits, the branch cap).
+//    its statistics (kills, splits, the branch cap);
+//  - online learning and the variance-aware target (guide_target=variance) against volpath's mean.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
@@ -604,6 +605,34 @@ TEST(GuidedVolPathUnbiased, RefinementDuringTheRenderIsUnbiased) {
     EXPECT_GT(s.at("refine_deposits"), 0.0);
     EXPECT_GT(s.at("field_memory_bytes"), 0.0);
     EXPECT_GT(s.at("refine_stretch1_inefficiency"), 0.0);
+}
+
+// guide_target=variance (docs/theory.md §23): the leaves' lobe weights follow the square root of the
+// recorded vertices' second moments, in the training's rebuilds and online learning's. Only
+// probabilities change, so the image is volpath's in expectation. The same seed with the radiance
+// target gives another image: the option reaches the field.
+TEST(GuidedVolPathUnbiased, VarianceAwareTargetIsUnbiased) {
+    TempDir dir("guided-variance");
+    const std::string grid = write_furnace_grid(dir);
+    const std::string training = R"(<string name="training" value="progressive"/><integer name="training_iterations" value="3"/>)";
+    const std::string variance = R"(<string name="guide_target" value="variance"/>)";
+    const std::string online = R"(<integer name="online_spp" value="64"/>)";
+    for (bool het : {false, true}) {
+        SCOPED_TRACE(het ? "heterogeneous" : "homogeneous");
+        Rendered ref = render_scene_xml(lit_fog_xml(het, grid, R"(<integrator type="volpath"/>)"), 1024, 7, false);
+        Rendered g = render_scene_xml(lit_fog_xml(het, grid, guided("incremental", "product", 200000, -1.f,
+                                                                     training + variance + online, rrs_xml("grrs", 5.f))),
+                                      1024, 9, false);
+        expect_same_means(g, ref);
+    }
+    const Rendered a = render_scene_xml(
+        lit_fog_xml(false, grid, guided("incremental", "product", 200000, -1.f, training)), 4, 3, false);
+    const Rendered b = render_scene_xml(
+        lit_fog_xml(false, grid, guided("incremental", "product", 200000, -1.f, training + variance)), 4, 3, false);
+    ASSERT_EQ(a.mean.pixels.size(), b.mean.pixels.size());
+    size_t differing = 0;
+    for (size_t i = 0; i < a.mean.pixels.size(); ++i) differing += a.mean.pixels[i] != b.mean.pixels[i];
+    EXPECT_GT(differing, a.mean.pixels.size() / 10);
 }
 
 // Issue 37 deliverable 2: a render's medium vertices (GuidedVertex, one object per vertex begun before

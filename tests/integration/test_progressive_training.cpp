@@ -578,3 +578,25 @@ TEST(GuidedVolPathProgressive, BadOnlineLearningIsAnErrorNamingFileAndLine) {
     EXPECT_NE(r.err.find("online_spp"), std::string::npos) << r.err;
     EXPECT_FALSE(std::filesystem::exists(dir.file("o.exr")));
 }
+
+// guide_target=variance needs the camera paths' second moments and the direction decisions' own
+// distribution: with photon training or direction_radiance=all it is an error naming the file and
+// line; an unknown target is one too.
+TEST(GuidedVolPathProgressive, BadGuideTargetIsAnErrorNamingFileAndLine) {
+    TempDir dir("guide-target-errors");
+    const std::string cases[] = {
+        R"(<integrator type="guided_volpath"><string name="guide_target" value="variance"/></integrator>)",
+        progressive_integrator(R"(<string name="guide_target" value="second_moment"/>)"),
+        progressive_integrator(R"(<string name="guide_target" value="variance"/><string name="direction_radiance" value="all"/>)")};
+    for (const std::string& integrator : cases) {
+        const std::string xml = progressive_point_light_scene(Point3f(0.f), 0.5f, 0.5f, 8, integrator);
+        CliResult r = run_cli({"render", dir.write("s.xml", xml), "-o", dir.file("o.exr"), "--spp", "1", "--quiet"});
+        EXPECT_EQ(r.exit_code, 1) << integrator;
+        EXPECT_NE(r.err.find("s.xml:2"), std::string::npos) << r.err;
+        EXPECT_NE(r.err.find("guide_target"), std::string::npos) << r.err;
+        EXPECT_FALSE(std::filesystem::exists(dir.file("o.exr")));
+    }
+    const std::string ok = progressive_point_light_scene(
+        Point3f(0.f), 0.5f, 0.5f, 8, progressive_integrator(R"(<string name="guide_target" value="variance"/>)"));
+    EXPECT_EQ(run_cli({"render", dir.write("ok.xml", ok), "-o", dir.file("ok.exr"), "--spp", "1", "--quiet"}).exit_code, 0);
+}

@@ -194,3 +194,45 @@ TEST(GuidingField, IdenticalForOneAndTwoThreads) {
         EXPECT_EQ(la.fluence, lb.fluence);
     }
 }
+
+// guide_target=variance (GuidingFieldSettings::variance_aware, docs/theory.md §23): radiance arriving
+// equally from +x and -x, the -x side's estimates noisier (second moment 4x: sqrt 2x). The radiance
+// field weighs the two lobes 1/2, 1/2; the variance-aware field's direction distribution
+// (vmm_indirect) 1/3, 2/3 with the same lobes, while its estimates (vmm, fluence) stay the radiance
+// field's; without second moments (photons) it is the radiance field, bit for bit.
+TEST(GuidingField, VarianceAwareWeightsFollowTheSecondMoment) {
+    Vmm q;  // the samples' density: weight L^ / q = 1
+    q.add_lobe(0.5f, VmfLobe(Vec3f(1.f, 0.f, 0.f), 20.f));
+    q.add_lobe(0.5f, VmfLobe(Vec3f(-1.f, 0.f, 0.f), 20.f));
+    std::vector<RadianceSample> samples;
+    for (int i = 0; i < 4000; ++i) {
+        Sampler s(21, 0, uint64_t(i));
+        const Vec3f d = q.sample(s.next_2d());
+        RadianceSample r{Point3f(1.f, 0.5f, 0.5f), d, Color3(1.f)};
+        r.second_moment = q.pdf(d) * (d.x < 0.f ? 4.f : 1.f);  // E[L^2] / q with L^ = q (x4 at -x)
+        samples.push_back(r);
+    }
+    GuidingFieldSettings fs;
+    fs.tree.max_samples = 1 << 20;  // one leaf
+    fs.lobes = 2;
+    fs.fluence = FluenceEstimator::PerSampleMean;
+    const GuidingField radiance = GuidingField::build(kFieldBox, samples, fs);
+    fs.variance_aware = true;
+    const GuidingField variance = GuidingField::build(kFieldBox, samples, fs);
+    ASSERT_EQ(variance.leaves().size(), 1u);
+    const Vmm& a = radiance.leaves()[0].vmm_indirect;
+    const Vmm& b = variance.leaves()[0].vmm_indirect;
+    ASSERT_EQ(a.size(), 2);
+    ASSERT_EQ(b.size(), 2);
+    ASSERT_TRUE(variance.leaves()[0].valid_indirect);
+    const int minus = b.mu_x[0] < 0.f ? 0 : 1;
+    EXPECT_NEAR(a.weight[minus], 0.5f, 0.05f);
+    EXPECT_NEAR(b.weight[minus], 2.f / 3.f, 0.05f);
+    EXPECT_EQ(a.kappa[minus], b.kappa[minus]);  // the lobes are the radiance fit's
+    // The estimates: the radiance target.
+    EXPECT_EQ(std::memcmp(&variance.leaves()[0].vmm, &radiance.leaves()[0].vmm, sizeof(Vmm)), 0);
+    EXPECT_EQ(radiance.leaves()[0].fluence, variance.leaves()[0].fluence);
+    for (RadianceSample& r : samples) r.second_moment = 0.f;
+    const GuidingField none = GuidingField::build(kFieldBox, samples, fs);
+    EXPECT_EQ(std::memcmp(&none.leaves()[0].vmm_indirect, &a, sizeof(Vmm)), 0);
+}

@@ -26,13 +26,19 @@ TEST(TrainingRecorder, SuffixRadianceOverThroughputAndPdf) {
     EXPECT_EQ(out[0].weight.b, 0.f);
     EXPECT_EQ(out[0].direction, Vec3f(1.f, 0.f, 0.f));
     EXPECT_EQ(out[0].count, 1.f);
+    // Its second moment L^2 / p, the channel mean of the squares (docs/theory.md §23.3).
+    const float L0r = 1.75f / 0.5f, L0g = 2.75f / 0.5f;
+    EXPECT_FLOAT_EQ(out[0].second_moment, (L0r * L0r + L0g * L0g) / 3.f / 0.25f);
     // Vertex 1: only what came after it.
     EXPECT_FLOAT_EQ(out[1].weight.r, 0.25f / 0.25f / 0.5f);
+    EXPECT_FLOAT_EQ(out[1].second_moment, 1.f / 0.5f);  // L^ = 1 in every channel
     EXPECT_EQ(out[1].position, Point3f(2.f, 0.f, 0.f));
     // The NEE sample: its own weight, count 0.
     EXPECT_EQ(out[2].weight, Color3(7.f));
     EXPECT_EQ(out[2].direction, Vec3f(0.f, 1.f, 0.f));
     EXPECT_EQ(out[2].count, 0.f);
+    // NEE carries no second moment: the direction decision's estimator does not collect it (§23.3).
+    EXPECT_EQ(out[2].second_moment, 0.f);
     // finish() clears: the next path starts empty.
     rec.record_contribution(Color3(1.f));
     rec.finish(out);

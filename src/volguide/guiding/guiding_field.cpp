@@ -1,9 +1,11 @@
 #include "volguide/guiding/guiding_field.h"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 #include "volguide/core/parallel.h"
+#include "volguide/vmm/vmm_variance_aware.h"
 
 namespace volguide {
 
@@ -18,7 +20,7 @@ GuidingLeaf fit_leaf(std::span<const RadianceSample> samples, std::span<const ui
                      const BBox3f& box, const GuidingFieldSettings& settings) {
     GuidingLeaf leaf;
     leaf.samples = uint32_t(indices.size());
-    std::vector<DirectionalSample> directions, indirect;
+    std::vector<DirectionalSample> directions, indirect, second_moments;
     directions.reserve(indices.size());
     bool any_direct = false;
     double sum[3] = {0, 0, 0}, count = 0;
@@ -36,6 +38,8 @@ GuidingLeaf fit_leaf(std::span<const RadianceSample> samples, std::span<const ui
             else
                 indirect.push_back({s.direction, w});
         }
+        if (settings.variance_aware && s.second_moment > 0.f && std::isfinite(s.second_moment))
+            second_moments.push_back({s.direction, s.second_moment});
     }
     const double norm =
         settings.fluence == FluenceEstimator::PerVolume ? box_volume(box) : std::max(count, 1.0);
@@ -49,6 +53,10 @@ GuidingLeaf fit_leaf(std::span<const RadianceSample> samples, std::span<const ui
     if (!any_direct) {
         leaf.vmm_indirect = leaf.vmm;
         leaf.valid_indirect = leaf.valid;
+        // The direction decisions' copy: the radiance fit's lobes, their weights following
+        // sqrt(E[L^2]) (theory §23.4); the estimates keep reading the radiance target (vmm). A
+        // leaf whose samples carry no second moment keeps the radiance weights.
+        if (leaf.valid && settings.variance_aware) variance_aware_weights(leaf.vmm_indirect, second_moments, fit);
     } else if (int(indirect.size()) >= settings.min_samples) {
         fit_vmm(leaf.vmm_indirect, indirect, fit);
         leaf.valid_indirect = leaf.vmm_indirect.size() > 0;

@@ -43,6 +43,8 @@ constexpr Choice<RouletteMode> kRrs[] = {{"standard", RouletteMode::Standard},
                                          {"ears", RouletteMode::Ears}};
 constexpr Choice<PixelEstimateMethod> kPixelEstimate[] = {{"raymarch", PixelEstimateMethod::Raymarch},
                                                           {"render", PixelEstimateMethod::Render}};
+// guide_target: the field's directional target, E[L] or sqrt(E[L^2]) (docs/theory.md §23).
+constexpr Choice<bool> kGuideTarget[] = {{"radiance", false}, {"variance", true}};
 constexpr Choice<FieldEstimate> kEstimate[] = {{"none", FieldEstimate::None},
                                                {"inscattered", FieldEstimate::Inscattered},
                                                {"incident", FieldEstimate::Incident}};
@@ -86,8 +88,8 @@ float finite_at_least(const Properties& props, const char* name, float def, floa
     return v;
 }
 
-// training, photons, max_deposits, photon_focus, training_iterations, training_fraction, and the
-// field's leaf_samples and lobes.
+// training, photons, max_deposits, photon_focus, training_iterations, online_spp, guide_target,
+// training_fraction, and the field's leaf_samples and lobes.
 void read_training(const Properties& props, GuidedVolPathSettings& s) {
     s.training = read_choice<TrainingMethod>(props, "training", s.training, kTraining);
     s.photons = props.get_int("photons", s.photons);
@@ -105,6 +107,15 @@ void read_training(const Properties& props, GuidedVolPathSettings& s) {
     if (s.online_spp > 0 && props.has("load_field"))
         props.fail_at("online_spp", "guided_volpath: online_spp cannot be combined with load_field (a saved field "
                                     "has no training samples to rebuild from)");
+    s.field.variance_aware = read_choice<bool>(props, "guide_target", s.field.variance_aware, kGuideTarget);
+    if (s.field.variance_aware && s.training != TrainingMethod::Progressive)
+        props.fail_at("guide_target", "guided_volpath: guide_target=\"variance\" needs training=\"progressive\" (photons "
+                                      "carry no second moment of the camera paths' radiance estimates)");
+    // The target shapes the direction decisions' distribution, which direction_radiance=all replaces
+    // by the estimates' (walk_guide.h).
+    if (s.field.variance_aware && !read_choice<bool>(props, "direction_radiance", true, kDirectionRadiance))
+        props.fail_at("guide_target", "guided_volpath: guide_target=\"variance\" needs direction_radiance=\"indirect\" "
+                                      "(the direction decisions read the variance-aware distribution only there)");
     s.training_fraction = props.get_float("training_fraction", s.training_fraction);
     if (!(s.training_fraction > 0.f && s.training_fraction < 1.f))
         props.fail_at("training_fraction", "guided_volpath: training_fraction must be in (0, 1), got {}",
@@ -357,13 +368,14 @@ GuidedVolPathSettings GuidedVolPathSettings::from(const Properties& props) {
 
 std::string GuidedVolPathSettings::to_string() const {
     return fmt::format(
-        "max_depth={}, rr_depth={}, rr_rule={}, training={}, photons={}, training_iterations={}, online_spp={}, "
+        "max_depth={}, rr_depth={}, rr_rule={}, training={}, photons={}, training_iterations={}, online_spp={}, guide_target={}, "
         "refine_passes={}, refine_spp={}, refine_gain={}, refine_max_deposits={}, max_leaves={}, leaf_merge={}, "
         "leaf_samples={}, leaf_contrast={}, leaf_contrast_samples={}, "
         "lobes={}, distance={}, distance_merge={}, vsp_equiangular={}, vsp_camera_buffer={}, hetero_distance={}, direction={}, surface_guiding={}, rrs={}, rrs_window={}, "
         "rrs_branch_budget={}, selection_spp={}, selection_distance_method={}, pixel_estimate={}, equiangular={}, estimate={}",
         walk.max_depth, walk.rr_depth, roulette_rule_name(walk.rr_rule), choice_name<TrainingMethod>(kTraining, training), photons,
-        training_iterations, online_spp, refine.passes, refine.first_spp, refine.gain, refine_max_deposits,
+        training_iterations, online_spp, choice_name<bool>(kGuideTarget, field.variance_aware), refine.passes,
+        refine.first_spp, refine.gain, refine_max_deposits,
         refinement.max_leaves, refinement.merge_contrast, field.tree.max_samples, field.tree.split_contrast,
         field.tree.contrast_min_samples, field.lobes,
         choice_name<DistanceGuiding>(kDistance, guide.distance), guide.distance_merge, guide.vsp_equiangular,

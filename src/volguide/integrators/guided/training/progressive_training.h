@@ -10,8 +10,8 @@
 // unbiased estimate (its weight carries its own pdf), so pooling the iterations is the
 // lowest-variance use of the data, and the rebuild is a pure function of the sample list (the
 // field is bit-identical for any thread count) with no decay heuristics on split leaves. Cost:
-// memory of all samples so far (sizeof(RadianceSample) = 40 B per medium vertex and NEE sample;
-// e.g. 31 spp x 64k pixels x ~4 vertices ~ 8 M samples ~ 320 MB), and a refit of everything after
+// memory of all samples so far (sizeof(RadianceSample) = 48 B per medium vertex and NEE sample;
+// e.g. 31 spp x 64k pixels x ~4 vertices ~ 8 M samples ~ 380 MB), and a refit of everything after
 // each iteration (~2x the final fit in total, since the sample count doubles per iteration).
 // While the walk is unguided (issue 7) every iteration samples the same distribution; once the
 // walk guides with the previous field, the per-sample pdfs keep the pooled estimate unbiased.

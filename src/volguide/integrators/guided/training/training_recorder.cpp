@@ -1,6 +1,21 @@
 #include "volguide/integrators/guided/training/training_recorder.h"
 
+#include <cmath>
+#include <limits>
+
 namespace volguide {
+
+namespace {
+
+// The vertex's second-moment contribution L^2 / p for the variance-aware target (docs/theory.md §23.3):
+// the channel mean of the squares, as the image error adds channels; 0 where it is not finite.
+float second_moment(const Color3& L, float pdf) {
+    if (!(pdf > 0.f)) return 0.f;
+    const double m = (double(L[0]) * L[0] + double(L[1]) * L[1] + double(L[2]) * L[2]) / (3.0 * double(pdf));
+    return std::isfinite(m) && m < double(std::numeric_limits<float>::max()) ? float(m) : 0.f;
+}
+
+}  // namespace
 
 void TrainingRecorder::clear() {
     vertices_.clear();
@@ -23,8 +38,10 @@ void TrainingRecorder::finish(std::vector<RadianceSample>& out) {
         for (int c = 0; c < 3; ++c) L[c] = v.throughput[c] > 0.f ? after[c] / v.throughput[c] : 0.f;
         Color3 weight = v.pdf > 0.f ? L * (1.f / v.pdf) : Color3(0.f);
         // A non-finite value would poison the leaf's fluence; keep the vertex as a zero sample.
-        if (!weight.is_finite()) weight = Color3(0.f);
+        const bool finite = weight.is_finite();
+        if (!finite) weight = Color3(0.f);
         out[first + j] = {v.x, v.w, weight, 1.f};
+        out[first + j].second_moment = finite ? second_moment(L, v.pdf) : 0.f;
     }
     out.insert(out.end(), nee_.begin(), nee_.end());
     clear();
