@@ -66,6 +66,11 @@ std::vector<BadScene> bad_scenes() {
          "fog"},
         {"unknown_tag", "    <shap type=\"sphere\"/>\n", 7, "shap"},
         {"cyclic_include", "    <include filename=\"a.xml\"/>\n", 2, "a.xml", {}, "b.xml"},
+        // ptracer's light paths never enter a medium: a scene with one is refused at the integrator.
+        {"ptracer_with_media",
+         "    <integrator type=\"ptracer\"/>\n    <medium type=\"homogeneous\" id=\"fog\"/>\n"
+         "    <shape type=\"sphere\">\n        <ref name=\"interior\" id=\"fog\"/>\n    </shape>\n",
+         7, "ptracer renders surfaces only"},
     };
 }
 

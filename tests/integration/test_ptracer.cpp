@@ -145,3 +145,42 @@ TEST(Ptracer, ErrorsNameFileAndLine) {
         EXPECT_NE(std::string(e.what()).find(ortho + ":2: a light tracer"), std::string::npos) << e.what();
     }
 }
+
+// ptracer renders surfaces only: a medium anywhere (the sensor's, a shape's interior or exterior, a
+// light's) is an error at the integrator's line naming the integrators that render media; the same
+// scenes load with path (which, as Mitsuba's, ignores media).
+TEST(Ptracer, RefusesParticipatingMediaAtItsLine) {
+    TempDir dir("ptracer-media");
+    const std::string fog =
+        R"(<medium type="homogeneous" id="fog"><float name="sigma_t" value="0.1"/></medium>)";
+    const std::string ref = R"(<ref name="medium" id="fog"/>)";
+    struct Case {
+        const char* name;
+        std::string from, to;
+    };
+    const Case cases[] = {
+        {"sensor", "<float name=\"fov\" value=\"60\"/>", "<float name=\"fov\" value=\"60\"/>" + ref},
+        {"exterior", "<shape type=\"cube\">", "<shape type=\"cube\"><ref name=\"exterior\" id=\"fog\"/>"},
+        {"spot", "<rgb name=\"intensity\" value=\"8\"/>", "<rgb name=\"intensity\" value=\"8\"/>" + ref},
+    };
+    for (const Case& c : cases) {
+        for (const std::string integrator : {"ptracer", "path"}) {
+            std::string xml = ptracer_room_xml(integrator);
+            xml.replace(xml.find(c.from), c.from.size(), c.to);
+            xml.replace(xml.find("<sensor"), 0, fog + "\n  ");
+            const std::string path = dir.write(std::string(c.name) + "-" + integrator + ".xml", xml);
+            if (integrator == "path") {
+                EXPECT_NO_THROW(load_scene(path)) << c.name;
+                continue;
+            }
+            try {
+                load_scene(path);
+                ADD_FAILURE() << c.name << ": ptracer accepted a medium";
+            } catch (const InputError& e) {
+                const std::string what = e.what();
+                EXPECT_NE(what.find(path + ":2: ptracer renders surfaces only"), std::string::npos) << what;
+                EXPECT_NE(what.find("volpath or guided_volpath"), std::string::npos) << what;
+            }
+        }
+    }
+}

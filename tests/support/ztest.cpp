@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -51,6 +52,36 @@ ZTestResult pixel_ztest(const Image& mean_in, double spp, const Image& ref_in, c
     r.pass_fraction = 1.0 - double(r.failed) / double(r.total);
     r.passed = r.pass_fraction >= required_fraction;
     return r;
+}
+
+Image smoothed_variance(const Image& var, int r) {
+    Image out(var.width, var.height);
+    for (int y = 0; y < var.height; ++y)
+        for (int x = 0; x < var.width; ++x) {
+            Color3 sum(0.f);
+            int n = 0;
+            for (int yy = std::max(0, y - r); yy <= std::min(var.height - 1, y + r); ++yy)
+                for (int xx = std::max(0, x - r); xx <= std::min(var.width - 1, x + r); ++xx) {
+                    sum += var.at(xx, yy);
+                    ++n;
+                }
+            out.at(x, y) = sum * (1.f / float(n));
+        }
+    return out;
+}
+
+ZTestResult own_variance_ztest(const Image& mean, double spp, const Image& ref, const Image& own_var,
+                               bool* rejects_dark, Image* error_mask) {
+    ZTestOptions options;
+    options.in_xyz = false;
+    Image variance = smoothed_variance(own_var, 1);
+    for (size_t i = 0; i < variance.pixels.size(); ++i)
+        for (int c = 0; c < 3; ++c)
+            variance.pixels[i][c] = std::max(variance.pixels[i][c], own_var.pixels[i][c]);
+    Image dark = mean;
+    for (Color3& p : dark.pixels) p = p * 0.75f;
+    *rejects_dark = !pixel_ztest(dark, spp, ref, variance, options).passed;
+    return pixel_ztest(mean, spp, ref, variance, options, error_mask);
 }
 
 ImageMean image_mean(const Image& mean, const Image& var, double spp) {

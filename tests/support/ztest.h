@@ -31,6 +31,22 @@ struct ZTestOptions {
 ZTestResult pixel_ztest(const Image& mean, double spp, const Image& ref, const Image& ref_var,
                         const ZTestOptions& options = {}, Image* error_mask = nullptr);
 
+// The per-sample variance averaged over the (2r+1)^2 window around each pixel (clamped at the
+// borders). A pixel's own sample variance is unreliable where the weights are heavy-tailed: a pixel
+// that missed its rare large samples reads both a low mean and a low variance, so its z-score is
+// inflated; its neighbours' variance is the same up to the scene's smooth variation.
+Image smoothed_variance(const Image& var, int r);
+
+// The z-test of an estimator whose variance is not the reference's (guided_volpath against Mitsuba's
+// volpath/path references): `mean` against `ref` with the estimator's own per-sample variance
+// `own_var`, per pixel-channel the larger of its own value and its 3x3 average (smoothed_variance): the
+// average alone is too small at a pixel much noisier than its neighbours (a highlight on a mirror
+// sphere, an edge), the pixel's own value alone where it missed its rare large samples. In RGB (a
+// variance image cannot be mapped to XYZ without the channels' covariance). `rejects_dark` gets whether
+// the same test rejects `mean` scaled by 0.75 (its power: a test that cannot fail proves nothing).
+ZTestResult own_variance_ztest(const Image& mean, double spp, const Image& ref, const Image& own_var,
+                               bool* rejects_dark, Image* error_mask = nullptr);
+
 // Mitsuba's linear sRGB → CIE XYZ matrix, applied to every pixel.
 Image srgb_to_xyz(const Image& rgb);
 

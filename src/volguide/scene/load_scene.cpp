@@ -9,6 +9,32 @@
 
 namespace volguide {
 
+namespace {
+
+// Whether any medium is referenced: the sensor's, a shape's interior or exterior, a point emitter's.
+bool scene_has_media(const Scene& scene) {
+    if (scene.sensor().medium()) return true;
+    for (const auto& shape : scene.shapes())
+        if (shape->interior_medium() || shape->exterior_medium()) return true;
+    for (const auto& emitter : scene.emitters())
+        if (emitter->medium()) return true;
+    return false;
+}
+
+// A light tracer's own requirements, reported at its <integrator> line: connections to a pinhole
+// sensor, and surfaces only (its paths never enter a medium, so a medium would be skipped silently).
+void check_light_tracer(const Scene& scene, const SourceLocation& loc) {
+    if (!scene.sensor().supports_connections())
+        fail(loc, "a light tracer (ptracer) connects its paths to a pinhole sensor: 'perspective' without an "
+                  "aperture");
+    if (scene_has_media(scene))
+        fail(loc,
+             "ptracer renders surfaces only (its light paths do not enter media) and this scene has "
+             "participating media: render it with volpath or guided_volpath");
+}
+
+}  // namespace
+
 std::unique_ptr<Scene> load_scene(const std::string& path, const LoadOptions& options) {
     return make_scene(load_scene_properties(path, options));
 }
@@ -25,9 +51,7 @@ std::unique_ptr<Scene> make_scene(const Properties& root) {
     auto scene = std::make_unique<Scene>(root, integrator, bsdf);
     if (integrators.size() > 1) fail(integrators[1]->loc, "only one top-level <integrator> is supported");
     if (!integrator) fail(integrators[0]->loc, "<integrator> is not a integrator");
-    if (integrator->traces_from_emitters() && !scene->sensor().supports_connections())
-        fail(integrators[0]->loc,
-             "a light tracer (ptracer) connects its paths to a pinhole sensor: 'perspective' without an aperture");
+    if (integrator->traces_from_emitters()) check_light_tracer(*scene, integrators[0]->loc);
     return scene;
 }
 
