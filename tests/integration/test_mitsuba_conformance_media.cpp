@@ -62,8 +62,8 @@ void run_media_conformance(const std::string& scene, const std::string& integrat
     TempDir dir("conformance-media-" + scene + "-" + integrator);
     const std::string scene_file = params.empty() ? xml : media_scene_with_params(dir, scene, params);
     // Mitsuba's reference variance is volpath's: an estimator with another variance (guided_volpath)
-    // is tested with its own per-sample variance (support/ztest.h's own_variance_ztest: at least its
-    // 3x3 average, since per pixel it is not trustworthy where the weights are heavy-tailed —
+    // is tested with its own per-sample variance (support/ztest.h's own_variance_ztest: its 3x3
+    // average, since per pixel it is not trustworthy where the weights are heavy-tailed —
     // guided_volpath with every decision off, the volpath estimator, failed HomoAreaLight with
     // per-pixel variances at seeds 1-5, 32-54 of 6912 pixel-channels).
     const bool own_variance = integrator == "guided_volpath";
@@ -118,7 +118,7 @@ VOLPATH_SCENE(SurfAreaLight, "test_surf_area_light_volpath")
 
 // The same scenes with guided_volpath's defaults (issue 7: distance=incremental direction=product,
 // photon training; rrs falls back to throughput RR): guiding changes the variance, never the mean.
-// Tested against the estimator's own per-sample variance, at least its 3x3 average (per pixel it is
+// Tested against the estimator's own per-sample variance, averaged over 3x3 pixels (per pixel it is
 // not trustworthy where the weights are heavy-tailed: see support/ztest.h's own_variance_ztest).
 // HeteroSigmat and HeteroSigmatAlbedo failed with the proxy-based bins (H1: 54 and 67 of 6912 pixel-channels at
 // 868 spp, per-pixel variances); with guided null-collision tracking (H2, the default in

@@ -31,8 +31,7 @@ const std::string kSuite = shared_dir() + "/mitsuba-data/tests/scenes";
 
 // `folder`/`scene`.xml; its reference is the stem without the integrator suffix (Mitsuba's naming).
 // spp <= 0: the suite's budget, 2e6 samples over the film. `integrator` (empty: the scene's own)
-// replaces the scene's $integrator; guided_volpath, whose variance is not the reference's, is tested
-// with its own per-sample variance (support/ztest.h's own_variance_ztest), as the media suite's.
+// replaces the scene's $integrator (guided_volpath on the suite's surface scenes: tested as path is, below).
 void run_conformance(const std::string& folder, const std::string& scene, int spp = 0,
                      const std::string& integrator = "") {
     if (!std::filesystem::exists(kSuite)) GTEST_SKIP() << "SKIPPED: " << kSuite << " is absent";
@@ -46,18 +45,17 @@ void run_conformance(const std::string& folder, const std::string& scene, int sp
     TempDir dir("conformance-suite-" + label);
     std::vector<std::string> cmd = {"render", dir_path + "/" + scene + ".xml", "-o", dir.file("out.exr"),
                                     "--spp", std::to_string(spp), "--seed", "1", "--quiet"};
-    const bool own_variance = integrator == "guided_volpath";
+    // Without a medium guided_volpath makes no guided decision: its estimator, and so its variance, is
+    // path's (its seed-1 images of both scenes below were measured bit-identical to volpath's), so it
+    // is tested as the suite tests path, against Mitsuba's variance. (An own-variance test, 3x3-averaged
+    // as the media suite's, rejected infinite_mirrors' sphere highlights, where a pixel is much
+    // noisier than its neighbours: 8 of 3072 with 7 allowed.)
     if (!integrator.empty()) cmd.insert(cmd.end(), {"-D", "integrator=" + integrator});
-    if (own_variance) cmd.push_back("--variance");
     CliResult r = run_cli(cmd);
     ASSERT_EQ(r.exit_code, 0) << r.err;
     Image mean = read_image(dir.file("out.exr"));
     Image mask;
-    bool rejects_dark = true;
-    ZTestResult z = own_variance ? own_variance_ztest(mean, spp, ref_img, read_image(dir.file("out_var.exr")),
-                                                      &rejects_dark, &mask)
-                                 : pixel_ztest(mean, spp, ref_img, ref_var_img, ZTestOptions{}, &mask);
-    EXPECT_TRUE(rejects_dark) << label << ": the test has no power (the image 25 % too dark passes)";
+    ZTestResult z = pixel_ztest(mean, spp, ref_img, ref_var_img, ZTestOptions{}, &mask);
     if (!z.passed) {
         const std::string stem = std::filesystem::current_path().string() + "/conformance-" + label;
         write_exr(stem + "-render.exr", mean);

@@ -74,10 +74,7 @@ ZTestResult own_variance_ztest(const Image& mean, double spp, const Image& ref, 
                                bool* rejects_dark, Image* error_mask) {
     ZTestOptions options;
     options.in_xyz = false;
-    Image variance = smoothed_variance(own_var, 1);
-    for (size_t i = 0; i < variance.pixels.size(); ++i)
-        for (int c = 0; c < 3; ++c)
-            variance.pixels[i][c] = std::max(variance.pixels[i][c], own_var.pixels[i][c]);
+    const Image variance = smoothed_variance(own_var, 1);
     Image dark = mean;
     for (Color3& p : dark.pixels) p = p * 0.75f;
     *rejects_dark = !pixel_ztest(dark, spp, ref, variance, options).passed;

@@ -39,9 +39,8 @@ Image smoothed_variance(const Image& var, int r);
 
 // The z-test of an estimator whose variance is not the reference's (guided_volpath against Mitsuba's
 // volpath/path references): `mean` against `ref` with the estimator's own per-sample variance
-// `own_var`, per pixel-channel the larger of its own value and its 3x3 average (smoothed_variance): the
-// average alone is too small at a pixel much noisier than its neighbours (a highlight on a mirror
-// sphere, an edge), the pixel's own value alone where it missed its rare large samples. In RGB (a
+// `own_var` averaged over 3x3 pixels (smoothed_variance: the pixel's own value is too small where it
+// missed its rare large samples; the media suite's rule, unchanged since issue 7). In RGB (a
 // variance image cannot be mapped to XYZ without the channels' covariance). `rejects_dark` gets whether
 // the same test rejects `mean` scaled by 0.75 (its power: a test that cannot fail proves nothing).
 ZTestResult own_variance_ztest(const Image& mean, double spp, const Image& ref, const Image& own_var,
