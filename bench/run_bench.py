@@ -124,6 +124,13 @@ EXTRA_METHODS = {
     "guided_volpath distance=incremental direction=product rrs=grrs max_deposits=1000000": {
         "guided": {"distance": "incremental", "direction": "product", "rrs": "grrs", "max_deposits": 1000000}},
     # Issue 22's 600 s comparison: does a longer budget afford a finer photon field (4x the deposits)?
+    # Issue 39: the field refined during the render (further photon passes at doublings of spp while
+    # they pay, docs/theory.md §22), and the variance-aware direction target of camera-path training (§23).
+    "guided_volpath distance=incremental direction=product rrs=grrs refine_passes=8": {
+        "guided": {"distance": "incremental", "direction": "product", "rrs": "grrs", "refine_passes": 8}},
+    "guided_volpath distance=incremental direction=product rrs=grrs training=progressive online_spp=64 guide_target=variance": {
+        "guided": {"distance": "incremental", "direction": "product", "rrs": "grrs", "training": "progressive",
+                   "online_spp": 64, "guide_target": "variance"}},
     "guided_volpath distance=incremental direction=product rrs=grrs max_deposits=8000000": {
         "guided": {"distance": "incremental", "direction": "product", "rrs": "grrs", "max_deposits": 8000000}},
 }
