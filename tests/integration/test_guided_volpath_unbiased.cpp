@@ -126,6 +126,17 @@ const Combo kCombos[] = {{"standard", "incident"},   {"standard", "product"},
                          {"tabulated", "product"},   {"incremental-bins", "product"}};
 
 // The guided integrator inside `moment`, for its statistics.
+// The point-lit fog, homogeneous and heterogeneous, rendered at 1024 spp with `integrator` (seed
+// `seed`), has volpath's image means (volpath at seed 7).
+void expect_lit_fog_means_of_volpath(const std::string& grid, const std::string& integrator, uint64_t seed) {
+    for (bool het : {false, true}) {
+        SCOPED_TRACE(het ? "heterogeneous" : "homogeneous");
+        Rendered ref = render_scene_xml(lit_fog_xml(het, grid, R"(<integrator type="volpath"/>)"), 1024, 7, false);
+        Rendered g = render_scene_xml(lit_fog_xml(het, grid, integrator), 1024, seed, false);
+        expect_same_means(g, ref);
+    }
+}
+
 std::map<std::string, double> guide_stats(const std::string& xml, int spp = 4) {
     TempDir dir("guided-stats");
     auto scene = load_scene(dir.write("s.xml", xml));
@@ -565,14 +576,7 @@ TEST(GuidedVolPathUnbiased, OnlineLearningIsUnbiased) {
     const std::string grid = write_furnace_grid(dir);
     const std::string online = R"(<string name="training" value="progressive"/><integer name="training_iterations" value="3"/>)"
                                R"(<integer name="online_spp" value="64"/>)";
-    for (bool het : {false, true}) {
-        SCOPED_TRACE(het ? "heterogeneous" : "homogeneous");
-        Rendered ref = render_scene_xml(lit_fog_xml(het, grid, R"(<integrator type="volpath"/>)"), 1024, 7, false);
-        Rendered g = render_scene_xml(
-            lit_fog_xml(het, grid, guided("incremental", "product", 200000, -1.f, online, rrs_xml("grrs", 5.f))), 1024,
-            8, false);
-        expect_same_means(g, ref);
-    }
+    expect_lit_fog_means_of_volpath(grid, guided("incremental", "product", 200000, -1.f, online, rrs_xml("grrs", 5.f)), 8);
     const auto s = guide_stats(lit_fog_xml(false, grid, guided("incremental", "product", 200000, -1.f, online)));
     EXPECT_EQ(s.at("online_updates"), 3.0);  // 4 spp: after the passes of 1, 1 and 2 spp
     // The render loop's passes of 1, 1, 2, 4, 8, 8, 8, 8 spp: updates at 1, 2, 4, 8, 16, 32 and at
@@ -592,14 +596,7 @@ TEST(GuidedVolPathUnbiased, RefinementDuringTheRenderIsUnbiased) {
     const std::string grid = write_furnace_grid(dir);
     const std::string refine = R"(<integer name="refine_passes" value="3"/><integer name="refine_spp" value="4"/>)"
                                R"(<float name="refine_gain" value="0"/>)";
-    for (bool het : {false, true}) {
-        SCOPED_TRACE(het ? "heterogeneous" : "homogeneous");
-        Rendered ref = render_scene_xml(lit_fog_xml(het, grid, R"(<integrator type="volpath"/>)"), 1024, 7, false);
-        Rendered g = render_scene_xml(
-            lit_fog_xml(het, grid, guided("incremental", "product", 200000, -1.f, refine, rrs_xml("grrs", 5.f))), 1024,
-            8, false);
-        expect_same_means(g, ref);
-    }
+    expect_lit_fog_means_of_volpath(grid, guided("incremental", "product", 200000, -1.f, refine, rrs_xml("grrs", 5.f)), 8);
     const auto s = guide_stats(lit_fog_xml(false, grid, guided("incremental", "product", 200000, -1.f, refine)), 64);
     EXPECT_GE(s.at("refine_passes"), 1.0);
     EXPECT_GT(s.at("refine_deposits"), 0.0);
@@ -617,14 +614,8 @@ TEST(GuidedVolPathUnbiased, VarianceAwareTargetIsUnbiased) {
     const std::string training = R"(<string name="training" value="progressive"/><integer name="training_iterations" value="3"/>)";
     const std::string variance = R"(<string name="guide_target" value="variance"/>)";
     const std::string online = R"(<integer name="online_spp" value="64"/>)";
-    for (bool het : {false, true}) {
-        SCOPED_TRACE(het ? "heterogeneous" : "homogeneous");
-        Rendered ref = render_scene_xml(lit_fog_xml(het, grid, R"(<integrator type="volpath"/>)"), 1024, 7, false);
-        Rendered g = render_scene_xml(lit_fog_xml(het, grid, guided("incremental", "product", 200000, -1.f,
-                                                                     training + variance + online, rrs_xml("grrs", 5.f))),
-                                      1024, 9, false);
-        expect_same_means(g, ref);
-    }
+    expect_lit_fog_means_of_volpath(
+        grid, guided("incremental", "product", 200000, -1.f, training + variance + online, rrs_xml("grrs", 5.f)), 9);
     const Rendered a = render_scene_xml(
         lit_fog_xml(false, grid, guided("incremental", "product", 200000, -1.f, training)), 4, 3, false);
     const Rendered b = render_scene_xml(
