@@ -52,41 +52,6 @@ int merge_to_capacity(Vmm& vmm, int lobes) {
     return merges;
 }
 
-// Where a leaf splits: the mean of its new (counted) samples on the axis of their largest spread, or
-// the longest axis's midpoint when that does not separate them (SpatialTree's build rule).
-std::pair<int, float> choose_split(std::span<const RadianceSample> samples, std::span<const uint32_t> idx,
-                                   const BBox3f& box) {
-    double mean[3] = {0, 0, 0}, sq[3] = {0, 0, 0}, n = 0;
-    for (uint32_t i : idx) {
-        if (!refine_carries_radiance(samples[i])) continue;
-        n += 1;
-        for (int a = 0; a < 3; ++a) {
-            const double v = samples[i].position[a];
-            mean[a] += v;
-            sq[a] += v * v;
-        }
-    }
-    int best = -1;
-    double best_var = 0;
-    for (int a = 0; a < 3 && n > 0; ++a) {
-        mean[a] /= n;
-        const double var = sq[a] / n - mean[a] * mean[a];
-        if (var > best_var) best_var = var, best = a;
-    }
-    if (best >= 0) {
-        const float s = float(mean[best]);
-        bool below = false, above = false;
-        for (uint32_t i : idx)
-            if (refine_carries_radiance(samples[i])) (samples[i].position[best] < s ? below : above) = true;
-        if (below && above && s > box.lo[best] && s < box.hi[best]) return {best, s};
-    }
-    const Vec3f ext = box.extents();
-    const int longest = ext.x >= ext.y && ext.x >= ext.z ? 0 : (ext.y >= ext.z ? 1 : 2);
-    const float mid = 0.5f * (box.lo[longest] + box.hi[longest]);
-    if (mid > box.lo[longest] && mid < box.hi[longest]) return {longest, mid};
-    return {3, 0.f};
-}
-
 }  // namespace
 
 // A leaf's subtree after a pass: nodes[0] is its root; a leaf node's `child` indexes `states`.
@@ -250,7 +215,10 @@ void FieldRefinement::grow_into(Grown& g, uint32_t node, LeafState state, std::v
     for (uint32_t i : idx)
         if (refine_carries_radiance(samples[i])) counted += 1, weight += double(samples[i].weight.average());
     if (extra > 0 && counted >= 2 && state.samples + counted > threshold * double(state.split_scale)) {
-        const auto [axis, split] = choose_split(samples, idx, box);
+        // Where its new samples lie: the kd-tree build's rule (spatial_tree.h).
+        const auto [axis, split] = mean_split(
+            idx, box, [&](uint32_t i) -> const Point3f& { return samples[i].position; },
+            [&](uint32_t i) { return refine_carries_radiance(samples[i]); });
         if (axis < 3) {
             std::vector<uint32_t> lower, upper;
             double counted_lower = 0, weight_lower = 0;

@@ -42,35 +42,8 @@ struct Builder {
 
     // Chooses the split of `idx` inside `box`: (axis, position), or axis 3 for "make a leaf".
     std::pair<int, float> choose_split(const std::vector<uint32_t>& idx, const BBox3f& box) const {
-        double mean[3] = {0, 0, 0}, sq[3] = {0, 0, 0}, n = 0;
-        for (uint32_t i : idx) {
-            if (!counts(i)) continue;
-            n += 1;
-            for (int a = 0; a < 3; ++a) {
-                const double v = points[i][a];
-                mean[a] += v;
-                sq[a] += v * v;
-            }
-        }
-        int best = -1;
-        double best_var = 0;
-        for (int a = 0; a < 3; ++a) {
-            mean[a] /= n;
-            const double var = sq[a] / n - mean[a] * mean[a];
-            if (var > best_var) best_var = var, best = a;
-        }
-        auto separates = [&](int a, float s) {
-            bool below = false, above = false;
-            for (uint32_t i : idx)
-                if (counts(i)) (points[i][a] < s ? below : above) = true;
-            return below && above && s > box.lo[a] && s < box.hi[a];
-        };
-        if (best >= 0 && separates(best, float(mean[best]))) return {best, float(mean[best])};
-        const Vec3f ext = box.extents();
-        const int longest = ext.x >= ext.y && ext.x >= ext.z ? 0 : (ext.y >= ext.z ? 1 : 2);
-        const float mid = 0.5f * (box.lo[longest] + box.hi[longest]);
-        if (mid > box.lo[longest] && mid < box.hi[longest]) return {longest, mid};
-        return {3, 0.f};
+        return mean_split(idx, box, [&](uint32_t i) -> const Point3f& { return points[i]; },
+                          [&](uint32_t i) { return counts(i); });
     }
 
     bool counts(uint32_t i) const { return counted.empty() || counted[i] != 0; }

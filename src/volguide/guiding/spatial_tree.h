@@ -16,6 +16,7 @@
 // and order-preserving, so the tree is a pure function of the samples in their given order.
 #include <cstdint>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "volguide/core/bbox.h"
@@ -39,6 +40,43 @@ struct SpatialTreeSettings {
     int contrast_min_samples = 256;
     bool contrast_per_volume = true;
 };
+
+// The build's split of a node by its samples (docs/theory.md §5.3): the mean of the counted samples on the
+// axis of their largest positional variance, or the longest axis's midpoint when that mean does not
+// separate them inside `box`; (3, 0) when neither is possible. `position(i)` and `counts(i)` read sample i
+// of `idx`: the kd-tree's build and the refinement's leaf splits (field_refinement.h) use this one rule.
+template <class Position, class Counts>
+std::pair<int, float> mean_split(std::span<const uint32_t> idx, const BBox3f& box, Position position, Counts counts) {
+    double mean[3] = {0, 0, 0}, sq[3] = {0, 0, 0}, n = 0;
+    for (uint32_t i : idx) {
+        if (!counts(i)) continue;
+        n += 1;
+        for (int a = 0; a < 3; ++a) {
+            const double v = position(i)[a];
+            mean[a] += v;
+            sq[a] += v * v;
+        }
+    }
+    int best = -1;
+    double best_var = 0;
+    for (int a = 0; a < 3; ++a) {
+        mean[a] /= n;
+        const double var = sq[a] / n - mean[a] * mean[a];
+        if (var > best_var) best_var = var, best = a;
+    }
+    auto separates = [&](int a, float s) {
+        bool below = false, above = false;
+        for (uint32_t i : idx)
+            if (counts(i)) (position(i)[a] < s ? below : above) = true;
+        return below && above && s > box.lo[a] && s < box.hi[a];
+    };
+    if (best >= 0 && separates(best, float(mean[best]))) return {best, float(mean[best])};
+    const Vec3f ext = box.extents();
+    const int longest = ext.x >= ext.y && ext.x >= ext.z ? 0 : (ext.y >= ext.z ? 1 : 2);
+    const float mid = 0.5f * (box.lo[longest] + box.hi[longest]);
+    if (mid > box.lo[longest] && mid < box.hi[longest]) return {longest, mid};
+    return {3, 0.f};
+}
 
 class SpatialTree {
 public:
