@@ -34,7 +34,8 @@ void GuidedVolPathIntegrator::preprocess(const Scene& scene, const PreprocessCon
     refinement_.reset();
     schedule_.reset();
     previous_field_ = GuidingField();
-    refine_stats_.clear();
+    refined_ = RefinementReport{};
+    refinement_undone_ = false;
     photon_stream_next_ = photons_traced_ = deposits_ = 0;
     time_budget_ = context.time_budget;
     progress_ = context.progress;
@@ -180,18 +181,10 @@ void GuidedVolPathIntegrator::refine_field(double job_seconds) {
     PreprocessContext build = context;
     build.seed = seed_ + 1000 + uint64_t(schedule_->refinements());
     build_from_field(*scene_, build, true);
-    auto add = [&](const char* name, double v) {
-        for (auto& [n, value] : refine_stats_)
-            if (n == name) return void(value += v);
-        refine_stats_.emplace_back(name, v);
-    };
-    add("refine_leaf_splits", r.leaf_splits);
-    add("refine_leaf_merges", r.leaf_merges);
-    add("refine_lobe_splits", r.lobe_splits);
-    add("refine_lobe_merges", r.lobe_merges);
-    std::erase_if(refine_stats_, [](const auto& v) { return v.first == "refine_deposits" || v.first == "field_memory_bytes"; });
-    refine_stats_.emplace_back("refine_deposits", double(deposits_));
-    refine_stats_.emplace_back("field_memory_bytes", double(refinement_->memory_bytes()));
+    refined_.leaf_splits += r.leaf_splits;
+    refined_.leaf_merges += r.leaf_merges;
+    refined_.lobe_splits += r.lobe_splits;
+    refined_.lobe_merges += r.lobe_merges;
 }
 
 // The last refinement made the render's noise worse (the schedule's judgement): its field goes, the
@@ -203,7 +196,7 @@ void GuidedVolPathIntegrator::undo_refinement() {
     PreprocessContext build = refinement_context();
     build.seed = seed_ + 2000;
     build_from_field(*scene_, build, true);
-    refine_stats_.emplace_back("refine_undone", 1.0);
+    refinement_undone_ = true;
 }
 
 // Joins the camera samples recorded since the last update (one or more passes) in stream-key order,
@@ -489,7 +482,13 @@ std::vector<std::pair<std::string, double>> GuidedVolPathIntegrator::statistics(
     if (schedule_) {
         const auto named = schedule_->named();
         stats.insert(stats.end(), named.begin(), named.end());
-        stats.insert(stats.end(), refine_stats_.begin(), refine_stats_.end());
+        stats.insert(stats.end(), {{"refine_leaf_splits", double(refined_.leaf_splits)},
+                                   {"refine_leaf_merges", double(refined_.leaf_merges)},
+                                   {"refine_lobe_splits", double(refined_.lobe_splits)},
+                                   {"refine_lobe_merges", double(refined_.lobe_merges)},
+                                   {"refine_deposits", double(deposits_)},
+                                   {"field_memory_bytes", double(refinement_->memory_bytes())}});
+        if (refinement_undone_) stats.emplace_back("refine_undone", 1.0);
     }
     if (settings_.online_spp > 0) {
         stats.emplace_back("online_updates", double(online_updates_));

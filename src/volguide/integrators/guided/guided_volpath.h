@@ -123,7 +123,8 @@ private:
     double time_budget_ = 0;
     ProgressCallback progress_;
     const std::atomic<bool>* cancel_ = nullptr;
-    std::vector<std::pair<std::string, double>> refine_stats_;
+    RefinementReport refined_;  // the refinements' splits and merges, summed
+    bool refinement_undone_ = false;
     double pixel_estimate_seconds_ = 0;
     std::vector<std::pair<std::string, double>> training_stats_;  // of the last preprocess()
 
