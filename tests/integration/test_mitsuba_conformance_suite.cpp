@@ -7,8 +7,8 @@
 // Needs ../shared/mitsuba-data (third-party data, never copied into the repository): skipped, visibly,
 // when that folder is absent. On failure the render and the error mask are written next to the build
 // (conformance-<scene>-render.exr / -errors.exr).
-// Scenes of the suite that still use something volguide does not support are listed in
-// docs/scene-format.md; their loading errors are checked by MitsubaSuiteUnsupported below.
+// Every scene of the suite is tested here; a scene with an unknown conductor material still fails
+// with its file:line and the names volguide knows (MitsubaSuiteUnsupported below).
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -102,6 +102,10 @@ TEST(MitsubaConformanceSuite, BsdfRoughPlasticLinear) {
 }
 TEST(MitsubaConformanceSuite, BsdfRoughPlasticNonlinear) {
     run_conformance("bsdf_spheres", "test_roughplastic_nonlinear_path");
+}
+// Mitsuba's named conductor a-C (amorphous carbon) with checkerboard roughness textures.
+TEST(MitsubaConformanceSuite, BsdfTexturedRoughConductor) {
+    run_conformance("bsdf_spheres", "test_textured_roughconductor_path");
 }
 TEST(MitsubaConformanceSuite, BsdfTexturedDiffuse) { run_conformance("bsdf_spheres", "test_textured_diffuse_path"); }
 // principled / principledthin with checkerboard-textured weights (docs/theory.md §18).
@@ -198,22 +202,25 @@ TEST(MitsubaConformanceSuite, DirectSampleCountsOnAreaLight) {
     EXPECT_TRUE(z.passed) << "direct (3 emitter, 2 BSDF samples) on test_arealight: " << z.summary();
 }
 
-// The suite's scenes that still use something volguide does not support fail to load with the file,
-// the line and (for an unknown plugin) the list of what the category supports.
-TEST(MitsubaSuiteUnsupported, FailWithFileLineAndSupportedList) {
+// A scene naming a conductor material volguide does not know fails with its file, its line and the
+// names it knows (the suite's textured_roughconductor scene with its material renamed).
+TEST(MitsubaSuiteUnsupported, UnknownConductorMaterialNamesFileLineAndChoices) {
     if (!std::filesystem::exists(kSuite)) GTEST_SKIP() << "SKIPPED: " << kSuite << " is absent";
-    struct Case {
-        const char* scene;
-        const char* expected;  // after "<path>/<scene>:"
-    };
-    const Case cases[] = {
-        {"bsdf_spheres/test_textured_roughconductor_path.xml", "23: unknown conductor material 'a-C'"},
-    };
+    const std::string src = kSuite + "/bsdf_spheres";
     TempDir dir("suite-unsupported");
-    for (const Case& c : cases) {
-        const std::string xml = kSuite + "/" + c.scene;
-        CliResult r = run_cli({"render", xml, "-o", dir.file("out.exr"), "--spp", "1", "--quiet"});
-        EXPECT_NE(r.exit_code, 0) << c.scene;
-        EXPECT_NE(r.err.find(xml + ":" + c.expected), std::string::npos) << c.scene << ": " << r.err;
-    }
+    std::filesystem::create_directories(dir.file("fragments"));
+    std::ofstream(dir.file("fragments/single_sphere.xml")) << read_text(src + "/fragments/single_sphere.xml");
+    std::string scene = read_text(src + "/test_textured_roughconductor_path.xml");
+    replace_once(scene, "<string name=\"material\" value=\"a-C\"/>",
+                 "<string name=\"material\" value=\"Unobtainium\"/>");
+    replace_once(scene, "<path value=\"../../../common\"/>", "<path value=\"" + kSuite + "/../../common\"/>");
+    std::ofstream(dir.file("scene.xml")) << scene;
+    CliResult r =
+        run_cli({"render", dir.file("scene.xml"), "-o", dir.file("out.exr"), "--spp", "1", "--quiet"});
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_NE(r.err.find(dir.file("scene.xml") +
+                         ":23: unknown conductor material 'Unobtainium'; valid names: none, Ag,"),
+              std::string::npos)
+        << r.err;
+    EXPECT_NE(r.err.find(", a-C, d-C"), std::string::npos) << r.err;
 }

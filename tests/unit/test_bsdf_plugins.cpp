@@ -2,6 +2,9 @@
 // consistency between related models.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <span>
+
 #include "support/bsdf_helpers.h"
 #include "volguide/render/bsdfs/fresnel.h"
 #include "volguide/render/bsdfs/ior.h"
@@ -32,6 +35,40 @@ TEST(BsdfParams, NamedIors) {
     EXPECT_FLOAT_EQ(*named_ior("air"), 1.000277f);
     EXPECT_FLOAT_EQ(*named_ior("vacuum"), 1.f);
     EXPECT_FALSE(named_ior("unobtainium").has_value());
+}
+
+// The generated table of Mitsuba's named conductors (tools/gen_conductor_table.cpp): sorted and unique
+// (the error lists them in that order), every value finite and >= 0 (Mitsuba clips at 0), and the four
+// metals volguide kept by hand before the table agree with it to float precision.
+TEST(BsdfParams, ConductorTable) {
+    std::span<const ConductorPreset> table = conductor_table();
+    ASSERT_EQ(table.size(), 71u);
+    for (size_t i = 0; i < table.size(); ++i) {
+        if (i > 0) EXPECT_LT(std::string(table[i - 1].name), std::string(table[i].name));
+        for (float v : {table[i].ior.eta.r, table[i].ior.eta.g, table[i].ior.eta.b, table[i].ior.k.r,
+                        table[i].ior.k.g, table[i].ior.k.b})
+            EXPECT_TRUE(std::isfinite(v) && v >= 0.f) << table[i].name;
+    }
+    auto expect_near = [](const char* name, Color3 eta, Color3 k) {
+        std::optional<ComplexIor> p = conductor_preset(name);
+        ASSERT_TRUE(p.has_value()) << name;
+        for (int c = 0; c < 3; ++c) {
+            EXPECT_NEAR(p->eta[c], eta[c], 1e-6f * eta[c]) << name;
+            EXPECT_NEAR(p->k[c], k[c], 1e-6f * k[c]) << name;
+        }
+    };
+    expect_near("Ag", Color3(0.1552762f, 0.1167280f, 0.1383876f), Color3(4.828355f, 3.122222f, 2.146901f));
+    expect_near("Al", Color3(1.657501f, 0.8804047f, 0.5212444f), Color3(9.223811f, 6.269502f, 4.837004f));
+    expect_near("Au", Color3(0.1430360f, 0.3753071f, 1.442045f), Color3(3.982997f, 2.385556f, 1.603359f));
+    expect_near("Cu", Color3(0.2010055f, 0.9237495f, 1.102215f), Color3(3.913262f, 2.453045f, 2.142090f));
+    EXPECT_TRUE(conductor_preset("a-C").has_value());
+    EXPECT_TRUE(conductor_preset("W").has_value());
+    std::optional<ComplexIor> none = conductor_preset("none");
+    ASSERT_TRUE(none.has_value());
+    EXPECT_EQ(none->eta.max_value(), 0.f);
+    EXPECT_EQ(none->k.min_value(), 1.f);
+    EXPECT_FALSE(conductor_preset("au").has_value());  // case-sensitive, as Mitsuba's file names
+    EXPECT_FALSE(conductor_preset("Unobtainium").has_value());
 }
 
 TEST(BsdfParams, DielectricIorByNameOrValue) {

@@ -15,7 +15,11 @@ ConductorIor ConductorIor::parse(const Properties& props) {
         return c;
     }
     std::optional<ComplexIor> preset = conductor_preset(material);
-    if (!preset) props.fail_at("material", "unknown conductor material '{}'", material);
+    if (!preset) {
+        std::string names = "none";
+        for (const ConductorPreset& p : conductor_table()) names += std::string(", ") + p.name;
+        props.fail_at("material", "unknown conductor material '{}'; valid names: {}", material, names);
+    }
     c.eta = std::make_shared<ConstantTexture>(preset->eta);
     c.k = std::make_shared<ConstantTexture>(preset->k);
     return c;

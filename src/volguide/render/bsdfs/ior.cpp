@@ -67,21 +67,8 @@ float lookup_ior(const Properties& props, const std::string& param, const std::s
 namespace volguide {
 
 std::optional<ComplexIor> conductor_preset(const std::string& name) {
-    // RGB values Mitsuba 3 derives in `rgb` mode from its spectral data files (luxpop / Palik):
-    // 1000-step integration over 360-830 nm against the CIE 1931 curves, then XYZ -> linear sRGB.
-    // Computed offline with that procedure (it reproduces Mitsuba's published Ag values).
-    struct Preset {
-        const char* name;
-        ComplexIor ior;
-    };
-    static const Preset kPresets[] = {
-        {"none", {Color3(0.f), Color3(1.f)}},
-        {"Ag", {Color3(0.1552762f, 0.1167280f, 0.1383876f), Color3(4.828355f, 3.122222f, 2.146901f)}},
-        {"Al", {Color3(1.657501f, 0.8804047f, 0.5212444f), Color3(9.223811f, 6.269502f, 4.837004f)}},
-        {"Au", {Color3(0.1430360f, 0.3753071f, 1.442045f), Color3(3.982997f, 2.385556f, 1.603359f)}},
-        {"Cu", {Color3(0.2010055f, 0.9237495f, 1.102215f), Color3(3.913262f, 2.453045f, 2.142090f)}},
-    };
-    for (const Preset& p : kPresets)
+    if (name == "none") return ComplexIor{Color3(0.f), Color3(1.f)};
+    for (const ConductorPreset& p : conductor_table())
         if (name == p.name) return p.ior;
     return std::nullopt;
 }
