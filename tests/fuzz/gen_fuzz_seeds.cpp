@@ -3,6 +3,7 @@
 // (target gen_fuzz_seeds, not built by default). Text seeds (XML, OBJ, PLY ascii) are kept as written.
 #include <openvdb/io/File.h>
 #include <openvdb/openvdb.h>
+#include <stb/stb_image_write.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -12,6 +13,7 @@
 #include "volguide/core/warp.h"
 #include "volguide/guiding/field_io.h"
 #include "volguide/media/grid_data.h"
+#include "volguide/render/image_io.h"
 #include "volguide/render/render_part.h"
 #include "support/serialized_writer.h"
 
@@ -91,6 +93,21 @@ void write_serialized_seeds(const fs::path& dir) {
     write("two_v4.serialized", serialized_file({serialized_quad(), d}, 4));
 }
 
+// Images as textures read them (read_image): an 8-bit PNG and an EXR through volguide's writers, a
+// JPEG, BMP and TGA through stb_image_write (the formats stb_image decodes besides PNG).
+void write_image_seeds(const fs::path& dir) {
+    Image image(4, 3);
+    for (size_t i = 0; i < image.pixels.size(); ++i)
+        image.pixels[i] = Color3(float(i) / 12.f, 0.5f, 1.f - float(i) / 12.f);
+    write_png((dir / "rgb_4x3.png").string(), image);
+    write_exr((dir / "rgb_4x3.exr").string(), image);
+    std::vector<unsigned char> bytes(image.pixels.size() * 3);
+    for (size_t i = 0; i < bytes.size(); ++i) bytes[i] = (unsigned char)(i * 21);
+    stbi_write_jpg((dir / "rgb_4x3.jpg").string().c_str(), 4, 3, 3, bytes.data(), 90);
+    stbi_write_bmp((dir / "rgb_4x3.bmp").string().c_str(), 4, 3, 3, bytes.data());
+    stbi_write_tga((dir / "rgb_4x3.tga").string().c_str(), 4, 3, 3, bytes.data());
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -99,11 +116,12 @@ int main(int argc, char** argv) {
         return 2;
     }
     const fs::path root = argv[1];
-    for (const char* t : {"vol", "vdb", "field", "exr_part", "serialized"}) fs::create_directories(root / t);
+    for (const char* t : {"vol", "vdb", "field", "exr_part", "serialized", "image"}) fs::create_directories(root / t);
     write_vol_seeds(root / "vol");
     write_vdb_seed(root / "vdb");
     write_field_seed(root / "field");
     write_part_seed(root / "exr_part");
     write_serialized_seeds(root / "serialized");
+    write_image_seeds(root / "image");
     return 0;
 }

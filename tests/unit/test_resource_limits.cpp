@@ -12,6 +12,7 @@
 #include "volguide/core/memory.h"
 #include "volguide/geometry/shapes/mesh_files.h"
 #include "volguide/media/grid_data.h"
+#include "volguide/render/image_io.h"
 #include "volguide/render/sensors/hdrfilm.h"
 #include "volguide/scene/xml_file.h"
 
@@ -252,4 +253,29 @@ TEST(ResourceLimits, VdbRootNodeCountsAreBoundedByTheFile) {
                             "the tree's root declares 358497 tiles of 17 bytes");
     expect_error_containing([&] { read_vdb_file(with(buffers_at, 2, "buffers.vdb"), "density"); },
                             "a tree declares 2 buffers");
+}
+
+// A texture's image (read_image of PNG, JPEG, BMP, TGA) is bounded before its decoder allocates: a
+// 678-byte JPEG declaring 8000 x 8000 pixels made stb_image allocate about 1 GB and decode for 9 s;
+// pixels are now bounded by the file's size, and the decode buffers by the memory budget.
+TEST(ResourceLimits, ImageSizeIsBoundedByTheFileSizeAndTheBudget) {
+    ScratchDir dir;
+    std::ifstream seed(std::string(VOLGUIDE_FUZZ_DIR) + "/corpus/image/rgb_4x3.jpg", std::ios::binary);
+    std::string jpeg((std::istreambuf_iterator<char>(seed)), std::istreambuf_iterator<char>());
+    ASSERT_GT(jpeg.size(), 100u);
+    EXPECT_EQ(read_image(dir.write("small.jpg", jpeg)).width, 4);
+    const size_t sof = jpeg.find("\xff\xc0");
+    ASSERT_NE(sof, std::string::npos);
+    jpeg.replace(sof + 5, 4, std::string("\x1f\x40\x1f\x40", 4));  // height, width 8000
+    const std::string big = dir.write("big.jpg", jpeg);
+    expect_error_containing([&] { read_image(big); },
+                            fmt::format("big.jpg: a 8000 x 8000 image cannot fit in a file of {} bytes", jpeg.size()));
+
+    const std::string png = dir.path("600.png");
+    write_png(png, Image(600, 600));
+    EXPECT_EQ(read_image(png).width, 600);
+    setenv("VOLGUIDE_MEMORY_LIMIT_MB", "1", 1);
+    expect_error_containing([&] { read_image(png); },
+                            "a 600 x 600 image needs 11.0 MiB, more than the VOLGUIDE_MEMORY_LIMIT_MB budget of 1.0 MiB");
+    unsetenv("VOLGUIDE_MEMORY_LIMIT_MB");
 }

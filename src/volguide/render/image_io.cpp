@@ -1,5 +1,5 @@
-// Image reading/writing: EXR via OpenEXR 3, PNG/JPEG via stb_image (the implementation of
-// stb_image and stb_image_write is compiled into Debian's libstb, so it is not instantiated here).
+// Image reading/writing: EXR via OpenEXR 3; PNG, JPEG, BMP and TGA through ldr_readers.h; PNG
+// output through stb_image_write (compiled into Debian's libstb, so not instantiated here).
 #include "volguide/render/image_io.h"
 
 #include <ImfChannelList.h>
@@ -7,7 +7,6 @@
 #include <ImfHeader.h>
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
-#include <stb/stb_image.h>
 #include <stb/stb_image_write.h>
 #include <unistd.h>
 
@@ -22,6 +21,7 @@
 #include "volguide/core/atomic_write.h"
 #include "volguide/core/error.h"
 #include "volguide/render/exr_header_check.h"
+#include "volguide/render/ldr_readers.h"
 #include "volguide/render/srgb.h"
 
 namespace volguide {
@@ -75,26 +75,26 @@ Image read_exr(const std::string& path) {
 }
 
 Image read_ldr(const std::string& path, bool raw) {
-    int w = 0, h = 0, n = 0;
-    // 16-bit PNGs keep their precision; everything else is 8 bit.
-    const bool sixteen = stbi_is_16_bit(path.c_str());
-    void* data = sixteen ? static_cast<void*>(stbi_load_16(path.c_str(), &w, &h, &n, 3))
-                         : static_cast<void*>(stbi_load(path.c_str(), &w, &h, &n, 3));
-    if (!data) fail_file(path, std::string("cannot read image: ") + stbi_failure_reason());
-    Image image(w, h);
-    const size_t count = size_t(w) * h * 3;
+    LdrPixels p;
+    switch (ldr_format(path)) {
+        case LdrFormat::png: p = read_png_pixels(path); break;
+        case LdrFormat::jpeg: p = read_jpeg_pixels(path); break;
+        case LdrFormat::bmp:
+        case LdrFormat::tga: p = read_bmp_tga_pixels(path); break;
+        case LdrFormat::unknown:
+            fail_file(path, "unsupported image format: volguide reads OpenEXR, PNG, JPEG, BMP and TGA (.tga)");
+    }
+    Image image(p.width, p.height);
     auto convert = [&](float v) { return raw ? v : srgb_to_linear(v); };
     float* out = &image.pixels[0].r;
-    if (sixteen) {
-        const auto* in = static_cast<const uint16_t*>(data);
-        for (size_t i = 0; i < count; ++i) out[i] = convert(in[i] / 65535.f);
-    } else {
+    if (p.max_value == 255) {
         std::array<float, 256> table;
         for (int i = 0; i < 256; ++i) table[i] = convert(i / 255.f);
-        const auto* in = static_cast<const unsigned char*>(data);
-        for (size_t i = 0; i < count; ++i) out[i] = table[in[i]];
+        for (size_t i = 0; i < p.samples.size(); ++i) out[i] = table[p.samples[i]];
+    } else {
+        // 16-bit PNGs keep their precision.
+        for (size_t i = 0; i < p.samples.size(); ++i) out[i] = convert(p.samples[i] / 65535.f);
     }
-    stbi_image_free(data);
     return image;
 }
 

@@ -7,8 +7,9 @@
 
 namespace volguide {
 
-// EXR (any RGB/Y float or half channels) and PNG/JPEG (8-bit sRGB, converted to linear unless
-// `raw` is set, e.g. for data textures). Throws InputError naming the file on any failure.
+// EXR (any RGB/Y float or half channels), and PNG, JPEG, BMP and TGA (8- or 16-bit sRGB, converted
+// to linear unless `raw` is set, e.g. for data textures; render/ldr_readers.h). Throws InputError
+// naming the file on any failure, an unsupported format included.
 Image read_image(const std::string& path, bool raw = false);
 // Linear float32 RGB EXR.
 void write_exr(const std::string& path, const Image& image);
