@@ -279,3 +279,14 @@ TEST(ResourceLimits, ImageSizeIsBoundedByTheFileSizeAndTheBudget) {
                             "a 600 x 600 image needs 11.0 MiB, more than the VOLGUIDE_MEMORY_LIMIT_MB budget of 1.0 MiB");
     unsetenv("VOLGUIDE_MEMORY_LIMIT_MB");
 }
+
+// OpenEXR allocates its decode buffers (whole blocks of scanlines, whole tiles) when it opens a
+// file, before volguide sees the image's size: the fuzzer's 417-byte EXR declaring a 2178820 x 1
+// data window of ZIP blocks (16 lines) made it allocate and free hundreds of MB (10 s under ASan).
+// The header walk bounds those buffers first.
+TEST(ResourceLimits, ExrDecodeBuffersAreBoundedBeforeOpenExrOpensTheFile) {
+    const std::string strip =
+        std::string(VOLGUIDE_FUZZ_DIR) + "/regression/image/timeout-exr-2178820-pixel-wide-strip-in-417-bytes.exr";
+    expect_error_containing([&] { read_image(strip); },
+                            "a 2178820 x 1 data window with 3 channels cannot fit in 417 bytes, even compressed");
+}

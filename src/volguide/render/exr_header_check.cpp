@@ -1,12 +1,12 @@
 #include "volguide/render/exr_header_check.h"
 
 #include <algorithm>
+#include <climits>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-
-#include <climits>
+#include <iterator>
 
 #include "volguide/core/error.h"
 #include "volguide/core/memory.h"
@@ -36,14 +36,18 @@ class HeaderWalker {
     // Returns the number of attributes of the header starting at the current position.
     size_t walk_header() {
         size_t attributes = 0;
+        part_ = PartLayout{};
         while (true) {
             const std::string name = read_name("attribute name");
-            if (name.empty()) return attributes;
+            if (name.empty()) {
+                check_decode_buffers();
+                return attributes;
+            }
             const std::string type = read_name("attribute type of \"" + name + "\"");
             const int32_t size = read_int("size of attribute \"" + name + "\"");
             if (size < 0 || uint64_t(size) > file_size_ - pos_)
-                header_fail(path_, fmt::format("attribute \"{}\" declares {} bytes but the file has {} left", name,
-                                               size, file_size_ - pos_));
+                header_fail(path_, fmt::format("attribute \"{}\" declares {} bytes but the file has {} left",
+                                               name, size, file_size_ - pos_));
             check_value(name, type, uint64_t(size));
             pos_ += uint64_t(size);
             ++attributes;
@@ -57,23 +61,71 @@ class HeaderWalker {
     // layout must match its size exactly. Unknown types are skipped by size, as OpenEXR does.
     void check_value(const std::string& name, const std::string& type, uint64_t size) {
         static const std::pair<const char*, uint64_t> fixed[] = {
-            {"box2i", 16},  {"box2f", 16},      {"v2i", 8},    {"v2f", 8},     {"v2d", 16},      {"v3i", 12},
-            {"v3f", 12},    {"v3d", 24},        {"m33f", 36},  {"m33d", 72},   {"m44f", 64},     {"m44d", 128},
-            {"int", 4},     {"float", 4},       {"double", 8}, {"rational", 8}, {"timecode", 8}, {"keycode", 28},
-            {"compression", 1}, {"lineOrder", 1}, {"envmap", 1}, {"deepImageState", 1}, {"tiledesc", 9},
-            {"chromaticities", 32}};
+            {"box2i", 16},   {"box2f", 16},         {"v2i", 8},         {"v2f", 8},
+            {"v2d", 16},     {"v3i", 12},           {"v3f", 12},        {"v3d", 24},
+            {"m33f", 36},    {"m33d", 72},          {"m44f", 64},       {"m44d", 128},
+            {"int", 4},      {"float", 4},          {"double", 8},      {"rational", 8},
+            {"timecode", 8}, {"keycode", 28},       {"compression", 1}, {"lineOrder", 1},
+            {"envmap", 1},   {"deepImageState", 1}, {"tiledesc", 9},    {"chromaticities", 32}};
         for (const auto& [t, n] : fixed)
             if (type == t && size != n)
-                header_fail(path_, fmt::format("attribute \"{}\" of type {} has {} bytes, expected {}", name, type,
-                                               size, n));
-        if (type == "chlist") check_channel_list(name, size);
+                header_fail(path_, fmt::format("attribute \"{}\" of type {} has {} bytes, expected {}", name,
+                                               type, size, n));
+        if (type == "chlist") part_.channels = check_channel_list(name, size);
         if (type == "stringvector") check_string_vector(name, size);
         if (type == "preview") check_preview(name, size);
+        if (name == "dataWindow" && type == "box2i") {
+            part_.has_window = true;
+            for (int i = 0; i < 4; ++i) part_.window[i] = int_at(pos_ + 4 * uint64_t(i));
+        }
+        if (name == "compression" && type == "compression") part_.compression = uint8_t(byte_at(pos_));
+        if (name == "tiles" && type == "tiledesc") {
+            part_.tiled = true;
+            part_.tile_x = uint32_t(int_at(pos_));
+            part_.tile_y = uint32_t(int_at(pos_ + 4));
+        }
+    }
+    // What OpenEXR allocates when it opens a part, before reading a pixel: buffers of whole
+    // blocks of scanlines (up to 256 lines for DWAB, whatever the image's height) or of whole tiles.
+    // A header declaring a 2-million-pixel-wide strip made it allocate and free hundreds of MB for a
+    // 417-byte file (the fuzzer's image target, docs/reliability.md), so these buffers are bounded
+    // like the image (checked_exr_size) before OpenEXR sees the file.
+    void check_decode_buffers() {
+        if (!part_.has_window) return;
+        const int64_t width = int64_t(part_.window[2]) - part_.window[0] + 1;
+        const int64_t height = int64_t(part_.window[3]) - part_.window[1] + 1;
+        if (width < 1 || height < 1 || width > INT_MAX || height > INT_MAX)
+            header_fail(path_, fmt::format("invalid EXR data window ({} x {} pixels)", width, height));
+        const size_t channels = std::max<size_t>(part_.channels, 1);
+        check_buffer(
+            uint64_t(width) * uint64_t(std::max<int64_t>(height, lines_per_block(part_.compression))),
+            channels, fmt::format("a {} x {} data window", width, height));
+        if (part_.tiled)
+            check_buffer(uint64_t(part_.tile_x) * part_.tile_y, channels,
+                         fmt::format("tiles of {} x {} pixels", part_.tile_x, part_.tile_y));
+    }
+    void check_buffer(uint64_t pixels, size_t channels, const std::string& what) {
+        const uint64_t bytes = pixels * sizeof(float) * channels;
+        if (bytes > 2 * kMaxCompressionRatio * file_size_ + (uint64_t(1) << 20))
+            header_fail(path_, fmt::format("{} with {} channels cannot fit in {} bytes, even compressed",
+                                           what, channels, file_size_));
+        const uint64_t have = memory_budget_bytes();
+        if (have > 0 && bytes > have)
+            header_fail(path_, fmt::format("{} with {} channels needs {}, more than {}", what, channels,
+                                           format_bytes(bytes), memory_budget_description()));
+    }
+    // Scanlines per compressed block, by EXR's compression codes (none, RLE, ZIPS, ZIP, PIZ, PXR24,
+    // B44, B44A, DWAA, DWAB).
+    static int64_t lines_per_block(uint8_t compression) {
+        static const int64_t lines[] = {1, 1, 1, 16, 32, 16, 32, 32, 32, 256};
+        return compression < std::size(lines) ? lines[compression] : 256;
     }
     // Channels: name\0 and 16 bytes each, then an empty name, exactly filling the attribute.
-    void check_channel_list(const std::string& name, uint64_t size) {
+    // Returns the number of channels.
+    size_t check_channel_list(const std::string& name, uint64_t size) {
         const uint64_t end = pos_ + size;
         uint64_t p = pos_;
+        size_t count = 0;
         while (true) {
             if (p >= end) header_fail(path_, fmt::format("channel list \"{}\" is not terminated", name));
             size_t len = 0;
@@ -84,8 +136,11 @@ class HeaderWalker {
             if (len > max_name_ || end - p < 16)
                 header_fail(path_, fmt::format("channel list \"{}\" has a malformed channel", name));
             p += 16;
+            ++count;
         }
-        if (p != end) header_fail(path_, fmt::format("channel list \"{}\" does not fill its {} bytes", name, size));
+        if (p != end)
+            header_fail(path_, fmt::format("channel list \"{}\" does not fill its {} bytes", name, size));
+        return count;
     }
     // Strings, each an int32 length and its bytes, exactly filling the attribute.
     void check_string_vector(const std::string& name, uint64_t size) {
@@ -96,8 +151,8 @@ class HeaderWalker {
             const int32_t len = int_at(p);
             p += 4;
             if (len < 0 || uint64_t(len) > end - p)
-                header_fail(path_, fmt::format("string vector \"{}\" has a string of {} bytes in {} left", name, len,
-                                               end - p));
+                header_fail(path_, fmt::format("string vector \"{}\" has a string of {} bytes in {} left",
+                                               name, len, end - p));
             p += uint64_t(len);
         }
     }
@@ -106,7 +161,8 @@ class HeaderWalker {
         if (size < 8) header_fail(path_, fmt::format("preview \"{}\" is truncated", name));
         const uint64_t w = uint32_t(int_at(pos_)), h = uint32_t(int_at(pos_ + 4));
         if (8 + 4 * w * h != size)
-            header_fail(path_, fmt::format("preview \"{}\" of {} x {} pixels has {} bytes", name, w, h, size));
+            header_fail(path_,
+                        fmt::format("preview \"{}\" of {} x {} pixels has {} bytes", name, w, h, size));
     }
     int32_t int_at(uint64_t offset) {
         char b[4];
@@ -150,6 +206,15 @@ class HeaderWalker {
     uint64_t file_size_;
     size_t max_name_;
     uint64_t pos_ = 8;
+    // The attributes of the part being walked that size OpenEXR's buffers.
+    struct PartLayout {
+        bool has_window = false;
+        int32_t window[4] = {};  // min x, min y, max x, max y
+        uint8_t compression = 0;
+        size_t channels = 0;
+        bool tiled = false;
+        uint32_t tile_x = 0, tile_y = 0;
+    } part_;
 };
 
 }  // namespace
@@ -176,13 +241,15 @@ void check_exr_header(const std::string& path) {
     }
 }
 
-ExrSize checked_exr_size(const std::string& path, int min_x, int min_y, int max_x, int max_y, size_t channels) {
+ExrSize checked_exr_size(const std::string& path, int min_x, int min_y, int max_x, int max_y,
+                         size_t channels) {
     // In 64 bits: a window from INT_MIN to INT_MAX overflows int.
     const int64_t width = int64_t(max_x) - min_x + 1, height = int64_t(max_y) - min_y + 1;
     if (width < 1 || height < 1 || width > INT_MAX || height > INT_MAX)
         throw InputError(SourceLocation{path, 0},
                          fmt::format("invalid EXR data window ({} x {} pixels)", width, height));
-    const uint64_t bytes = uint64_t(width) * uint64_t(height) * sizeof(float) * std::max<uint64_t>(channels, 1);
+    const uint64_t bytes =
+        uint64_t(width) * uint64_t(height) * sizeof(float) * std::max<uint64_t>(channels, 1);
     // No EXR compression packs more than deflate's limit of about 1032:1 (ZIP; RLE, PIZ and B44 pack
     // less), and half channels double when read as float: a file smaller than that cannot hold the
     // image, whatever its header says, and reading it would only allocate for the failure.
@@ -190,13 +257,13 @@ ExrSize checked_exr_size(const std::string& path, int min_x, int min_y, int max_
     const uint64_t file_size = std::filesystem::file_size(path, ec);
     if (!ec && bytes > 2 * kMaxCompressionRatio * file_size + (uint64_t(1) << 20))
         throw InputError(SourceLocation{path, 0},
-                         fmt::format("a {} x {} EXR with {} channels cannot fit in {} bytes, even compressed", width,
-                                     height, channels, file_size));
+                         fmt::format("a {} x {} EXR with {} channels cannot fit in {} bytes, even compressed",
+                                     width, height, channels, file_size));
     const uint64_t have = memory_budget_bytes();
     if (have > 0 && bytes > have)
-        throw InputError(SourceLocation{path, 0}, fmt::format("a {} x {} EXR with {} channels needs {}, more than {}", width,
-                                                              height, channels, format_bytes(bytes),
-                                                              memory_budget_description()));
+        throw InputError(SourceLocation{path, 0},
+                         fmt::format("a {} x {} EXR with {} channels needs {}, more than {}", width, height,
+                                     channels, format_bytes(bytes), memory_budget_description()));
     return {int(width), int(height)};
 }
 

@@ -7,7 +7,9 @@
 namespace volguide {
 
 // Walks the header's attributes (of every part, for multi-part files) and throws InputError naming
-// the file when one is malformed or declares more bytes than the file has left.
+// the file when one is malformed or declares more bytes than the file has left, or when a part's
+// data window or tiles would make OpenEXR allocate decode buffers (whole blocks of scanlines, whole
+// tiles) larger than the file could fill at EXR's best compression, or than the memory budget.
 void check_exr_header(const std::string& path);
 
 // The size of an EXR's data window [min, max] (inclusive, as OpenEXR gives it), checked: positive,

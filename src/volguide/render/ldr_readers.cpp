@@ -5,6 +5,7 @@
 #include <png.h>
 
 #include <algorithm>
+#include <bit>
 #include <cctype>
 #include <csetjmp>
 #include <cstdio>
@@ -97,7 +98,8 @@ bool decode_png(PngHandles* h, const std::string* path, std::vector<png_byte>* b
     if (color == PNG_COLOR_TYPE_GRAY && depth < 8) png_set_expand_gray_1_2_4_to_8(h->png);
     if (color & PNG_COLOR_MASK_ALPHA) png_set_strip_alpha(h->png);
     if (color == PNG_COLOR_TYPE_GRAY || color == PNG_COLOR_TYPE_GRAY_ALPHA) png_set_gray_to_rgb(h->png);
-    if (depth == 16) png_set_swap(h->png);  // host (little-endian) order for the uint16 samples
+    // PNG stores 16-bit samples big-endian; the uint16 samples are in host order.
+    if (depth == 16 && std::endian::native == std::endian::little) png_set_swap(h->png);
     png_set_interlace_handling(h->png);
     png_read_update_info(h->png, h->info);
     const size_t sample_bytes = depth == 16 ? 2 : 1;
