@@ -22,7 +22,7 @@ int fuzz_ply(const uint8_t* data, size_t size);       // Stanford PLY mesh
 int fuzz_exr_part(const uint8_t* data, size_t size);  // EXR part of a render (channels + volguide.* metadata)
 int fuzz_serialized(const uint8_t* data, size_t size);  // Mitsuba .serialized mesh (zlib), shape 0 and 1
 int fuzz_image(const uint8_t* data,
-               size_t size);  // texture / envmap image (EXR, PNG, JPEG, ... via stb_image)
+               size_t size);  // texture / envmap image (EXR, PNG, JPEG, BMP, TGA)
 
 using FuzzEntry = int (*)(const uint8_t*, size_t);
 struct FuzzTarget {

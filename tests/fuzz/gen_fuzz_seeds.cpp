@@ -94,7 +94,7 @@ void write_serialized_seeds(const fs::path& dir) {
 }
 
 // Images as textures read them (read_image): an 8-bit PNG and an EXR through volguide's writers, a
-// JPEG, BMP and TGA through stb_image_write (the formats stb_image decodes besides PNG).
+// JPEG, BMP and TGA through stb_image_write (the other formats read_image reads).
 void write_image_seeds(const fs::path& dir) {
     Image image(4, 3);
     for (size_t i = 0; i < image.pixels.size(); ++i)

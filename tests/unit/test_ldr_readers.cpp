@@ -1,6 +1,7 @@
-// Texture images through read_image (render/ldr_readers.h): PNG through libpng in every colour type
-// and depth, JPEG through libjpeg (gray converted, a truncated file decoded with a warning naming
-// it), BMP and TGA through stb's two decoders, other formats refused by name.
+// Texture images through read_image (render/ldr_readers.h): PNG through libpng (RGBA, gray, 16-bit,
+// palette with and without transparency), JPEG through libjpeg (gray converted, a truncated file
+// decoded with a warning naming it), BMP and TGA through stb's two decoders, other formats refused
+// by name.
 #include <gtest/gtest.h>
 #include <png.h>
 #include <stb/stb_image_write.h>
@@ -76,6 +77,14 @@ TEST(LdrReaders, PngColourTypesAndDepthsReadAsRgb) {
     EXPECT_FLOAT_EQ(p.pixels[1].r, 10 / 255.f);
     Image srgb = read_image(dir.path("palette.png"));
     EXPECT_NEAR(srgb.pixels[0].g, 0.8713671f, 1e-5f);  // sRGB 240/255 in linear light
+
+    // Palette with transparency (a tRNS chunk, as pngquant writes): its alpha is dropped too.
+    const uint8_t colormap_alpha[2 * 4] = {10, 20, 30, 0, 250, 240, 230, 128};
+    write_png_format(dir.path("palette_alpha.png"), 2, 2, PNG_FORMAT_RGBA_COLORMAP, indices, colormap_alpha,
+                     2);
+    Image pa = read_image(dir.path("palette_alpha.png"), true);
+    EXPECT_FLOAT_EQ(pa.pixels[1].b, 30 / 255.f);
+    EXPECT_FLOAT_EQ(pa.pixels[3].r, 250 / 255.f);
 }
 
 TEST(LdrReaders, JpegGrayIsConvertedAndATruncatedFileWarnsNamingIt) {

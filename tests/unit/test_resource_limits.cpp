@@ -288,5 +288,5 @@ TEST(ResourceLimits, ExrDecodeBuffersAreBoundedBeforeOpenExrOpensTheFile) {
     const std::string strip =
         std::string(VOLGUIDE_FUZZ_DIR) + "/regression/image/timeout-exr-2178820-pixel-wide-strip-in-417-bytes.exr";
     expect_error_containing([&] { read_image(strip); },
-                            "a 2178820 x 1 data window with 3 channels cannot fit in 417 bytes, even compressed");
+                            "a 2178820 x 16 block of scanlines with 3 channels cannot fit in 417 bytes, even compressed");
 }

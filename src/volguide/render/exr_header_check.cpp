@@ -6,6 +6,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <iterator>
 
 #include "volguide/core/error.h"
@@ -17,6 +18,16 @@ namespace {
 
 [[noreturn]] void header_fail(const std::string& path, const std::string& what) {
     throw InputError(SourceLocation{path, 0}, "invalid EXR header: " + what);
+}
+
+// The product, or UINT64_MAX where it would wrap.
+uint64_t saturating_product(std::initializer_list<uint64_t> factors) {
+    uint64_t product = 1;
+    for (uint64_t f : factors) {
+        if (f != 0 && product > UINT64_MAX / f) return UINT64_MAX;
+        product *= f;
+    }
+    return product;
 }
 
 // EXR layout: magic (4 bytes), version and flags (4), then per part a list of attributes
@@ -97,15 +108,17 @@ class HeaderWalker {
         if (width < 1 || height < 1 || width > INT_MAX || height > INT_MAX)
             header_fail(path_, fmt::format("invalid EXR data window ({} x {} pixels)", width, height));
         const size_t channels = std::max<size_t>(part_.channels, 1);
-        check_buffer(
-            uint64_t(width) * uint64_t(std::max<int64_t>(height, lines_per_block(part_.compression))),
-            channels, fmt::format("a {} x {} data window", width, height));
+        // The whole image is bounded later, against the channels read (checked_exr_size).
+        const int64_t lines = lines_per_block(part_.compression);
+        check_buffer(uint64_t(width), uint64_t(lines), channels,
+                     fmt::format("a {} x {} block of scanlines", width, lines));
         if (part_.tiled)
-            check_buffer(uint64_t(part_.tile_x) * part_.tile_y, channels,
-                         fmt::format("tiles of {} x {} pixels", part_.tile_x, part_.tile_y));
+            check_buffer(part_.tile_x, part_.tile_y, channels,
+                         fmt::format("a tile of {} x {} pixels", part_.tile_x, part_.tile_y));
     }
-    void check_buffer(uint64_t pixels, size_t channels, const std::string& what) {
-        const uint64_t bytes = pixels * sizeof(float) * channels;
+    void check_buffer(uint64_t width, uint64_t height, size_t channels, const std::string& what) {
+        // Saturating: tiles of 2^30 x 2^30 pixels of 4 channels wrap 64 bits.
+        const uint64_t bytes = saturating_product({width, height, sizeof(float), channels});
         if (bytes > 2 * kMaxCompressionRatio * file_size_ + (uint64_t(1) << 20))
             header_fail(path_, fmt::format("{} with {} channels cannot fit in {} bytes, even compressed",
                                            what, channels, file_size_));
@@ -248,8 +261,9 @@ ExrSize checked_exr_size(const std::string& path, int min_x, int min_y, int max_
     if (width < 1 || height < 1 || width > INT_MAX || height > INT_MAX)
         throw InputError(SourceLocation{path, 0},
                          fmt::format("invalid EXR data window ({} x {} pixels)", width, height));
-    const uint64_t bytes =
-        uint64_t(width) * uint64_t(height) * sizeof(float) * std::max<uint64_t>(channels, 1);
+    // Saturating: a window of 2^31 x 2^31 pixels of 4 channels wraps 64 bits.
+    const uint64_t bytes = saturating_product(
+        {uint64_t(width), uint64_t(height), sizeof(float), std::max<uint64_t>(channels, 1)});
     // No EXR compression packs more than deflate's limit of about 1032:1 (ZIP; RLE, PIZ and B44 pack
     // less), and half channels double when read as float: a file smaller than that cannot hold the
     // image, whatever its header says, and reading it would only allocate for the failure.

@@ -96,7 +96,8 @@ bool decode_png(PngHandles* h, const std::string* path, std::vector<png_byte>* b
     check_ldr_size(*path, width, height, 8 * 1032, kDecodeBytesPerPixel);
     if (color == PNG_COLOR_TYPE_PALETTE) png_set_palette_to_rgb(h->png);
     if (color == PNG_COLOR_TYPE_GRAY && depth < 8) png_set_expand_gray_1_2_4_to_8(h->png);
-    if (color & PNG_COLOR_MASK_ALPHA) png_set_strip_alpha(h->png);
+    // Alpha is dropped: an alpha channel, and the transparency (tRNS) palette_to_rgb expands.
+    png_set_strip_alpha(h->png);
     if (color == PNG_COLOR_TYPE_GRAY || color == PNG_COLOR_TYPE_GRAY_ALPHA) png_set_gray_to_rgb(h->png);
     // PNG stores 16-bit samples big-endian; the uint16 samples are in host order.
     if (depth == 16 && std::endian::native == std::endian::little) png_set_swap(h->png);
@@ -154,8 +155,8 @@ void on_jpeg_message(j_common_ptr info, int level) {
 }
 
 // A progressive file may hold any number of scans, each a pass over the whole image: a small file
-// of many empty scans takes minutes. No real image needs more than a few dozen.
-constexpr int kMaxJpegScans = 1000;
+// of many empty scans takes minutes. Real progressive files have about ten.
+constexpr int kMaxJpegScans = 100;
 
 void on_jpeg_progress(j_common_ptr common) {
     auto* info = reinterpret_cast<j_decompress_ptr>(common);
@@ -176,9 +177,14 @@ bool decode_jpeg(JpegHandles* h, const std::string* path, std::vector<unsigned c
     h->info.mem->max_memory_to_use = long(std::min<uint64_t>(memory_budget_bytes(), uint64_t(1) << 40));
     jpeg_stdio_src(&h->info, h->file);
     jpeg_read_header(&h->info, TRUE);
-    // A baseline JPEG spends at least 2 bits on each 8 x 8 block of a component (its DC and
-    // end-of-block codes): 256 pixels a byte at most.
-    check_ldr_size(*path, h->info.image_width, h->info.image_height, 256, kDecodeBytesPerPixel);
+    // A Huffman-coded baseline JPEG spends at least 2 bits on each 8 x 8 block of a component (its
+    // DC and end-of-block codes): 256 pixels a byte at most; a progressive one at least 1 (a DC
+    // scan of successive approximation): 512. Arithmetic coding has no such floor: only the
+    // memory budget and the scan cap bound its work.
+    const uint64_t max_pixels_per_byte =
+        h->info.arith_code ? uint64_t(1) << 40 : (h->info.progressive_mode ? 512 : 256);
+    check_ldr_size(*path, h->info.image_width, h->info.image_height, max_pixels_per_byte,
+                   kDecodeBytesPerPixel);
     h->info.out_color_space = JCS_RGB;  // gray and YCbCr converted; CMYK is refused by libjpeg
     jpeg_start_decompress(&h->info);
     const size_t width = h->info.output_width, height = h->info.output_height;

@@ -12,6 +12,12 @@
 #define STBI_NO_HDR
 #define STBI_NO_LINEAR
 #define STBI_FAILURE_USERMSG
+// Zeroed allocations: stb 2.27 returns a truncated uncompressed TGA's missing pixels from its
+// buffer as they were (CVE-2023-45663); zeroed, they are black and the same on every run.
+#define STBI_MALLOC(size) std::calloc(1, size)
+#define STBI_REALLOC(p, size) std::realloc(p, size)
+#define STBI_FREE(p) std::free(p)
+#include <cstdlib>
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wunused-function"
 #pragma GCC diagnostic ignored "-Wsign-compare"
@@ -20,6 +26,7 @@
 #pragma GCC diagnostic pop
 
 #include <algorithm>
+#include <memory>
 
 #include "volguide/core/error.h"
 
@@ -32,18 +39,14 @@ LdrPixels read_bmp_tga_pixels(const std::string& path) {
     // An uncompressed 1-bit BMP holds 8 pixels a byte; a TGA run of 128 pixels takes 2 bytes or more.
     check_ldr_size(path, uint64_t(std::max(w, 0)), uint64_t(std::max(h, 0)), 128, 2 * 4 + 3 * 2 + 12);
     int w2 = 0, h2 = 0;
-    stbi_uc* data = stbi_load(path.c_str(), &w2, &h2, &n, 3);
+    std::unique_ptr<stbi_uc, void (*)(void*)> data(stbi_load(path.c_str(), &w2, &h2, &n, 3), stbi_image_free);
     if (!data) fail_file(path, std::string("cannot read image: ") + stbi_failure_reason());
+    if (w2 != w || h2 != h) fail_file(path, "cannot read image: its size changed between two reads");
     LdrPixels out;
     out.width = w2;
     out.height = h2;
     out.max_value = 255;
-    if (w2 != w || h2 != h) {
-        stbi_image_free(data);
-        fail_file(path, "cannot read image: its size changed between two reads");
-    }
-    out.samples.assign(data, data + size_t(w) * h * 3);
-    stbi_image_free(data);
+    out.samples.assign(data.get(), data.get() + size_t(w) * h * 3);
     return out;
 }
 
