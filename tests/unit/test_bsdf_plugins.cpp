@@ -44,7 +44,9 @@ TEST(BsdfParams, ConductorTable) {
     std::span<const ConductorPreset> table = conductor_table();
     ASSERT_EQ(table.size(), 71u);
     for (size_t i = 0; i < table.size(); ++i) {
-        if (i > 0) EXPECT_LT(std::string(table[i - 1].name), std::string(table[i].name));
+        if (i > 0) {
+            EXPECT_LT(std::string(table[i - 1].name), std::string(table[i].name));
+        }
         for (float v : {table[i].ior.eta.r, table[i].ior.eta.g, table[i].ior.eta.b, table[i].ior.k.r,
                         table[i].ior.k.g, table[i].ior.k.b})
             EXPECT_TRUE(std::isfinite(v) && v >= 0.f) << table[i].name;
