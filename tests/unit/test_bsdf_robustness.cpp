@@ -55,9 +55,10 @@ TEST(BsdfRobustness, FiniteAndNonNegativeEverywhere) {
                             ASSERT_TRUE(w.is_finite() && !w.has_negative())
                                 << type << " wi " << wi << " w " << w;
                             ASSERT_TRUE(std::isfinite(bs.pdf) && bs.pdf >= 0.f) << type << " wi " << wi;
-                            if (bs.pdf > 0.f && !w.is_black())
+                            if (bs.pdf > 0.f && !w.is_black()) {
                                 ASSERT_NEAR(norm(bs.wo), 1.f, 1e-3f)
                                     << type << " wi " << wi << " wo " << bs.wo;
+                            }
                         }
                 for (const Vec3f& wo : wis) {
                     Color3 f = bsdf->eval(ctx, si, wo);

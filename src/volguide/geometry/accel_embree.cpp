@@ -193,7 +193,7 @@ Accel::Accel(const std::vector<const Shape*>& shapes) : impl_(std::make_unique<I
     // TSan cannot see Embree hand the build over, so it would report their creation here as racing
     // with that read (no volguide code runs inside rtcNewDevice).
     {
-        TsanIgnoredAccesses embree_device_setup;
+        [[maybe_unused]] TsanIgnoredAccesses embree_device_setup;
         m.device = rtcNewDevice(nullptr);
     }
     if (!m.device)
@@ -218,7 +218,7 @@ Accel::Accel(const std::vector<const Shape*>& shapes) : impl_(std::make_unique<I
 
 Accel::~Accel() {
     // Freeing what the build threads read (see the constructor).
-    TsanIgnoredAccesses embree_teardown;
+    [[maybe_unused]] TsanIgnoredAccesses embree_teardown;
     if (impl_->scene) rtcReleaseScene(impl_->scene);
     for (auto& [group, g] : impl_->groups)
         if (g.scene) rtcReleaseScene(g.scene);
