@@ -3,9 +3,12 @@
 // (target gen_fuzz_seeds, not built by default). Text seeds (XML, OBJ, PLY ascii) are kept as written.
 #include <openvdb/io/File.h>
 #include <openvdb/openvdb.h>
+#include <png.h>
 #include <stb/stb_image_write.h>
 
 #include <cstdio>
+// jpeglib.h needs FILE and size_t declared first.
+#include <jpeglib.h>
 #include <filesystem>
 #include <fstream>
 
@@ -94,7 +97,8 @@ void write_serialized_seeds(const fs::path& dir) {
 }
 
 // Images as textures read them (read_image): an 8-bit PNG and an EXR through volguide's writers, a
-// JPEG, BMP and TGA through stb_image_write (the other formats read_image reads).
+// JPEG, BMP and TGA through stb_image_write, and the PNG and JPEG variants libpng's and libjpeg's
+// writers make.
 void write_image_seeds(const fs::path& dir) {
     Image image(4, 3);
     for (size_t i = 0; i < image.pixels.size(); ++i)
@@ -106,6 +110,49 @@ void write_image_seeds(const fs::path& dir) {
     stbi_write_jpg((dir / "rgb_4x3.jpg").string().c_str(), 4, 3, 3, bytes.data(), 90);
     stbi_write_bmp((dir / "rgb_4x3.bmp").string().c_str(), 4, 3, 3, bytes.data());
     stbi_write_tga((dir / "rgb_4x3.tga").string().c_str(), 4, 3, 3, bytes.data());
+
+    // PNG colour types and depths beyond 8-bit RGB (libpng's simplified writer): 16-bit, gray with
+    // alpha, a palette with transparency (tRNS).
+    const auto png = [&](const char* name, png_uint_32 format, const void* pixels, const void* colormap = nullptr,
+                         int entries = 0) {
+        png_image out{};
+        out.version = PNG_IMAGE_VERSION;
+        out.width = 4;
+        out.height = 3;
+        out.format = format;
+        out.colormap_entries = png_uint_32(entries);
+        if (!png_image_write_to_file(&out, (dir / name).string().c_str(), 0, pixels, 0, colormap))
+            std::fprintf(stderr, "gen_fuzz_seeds: %s: %s\n", name, out.message);
+    };
+    std::vector<uint16_t> deep(4 * 3 * 3);
+    for (size_t i = 0; i < deep.size(); ++i) deep[i] = uint16_t(i * 5000);
+    png("rgb16_4x3.png", PNG_FORMAT_LINEAR_RGB, deep.data());
+    png("gray_alpha_4x3.png", PNG_FORMAT_GA, bytes.data());
+    const uint8_t colormap[3 * 4] = {0, 0, 0, 0, 255, 128, 0, 200, 20, 40, 60, 255};
+    const uint8_t indices[4 * 3] = {0, 1, 2, 1, 2, 0, 2, 0, 1, 1, 1, 2};
+    png("palette_trns_4x3.png", PNG_FORMAT_RGBA_COLORMAP, indices, colormap, 3);
+
+    // A progressive JPEG (several scans; libjpeg's writer).
+    jpeg_compress_struct info{};
+    jpeg_error_mgr error{};
+    info.err = jpeg_std_error(&error);
+    jpeg_create_compress(&info);
+    FILE* file = std::fopen((dir / "progressive_4x3.jpg").string().c_str(), "wb");
+    jpeg_stdio_dest(&info, file);
+    info.image_width = 4;
+    info.image_height = 3;
+    info.input_components = 3;
+    info.in_color_space = JCS_RGB;
+    jpeg_set_defaults(&info);
+    jpeg_simple_progression(&info);
+    jpeg_start_compress(&info, TRUE);
+    while (info.next_scanline < info.image_height) {
+        JSAMPROW row = bytes.data() + size_t(info.next_scanline) * 4 * 3;
+        jpeg_write_scanlines(&info, &row, 1);
+    }
+    jpeg_finish_compress(&info);
+    jpeg_destroy_compress(&info);
+    std::fclose(file);
 }
 
 }  // namespace
