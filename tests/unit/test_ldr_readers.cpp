@@ -137,3 +137,35 @@ TEST(LdrReaders, BmpByContentTgaByExtensionOtherFormatsRefused) {
         }
     }
 }
+
+// An 8-bit BMP whose pixels index past the two palette entries it holds: stb 2.27 reads those
+// entries of its palette table uninitialised (nothings/stb#1929); volguide compiles stb with zeroed
+// automatic variables, so they read black, the same on every run.
+TEST(LdrReaders, BmpIndicesPastThePaletteReadBlack) {
+    ScratchDir dir;
+    // 14-byte file header, 40-byte info header, 2 palette entries (BGRA), one row of 4 indices.
+    std::string bmp = "BM";
+    auto u32 = [&](uint32_t v) { bmp.append(reinterpret_cast<const char*>(&v), 4); };
+    auto u16 = [&](uint16_t v) { bmp.append(reinterpret_cast<const char*>(&v), 2); };
+    u32(14 + 40 + 8 + 4);
+    u32(0);
+    u32(14 + 40 + 8);  // pixel data offset: the palette holds (62 - 54) / 4 = 2 entries
+    u32(40);
+    u32(4);  // width
+    u32(1);  // height
+    u16(1);
+    u16(8);  // bits per pixel
+    for (int i = 0; i < 6; ++i) u32(0);  // compression, image size, resolution, colours used / important
+    bmp += std::string("\x10\x20\x30\x00\x40\x50\x60\x00", 8);
+    bmp += std::string("\x01\xc8\x00\xff", 4);  // indices 1, 200, 0, 255
+    const std::string path = dir.write("short_palette.bmp", bmp);
+    Image im = read_image(path, true);
+    ASSERT_EQ(im.width, 4);
+    EXPECT_FLOAT_EQ(im.pixels[0].r, 0x60 / 255.f);
+    EXPECT_FLOAT_EQ(im.pixels[2].b, 0x10 / 255.f);
+    for (int i : {1, 3}) {
+        EXPECT_EQ(im.pixels[i].r, 0.f) << i;
+        EXPECT_EQ(im.pixels[i].g, 0.f) << i;
+        EXPECT_EQ(im.pixels[i].b, 0.f) << i;
+    }
+}
