@@ -28,7 +28,9 @@ void expect_tiling(const std::vector<ProxySegment>& s, float t0, float t1) {
     EXPECT_EQ(s.back().t1, t1);
     for (size_t i = 0; i < s.size(); ++i) {
         EXPECT_LT(s[i].t0, s[i].t1) << i;
-        if (i > 0) EXPECT_EQ(s[i].t0, s[i - 1].t1) << i;
+        if (i > 0) {
+            EXPECT_EQ(s[i].t0, s[i - 1].t1) << i;
+        }
         EXPECT_GE(s[i].albedo, 0.f);
         EXPECT_LE(s[i].albedo, 1.f);
     }
@@ -74,7 +76,9 @@ TEST(MediaProxySegments, HeterogeneousFollowsTheOpticalDepth) {
             EXPECT_NEAR(proxy, truth, 0.3 * truth) << "channels " << channels;
             // Albedo proxy of a constant albedo: the channel-weighted mean sigma_s / sigma_t.
             for (const ProxySegment& p : s)
-                if (p.sigma_t.average() > 0.f && channels == 1) EXPECT_NEAR(p.albedo, 0.6f, 1e-4f);
+                if (p.sigma_t.average() > 0.f && channels == 1) {
+                    EXPECT_NEAR(p.albedo, 0.6f, 1e-4f);
+                }
         }
     }
 }
