@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "float_literal.h"
 #include "volguide/scene/cie1931.h"
 
 using namespace volguide;
@@ -58,18 +59,9 @@ Color3 to_rgb(const fs::path& path) {
     return spectrum_to_linear_srgb(wavelengths, values, {.within_emitter = true, .unbounded = false}).rgb;
 }
 
-// A float literal that is valid C++ for every value ("0.f", "1.5f", "1e-05f") and reads back as
-// the same float.
-std::string literal(float x) {
-    char buf[40];
-    std::snprintf(buf, sizeof buf, "%.9g", x);
-    std::string s = buf;
-    if (s.find_first_of(".e") == std::string::npos) s += ".";
-    return s + "f";
-}
-
 std::string color(const Color3& c) {
-    return "Color3(" + literal(c.r) + ", " + literal(c.g) + ", " + literal(c.b) + ")";
+    return "Color3(" + float_literal(c.r, 9) + ", " + float_literal(c.g, 9) + ", " + float_literal(c.b, 9) +
+           ")";
 }
 
 }  // namespace

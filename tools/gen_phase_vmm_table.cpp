@@ -15,19 +15,13 @@
 #include <cstring>
 #include <string>
 
+#include "float_literal.h"
 #include "volguide/vmm/phase_vmm_table.h"
 #include "volguide/vmm/vmf.h"
 
 using namespace volguide;
 
-// A float literal that is valid C++ for every value ("0.f", "1.5f", "1e-05f").
-static std::string literal(double x) {
-    char buf[40];
-    std::snprintf(buf, sizeof buf, "%.8g", x);
-    std::string s = buf;
-    if (s.find_first_of(".e") == std::string::npos) s += ".";
-    return s + "f";
-}
+static std::string literal(double x) { return float_literal(x, 8); }
 
 int main(int argc, char** argv) {
     int lobes = 3;

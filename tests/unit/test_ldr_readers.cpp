@@ -7,11 +7,10 @@
 #include <stb/stb_image_write.h>
 
 #include <cstdint>
-#include <fstream>
-#include <iterator>
 #include <string>
 #include <vector>
 
+#include "support/cli.h"
 #include "test_loader_util.h"
 #include "volguide/core/error.h"
 #include "volguide/core/log.h"
@@ -32,11 +31,6 @@ void write_png_format(const std::string& path, int width, int height, png_uint_3
     image.format = format;
     image.colormap_entries = png_uint_32(colormap_entries);
     ASSERT_TRUE(png_image_write_to_file(&image, path.c_str(), 0, pixels, 0, colormap)) << image.message;
-}
-
-std::string read_bytes(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
 
 }  // namespace
@@ -99,7 +93,7 @@ TEST(LdrReaders, JpegGrayIsConvertedAndATruncatedFileWarnsNamingIt) {
     std::vector<uint8_t> rgb(64 * 64 * 3);
     for (size_t i = 0; i < rgb.size(); ++i) rgb[i] = uint8_t(i * 7);
     ASSERT_TRUE(stbi_write_jpg(dir.path("full.jpg").c_str(), 64, 64, 3, rgb.data(), 90));
-    const std::string full = read_bytes(dir.path("full.jpg"));
+    const std::string full = read_file(dir.path("full.jpg"));
     const std::string cut = dir.write("cut.jpg", full.substr(0, full.size() / 2));
     std::vector<std::string> warnings;
     WarningHandler previous = set_warning_handler(
@@ -123,7 +117,7 @@ TEST(LdrReaders, BmpByContentTgaByExtensionOtherFormatsRefused) {
         EXPECT_FLOAT_EQ(im.pixels[1].g, 251 / 255.f) << name;
     }
     // The same TGA bytes under another name have no signature to be known by.
-    const std::string renamed = dir.write("a.img", read_bytes(dir.path("a.tga")));
+    const std::string renamed = dir.write("a.img", read_file(dir.path("a.tga")));
     const std::string gif = dir.write("a.gif", std::string("GIF89a\x01\x00\x01\x00\x00\x00\x00;", 14));
     for (const std::string& path : {renamed, gif}) {
         try {
@@ -154,7 +148,7 @@ TEST(LdrReaders, BmpIndicesPastThePaletteReadBlack) {
     u32(4);  // width
     u32(1);  // height
     u16(1);
-    u16(8);  // bits per pixel
+    u16(8);                              // bits per pixel
     for (int i = 0; i < 6; ++i) u32(0);  // compression, image size, resolution, colours used / important
     bmp += std::string("\x10\x20\x30\x00\x40\x50\x60\x00", 8);
     bmp += std::string("\x01\xc8\x00\xff", 4);  // indices 1, 200, 0, 255

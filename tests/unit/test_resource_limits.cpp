@@ -8,6 +8,7 @@
 #include <fstream>
 #include <iterator>
 
+#include "support/cli.h"
 #include "test_loader_util.h"
 #include "volguide/core/memory.h"
 #include "volguide/geometry/shapes/mesh_files.h"
@@ -260,8 +261,7 @@ TEST(ResourceLimits, VdbRootNodeCountsAreBoundedByTheFile) {
 // pixels are now bounded by the file's size, and the decode buffers by the memory budget.
 TEST(ResourceLimits, ImageSizeIsBoundedByTheFileSizeAndTheBudget) {
     ScratchDir dir;
-    std::ifstream seed(std::string(VOLGUIDE_FUZZ_DIR) + "/corpus/image/rgb_4x3.jpg", std::ios::binary);
-    std::string jpeg((std::istreambuf_iterator<char>(seed)), std::istreambuf_iterator<char>());
+    std::string jpeg = read_file(std::string(VOLGUIDE_FUZZ_DIR) + "/corpus/image/rgb_4x3.jpg");
     ASSERT_GT(jpeg.size(), 100u);
     EXPECT_EQ(read_image(dir.write("small.jpg", jpeg)).width, 4);
     const size_t sof = jpeg.find("\xff\xc0");

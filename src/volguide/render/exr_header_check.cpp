@@ -8,6 +8,7 @@
 #include <fstream>
 #include <initializer_list>
 #include <iterator>
+#include <optional>
 
 #include "volguide/core/error.h"
 #include "volguide/core/memory.h"
@@ -30,12 +31,32 @@ uint64_t saturating_product(std::initializer_list<uint64_t> factors) {
     return product;
 }
 
+constexpr uint64_t kMaxCompressionRatio = 1100;
+
+// Why `channels` float channels of width x height pixels (`what`, e.g. "a 4 x 3 EXR") cannot be
+// decoded from a file of `file_size` bytes (unknown: not checked), or "" when they can. No EXR
+// compression packs more than deflate's limit of about 1032:1 (ZIP; RLE, PIZ and B44 pack less),
+// and half channels double when read as float: a file smaller than that cannot hold them, whatever
+// its header says, and reading it would only allocate for the failure. They must also fit the
+// memory budget. The product saturates: 2^30 x 2^30 pixels of 4 channels wrap 64 bits.
+std::string decode_size_problem(const std::string& what, uint64_t width, uint64_t height, size_t channels,
+                                std::optional<uint64_t> file_size) {
+    const uint64_t bytes = saturating_product({width, height, sizeof(float), channels});
+    if (file_size && bytes > 2 * kMaxCompressionRatio * *file_size + (uint64_t(1) << 20))
+        return fmt::format("{} with {} channels cannot fit in {} bytes, even compressed", what, channels,
+                           *file_size);
+    const uint64_t have = memory_budget_bytes();
+    if (have > 0 && bytes > have)
+        return fmt::format("{} with {} channels needs {}, more than {}", what, channels, format_bytes(bytes),
+                           memory_budget_description());
+    return {};
+}
+
 // EXR layout: magic (4 bytes), version and flags (4), then per part a list of attributes
 // name\0 type\0 int32 size, size bytes; an empty name ends a part's header, and multi-part files
 // end the list of headers with one more empty header.
 constexpr uint32_t kMultiPartFlag = 0x1000;
 constexpr uint32_t kLongNamesFlag = 0x400;
-constexpr uint64_t kMaxCompressionRatio = 1100;
 
 // Reads the header from the start of the file as it goes: images are large and their headers
 // small, so only the bytes the walk needs are read; sizes are checked against the file's size.
@@ -117,15 +138,8 @@ class HeaderWalker {
                          fmt::format("a tile of {} x {} pixels", part_.tile_x, part_.tile_y));
     }
     void check_buffer(uint64_t width, uint64_t height, size_t channels, const std::string& what) {
-        // Saturating: tiles of 2^30 x 2^30 pixels of 4 channels wrap 64 bits.
-        const uint64_t bytes = saturating_product({width, height, sizeof(float), channels});
-        if (bytes > 2 * kMaxCompressionRatio * file_size_ + (uint64_t(1) << 20))
-            header_fail(path_, fmt::format("{} with {} channels cannot fit in {} bytes, even compressed",
-                                           what, channels, file_size_));
-        const uint64_t have = memory_budget_bytes();
-        if (have > 0 && bytes > have)
-            header_fail(path_, fmt::format("{} with {} channels needs {}, more than {}", what, channels,
-                                           format_bytes(bytes), memory_budget_description()));
+        const std::string problem = decode_size_problem(what, width, height, channels, file_size_);
+        if (!problem.empty()) header_fail(path_, problem);
     }
     // Scanlines per compressed block, by EXR's compression codes (none, RLE, ZIPS, ZIP, PIZ, PXR24,
     // B44, B44A, DWAA, DWAB).
@@ -261,23 +275,12 @@ ExrSize checked_exr_size(const std::string& path, int min_x, int min_y, int max_
     if (width < 1 || height < 1 || width > INT_MAX || height > INT_MAX)
         throw InputError(SourceLocation{path, 0},
                          fmt::format("invalid EXR data window ({} x {} pixels)", width, height));
-    // Saturating: a window of 2^31 x 2^31 pixels of 4 channels wraps 64 bits.
-    const uint64_t bytes = saturating_product(
-        {uint64_t(width), uint64_t(height), sizeof(float), std::max<uint64_t>(channels, 1)});
-    // No EXR compression packs more than deflate's limit of about 1032:1 (ZIP; RLE, PIZ and B44 pack
-    // less), and half channels double when read as float: a file smaller than that cannot hold the
-    // image, whatever its header says, and reading it would only allocate for the failure.
     std::error_code ec;
     const uint64_t file_size = std::filesystem::file_size(path, ec);
-    if (!ec && bytes > 2 * kMaxCompressionRatio * file_size + (uint64_t(1) << 20))
-        throw InputError(SourceLocation{path, 0},
-                         fmt::format("a {} x {} EXR with {} channels cannot fit in {} bytes, even compressed",
-                                     width, height, channels, file_size));
-    const uint64_t have = memory_budget_bytes();
-    if (have > 0 && bytes > have)
-        throw InputError(SourceLocation{path, 0},
-                         fmt::format("a {} x {} EXR with {} channels needs {}, more than {}", width, height,
-                                     channels, format_bytes(bytes), memory_budget_description()));
+    const std::string problem = decode_size_problem(
+        fmt::format("a {} x {} EXR", width, height), uint64_t(width), uint64_t(height),
+        std::max<size_t>(channels, 1), ec ? std::nullopt : std::optional<uint64_t>(file_size));
+    if (!problem.empty()) throw InputError(SourceLocation{path, 0}, problem);
     return {int(width), int(height)};
 }
 

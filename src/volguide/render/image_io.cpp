@@ -27,11 +27,31 @@
 namespace volguide {
 namespace {
 
-bool has_exr_magic(const std::string& path) {
+std::string lower_extension(const std::string& path) {
+    const size_t dot = path.find_last_of('.');
+    const size_t slash = path.find_last_of('/');
+    if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return {};
+    std::string ext = path.substr(dot);
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+    return ext;
+}
+
+enum class ImageFormat { exr, png, jpeg, bmp, tga, unknown };
+
+// By signature (EXR, PNG, JPEG, BMP); TGA has none, so by its extension.
+ImageFormat image_format(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
-    unsigned char magic[4] = {};
-    in.read(reinterpret_cast<char*>(magic), 4);
-    return in.gcount() == 4 && magic[0] == 0x76 && magic[1] == 0x2f && magic[2] == 0x31 && magic[3] == 0x01;
+    if (!in) fail_file(path, "cannot open image file");
+    unsigned char m[8] = {};
+    in.read(reinterpret_cast<char*>(m), 8);
+    const std::streamsize n = in.gcount();
+    static const unsigned char exr[4] = {0x76, 0x2f, 0x31, 0x01};
+    static const unsigned char png[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+    if (n >= 4 && std::equal(m, m + 4, exr)) return ImageFormat::exr;
+    if (n == 8 && std::equal(m, m + 8, png)) return ImageFormat::png;
+    if (n >= 3 && m[0] == 0xff && m[1] == 0xd8 && m[2] == 0xff) return ImageFormat::jpeg;
+    if (n >= 2 && m[0] == 'B' && m[1] == 'M') return ImageFormat::bmp;
+    return lower_extension(path) == ".tga" ? ImageFormat::tga : ImageFormat::unknown;
 }
 
 Image read_exr(const std::string& path) {
@@ -74,16 +94,8 @@ Image read_exr(const std::string& path) {
     }
 }
 
-Image read_ldr(const std::string& path, bool raw) {
-    LdrPixels p;
-    switch (ldr_format(path)) {
-        case LdrFormat::png: p = read_png_pixels(path); break;
-        case LdrFormat::jpeg: p = read_jpeg_pixels(path); break;
-        case LdrFormat::bmp:
-        case LdrFormat::tga: p = read_bmp_tga_pixels(path); break;
-        case LdrFormat::unknown:
-            fail_file(path, "unsupported image format: volguide reads OpenEXR, PNG, JPEG, BMP and TGA (.tga)");
-    }
+// 8- or 16-bit samples as linear floats (sRGB decoded unless raw).
+Image to_image(const LdrPixels& p, bool raw) {
     Image image(p.width, p.height);
     auto convert = [&](float v) { return raw ? v : srgb_to_linear(v); };
     float* out = &image.pixels[0].r;
@@ -108,20 +120,23 @@ void check_image(const std::string& path, const Image& image) {
         fail_file(path, "cannot write an empty or inconsistent image");
 }
 
-std::string lower_extension(const std::string& path) {
-    const size_t dot = path.find_last_of('.');
-    const size_t slash = path.find_last_of('/');
-    if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return {};
-    std::string ext = path.substr(dot);
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-    return ext;
-}
-
 }  // namespace
 
 Image read_image(const std::string& path, bool raw) {
-    if (!std::ifstream(path, std::ios::binary)) fail_file(path, "cannot open image file");
-    return has_exr_magic(path) ? read_exr(path) : read_ldr(path, raw);
+    switch (image_format(path)) {
+        case ImageFormat::exr:
+            return read_exr(path);
+        case ImageFormat::png:
+            return to_image(read_png_pixels(path), raw);
+        case ImageFormat::jpeg:
+            return to_image(read_jpeg_pixels(path), raw);
+        case ImageFormat::bmp:
+        case ImageFormat::tga:
+            return to_image(read_bmp_tga_pixels(path), raw);
+        case ImageFormat::unknown:
+            break;
+    }
+    fail_file(path, "unsupported image format: volguide reads OpenEXR, PNG, JPEG, BMP and TGA (.tga)");
 }
 
 void write_exr(const std::string& path, const Image& image) {

@@ -6,12 +6,10 @@
 
 #include <algorithm>
 #include <bit>
-#include <cctype>
 #include <csetjmp>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 
 #include "volguide/core/error.h"
 #include "volguide/core/log.h"
@@ -34,20 +32,6 @@ void check_ldr_size(const std::string& path, uint64_t width, uint64_t height, ui
     if (have > 0 && bytes > have)
         fail_file(path, fmt::format("a {} x {} image needs {}, more than {}", width, height,
                                     format_bytes(bytes), memory_budget_description()));
-}
-
-LdrFormat ldr_format(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    unsigned char m[8] = {};
-    in.read(reinterpret_cast<char*>(m), 8);
-    const std::streamsize n = in.gcount();
-    static const unsigned char png[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-    if (n == 8 && std::equal(m, m + 8, png)) return LdrFormat::png;
-    if (n >= 3 && m[0] == 0xff && m[1] == 0xd8 && m[2] == 0xff) return LdrFormat::jpeg;
-    if (n >= 2 && m[0] == 'B' && m[1] == 'M') return LdrFormat::bmp;
-    std::string ext = std::filesystem::path(path).extension().string();
-    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return ext == ".tga" ? LdrFormat::tga : LdrFormat::unknown;
 }
 
 namespace {

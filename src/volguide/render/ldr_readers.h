@@ -17,10 +17,6 @@ struct LdrPixels {
     std::vector<uint16_t> samples;
 };
 
-enum class LdrFormat { png, jpeg, bmp, tga, unknown };
-// By content (PNG, JPEG and BMP signatures); TGA has none, so by the extension .tga.
-LdrFormat ldr_format(const std::string& path);
-
 // Each throws InputError naming the file for a malformed file, a size the file cannot hold, or
 // buffers beyond the memory budget.
 LdrPixels read_png_pixels(const std::string& path);
