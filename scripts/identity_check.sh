@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
-# Bit-identity check for refactors (issue 18's acceptance): renders the benchmark scenes shafts, sss,
-# cloud and fogbox at 64x48, 8 spp, fixed seed, with volpath and with guided_volpath (the defaults,
-# each guided decision alone, and distance=vsp / vsp_product, rrs=ears and the learned selection with
-# the per-cell distance method), every guided render from a field saved once per scene.
+# Bit-identity check for refactors (issue 18's acceptance): renders every benchmark scene at 64x48,
+# 8 spp, fixed seed, with volpath and with guided_volpath (the defaults, each guided decision alone,
+# distance=vsp, rrs=ears), every guided render from a field saved once per scene, plus the defaults
+# trained from scratch (the photon pre-pass, the pixel estimate and the learned selection included).
 #
 #   scripts/identity_check.sh render BUILD_DIR OUT_DIR [FIELDS_DIR]
 #       renders every case into OUT_DIR/<scene>__<case>.exr; without FIELDS_DIR it first trains and
@@ -13,23 +13,22 @@
 #       and prints one line per case; exit 1 if any differs.
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
-scenes=(shafts sss cloud fogbox)
+scenes=(shafts sss cloud fogbox thin aniso backlit densesphere glassfog)
 # case name -> guided_volpath parameters (empty: volpath)
 declare -A cases=(
   [volpath]=""
   [defaults]="distance=incremental direction=product rrs=grrs"
   [distance]="distance=incremental direction=phase rrs=standard"
-  [tabulated]="distance=tabulated direction=phase rrs=standard"
   [direction]="distance=standard direction=product rrs=standard"
   [incident]="distance=standard direction=incident rrs=standard"
   [grrs]="distance=standard direction=phase rrs=grrs"
   [grr]="distance=incremental direction=product rrs=grr"
   # issue 37/38's decisions (the per-vertex object: vsp's P_G, ears' leaf, the pilot's records)
   [vsp]="distance=vsp direction=product rrs=grrs"
-  [vspproduct]="distance=vsp_product direction=product rrs=grrs"
   [vspphase]="distance=vsp direction=phase rrs=standard"
   [ears]="distance=incremental direction=product rrs=ears"
-  [selection]="distance=vsp direction=product rrs=grrs selection_spp=2 selection_distance_method=true"
+  # the defaults with nothing given, trained here (not from the saved field)
+  [trained]="photons=100000"
 )
 
 integrator_xml() {  # $1 = file, $2.. = name=value
@@ -80,6 +79,10 @@ case "$cmd" in
       for name in "${!cases[@]}"; do
         if [[ "$name" == volpath ]]; then
           render_one "$build" "$out" "$scene" "$name" ""
+        elif [[ "$name" == trained ]]; then
+          # shellcheck disable=SC2086
+          integrator_xml "$xmls/$scene-$name.xml" ${cases[$name]}
+          render_one "$build" "$out" "$scene" "$name" "$xmls/$scene-$name.xml"
         else
           # shellcheck disable=SC2086
           integrator_xml "$xmls/$scene-$name.xml" "load_field=$fields/$scene.field" ${cases[$name]}
