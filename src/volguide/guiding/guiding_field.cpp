@@ -5,7 +5,6 @@
 #include <stdexcept>
 
 #include "volguide/core/parallel.h"
-#include "volguide/vmm/vmm_variance_aware.h"
 
 namespace volguide {
 
@@ -20,7 +19,7 @@ GuidingLeaf fit_leaf(std::span<const RadianceSample> samples, std::span<const ui
                      const BBox3f& box, const GuidingFieldSettings& settings) {
     GuidingLeaf leaf;
     leaf.samples = uint32_t(indices.size());
-    std::vector<DirectionalSample> directions, indirect, second_moments;
+    std::vector<DirectionalSample> directions, indirect;
     directions.reserve(indices.size());
     bool any_direct = false;
     double sum[3] = {0, 0, 0}, count = 0;
@@ -38,8 +37,6 @@ GuidingLeaf fit_leaf(std::span<const RadianceSample> samples, std::span<const ui
             else
                 indirect.push_back({s.direction, w});
         }
-        if (settings.variance_aware && s.second_moment > 0.f && std::isfinite(s.second_moment))
-            second_moments.push_back({s.direction, s.second_moment});
     }
     const double norm =
         settings.fluence == FluenceEstimator::PerVolume ? box_volume(box) : std::max(count, 1.0);
@@ -53,10 +50,6 @@ GuidingLeaf fit_leaf(std::span<const RadianceSample> samples, std::span<const ui
     if (!any_direct) {
         leaf.vmm_indirect = leaf.vmm;
         leaf.valid_indirect = leaf.valid;
-        // The direction decisions' copy: the radiance fit's lobes, their weights following
-        // sqrt(E[L^2]) (theory §23.4); the estimates keep reading the radiance target (vmm). A
-        // leaf whose samples carry no second moment keeps the radiance weights.
-        if (leaf.valid && settings.variance_aware) variance_aware_weights(leaf.vmm_indirect, second_moments, fit);
     } else if (int(indirect.size()) >= settings.min_samples) {
         fit_vmm(leaf.vmm_indirect, indirect, fit);
         leaf.valid_indirect = leaf.vmm_indirect.size() > 0;
@@ -75,23 +68,11 @@ GuidingField GuidingField::build(const BBox3f& bounds, std::span<const RadianceS
     // Only samples that carry radiance drive the subdivision (spatial_tree.h): zero-valued training
     // samples still count in their leaf's fluence mean. Photon samples are all positive.
     std::vector<uint8_t> carries_radiance(samples.size());
-    // What the transport-shaped refinement compares (tree.split_contrast): the fluence estimator's
-    // own numerator and divisor, per volume for photons, per vertex for camera vertices
-    // (camera vertices: sum(weight) / sum(count), NEE samples counting 0).
-    const bool contrast = settings.tree.split_contrast > 0.f;
-    const bool per_volume = settings.fluence == FluenceEstimator::PerVolume;
-    std::vector<float> radiance, counts;
-    if (contrast) radiance.resize(samples.size());
-    if (contrast && !per_volume) counts.resize(samples.size());
     for (size_t i = 0; i < samples.size(); ++i) {
         positions[i] = samples[i].position;
         carries_radiance[i] = samples[i].weight.is_finite() && samples[i].weight.average() > 0.f;
-        if (!radiance.empty()) radiance[i] = carries_radiance[i] ? samples[i].weight.average() : 0.f;
-        if (!counts.empty()) counts[i] = samples[i].count;
     }
-    SpatialTreeSettings tree_settings = settings.tree;
-    tree_settings.contrast_per_volume = per_volume;
-    SpatialTree tree = SpatialTree::build(bounds, positions, tree_settings, carries_radiance, radiance, counts);
+    SpatialTree tree = SpatialTree::build(bounds, positions, settings.tree, carries_radiance);
     std::vector<GuidingLeaf> leaves(size_t(tree.leaf_count()));
     parallel_for(0, tree.leaf_count(), [&](int l) {
         leaves[size_t(l)] = fit_leaf(samples, tree.leaf_samples(l), tree.leaf_bounds(l), settings);

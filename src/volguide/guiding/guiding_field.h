@@ -32,11 +32,6 @@ struct RadianceSample {
     // estimation samples at every medium vertex. Fields whose samples carry this flag also fit
     // each leaf's distribution without it (GuidingLeaf::vmm_indirect).
     bool direct = false;
-    // The sample's second-moment contribution L^2 / p (channel mean of the squares) for the
-    // variance-aware target (GuidingFieldSettings::variance_aware, docs/theory.md §23): set by the
-    // training recorder for camera-path vertices; 0 for photons and NEE samples (the direction
-    // decision's estimator does not carry what NEE collects, §23.3).
-    float second_moment = 0.f;
 };
 
 // How a leaf turns its samples' weights into fluence.
@@ -56,11 +51,6 @@ struct GuidingFieldSettings {
     int min_samples = 64;      // fewer (positive-weight) samples: the leaf is invalid
     VmmFitSettings fit;        // fit.initial_lobes is overridden by `lobes`
     FluenceEstimator fluence = FluenceEstimator::PerVolume;
-    // `guide_target=variance` (camera-path training only): each leaf's direction distribution
-    // (vmm_indirect, which camera fields otherwise copy from vmm) keeps the radiance fit's lobes with
-    // weights following sqrt of the second moment (RadianceSample::second_moment;
-    // vmm_variance_aware.h, docs/theory.md §23). vmm and the fluence stay the mean: the estimates.
-    bool variance_aware = false;
 };
 
 struct GuidingLeaf {
@@ -70,9 +60,7 @@ struct GuidingLeaf {
     bool valid = false;  // enough samples: guided decisions may use it (otherwise defensive only)
     // The directional shape of the light that did not come straight from an emitter (samples
     // without RadianceSample::direct), for direction guiding next to NEE. A field trained without
-    // direct flags (camera-path training) holds a copy of vmm / valid here, with the variance-aware
-    // target (GuidingFieldSettings::variance_aware) its weights refitted to sqrt(E[L^2]), which NEE's
-    // light does not enter either.
+    // direct flags (from camera vertices) holds a copy of vmm / valid here.
     Vmm vmm_indirect;
     bool valid_indirect = false;
     // The share of the leaf's volume inside a scattering medium, measured by the renderer (it needs

@@ -29,16 +29,13 @@ namespace {
 struct Builder {
     std::span<const Point3f> points;
     std::span<const uint8_t> counted;  // empty: every point counts
-    std::span<const float> values;        // for settings->split_contrast
-    std::span<const float> value_counts;  // per-point means' divisors (empty: 1 each)
     const SpatialTreeSettings* settings;
     std::vector<SpatialTree::Node> nodes{SpatialTree::Node{}};  // nodes[0]: this subtree's root
     std::vector<uint32_t> order;                                // sample indices, grouped by leaf
     std::vector<uint32_t> leaf_offset{0u};
 
-    Builder(std::span<const Point3f> p, std::span<const uint8_t> c, std::span<const float> v,
-            std::span<const float> vc, const SpatialTreeSettings& s)
-        : points(p), counted(c), values(v), value_counts(vc), settings(&s) {}
+    Builder(std::span<const Point3f> p, std::span<const uint8_t> c, const SpatialTreeSettings& s)
+        : points(p), counted(c), settings(&s) {}
 
     // Chooses the split of `idx` inside `box`: (axis, position), or axis 3 for "make a leaf".
     std::pair<int, float> choose_split(const std::vector<uint32_t>& idx, const BBox3f& box) const {
@@ -54,52 +51,11 @@ struct Builder {
         leaf_offset.push_back(uint32_t(order.size()));
     }
 
-    // A node within the sample limit splits where the light changes most: the box's mid-plane of
-    // the axis whose halves differ most, if that contrast |a - b| / (a + b) of the halves' values
-    // (per unit volume or per point count) exceeds split_contrast and each half keeps
-    // contrast_min_samples counted points; else axis 3. One pass over the points for all three axes.
-    std::pair<int, float> choose_light_split(const std::vector<uint32_t>& idx, const BBox3f& box) const {
-        const Point3f mid = box.center();  // (lo + hi) / 2 per axis
-        int64_t counted_in[3][2] = {};
-        double sum[3][2] = {}, divisor[3][2] = {};
-        for (uint32_t i : idx) {
-            const int c = counts(i);
-            const double d = value_counts.empty() ? 1.0 : double(value_counts[i]), v = double(values[i]);
-            for (int a = 0; a < 3; ++a) {
-                const int h = points[i][a] < mid[a] ? 0 : 1;
-                counted_in[a][h] += c;
-                divisor[a][h] += d;
-                sum[a][h] += v;
-            }
-        }
-        int best = 3;
-        double best_contrast = double(settings->split_contrast);
-        for (int a = 0; a < 3; ++a) {
-            if (!(mid[a] > box.lo[a] && mid[a] < box.hi[a])) continue;
-            if (std::min(counted_in[a][0], counted_in[a][1]) < settings->contrast_min_samples) continue;
-            double mean[2];
-            for (int h = 0; h < 2; ++h) {
-                BBox3f half = box;
-                (h == 0 ? half.hi : half.lo)[a] = mid[a];
-                const Vec3f e = half.extents();
-                const double norm =
-                    settings->contrast_per_volume ? double(e.x) * double(e.y) * double(e.z) : divisor[a][h];
-                mean[h] = norm > 0.0 ? sum[a][h] / norm : 0.0;
-            }
-            const double total = mean[0] + mean[1];
-            const double contrast = total > 0.0 ? std::abs(mean[0] - mean[1]) / total : 0.0;
-            if (contrast > best_contrast) best_contrast = contrast, best = a;
-        }
-        return {best, best < 3 ? mid[best] : 0.f};
-    }
-
     void build(uint32_t node, std::vector<uint32_t> idx, const BBox3f& box, int depth) {
         int64_t n = 0;
         for (uint32_t i : idx) n += counts(i);
-        const bool by_count = n > settings->max_samples;
-        const bool by_light = !by_count && settings->split_contrast > 0.f && n >= 2 * int64_t(settings->contrast_min_samples);
-        if ((!by_count && !by_light) || depth >= settings->max_depth) return make_leaf(node, idx);
-        auto [axis, split] = by_count ? choose_split(idx, box) : choose_light_split(idx, box);
+        if (n <= settings->max_samples || depth >= settings->max_depth) return make_leaf(node, idx);
+        auto [axis, split] = choose_split(idx, box);
         if (axis == 3) return make_leaf(node, idx);
         std::vector<uint32_t> lower, upper;
         for (uint32_t i : idx) (points[i][axis] < split ? lower : upper).push_back(i);
@@ -116,8 +72,7 @@ struct Builder {
             build(child + 1, std::move(upper), hi_box, depth + 1);
             return;
         }
-        Builder halves[2] = {Builder(points, counted, values, value_counts, *settings),
-                             Builder(points, counted, values, value_counts, *settings)};
+        Builder halves[2] = {Builder(points, counted, *settings), Builder(points, counted, *settings)};
         std::vector<uint32_t>* parts[2] = {&lower, &upper};
         const BBox3f* boxes[2] = {&lo_box, &hi_box};
         parallel_for(0, 2, [&](int h) { halves[h].build(0, std::move(*parts[h]), *boxes[h], depth + 1); });
@@ -146,16 +101,9 @@ struct Builder {
 }  // namespace
 
 SpatialTree SpatialTree::build(const BBox3f& bounds, std::span<const Point3f> points,
-                               const SpatialTreeSettings& settings, std::span<const uint8_t> counted,
-                               std::span<const float> values, std::span<const float> value_counts) {
+                               const SpatialTreeSettings& settings, std::span<const uint8_t> counted) {
     if (!counted.empty() && counted.size() != points.size())
         throw std::invalid_argument("SpatialTree::build: one `counted` flag per point expected");
-    if (settings.split_contrast > 0.f && values.size() != points.size())
-        throw std::invalid_argument("SpatialTree::build: split_contrast needs one value per point");
-    if (!value_counts.empty() && value_counts.size() != points.size())
-        throw std::invalid_argument("SpatialTree::build: one value count per point expected");
-    if (!(settings.split_contrast >= 0.f && settings.split_contrast < 1.f) || settings.contrast_min_samples < 1)
-        throw std::invalid_argument("SpatialTree::build: split_contrast must be in [0, 1) and contrast_min_samples >= 1");
     if (!bounds.valid()) throw std::invalid_argument("SpatialTree::build: invalid bounds");
     if (settings.max_samples < 1 || settings.max_depth < 0 || settings.max_depth > 60)
         throw std::invalid_argument("SpatialTree::build: max_samples must be >= 1 and max_depth in [0, 60]");
@@ -165,7 +113,7 @@ SpatialTree SpatialTree::build(const BBox3f& bounds, std::span<const Point3f> po
     SpatialTree tree(bounds);
     std::vector<uint32_t> all(points.size());
     for (size_t i = 0; i < all.size(); ++i) all[i] = uint32_t(i);
-    Builder b(clamped, counted, values, value_counts, settings);
+    Builder b(clamped, counted, settings);
     b.order.reserve(points.size());
     b.build(0, std::move(all), bounds, 0);
     tree.nodes_ = std::move(b.nodes);

@@ -29,16 +29,6 @@ struct SpatialTreeSettings {
     // Subtrees of at least this many samples build their two halves concurrently. Only the build's
     // speed depends on it: the tree is the same for any value and any thread count.
     size_t parallel_min_samples = size_t(1) << 15;
-    // Refinement by the light (issue 22): a node within max_samples still splits, at the mid-plane
-    // of the axis whose halves differ most, when they differ enough: |a - b| / (a + b) >
-    // split_contrast, with a and b each half's sum of the points' values per unit volume
-    // (contrast_per_volume: photon densities; a half partly outside the media reads lower, so
-    // leaves also shrink along media boundaries) or per point count (camera vertices' radiance
-    // means: the sum of value_counts, the fluence mean's divisors), and each half keeps at least
-    // contrast_min_samples counted points. 0: off (counts only).
-    float split_contrast = 0.f;
-    int contrast_min_samples = 256;
-    bool contrast_per_volume = true;
 };
 
 // The build's split of a node by its samples (docs/theory.md §5.3): the mean of the counted samples on the
@@ -86,11 +76,8 @@ public:
     // Builds the tree over `bounds` from sample positions (points outside the bounds are clamped
     // into them). leaf_samples(i) then lists the indices of the samples in leaf i, in input order.
     // `counted` (empty = all count, else one flag per point) selects the samples that drive splits.
-    // `values` (one per point) are what settings.split_contrast compares; needed only when it is on.
-    // `value_counts` (empty = 1 each): what each point adds to a per-point mean's divisor.
     static SpatialTree build(const BBox3f& bounds, std::span<const Point3f> points,
-                             const SpatialTreeSettings& settings = {}, std::span<const uint8_t> counted = {},
-                             std::span<const float> values = {}, std::span<const float> value_counts = {});
+                             const SpatialTreeSettings& settings = {}, std::span<const uint8_t> counted = {});
 
     const BBox3f& bounds() const { return bounds_; }
     int leaf_count() const { return int(leaf_bounds_.size()); }

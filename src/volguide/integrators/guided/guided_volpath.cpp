@@ -11,7 +11,6 @@
 #include "volguide/integrators/guided/walk/guided_walk_policy.h"
 #include "volguide/integrators/guided/training/medium_occupancy.h"
 #include "volguide/integrators/guided/training/photon_pass.h"
-#include "volguide/integrators/guided/training/progressive_training.h"
 #include "volguide/integrators/guided/estimates/selection_pilot.h"
 #include "volguide/render/image_io.h"
 #include "volguide/render/scene.h"
@@ -26,11 +25,6 @@ void GuidedVolPathIntegrator::preprocess(const Scene& scene, const PreprocessCon
     training_stats_.clear();
     scene_ = &scene;
     seed_ = context.seed;
-    online_samples_.clear();
-    online_threads_.clear();
-    online_updates_ = 0;
-    online_updated_spp_ = 0;
-    online_seconds_ = 0;
     refinement_.reset();
     schedule_.reset();
     previous_field_ = GuidingField();
@@ -41,10 +35,6 @@ void GuidedVolPathIntegrator::preprocess(const Scene& scene, const PreprocessCon
     progress_ = context.progress;
     cancel_ = context.cancel;
     walk_.preprocess(scene, context);
-    warn_vsp_equiangular(scene);
-    if (settings_.online_spp > 0 && given_prepass_)
-        throw InputError(settings_.location, "guided_volpath: online_spp cannot continue a given pre-pass (render "
-                                             "--field): it rebuilds the field from the training's samples");
     if (settings_.refine.passes > 0 && given_prepass_)
         throw InputError(settings_.location, "guided_volpath: refine_passes cannot refine a given pre-pass (render "
                                              "--field): it keeps the statistics of the photons it was trained from");
@@ -54,7 +44,6 @@ void GuidedVolPathIntegrator::preprocess(const Scene& scene, const PreprocessCon
     build_from_field(scene, context, false);
     if (refinement_)
         schedule_ = std::make_unique<RefinementSchedule>(settings_.refine, context.time_budget, training_seconds_);
-    online_recording_ = settings_.online_spp > 0 && !estimator_;
     if (!settings_.save_field.empty()) {
         try {
             save_field(settings_.save_field, field_);
@@ -64,7 +53,7 @@ void GuidedVolPathIntegrator::preprocess(const Scene& scene, const PreprocessCon
     }
 }
 
-// The field's shape in --stats (an online update replaces the last figures).
+// The field's shape in --stats (a refinement replaces the last figures).
 void GuidedVolPathIntegrator::record_field_stats() {
     std::erase_if(training_stats_, [](const auto& s) { return s.first.rfind("field_", 0) == 0; });
     int valid = 0;
@@ -72,17 +61,6 @@ void GuidedVolPathIntegrator::record_field_stats() {
     training_stats_.insert(training_stats_.end(), {{"field_leaves", double(field_.tree().leaf_count())},
                                                    {"field_valid_leaves", double(valid)},
                                                    {"field_depth", double(field_.tree().depth())}});
-}
-
-void GuidedVolPathIntegrator::warn_vsp_equiangular(const Scene& scene) const {
-    if (settings_.guide.distance != DistanceGuiding::Vsp || !(settings_.guide.vsp_equiangular > 0.f)) return;
-    bool heterogeneous = scene.sensor().medium() && !scene.sensor().medium()->is_homogeneous();
-    for (const auto& shape : scene.shapes())
-        for (const Medium* m : {shape->interior_medium(), shape->exterior_medium()})
-            if (m && !m->is_homogeneous()) heterogeneous = true;
-    if (heterogeneous)
-        warn(settings_.location, "guided_volpath: vsp_equiangular applies in homogeneous media only; heterogeneous "
-                                 "media keep the resampled vsp decision without equiangular sampling");
 }
 
 void GuidedVolPathIntegrator::build_from_field(const Scene& scene, const PreprocessContext& context, bool update) {
@@ -103,8 +81,7 @@ void GuidedVolPathIntegrator::build_from_field(const Scene& scene, const Preproc
             use_given_pixel_estimate();
         else
             make_pixel_estimate(scene, context);
-    } else if (wants_camera_buffer() && !estimator_ && !given_prepass_ &&
-               settings_.pixel_estimate == PixelEstimateMethod::Raymarch) {
+    } else if (wants_camera_buffer() && !estimator_ && !given_prepass_) {
         make_pixel_estimate(scene, context);  // for distance=vsp's camera-ray buffer only
     }
     if (settings_.roulette.mode != RouletteMode::Standard && !estimator_ && !rrs_) {
@@ -125,14 +102,8 @@ void GuidedVolPathIntegrator::build_from_field(const Scene& scene, const Preproc
     }
 }
 
-// Updates at doublings: each costs about as much as all the earlier ones together (a rebuild from
-// every sample so far, a selection pilot), so updating after every pass of the render loop's 1, 1,
-// 2, 4, 8, 8, 8, ... spp would spend most of the learning on small steps late in the recording.
 void GuidedVolPathIntegrator::end_pass(const PassReport& pass) {
-    const int spp_done = pass.spp_done;
-    if (ears_) ears_->end_pass(spp_done);
-    if (online_recording_ && (spp_done >= 2 * online_updated_spp_ || spp_done >= settings_.online_spp))
-        online_update(spp_done);
+    if (ears_) ears_->end_pass();
     if (schedule_) refine(pass);
 }
 
@@ -156,10 +127,10 @@ PreprocessContext GuidedVolPathIntegrator::refinement_context() const {
 }
 
 // A further photon pass (new photons: the stream goes on from the last pass's), as many deposits as
-// all passes before it (at most refine_max_deposits), added to the field's statistics; then the
+// all passes before it (at most kRefineMaxDeposits), added to the field's statistics; then the
 // field's medium fractions and everything built from the field, as after the pre-pass.
 void GuidedVolPathIntegrator::refine_field(double job_seconds) {
-    const int64_t deposits = std::min(deposits_, settings_.refine_max_deposits);
+    const int64_t deposits = std::min(deposits_, GuidedVolPathSettings::kRefineMaxDeposits);
     const double remaining = time_budget_ > 0 ? std::max(0.0, time_budget_ - job_seconds) : 0.0;
     PhotonPassSettings ps = photon_settings(time_budget_ > 0 ? settings_.training_fraction * remaining : 0.0);
     ps.first_photon = photon_stream_next_;
@@ -199,46 +170,6 @@ void GuidedVolPathIntegrator::undo_refinement() {
     refinement_undone_ = true;
 }
 
-// Joins the camera samples recorded since the last update (one or more passes) in stream-key order,
-// rebuilds the field from every sample so far (as progressive training does after each iteration:
-// one pure function of the sample list) and what is derived from it.
-void GuidedVolPathIntegrator::online_update(int spp_done) {
-    const auto start = std::chrono::steady_clock::now();
-    struct Ref {
-        uint64_t key;
-        const OnlineThread* thread;
-        size_t path;
-    };
-    std::vector<Ref> refs;
-    for (const OnlineThread& t : online_threads_)
-        for (size_t p = 0; p < t.paths.size(); ++p) refs.push_back({t.paths[p].key, &t, p});
-    std::sort(refs.begin(), refs.end(), [](const Ref& a, const Ref& b) { return a.key < b.key; });
-    for (const Ref& r : refs) {
-        const OnlinePath& p = r.thread->paths[r.path];
-        online_samples_.insert(online_samples_.end(), r.thread->samples.begin() + std::ptrdiff_t(p.first),
-                               r.thread->samples.begin() + std::ptrdiff_t(p.first + p.count));
-    }
-    for (OnlineThread& t : online_threads_) {
-        t.samples.clear();
-        t.paths.clear();
-    }
-    GuidingFieldSettings fs = settings_.field;
-    fs.fluence = FluenceEstimator::PerSampleMean;
-    field_ = GuidingField::build(guiding_bounds(*scene_), online_samples_, fs);
-    PreprocessContext context;
-    context.seed = seed_ + uint64_t(online_updates_ + 1);
-    measure_medium_fractions(*scene_, context.seed, false);
-    build_from_field(*scene_, context, true);
-    ++online_updates_;
-    online_updated_spp_ = spp_done;
-    if (spp_done >= settings_.online_spp) {
-        online_recording_ = false;
-        online_threads_.clear();
-        std::vector<RadianceSample>().swap(online_samples_);
-    }
-    online_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
 void GuidedVolPathIntegrator::load_or_train_field(const Scene& scene, const PreprocessContext& context) {
     bool photon_fluence = false;  // a photon-trained fluence still counts collisions per leaf volume
     if (given_prepass_) {
@@ -249,16 +180,6 @@ void GuidedVolPathIntegrator::load_or_train_field(const Scene& scene, const Prep
         } catch (const FieldFormatError& e) {
             throw InputError(settings_.location, e.what());
         }
-    } else if (settings_.training == TrainingMethod::Progressive) {
-        ProgressiveTrainingSettings ts;
-        ts.walk = settings_.walk;
-        ts.iterations = settings_.training_iterations;
-        if (context.time_budget > 0) ts.time_limit = settings_.training_fraction * context.time_budget;
-        ts.field = settings_.field;
-        ts.keep_samples = settings_.online_spp > 0;
-        ProgressiveTrainingResult trained = train_progressive(scene, guiding_bounds(scene), ts, context);
-        field_ = std::move(trained.field);
-        online_samples_ = std::move(trained.sample_list);
     } else {
         field_ = train_by_photons(scene, context);
         photon_fluence = true;
@@ -266,7 +187,7 @@ void GuidedVolPathIntegrator::load_or_train_field(const Scene& scene, const Prep
     // Once per field, kept in its file (format v3): the photons' per-volume fluence is divided by
     // each leaf's medium share (collisions only happen inside media), and surface guiding and the
     // pixel estimate trust only leaves mostly filled by a medium (GuidingLeaf::mostly_medium). A
-    // field of format v2 or from progressive training is measured here, its fluence left as it is.
+    // field of format v2 is measured here, its fluence left as it is.
     if (!field_.has_medium_fractions()) measure_medium_fractions(scene, context.seed, photon_fluence);
 }
 
@@ -317,14 +238,8 @@ void GuidedVolPathIntegrator::make_pixel_estimate(const Scene& scene, const Prep
         p.phase = "pixel estimate";
         context.progress(p);
     }
-    if (settings_.pixel_estimate == PixelEstimateMethod::Render) {
-        pixel_estimate_ = PixelEstimate::render(
-            scene, [&](Sampler& sampler, const Ray& ray) { return guided_walk(scene, sampler, ray, 0.f); },
-            settings_.pixel_estimate_spp, settings_.pixel, context);
-    } else {
-        const CacheEstimator marcher(scene, field_);
-        pixel_estimate_ = PixelEstimate::raymarch(scene, field_, marcher, settings_.pixel, context);
-    }
+    const CacheEstimator marcher(scene, field_);
+    pixel_estimate_ = PixelEstimate::raymarch(scene, field_, marcher, settings_.pixel, context);
     if (!settings_.save_pixel_estimate.empty()) {
         try {
             write_exr(settings_.save_pixel_estimate, pixel_estimate_.image());
@@ -344,31 +259,18 @@ void GuidedVolPathIntegrator::learn_selection(const Scene& scene, const Preproce
         p.phase = "selection pilot";
         context.progress(p);
     }
-    auto pilot = [&](int method_round) {
-        return run_selection_pilot(
-            scene, settings_.selection.pilot_spp, guide_->selection_cells(),
-            [&](Point2f film_uv) { return pixel_estimate_.at(film_uv); },
-            [&](Sampler& sampler, const Ray& ray, SelectionRecorder& recorder) {
-                GuidedWalkPolicy policy(*guide_, nullptr, 0.f);
-                return walk_.walk(scene, sampler, ray, &policy, &recorder);
-            },
-            context, method_round, settings_.selection.costs,
-            settings_.roulette.mode == RouletteMode::Standard ? nullptr : &settings_.roulette);
-    };
-    SelectionStatistics stats;
-    if (settings_.selection.choose_distance_method) {
-        // One round per distance method, every cell forced to it (selection.h, docs/theory.md §7.12).
-        for (int k = 0; k < kDistanceMethods; ++k) {
-            guide_->set_selection(LearnedSelection::forced_method(guide_->selection_cells(), DistanceMethod(k)));
-            stats += pilot(k);
-        }
-    } else {
-        stats = pilot(-1);
-    }
+    const SelectionStatistics stats = run_selection_pilot(
+        scene, settings_.selection.pilot_spp, guide_->selection_cells(),
+        [&](Point2f film_uv) { return pixel_estimate_.at(film_uv); },
+        [&](Sampler& sampler, const Ray& ray, SelectionRecorder& recorder) {
+            GuidedWalkPolicy policy(*guide_, nullptr, 0.f);
+            return walk_.walk(scene, sampler, ray, &policy, &recorder);
+        },
+        context);
     guide_->set_selection(LearnedSelection::fit(stats, settings_.selection, guide_->configured_shares()));
     const LearnedSelection::Summary sum = guide_->selection().summary();
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    // An online update learns the selection again: its figures replace the last ones.
+    // A refinement learns the selection again: its figures replace the last ones.
     std::erase_if(training_stats_, [](const auto& s) { return s.first.rfind("selection_", 0) == 0; });
     training_stats_.insert(training_stats_.end(),
                            {{"selection_seconds", seconds},
@@ -380,27 +282,7 @@ void GuidedVolPathIntegrator::learn_selection(const Scene& scene, const Preproce
                             {"selection_surface_cells_unguided", double(sum.unguided[2])},
                             {"selection_distance_mean_share", sum.mean_share[0]},
                             {"selection_direction_mean_share", sum.mean_share[1]},
-                            {"selection_surface_mean_share", sum.mean_share[2]},
-                            {"selection_rrs_cells_off", double(sum.rrs_off)}});
-    if (settings_.selection.choose_distance_method) add_method_stats(stats, sum);
-}
-
-// Per method: the cells that chose it, and the cost model's ns per camera sample of its pilot round
-// with the segments (distance and surface decisions) per camera sample it counted (the calibration's
-// figures, bench/RESULTS.md "issue 37: the cost model").
-void GuidedVolPathIntegrator::add_method_stats(const SelectionStatistics& stats, const LearnedSelection::Summary& sum) {
-    for (int k = 0; k < kDistanceMethods; ++k) {
-        const std::string name = kDistanceMethodNames[size_t(k)];
-        const auto& round = stats.method_round(DistanceMethod(k));
-        const double samples = double(std::max<uint64_t>(1, round.camera_samples));
-        const double segments = double(round.decisions[size_t(SelectionDecision::Distance)] +
-                                       round.decisions[size_t(SelectionDecision::Surface)]);
-        training_stats_.insert(training_stats_.end(),
-                               {{"selection_method_cells_" + name, double(sum.methods[size_t(k)])},
-                                {"selection_method_cost_ns_per_sample_" + name,
-                                 method_round_cost_per_sample(stats, settings_.selection.costs, DistanceMethod(k))},
-                                {"selection_method_segments_per_sample_" + name, segments / samples}});
-    }
+                            {"selection_surface_mean_share", sum.mean_share[2]}});
 }
 
 std::string GuidedVolPathIntegrator::prepass_state() const {
@@ -429,7 +311,7 @@ Color3 GuidedVolPathIntegrator::guided_walk(const Scene& scene, Sampler& sampler
 
 bool GuidedVolPathIntegrator::wants_camera_buffer() const {
     const DistanceGuiding d = settings_.guide.distance;
-    return guide_ && (d == DistanceGuiding::Vsp || d == DistanceGuiding::VspProduct) && settings_.guide.vsp_camera_buffer;
+    return guide_ && d == DistanceGuiding::Vsp;
 }
 
 float GuidedVolPathIntegrator::camera_guided(const CameraRay& camera) const {
@@ -444,8 +326,6 @@ Color3 GuidedVolPathIntegrator::render_walk(const Scene& scene, Sampler& sampler
     // The statistics keep X / I; the decisions compare with the pass's learned estimate I'.
     const long px = ears_->pixel(camera.film_uv);
     const float learned = ears_->snapshot().pixel_estimate(px, pixel);
-    if (!ears_->records(sampler.key()))
-        return guided_walk(scene, sampler, camera.ray, learned, recorder, camera_guided(camera));
     ContinuationRecorder& learning = ears_->recorder();
     learning.begin(recorder, px, pixel);
     const Color3 L = guided_walk(scene, sampler, camera.ray, learned, &learning, camera_guided(camera));
@@ -459,22 +339,7 @@ Color3 GuidedVolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const C
             settings_.estimate == FieldEstimate::Incident ? CacheQuantity::Incident : CacheQuantity::Inscattered;
         return estimator_->estimate(camera.ray, scene.sensor().medium(), q, sampler);
     }
-    if (online_recording_) {
-        OnlineThread& t = online_threads_.local();
-        const uint64_t key = sampler.key();
-        const Color3 L = render_walk(scene, sampler, camera, &t.recorder);
-        const size_t first = t.samples.size();
-        t.recorder.finish(t.samples);
-        t.paths.push_back({key, first, t.samples.size() - first});
-        return L;
-    }
     return render_walk(scene, sampler, camera, nullptr);
-}
-
-Color3 GuidedVolPathIntegrator::recorded_Li(const Scene& scene, Sampler& sampler, const CameraRay& camera,
-                                            PathRecorder& recorder) const {
-    return guided_walk(scene, sampler, camera.ray, rrs_ ? pixel_estimate_.at(camera.film_uv) : 0.f, &recorder,
-                       camera_guided(camera));
 }
 
 std::vector<std::pair<std::string, double>> GuidedVolPathIntegrator::statistics() const {
@@ -489,10 +354,6 @@ std::vector<std::pair<std::string, double>> GuidedVolPathIntegrator::statistics(
                                    {"refine_deposits", double(deposits_)},
                                    {"field_memory_bytes", double(refinement_->memory_bytes())}});
         if (refinement_undone_) stats.emplace_back("refine_undone", 1.0);
-    }
-    if (settings_.online_spp > 0) {
-        stats.emplace_back("online_updates", double(online_updates_));
-        stats.emplace_back("online_seconds", online_seconds_);
     }
     if (guide_) {
         const auto walk = guide_->stats().named();

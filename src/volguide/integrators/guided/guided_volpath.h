@@ -1,17 +1,17 @@
 #pragma once
 // `guided_volpath`: volguide's zero-variance-based volume path guiding integrator (interface.md).
 //
-// preprocess() trains the guiding field, by the photon pre-pass (training=photons, docs/theory.md §5.2,
-// §10.1) or PPG-style from camera paths (training=progressive, §10.2, progressive_training.h:
-// training_iterations iterations of 2^k spp with volpath's walk, field rebuilt after each), or
-// loads it (`load_field`), then prepares the guided decisions and, for guided RR/splitting and the
-// learned selection, the pixel estimate I (pixel_estimate.h: raymarch through the field, or render
-// a few guided spp and filter them), then learns the selection from a pilot (selection_pilot.h,
-// guiding/selection.h: per leaf the guided share of each decision; `selection_spp`, default 2). The render is volpath's walk with a WalkGuide (walk_guide.h) making the distance
-// (incremental / tabulated) and direction (incident / product) decisions and RouletteSplitting
-// (roulette_splitting.h) the RR/splitting decisions after them (rrs=grr/grrs). `estimate` renders
-// the field's own inspection images instead. With distance=standard direction=phase rrs=standard
-// it renders exactly what volpath renders.
+// preprocess() trains the guiding field by the photon pre-pass (docs/theory.md §5.2, §10.1), or loads it
+// (`load_field`), then prepares the guided decisions and, for guided RR/splitting and the learned
+// selection, the pixel estimate I (pixel_estimate.h: a raymarch through the field), then learns the
+// selection from a pilot (selection_pilot.h, learned_selection.h: per leaf the guided share of each
+// decision; `selection_spp`, default 2). The render is volpath's walk with GuidedWalkPolicy
+// (walk/guided_walk_policy.h): the vertex objects make the distance (incremental / vsp) and direction
+// (incident / product) decisions, GuidedContinuation the RR/splitting decisions after them (rrs=grr,
+// grrs, ears). With refine_passes > 0 the field keeps learning from further photon passes between
+// render passes (field_refinement.h, refinement_schedule.h). `estimate` renders the field's own
+// inspection images instead. With distance=standard direction=phase rrs=standard it renders exactly
+// what volpath renders.
 #include <tbb/enumerable_thread_specific.h>
 
 #include <limits>
@@ -28,7 +28,6 @@
 #include "volguide/integrators/guided/estimates/pixel_estimate.h"
 #include "volguide/integrators/guided/training/photon_pass.h"
 #include "volguide/integrators/guided/training/refinement_schedule.h"
-#include "volguide/integrators/guided/training/training_recorder.h"
 #include "volguide/integrators/volpath/volpath.h"
 #include "volguide/integrators/guided/walk/walk_guide.h"
 
@@ -39,17 +38,8 @@ public:
     explicit GuidedVolPathIntegrator(const Properties& props);
     // Guided RR/splitting compares with the pixel estimate at the camera ray's film position.
     Color3 Li(const Scene& scene, Sampler& sampler, const CameraRay& camera) const override;
-    // Li's walk (after preprocess) recording its medium vertices as training samples
-    // (training_recorder.h; the caller calls finish): what learning from the render's own guided,
-    // split paths reads.
-    Color3 recorded_Li(const Scene& scene, Sampler& sampler, const CameraRay& camera, PathRecorder& recorder) const;
     void preprocess(const Scene& scene, const PreprocessContext& context) override;
-    // Online learning (online_spp > 0): the passes of the first online_spp samples per pixel record;
-    // whenever the recorded samples per pixel have doubled since the last update (1, 2, 4, ..., and
-    // at online_spp), the field is rebuilt from the training's samples and every recorded pass so far,
-    // and the guide, the pixel estimate and the learned selection with it. The next pass samples with
-    // the new field.
-    // With refine_passes > 0, the refinement schedule (refinement_schedule.h) may add a further photon
+    // rrs=ears: the pass's statistics join the learned ones. With refine_passes > 0, the refinement schedule (refinement_schedule.h) may add a further photon
     // pass to the field here, or undo the last one.
     void end_pass(const PassReport& pass) override;
     std::vector<std::pair<std::string, double>> statistics() const override;
@@ -73,12 +63,12 @@ private:
     std::unique_ptr<CacheEstimator> estimator_;  // estimate != none
     std::unique_ptr<WalkGuide> guide_;           // a guided distance, direction or RR decision
     std::unique_ptr<RouletteSplitting> rrs_;     // rrs != standard
-    // rrs=ears: what the render's passes learn (per field: an online update starts it afresh).
+    // rrs=ears: what the render's passes learn (per field: a refinement starts it afresh).
     std::unique_ptr<ContinuationLearning> ears_;
     PixelEstimate pixel_estimate_;
     std::unique_ptr<GuidedPrepass> given_prepass_;  // use_prepass_state(): no training
     // The guided walk along ray, with guided RR/splitting (when rrs_) against the pixel value I;
-    // `recorder` (null: none) records its training samples.
+    // `recorder` (null: none) records it.
     // `camera_guided`: distance=vsp's P_G for the camera segment (NaN: none; GuidedWalkPolicy::set_camera_segment).
     Color3 guided_walk(const Scene& scene, Sampler& sampler, const Ray& ray, float pixel,
                        PathRecorder* recorder = nullptr,
@@ -99,14 +89,10 @@ private:
     void make_pixel_estimate(const Scene& scene, const PreprocessContext& context);
     void use_given_pixel_estimate();
     void learn_selection(const Scene& scene, const PreprocessContext& context);
-    void add_method_stats(const SelectionStatistics& stats, const LearnedSelection::Summary& sum);
     // The guide, the pixel estimate, RR/splitting and the learned selection of field_ (preprocess(),
-    // and every online update, `update` true: the RR/splitting statistics carry on).
+    // and every refinement, `update` true: the RR/splitting statistics carry on).
     void build_from_field(const Scene& scene, const PreprocessContext& context, bool update);
-    // vsp_equiangular is homogeneous only (walk_guide.h): says so where the scene has other media.
-    void warn_vsp_equiangular(const Scene& scene) const;
     void record_field_stats();
-    void online_update(int spp_done);
     // Refinement during the render (issue 39): what the schedule asks after a pass; a further photon
     // pass into the field; the field before the last refinement again.
     void refine(const PassReport& pass);
@@ -127,28 +113,8 @@ private:
     bool refinement_undone_ = false;
     double pixel_estimate_seconds_ = 0;
     std::vector<std::pair<std::string, double>> training_stats_;  // of the last preprocess()
-
-    // Online learning: each thread's recorder and what its camera samples recorded since the last
-    // update (the samples, and per camera sample its stream key and range); the update joins them in
-    // key order, so the field is the same for any number of threads. (A render that ends between two
-    // updates, or before online_spp, records its last passes for nothing.)
-    struct OnlinePath {
-        uint64_t key;
-        size_t first, count;
-    };
-    struct OnlineThread {
-        TrainingRecorder recorder;
-        std::vector<RadianceSample> samples;
-        std::vector<OnlinePath> paths;
-    };
-    mutable tbb::enumerable_thread_specific<OnlineThread> online_threads_;
-    std::vector<RadianceSample> online_samples_;  // the training's, then each recorded pass's
-    bool online_recording_ = false;
-    const Scene* scene_ = nullptr;  // of the last preprocess(), for the online updates
+    const Scene* scene_ = nullptr;  // of the last preprocess(), for the refinements
     uint64_t seed_ = 0;
-    int online_updates_ = 0;
-    int online_updated_spp_ = 0;  // spp_done at the last update
-    double online_seconds_ = 0;
 };
 
 }  // namespace volguide

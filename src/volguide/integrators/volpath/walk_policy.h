@@ -60,7 +60,7 @@ struct Continuation {
     int leaf = -1;
 };
 
-// The sampling decisions, in the order of guiding/selection.h's SelectionDecision.
+// The sampling decisions, in the order of the learned selection's SelectionDecision.
 enum class DecisionKind : uint8_t { Distance = 0, Direction = 1, Surface = 2 };
 
 // What a sampling decision drew from, when the walk asks for it (for the recorders): a one-sample
@@ -70,9 +70,6 @@ struct DecisionRecord {
     bool mixture = false;
     int leaf = -1;
     float pdf = 0.f, p_u = 0.f, p_g = 0.f;  // the mixture's density at the sample and its two parts
-    // A guided policy's distance decision, mixture or not: the field lookups it made (-1: not
-    // reported; the learned selection's per-method cost, guiding/selection.h), `leaf` its origin's.
-    int lookups = -1;
 };
 
 class WalkPolicy {

@@ -90,12 +90,7 @@ ContinuationLearning::ContinuationLearning(size_t cells, int width, int height, 
     snapshot_ = ContinuationSnapshot::from(total_, pixels_, settings_, 0.0);
 }
 
-bool ContinuationLearning::records(uint64_t key) const {
-    if (record_threshold_ >= kRecordAll) return true;
-    return uint32_t(mix64(key ^ 0x3c6ef372fe94f82aULL) >> 40) < record_threshold_;
-}
-
-void ContinuationLearning::end_pass(int spp_done) {
+void ContinuationLearning::end_pass() {
     // Integer sums: the order of the threads does not matter.
     for (Thread& t : threads_) {
         total_ += t.stats;
@@ -107,9 +102,6 @@ void ContinuationLearning::end_pass(int spp_done) {
     snapshot_ = ContinuationSnapshot::from(total_, pixels_, settings_, unsplit_cost_);
     recorded_ = total_.camera_samples();
     ++updates_;
-    // Later passes may record a fraction (EarsSettings::record_fraction): the recorder's cost.
-    if (spp_done >= settings_.record_spp)
-        record_threshold_ = uint32_t(std::lround(double(settings_.record_fraction) * double(kRecordAll)));
 }
 
 std::vector<std::pair<std::string, double>> ContinuationLearning::named() const {

@@ -102,10 +102,8 @@ class ContinuationLearning {
     // The calling thread's recorder (one camera sample at a time: begin ... end).
     ContinuationRecorder& recorder() const { return threads_.local().recorder; }
     long pixel(Point2f film_uv) const { return pixels_.pixel(film_uv); }
-    // Whether the camera sample of sampler key `key` is recorded in this pass.
-    bool records(uint64_t key) const;
-    // After a pass, `spp_done` samples per pixel rendered so far.
-    void end_pass(int spp_done);
+    // After a pass.
+    void end_pass();
     // The snapshot's figures for --stats.
     std::vector<std::pair<std::string, double>> named() const;
 
@@ -122,8 +120,6 @@ class ContinuationLearning {
     ContinuationSnapshot snapshot_;
     double unsplit_cost_ = 0.0;  // C_0: the first pass's cost per camera sample
     int updates_ = 0;
-    uint32_t record_threshold_ = kRecordAll;  // a key's 24 hashed bits below it: recorded
-    static constexpr uint32_t kRecordAll = 1u << 24;
     uint64_t recorded_ = 0;  // camera samples recorded so far
 };
 

@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "volguide/core/vec.h"
-#include "volguide/guiding/selection.h"  // ExactSum
+#include "volguide/integrators/guided/estimates/learned_selection.h"  // ExactSum
 #include "volguide/integrators/volpath/walk_policy.h"
 
 namespace volguide {
@@ -106,12 +106,6 @@ struct EarsSettings {
     int max_branches = 64;
     // The prior samples k of the learned pixel estimate (ContinuationSnapshot::pixel_estimate).
     double pixel_prior = 4.0;
-    // Which camera samples are recorded (the recorder's cost, docs/theory.md §9.8): all of them until
-    // record_spp samples per pixel are done, then the fraction record_fraction, chosen by the
-    // sampler's key (a function of seed, pixel and sample: the same for any thread count). 1: all
-    // (the default: a fraction lowered the quality at fixed spp more than it saved, bench/RESULTS.md).
-    int record_spp = 8;
-    float record_fraction = 1.f;
 };
 
 // The frozen statistics a pass decides with (docs/theory.md §9.8).

@@ -23,7 +23,7 @@ namespace volguide {
 namespace {
 
 // The estimates' random streams, apart from camera paths (0) and training passes.
-constexpr uint64_t kPixelEstimateStream = 0x9e57, kPixelRenderStream = 0x9e58;
+constexpr uint64_t kPixelEstimateStream = 0x9e57;
 
 // Irradiance on a surface of normal n per unit fluence of a leaf whose incident radiance has the
 // shape V: integral of V(w) max(0, n . w) dw, the clamped cosine replaced by pi times the vMF of
@@ -104,17 +104,16 @@ Color3 march_camera_ray(const Scene& scene, const GuidingField& field, const Cac
 }
 
 // Per pixel, the mean of `count` camera samples of `radiance` (non-finite ones dropped), each on
-// its own stream Sampler(seed, pixel, k, stream); `stratify`: the first floor(sqrt(count))^2
-// samples are stratified over the pixel. Parallel over rows, deterministic for any thread count.
+// its own stream Sampler(seed, pixel, k, stream); the first floor(sqrt(count))^2 samples are
+// stratified over the pixel. Parallel over rows, deterministic for any thread count.
 // `radiance` may also return a second value per sample in its last argument (0 on entry), averaged
 // over the same samples into `aux` when given.
 using CameraSampleValue = std::function<Color3(Sampler&, const Ray&, Color3&)>;
-Image average_camera_samples(const Scene& scene, int count, uint64_t stream, bool stratify,
-                             const PreprocessContext& context, const CameraSampleValue& radiance,
-                             Image* aux = nullptr) {
+Image average_camera_samples(const Scene& scene, int count, uint64_t stream, const PreprocessContext& context,
+                             const CameraSampleValue& radiance, Image* aux = nullptr) {
     const Sensor& sensor = scene.sensor();
     const int W = sensor.film().width(), H = sensor.film().height();
-    const int strata = stratify ? std::max(1, int(std::sqrt(float(count)))) : 0;
+    const int strata = std::max(1, int(std::sqrt(float(count))));
     Image image(W, H);
     if (aux) *aux = Image(W, H);
     parallel_for(tbb::blocked_range<int>(0, H), [&](const tbb::blocked_range<int>& rows) {
@@ -164,33 +163,11 @@ PixelEstimate PixelEstimate::from_image(Image image, float floor_fraction) {
     return e;
 }
 
-PixelEstimate PixelEstimate::render(const Scene& scene, const std::function<Color3(Sampler&, const Ray&)>& radiance,
-                                    int spp, const PixelEstimateSettings& settings, const PreprocessContext& context) {
-    const Image raw = average_camera_samples(scene, spp, kPixelRenderStream, /*stratify=*/false, context,
-                                             [&](Sampler& sampler, const Ray& ray, Color3&) { return radiance(sampler, ray); });
-    const int W = raw.width, H = raw.height;
-    Image smooth(W, H);
-    for (int y = 0; y < H; ++y)
-        for (int x = 0; x < W; ++x) {
-            Color3 sum(0.f);
-            int n = 0;
-            for (int dy = -1; dy <= 1; ++dy)
-                for (int dx = -1; dx <= 1; ++dx) {
-                    const int xx = x + dx, yy = y + dy;
-                    if (xx < 0 || yy < 0 || xx >= W || yy >= H) continue;
-                    sum += raw.at(xx, yy);
-                    ++n;
-                }
-            smooth.at(x, y) = sum * (1.f / float(n));
-        }
-    return from_image(std::move(smooth), settings.floor_fraction);
-}
-
 PixelEstimate PixelEstimate::raymarch(const Scene& scene, const GuidingField& field, const CacheEstimator& estimator,
                                       const PixelEstimateSettings& settings, const PreprocessContext& context) {
     Image camera_segments;
     Image image = average_camera_samples(
-        scene, std::max(1, settings.rays_per_pixel), kPixelEstimateStream, /*stratify=*/true, context,
+        scene, std::max(1, settings.rays_per_pixel), kPixelEstimateStream, context,
         [&](Sampler& sampler, const Ray& ray, Color3& camera_segment) {
             return march_camera_ray(scene, field, estimator, settings, ray, sampler, camera_segment);
         },

@@ -15,8 +15,6 @@
 // the media. volume_only: the V
 // image's estimate, the media in front of the first real surface.
 //
-// render (the alternative): a few guided samples per pixel, smoothed (see render()).
-//
 // raymarch also fills distance="vsp"'s camera-ray buffer (camera_scatter_probability).
 //
 // The estimate is stored per pixel as the channel average and floored at `floor_fraction` of the
@@ -55,11 +53,6 @@ class PixelEstimate {
     // Marches the scene's sensor: deterministic for a seed, any thread count.
     static PixelEstimate raymarch(const Scene& scene, const GuidingField& field, const CacheEstimator& estimator,
                                   const PixelEstimateSettings& settings, const PreprocessContext& context);
-    // render: `spp` samples per pixel of `radiance` (the guided walk without RR/splitting) on its
-    // own random stream, smoothed by a 3 x 3 box (a few samples per pixel are noisy; I only needs
-    // the scale). Deterministic for a seed, any thread count.
-    static PixelEstimate render(const Scene& scene, const std::function<Color3(Sampler&, const Ray&)>& radiance,
-                                int spp, const PixelEstimateSettings& settings, const PreprocessContext& context);
     // From a given RGB image (the film's resolution): channel averages, floored.
     static PixelEstimate from_image(Image image, float floor_fraction);
 

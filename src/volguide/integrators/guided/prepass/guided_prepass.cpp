@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "volguide/guiding/field_io.h"
-#include "volguide/guiding/selection.h"
+#include "volguide/integrators/guided/estimates/learned_selection.h"
 
 namespace volguide {
 

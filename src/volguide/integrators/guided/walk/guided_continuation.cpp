@@ -8,20 +8,19 @@ namespace volguide {
 Continuation GuidedContinuation::decide(ContinuationStage stage, GuidedVertex& vertex, const Vec3f& w,
                                         const Color3& throughput, int branches, float allowance, Sampler& sampler,
                                         bool report) const {
-    if (rrs_ && volpath_cell(vertex)) return {};  // learned: volpath's roulette, no estimate read
     if (ears_ && rrs_) return decide_ears(stage, vertex, w, throughput, branches, allowance, sampler, report);
     Continuation c;
     if (rrs_ || report) {
         const Color3 estimate = vertex.estimate(stage, w);
         const bool usable = estimate.max_value() > 0.f;
         if (report && usable) c.estimate = estimate.average();
-        if (rrs_ && !(usable && !selected(stage, vertex.known_leaf()))) {  // else learned: throughput RR
+        if (rrs_) {
             c.guided = usable;
             c.q = rrs_->factor(throughput, estimate, pixel_, branches, allowance);
             draw(c, sampler);
         }
+        c.leaf = vertex.leaf();
     }
-    c.leaf = vertex.known_leaf();
     return c;
 }
 
@@ -34,10 +33,8 @@ Continuation GuidedContinuation::decide_ears(ContinuationStage stage, GuidedVert
     if (report) {
         const Color3 e = vertex.estimate(stage, w);
         if (e.max_value() > 0.f) estimate = e.average();
-    } else {
-        vertex.leaf();
     }
-    const int leaf = vertex.known_leaf();
+    const int leaf = vertex.leaf();
     const float q =
         ears_->factor(stage, guide_.selection_cell(leaf), continuation_direction_bin(w), throughput.average() / pixel_);
     Continuation c = ears_outcome(q, throughput, branches, allowance, sampler);
@@ -49,7 +46,8 @@ Continuation GuidedContinuation::decide_ears(ContinuationStage stage, GuidedVert
 Continuation GuidedContinuation::decide_surface(const SurfaceInteraction& si, const Vec3f& w, const Color3& throughput,
                                                 int branches, float allowance, Sampler& sampler, int hint) const {
     if (!decides_at_surfaces()) return {};
-    const int leaf = guide_.leaf_of(si.p, VertexLeaf{hint});
+    uint64_t descents = 0;  // a surface's lookup, not a vertex's descent
+    const int leaf = guide_.leaf_at(si.p, hint, descents);
     const float q = ears_->factor(ContinuationStage::Surface, guide_.selection_cell(leaf),
                                   continuation_direction_bin(w), throughput.average() / pixel_);
     Continuation c = ears_outcome(q, throughput, branches, allowance, sampler);
@@ -86,18 +84,6 @@ float GuidedContinuation::branch_budget() const {
 
 void GuidedContinuation::end_camera_sample(int branches) const {
     if (rrs_) rrs_->count_camera_sample(branches);
-}
-
-bool GuidedContinuation::volpath_cell(GuidedVertex& vertex) const {
-    if (!guide_.selection().has_volpath_cells() || !vertex.active()) return false;
-    // Finding the cell: the vertex's leaf, found once and kept for the decisions after this one.
-    return guide_.selection().volpath(guide_.selection_cell(vertex.leaf()));
-}
-
-bool GuidedContinuation::selected(ContinuationStage stage, int leaf) const {
-    if (guide_.selection().rrs_acts(int(stage), guide_.selection_cell(leaf))) return true;
-    guide_.count_rrs_unselected();
-    return false;
 }
 
 }  // namespace volguide

@@ -10,7 +10,6 @@
 //    skip threshold: deep in a dense medium one estimate per leaf cannot follow radiance that varies
 //    on the scale of a free path, and RR by it compounds into heavy-tailed weights from leaves
 //    estimated too dark;
-//  - the learned selection's switch for the vertex's selection cell (guiding/selection.h);
 //  - the pixel estimate I of the camera sample's pixel (estimates/pixel_estimate.h);
 // and hands them to RouletteSplitting's scene-free weight window (guiding/roulette_splitting.h):
 // its factor q, the number of continuations n drawn from it, and the outcome's count. The walk
@@ -20,7 +19,7 @@
 // ContinuationSnapshot (estimates/continuation_stats.h): the factor of the vertex leaf's cell and the
 // direction bin of w, with the path's weight relative to I; RouletteSplitting bounds it. Where the
 // statistics are too few there is no decision (the walk's throughput roulette, rr_rule=bounded by
-// default with ears). The learned selection's gate does not apply: the factor weighs cost itself.
+// default with ears).
 #include "volguide/core/color.h"
 #include "volguide/core/sampler.h"
 #include "volguide/geometry/interaction.h"
@@ -42,7 +41,7 @@ class GuidedContinuation {
 
     // WalkPolicy::continuation's decision at `vertex` (its other arguments there). Without rrs it
     // decides nothing; `report` still reads the estimate and returns it in Continuation::estimate.
-    // Continuation::leaf: the vertex's known leaf after the decision.
+    // Continuation::leaf: the vertex's leaf where the decision read it (-1 otherwise).
     Continuation decide(ContinuationStage stage, GuidedVertex& vertex, const Vec3f& w, const Color3& throughput,
                         int branches, float allowance, Sampler& sampler, bool report) const;
     // rrs=ears's decision after the BSDF sampled the diffuse direction w at the surface vertex si, from
@@ -65,13 +64,6 @@ class GuidedContinuation {
     Continuation ears_outcome(float q, const Color3& throughput, int branches, float allowance, Sampler& sampler) const;
     // Draws n from c.q (q != 1) and counts the outcome.
     void draw(Continuation& c, Sampler& sampler) const;
-    // Whether guided RR/splitting acts at `stage` in the learned selection's cell of `leaf`;
-    // counts the points where it does not.
-    bool selected(ContinuationStage stage, int leaf) const;
-    // Whether the learned selection makes volpath's decisions in the vertex's cell (finds the cell,
-    // reads nothing else).
-    bool volpath_cell(GuidedVertex& vertex) const;
-
     const WalkGuide& guide_;
     const RouletteSplitting* rrs_;
     float pixel_;

@@ -1,26 +1,22 @@
 #pragma once
-// guided_volpath's policy for volpath's walk (walk_policy.h): the guiding field's distance and
-// direction decisions (WalkGuide, walk_guide.h) and, with a RouletteSplitting, guided RR and
-// splitting against the pixel estimate I of the camera sample's pixel (GuidedContinuation,
-// guided_continuation.h, makes that decision; the policy forwards). Decisions the guide does not
-// make are the unguided ones, with the same random numbers. One object per camera sample (it holds
-// the current medium vertex's object, GuidedVertex (guided_vertex.h), which the continuation, the
-// direction decision and the next segment's distance decision read, and the distance decisions'
-// scratch). What the walk records
-// (training, the selection pilot) is its PathRecorder's: the policy fills the DecisionRecord the
-// walk hands it with each decision's mixture densities, and reports the continuation's estimate
+// guided_volpath's policy for volpath's walk (walk_policy.h): it forwards every decision to the
+// object that makes it — the distance and medium direction decisions to the vertex the ray leaves
+// from (GuidedVertex, guided_vertex.h), the surface direction decision to SurfaceVertex
+// (surface_vertex.h), guided RR and splitting against the pixel estimate I of the camera sample's
+// pixel to GuidedContinuation (guided_continuation.h). Decisions the guide does not make are the
+// unguided ones, with the same random numbers. One object per camera sample; it counts the walk's
+// decisions (WalkGuideStats) and adds the counts to the guide's when it ends. What the walk records
+// (the learners, Open PGL's path segments) is its PathRecorder's: the policy fills the DecisionRecord
+// the walk hands it with each decision's mixture densities, and reports the continuation's estimate
 // when asked.
 #include <limits>
-#include <optional>
 
-#include "volguide/guiding/guided_direction.h"
 #include "volguide/guiding/roulette_splitting.h"
 #include "volguide/integrators/guided/walk/guided_continuation.h"
-#include "volguide/integrators/guided/walk/guided_surface_sampler.h"
 #include "volguide/integrators/guided/walk/guided_vertex.h"
+#include "volguide/integrators/guided/walk/surface_vertex.h"
 #include "volguide/integrators/guided/walk/walk_guide.h"
 #include "volguide/integrators/volpath/walk_policy.h"
-#include "volguide/vmm/vmm.h"
 
 namespace volguide {
 
@@ -30,7 +26,10 @@ class GuidedWalkPolicy final : public WalkPolicy {
     // `ears`: the pass's continuation statistics (rrs=ears, guided_continuation.h).
     GuidedWalkPolicy(const WalkGuide& guide, const RouletteSplitting* rrs, float pixel,
                      const ContinuationSnapshot* ears = nullptr)
-        : guide_(guide), continuation_(guide, rrs, pixel, ears), vertex_(guide) {}
+        : guide_(guide), continuation_(guide, rrs, pixel, ears), vertex_(guide, counts_), surface_(guide, counts_) {}
+    ~GuidedWalkPolicy() override { guide_.add_stats(counts_); }
+    GuidedWalkPolicy(const GuidedWalkPolicy&) = delete;
+    GuidedWalkPolicy& operator=(const GuidedWalkPolicy&) = delete;
 
     // distance=vsp's camera segment (docs/theory.md §7.10.2): the first distance decision of the
     // camera sample along the camera ray's direction `d` (null surfaces crossed, no real event yet)
@@ -47,12 +46,14 @@ class GuidedWalkPolicy final : public WalkPolicy {
     void begin_vertex(const MediumInteraction& mi, const VertexLeaf& handed) override { vertex_.init(mi, handed); }
     void end_vertex() override { vertex_.clear(); }
 
-    void prepare_direction(const MediumInteraction& mi, Sampler& sampler) override;
-    float direction_pdf(const MediumInteraction& mi, const Vec3f& wo) const override;
+    void prepare_direction(const MediumInteraction& mi, Sampler& sampler) override { vertex_.prepare_direction(); }
+    float direction_pdf(const MediumInteraction& mi, const Vec3f& wo) const override { return vertex_.direction_pdf(wo); }
     PhaseSample sample_direction(const MediumInteraction& mi, Sampler& sampler, DecisionRecord* record) override;
 
     void prepare_surface_direction(const SurfaceInteraction& si, const BSDF& bsdf, const Medium* medium,
-                                   Sampler& sampler) override;
+                                   Sampler& sampler) override {
+        surface_.prepare(si, bsdf, medium);
+    }
     float surface_direction_pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const BSDF& bsdf,
                                 const Vec3f& wo_local) const override;
     std::pair<BSDFSample, Color3> sample_surface_direction(const BSDFContext& ctx, const SurfaceInteraction& si,
@@ -74,13 +75,11 @@ class GuidedWalkPolicy final : public WalkPolicy {
   private:
     const WalkGuide& guide_;
     GuidedContinuation continuation_;
-    DistanceScratch scratch_;
-    GuidedVertex vertex_;      // the current medium vertex's guided decisions (inactive: none)
-    int surface_leaf_ = -1;    // the leaf beside the current surface vertex
+    WalkGuideStats counts_;    // the walk's (before the vertex objects, which count into it)
+    GuidedVertex vertex_;      // the medium vertex the ray leaves from (inactive: the camera, a surface)
+    SurfaceVertex surface_;    // the current surface vertex's direction decision
     Vec3f camera_d_{0.f};      // set_camera_segment's direction
     float camera_guided_ = std::numeric_limits<float>::quiet_NaN();  // until the first distance decision
-    std::optional<GuidedSurfaceSampler> surface_;      // of the current surface vertex
-    Vmm surface_guide_{Vmm::Uninitialized{}};          // the product guide surface_ reads
 };
 
 }  // namespace volguide

@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <tuple>
-#include <utility>
 
 #include "volguide/core/math.h"
 #include "volguide/integrators/volpath/equiangular_mis.h"
@@ -19,40 +17,6 @@ float one_minus_transmittance(float sigma, float s) {
     if (!(sigma > 0.f)) return 0.f;
     return std::isinf(s) ? 1.f : -std::expm1(-sigma * s);
 }
-}  // namespace
-
-namespace {
-// distance=vsp_product's selection (docs/theory.md §7.11): two one-slot reservoirs over the same
-// candidates, one by m h (the product: m the candidate's plain magnitude, h its target) and one by m
-// alone; the product's is kept with probability 1 - kProductDefensive. The kept candidate k was chosen
-// with probability pi_k = (1 - b) m_k h_k / sum(m h) + b m_k / sum(m) >= b m_k / sum(m), so its weight
-// w_k / pi_k is at most 1 / b times plain resampling's, however wrong the target.
-template <class Slot>
-class DefensiveReservoir {
-  public:
-    void add(const Slot& slot, float m, float h, Sampler& sampler) {
-        total_mh_ += m * h;
-        total_m_ += m;
-        if (sampler.next_1d() * total_mh_ < m * h) product_ = {slot, m, h};
-        if (sampler.next_1d() * total_m_ < m) plain_ = {slot, m, h};
-    }
-    bool empty() const { return !(total_m_ > 0.f); }
-    // The kept slot and its selection probability pi_k (the plain one's where every target is 0).
-    std::pair<Slot, float> choose(float u) const {
-        if (!(total_mh_ > 0.f)) return {plain_.slot, plain_.m / total_m_};
-        const Kept& k = u < kProductDefensive ? plain_ : product_;
-        const float pi = (1.f - kProductDefensive) * k.m * k.h / total_mh_ + kProductDefensive * k.m / total_m_;
-        return {k.slot, pi};
-    }
-
-  private:
-    struct Kept {
-        Slot slot{};
-        float m = 0.f, h = 0.f;
-    };
-    Kept product_, plain_;
-    float total_mh_ = 0.f, total_m_ = 0.f;
-};
 }  // namespace
 
 HomogeneousVsp::HomogeneousVsp(const Color3& sigma_t, float s, const Color3& channel_shares)
@@ -124,29 +88,6 @@ float HomogeneousVsp::truncated_free_flight(float u_channel, float u_t) const {
     return std::min(t, std::nextafter(s_, 0.f));
 }
 
-HomogeneousVsp::Sample HomogeneousVsp::sample_resampled(float P, int candidates, const FunctionRef<float(float)>& target,
-                                                        Sampler& sampler) const {
-    const float u_decide = sampler.next_1d();
-    if (!(u_decide < P)) return sample(P, u_decide, 0.f, 0.f);  // pass: the plain decision's
-    // Candidates t_j ~ p(t | scatter), plain magnitude 1 each (p cancels), target h_j: the kept one's
-    // weight is 1 / (N pi_k p(t_k)) (unbiased for the sum estimator's 1/N sum_j f(t_j) / p(t_j)).
-    const int n = std::max(1, candidates);
-    DefensiveReservoir<float> reservoir;
-    for (int j = 0; j < n; ++j) {
-        const float u_channel = sampler.next_1d(), u_t = sampler.next_1d();
-        const float t = truncated_free_flight(u_channel, u_t);
-        reservoir.add(t, 1.f, target(t), sampler);
-    }
-    const auto [t_k, pi] = reservoir.choose(sampler.next_1d());
-    Sample out;
-    out.scattered = true;
-    out.t = t_k;
-    const float density = P * conditional_pdf(t_k);
-    if (density > 0.f && pi > 0.f)
-        out.flight_weight = transmittance_rgb(sigma_t_, t_k) * (1.f / (float(n) * pi * density));
-    return out;  // pdf 0: the resampled distance has no closed-form density
-}
-
 namespace {
 // |w| weighted by the channel shares q: the scalar a candidate is resampled by.
 float shared_magnitude(const Color3& w, const Color3& q) {
@@ -155,8 +96,7 @@ float shared_magnitude(const Color3& w, const Color3& q) {
 }  // namespace
 
 FreeFlightSample resampled_segment_flight(const Medium& medium, const Ray& ray, float tmax, const Color3& throughput,
-                                          const SegmentProbability& probability, Sampler& sampler,
-                                          const SegmentTarget* target) {
+                                          const SegmentProbability& probability, Sampler& sampler) {
     const Color3 q = channel_probabilities(throughput);
     // The walk: ratio tracking's T^ before each collision, and a one-slot reservoir over the scatter
     // candidates w_i = T^_i sigma_s(t_i) / mu_i by |w_i|_q.
@@ -166,14 +106,10 @@ FreeFlightSample resampled_segment_flight(const Medium& medium, const Ray& ray, 
         float t = 0.f, mu = 0.f, magnitude = 0.f;
         Color3 sigma_t{0.f}, tr{0.f};
     } slot;
-    DefensiveReservoir<Slot> product;  // with a target (vsp_product)
     medium.sample_majorant_walk(ray, tmax, sampler, [&](const MajorantCollision& c) {
         const Color3 sigma_s = c.sigma_t * medium.albedo(ray(c.t));
         const float m = shared_magnitude(tr * sigma_s, q) / c.mu;
-        if (m > 0.f && target) {
-            total += m;
-            product.add({c.t, c.mu, m, c.sigma_t, tr}, m, (*target)(c.t), sampler);
-        } else if (m > 0.f) {
+        if (m > 0.f) {
             total += m;
             if (sampler.next_1d() * total < m) slot = {c.t, c.mu, m, c.sigma_t, tr};
         }
@@ -192,9 +128,8 @@ FreeFlightSample resampled_segment_flight(const Medium& medium, const Ray& ray, 
         fs.weight = fs.flight_weight = P < 1.f ? tr * (1.f / (1.f - P)) : Color3(0.f);
         return fs;
     }
-    // The kept candidate's selection probability pi_k: |w_k|_q / total, or the defensive product's.
-    float pi = slot.magnitude / total;
-    if (target) std::tie(slot, pi) = product.choose(sampler.next_1d());
+    // The kept candidate's selection probability pi_k = |w_k|_q / total.
+    const float pi = slot.magnitude / total;
     const Point3f p = ray(slot.t);
     fs.scatter_at(ray, slot.t, p, &medium, {slot.sigma_t, slot.sigma_t * medium.albedo(p)});
     // w_k / (P pi_k), without sigma_s for the flight weight.

@@ -73,13 +73,6 @@ class HomogeneousVsp {
     float conditional_pdf(float t) const;
     // (1 - e) p(t | scatter) + e p_eq(t) when equi is active, else conditional_pdf(t).
     float conditional_pdf(float t, const VspEquiangular& equi) const;
-    // distance=vsp_product (docs/theory.md §7.11): the same decision with probability P, but inside the
-    // segment `candidates` distances t_j drawn from p(t | scatter) are resampled (one-slot
-    // reservoir, random numbers from `sampler`) by target(t_j) > 0 (the zero-variance factor the
-    // conditional density lacks: the field's in-scattered radiance at t_j); the kept t_k gets the
-    // resampling weight, so the flight weight is T(t_k) / (P p(t_k | scatter)) x mean_j target(t_j) /
-    // target(t_k) — unbiased for any positive target. pdf is 0 on a scatter (no closed-form density).
-    Sample sample_resampled(float P, int candidates, const FunctionRef<float(float)>& target, Sampler& sampler) const;
 
   private:
     // The free flight's distance conditioned on scattering inside (0, s).
@@ -101,17 +94,9 @@ class HomogeneousVsp {
 // the unguided scattering probability's estimate, clamped to [0, 1]), held in [kResampledMinProbability,
 // 1 - kResampledMinProbability] where both branches carry something, 0 / 1 where only one does.
 // Medium::sample_free_flight's contract.
-// With `target` (distance=vsp_product, §7.11), the reservoir keeps candidate i by |w_i|_q target(t_i)
-// instead (target > 0: the field's in-scattered radiance at t_i plus a floor), and the scatter weight
-// becomes w_k sum_j |w_j|_q target(t_j) / (|w_k|_q target(t_k) P): still exact.
 using SegmentProbability = FunctionRef<float(float)>;
-using SegmentTarget = FunctionRef<float(float)>;
 constexpr float kResampledMinProbability = 0.02f;
-// distance=vsp_product's defensive share: the probability of keeping the plain resampling's candidate
-// instead of the product's (bounds the resampling weight at 1 / kProductDefensive times plain's).
-constexpr float kProductDefensive = 0.25f;
 FreeFlightSample resampled_segment_flight(const Medium& medium, const Ray& ray, float tmax, const Color3& throughput,
-                                          const SegmentProbability& probability, Sampler& sampler,
-                                          const SegmentTarget* target = nullptr);
+                                          const SegmentProbability& probability, Sampler& sampler);
 
 }  // namespace volguide

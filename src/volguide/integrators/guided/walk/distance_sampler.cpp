@@ -1,0 +1,237 @@
+#include "volguide/integrators/guided/walk/distance_sampler.h"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+#include "volguide/guiding/guided_collision.h"
+#include "volguide/integrators/guided/walk/distance_bins.h"
+#include "volguide/integrators/guided/walk/vsp_distance.h"
+#include "volguide/integrators/guided/walk/walk_guide.h"
+#include "volguide/media/majorant_tracking.h"
+#include "volguide/media/spectral_mis.h"
+
+namespace volguide {
+
+namespace {
+
+// The medium's own free flight from the origin's leaf, kept as the scattering vertex's where it
+// holds the point (deep in a dense medium it usually does: the direction decision needs no descent).
+class FreeFlightDistance final : public DistanceSampler {
+  public:
+    using DistanceSampler::DistanceSampler;
+    FreeFlightSample sample(const DistanceQuery& q, DistanceContext& ctx, Sampler& sampler,
+                            WalkGuideStats&) const override {
+        ctx.record.leaf = ctx.origin;
+        FreeFlightSample fs = q.medium.sample_free_flight(q.ray, q.tmax, q.throughput, sampler);
+        if (ctx.origin >= 0 && fs.scattered && guide_.field().tree().holds_point(ctx.origin, fs.mi.p))
+            ctx.scattering = ctx.origin;
+        return fs;
+    }
+};
+
+// The incremental product sampler over the bins of (0, t_end), t_end where the ray leaves the field
+// or tmax, then the medium's own free flight beyond the field; guided tracking in media that track
+// null collisions.
+class IncrementalDistance final : public DistanceSampler {
+  public:
+    using DistanceSampler::DistanceSampler;
+    FreeFlightSample sample(const DistanceQuery& q, DistanceContext& ctx, Sampler& sampler,
+                            WalkGuideStats& counts) const override {
+        ctx.record.leaf = ctx.origin;
+        const GuidingField& field = guide_.field();
+        float b0, b1;
+        const bool crosses = !field.empty() && field.tree().bounds().ray_intersect(q.ray, b0, b1) && b1 > 0.f;
+        const float t_end = crosses ? std::min(q.tmax, b1) : 0.f;
+        if (!(t_end > 0.f) || !std::isfinite(t_end)) {
+            ++counts.distance_outside_field;
+            return q.medium.sample_free_flight(q.ray, q.tmax, q.throughput, sampler);
+        }
+        if (q.medium.tracks_null_collisions()) return tracked(q, ctx, t_end, sampler, counts);
+        return binned(q, ctx, t_end, sampler, counts);
+    }
+
+  private:
+    // Guided null-collision tracking over the whole segment: beyond the field the tracking falls back
+    // to the unguided probability.
+    FreeFlightSample tracked(const DistanceQuery& q, DistanceContext& ctx, float t_end, Sampler& sampler,
+                             WalkGuideStats& counts) const {
+        GuidedCollisionProbability probability(guide_.field(), guide_.estimates_for(q.medium.phase()), q.ray, t_end,
+                                               ctx.unguided);
+        FreeFlightSample fs = guided_tracking(q.medium, q.ray, q.tmax, q.throughput, sampler, probability);
+        ++counts.distance_queries;
+        ++counts.guided_tracking;
+        counts.distance_steps += probability.collisions();
+        counts.invalid_bins += probability.unguided_collisions();
+        counts.nan_fallbacks += probability.nan_fallbacks();
+        return fs;
+    }
+
+    FreeFlightSample binned(const DistanceQuery& q, DistanceContext& ctx, float t_end, Sampler& sampler,
+                            WalkGuideStats& counts) const {
+        GuidedDistanceSettings settings = guide_.settings().distance_settings;
+        settings.c_T = ctx.unguided;
+        settings.channel_split = channel_probabilities(q.throughput);  // spectral MIS (§2.6)
+        const LeafGroups* groups = guide_.groups_for(q.medium.phase());
+        BinSource source(q.ray, t_end, q.medium, guide_.field(), guide_.estimates_for(q.medium.phase()), ctx.proxies,
+                         guide_.settings().max_bin_optical_depth, guide_.leaf_extents(),
+                         guide_.settings().leaf_tau_max, groups);
+        const DistanceSample ds = sample_incremental_distance(source, sampler, settings);
+        ++counts.distance_queries;
+        counts.distance_steps += uint64_t(ds.steps);
+        counts.guided_strategy += ds.strategy == DistanceStrategy::Guided;
+        counts.invalid_bins += source.invalid();
+        counts.damped_bins += source.damped();
+        counts.nan_fallbacks += uint64_t(ds.nan_fallbacks);
+        if (ds.event == DistanceEvent::Medium && ds.pdf > 0.f)
+            ctx.scattering = groups && source.leaf() >= 0 ? groups->fine_leaf(source.leaf(), q.ray(ds.t)) : source.leaf();
+        if (ds.pdf > 0.f && ds.pdf_transmittance >= 0.f && ds.pdf_guided >= 0.f)
+            ctx.record = {true, ctx.origin, ds.pdf, ds.pdf_transmittance, ds.pdf_guided};
+        return weighted(q, t_end, ds, sampler);
+    }
+
+    // The weights of the bins' decision `ds` (the caller contract of guided_distance.h), and beyond
+    // the field (t_end < tmax) the medium's own free flight.
+    static FreeFlightSample weighted(const DistanceQuery& q, float t_end, const DistanceSample& ds, Sampler& sampler) {
+        const Medium& medium = q.medium;
+        FreeFlightSample fs;
+        if (ds.event == DistanceEvent::Medium && ds.pdf > 0.f) {
+            const Color3 tr = medium.transmittance(q.ray, ds.t, sampler);
+            const Point3f p = q.ray(ds.t);
+            fs.scatter_at(q.ray, ds.t, p, &medium, medium.eval(p));
+            fs.flight_weight = tr * (1.f / ds.pdf);
+            fs.weight = fs.flight_weight * fs.mi.coeffs.sigma_s;
+            return fs;
+        }
+        if (ds.event == DistanceEvent::Medium || !(ds.pdf > 0.f)) {  // a zero pdf cannot be weighted: no path
+            fs.weight = fs.flight_weight = Color3(0.f);
+            fs.t = t_end;
+            return fs;
+        }
+        const Color3 tr = medium.transmittance(q.ray, t_end, sampler);
+        fs.weight = fs.flight_weight = tr * (1.f / ds.pdf);
+        fs.t = t_end;
+        if (!(t_end < q.tmax)) return fs;
+        // Beyond the field: ordinary free flight from the exit point.
+        const Ray rest(q.ray(t_end), q.ray.d);
+        FreeFlightSample tail = medium.sample_free_flight(rest, q.tmax - t_end, q.throughput * fs.weight, sampler);
+        tail.weight *= fs.weight;
+        tail.flight_weight *= fs.weight;
+        tail.t += t_end;
+        if (tail.scattered) {
+            tail.mi.t = tail.t;
+            tail.mi.wi = -q.ray.d;
+        }
+        return tail;
+    }
+};
+
+// One decision per segment from the origin's leaf: in closed form in homogeneous media, by resampling
+// the segment's tentative collisions otherwise.
+class VspDistance final : public DistanceSampler {
+  public:
+    using DistanceSampler::DistanceSampler;
+    FreeFlightSample sample(const DistanceQuery& q, DistanceContext& ctx, Sampler& sampler,
+                            WalkGuideStats& counts) const override {
+        ctx.record.leaf = ctx.origin;
+        ++counts.distance_queries;
+        ++counts.vsp_queries;
+        counts.vsp_camera += camera(q);
+        return q.medium.is_homogeneous() ? closed_form(q, ctx, sampler, counts) : resampled(q, ctx, sampler, counts);
+    }
+
+  private:
+    // distance=vsp's least unguided share: P stays above a tenth of free flight's where the field
+    // says nothing scatters (a leaf's estimate is one value for a whole segment).
+    static constexpr float kMinUnguided = 0.1f;
+
+    static bool camera(const DistanceQuery& q) { return !std::isnan(q.camera_guided); }
+
+    // The defensive unguided share of the mixture (§7.10): at least kMinUnguided, raised by a leaf of
+    // low confidence as the bins' guided share is lowered; the camera buffer's P_G has no leaf.
+    float unguided_share(const DistanceQuery& q, const DistanceContext& ctx, const Color3& sigma_t) const {
+        const float confidence = camera(q) ? 1.f : guide_.confidence(ctx.origin, sigma_t);
+        return std::max(1.f - (1.f - ctx.unguided) * confidence, kMinUnguided);
+    }
+
+    FreeFlightSample closed_form(const DistanceQuery& q, DistanceContext& ctx, Sampler& sampler,
+                                 WalkGuideStats& counts) const {
+        const Medium& medium = q.medium;
+        const MediumCoefficients at_origin = medium.eval(q.ray.o);
+        const HomogeneousVsp vsp(at_origin.sigma_t, q.tmax, channel_probabilities(q.throughput));
+        const float st = at_origin.sigma_t.average();
+        const float albedo = st > 0.f ? at_origin.sigma_s.average() / st : 0.f;  // shapes P_G only
+        const float guided = camera(q) ? q.camera_guided
+                                       : guide_.scatter_probability(ctx.origin, medium.phase(), q.ray.d, albedo,
+                                                                    vsp.unguided());
+        if (std::isnan(guided)) {
+            ++counts.vsp_unguided;
+            return medium.sample_free_flight(q.ray, q.tmax, q.throughput, sampler);  // the same decision, unguided
+        }
+        const float P = vsp.probability(guided, unguided_share(q, ctx, at_origin.sigma_t));
+        const float u_decide = sampler.next_1d(), u_channel = sampler.next_1d(), u_t = sampler.next_1d();
+        // The equiangular share (§7.10.1): a light point drawn only for a scatter (2 numbers).
+        const float share = guide_.settings().vsp_equiangular;
+        std::optional<EquiangularSampler> toward_light;
+        if (u_decide < P && share > 0.f && medium.sample_emitters())
+            toward_light = vsp_equiangular_toward_light(guide_.scene(), q.ray, q.tmax, sampler);
+        const VspEquiangular equi{toward_light ? &*toward_light : nullptr, share};
+        const HomogeneousVsp::Sample vs = vsp.sample(P, u_decide, u_channel, u_t, equi);
+        counts.vsp_equiangular += vs.scattered && equi.active();
+        FreeFlightSample fs;
+        fs.t = vs.t;
+        fs.weight = fs.flight_weight = vs.flight_weight;
+        if (vs.scattered) {
+            ++counts.vsp_scattered;
+            const Point3f p = q.ray(vs.t);
+            fs.scatter_at(q.ray, vs.t, p, &medium, medium.eval(p));
+            fs.weight = fs.flight_weight * fs.mi.coeffs.sigma_s;
+            if (guide_.field().tree().holds_point(ctx.origin, p)) ctx.scattering = ctx.origin;
+        }
+        // The mixture's parts for the selection pilot: the density (or probability) of the outcome
+        // under the unguided and the guided decision.
+        const float cond = vs.scattered ? vsp.conditional_pdf(vs.t, equi) : 1.f;
+        const float pu = vs.scattered ? vsp.unguided() * cond : 1.f - vsp.unguided();
+        const float pg = vs.scattered ? guided * cond : 1.f - guided;
+        if (vs.pdf > 0.f && P < 1.f) ctx.record = {true, ctx.origin, vs.pdf, pu, pg};
+        return fs;
+    }
+
+    FreeFlightSample resampled(const DistanceQuery& q, DistanceContext& ctx, Sampler& sampler,
+                               WalkGuideStats& counts) const {
+        const Medium& medium = q.medium;
+        // The albedo field at the origin (the extinction there may be 0 on the medium's boundary).
+        const float albedo = medium.albedo(q.ray.o).average();  // shapes P_G only
+        const PhaseFunction& phase = medium.phase();
+        if (!camera(q) && std::isnan(guide_.scatter_probability(ctx.origin, phase, q.ray.d, albedo, 1.f))) {
+            ++counts.vsp_unguided;
+            return medium.sample_free_flight(q.ray, q.tmax, q.throughput, sampler);
+        }
+        ++counts.vsp_resampled;
+        const float c = unguided_share(q, ctx, medium.eval(q.ray.o).sigma_t);
+        auto probability = [&](float unguided) {
+            if (camera(q)) return c * unguided + (1.f - c) * q.camera_guided;
+            const float guided = guide_.scatter_probability(ctx.origin, phase, q.ray.d, albedo, unguided);
+            return std::isnan(guided) ? unguided : c * unguided + (1.f - c) * guided;
+        };
+        FreeFlightSample fs = resampled_segment_flight(medium, q.ray, q.tmax, q.throughput, probability, sampler);
+        if (fs.scattered) {
+            ++counts.vsp_scattered;
+            if (guide_.field().tree().holds_point(ctx.origin, fs.mi.p)) ctx.scattering = ctx.origin;
+        }
+        return fs;
+    }
+};
+
+}  // namespace
+
+std::unique_ptr<DistanceSampler> make_distance_sampler(DistanceGuiding method, const WalkGuide& guide) {
+    switch (method) {
+        case DistanceGuiding::Incremental: return std::make_unique<IncrementalDistance>(guide);
+        case DistanceGuiding::Vsp: return std::make_unique<VspDistance>(guide);
+        case DistanceGuiding::Standard: break;
+    }
+    return std::make_unique<FreeFlightDistance>(guide);
+}
+
+}  // namespace volguide

@@ -1,0 +1,41 @@
+#include "volguide/integrators/guided/walk/surface_vertex.h"
+
+#include "volguide/guiding/surface_guide.h"
+
+namespace volguide {
+
+void SurfaceVertex::prepare(const SurfaceInteraction& si, const BSDF& bsdf, const Medium* medium) {
+    sampler_.reset();
+    leaf_ = -1;
+    if (!guide_.guides_surfaces() || bsdf.is_null()) return;
+    const Vmm* guide = nullptr;
+    float bsdf_prob = guide_.settings().bsdf_prob;
+    const GuidingField& field = guide_.field();
+    if (!field.empty() && bsdf.flags() == bsdf_flags::DiffuseReflection) {
+        ++counts_.surface_vertices;
+        const SurfaceLeaf beside = surface_leaf(field, si);
+        leaf_ = beside.leaf;
+        const float share = leaf_ >= 0 ? guide_.selection().share(SelectionDecision::Surface, guide_.selection_cell(leaf_))
+                                       : LearnedSelection::kDefault;
+        const GuidingLeaf* leaf = leaf_ >= 0 ? &guide_.direction_leaf(leaf_) : nullptr;
+        const float confidence = leaf && medium ? guide_.confidence(leaf_, medium->eval(si.p).sigma_t) : 1.f;
+        const bool guidable = leaf && leaf->valid && leaf->vmm.count > 0 && confidence >= WalkGuide::kSkipConfidence &&
+                              field.leaves()[size_t(leaf_)].mostly_medium();
+        if (guidable && share == 0.f) {
+            ++counts_.surface_unselected;  // only vertices the configured mixture would guide
+        } else if (guidable) {
+            bsdf_prob = 1.f - (share != LearnedSelection::kDefault ? share : 1.f - bsdf_prob) * confidence;
+            guide = guide_of(leaf_, beside.n);
+        }
+    }
+    sampler_.emplace(bsdf, si, guide, bsdf_prob);
+    counts_.surface_guided_vertices += sampler_->guided();
+}
+
+const Vmm* SurfaceVertex::guide_of(int index, const Vec3f& n) {
+    const Vmm& incident = guide_.direction_leaf(index).vmm;
+    if (guide_.settings().direction == DirectionGuiding::Incident) return &incident;
+    return cosine_product(incident, n, product_) ? &product_ : nullptr;
+}
+
+}  // namespace volguide
