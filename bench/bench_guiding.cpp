@@ -367,7 +367,7 @@ MediumInteraction bench_vertex_at(const Ray& ray, const Medium& medium) {
 // Issue 37: one distance decision in the demo scene's homogeneous fog from a medium vertex whose leaf
 // the direction decision found (its GuidedVertex's leaf known, as in the walk; the object's init is
 // timed with the decision), along a random direction to the field's bounds: range(0) = 0 the
-// medium's free flight, 1 distance="vsp" (WalkGuide::sample_distance: one table lookup, the segment
+// medium's free flight, 1 distance="vsp" (GuidedVertex::sample_distance: one table lookup, the segment
 // decision), 2 distance="incremental" (the bins, for comparison).
 void BM_SegmentDecision(benchmark::State& state) {
     const Scene& scene = demo_scene();
@@ -378,8 +378,7 @@ void BM_SegmentDecision(benchmark::State& state) {
         return;
     }
     WalkGuideSettings settings;
-    const DistanceGuiding kinds[] = {DistanceGuiding::Vsp, DistanceGuiding::Vsp, DistanceGuiding::Incremental,
-                                     DistanceGuiding::VspProduct};
+    const DistanceGuiding kinds[] = {DistanceGuiding::Vsp, DistanceGuiding::Vsp, DistanceGuiding::Incremental};
     settings.distance = kinds[state.range(0)];
     settings.direction = DirectionGuiding::Product;
     settings.vsp_equiangular = 0.f;  // the demo's lights are directional and an environment: nothing to aim at
@@ -402,8 +401,8 @@ void BM_SegmentDecision(benchmark::State& state) {
         queries.push_back({ray, t1, field.tree().leaf_at(ray.o)});
         vertices.push_back(bench_vertex_at(ray, *medium));
     }
-    DistanceScratch scratch;
-    GuidedVertex origin(guide);
+    WalkGuideStats counts;
+    GuidedVertex origin(guide, counts);
     uint64_t i = 0, scattered = 0;
     for (auto _ : state) {
         const Query& q = queries[i & 4095];
@@ -411,14 +410,14 @@ void BM_SegmentDecision(benchmark::State& state) {
         if (state.range(0) != 0) origin.init(vertices[i & 4095], VertexLeaf{q.leaf});
         Sampler rng(3, 0, i++);
         const FreeFlightSample f =
-            state.range(0) == 0 ? medium->sample_free_flight(q.ray, q.end, Color3(1.f), rng)
-                                : guide.sample_distance(*medium, q.ray, q.end, Color3(1.f), rng, &origin, vertex_leaf,
-                                                        scratch);
+            state.range(0) == 0
+                ? medium->sample_free_flight(q.ray, q.end, Color3(1.f), rng)
+                : origin.sample_distance(DistanceQuery{*medium, q.ray, q.end, Color3(1.f)}, rng, vertex_leaf, nullptr);
         scattered += f.scattered;
         benchmark::DoNotOptimize(f);
     }
     state.counters["scattered"] = double(scattered) / double(std::max<uint64_t>(i, 1));
-    const char* labels[] = {"free flight", "vsp", "incremental bins", "vsp_product"};
+    const char* labels[] = {"free flight", "vsp", "incremental bins"};
     state.SetLabel(labels[state.range(0)]);
 }
 
@@ -463,8 +462,8 @@ void BM_SegmentDecisionEquiangular(benchmark::State& state) {
         vertices.push_back(bench_vertex_at(queries.back().first, *medium));
     }
     const BBox3f b = field.tree().bounds();
-    DistanceScratch scratch;
-    GuidedVertex origin(guide);
+    WalkGuideStats st;
+    GuidedVertex origin(guide, st);
     uint64_t i = 0, scattered = 0;
     for (auto _ : state) {
         const auto& [ray, leaf] = queries[i & 4095];
@@ -475,11 +474,11 @@ void BM_SegmentDecisionEquiangular(benchmark::State& state) {
         Sampler rng(3, 0, i++);
         const FreeFlightSample f =
             state.range(0) == 0 ? medium->sample_free_flight(ray, t1, Color3(1.f), rng)
-                                : guide.sample_distance(*medium, ray, t1, Color3(1.f), rng, &origin, vertex_leaf, scratch);
+                                : origin.sample_distance(DistanceQuery{*medium, ray, t1, Color3(1.f)}, rng, vertex_leaf,
+                                                         nullptr);
         scattered += f.scattered;
         benchmark::DoNotOptimize(f);
     }
-    const WalkGuideStats st = guide.stats();
     state.counters["scattered"] = double(scattered) / double(std::max<uint64_t>(i, 1));
     state.counters["equiangular"] = st.vsp_scattered ? double(st.vsp_equiangular) / double(st.vsp_scattered) : 0.0;
     state.SetLabel(state.range(0) == 0 ? "free flight" : state.range(0) == 1 ? "vsp" : "vsp, vsp_equiangular 0.5");
@@ -510,7 +509,8 @@ void BM_RouletteEstimate(benchmark::State& state) {
         mi.wi = -d;
         queries.push_back({mi, d});
     }
-    GuidedVertex vertex(guide);  // the continuation's estimate is the vertex's
+    WalkGuideStats counts;
+    GuidedVertex vertex(guide, counts);  // the continuation's estimate is the vertex's
     size_t i = 0;
     for (auto _ : state) {
         const auto& [mi, d] = queries[i++ & 4095];
@@ -550,16 +550,16 @@ void BM_GuidedVertex(benchmark::State& state) {
         queries.push_back({bench_vertex_at(ray, *medium), warp::square_to_uniform_sphere(s.next_2d())});
     }
     const bool direction = state.range(0) == 1;
-    GuidedVertex vertex(guide);
+    WalkGuideStats st;
+    GuidedVertex vertex(guide, st);
     size_t i = 0;
     for (auto _ : state) {
         const Query& q = queries[i++ & 4095];
         vertex.init(q.mi, VertexLeaf());
         benchmark::DoNotOptimize(vertex.estimate(ContinuationStage::Distance, -q.mi.wi));
         if (direction) vertex.prepare_direction();
-        benchmark::DoNotOptimize(vertex.scatter_probability(q.w, 0.9f, 0.5f));
+        benchmark::DoNotOptimize(guide.scatter_probability(vertex.leaf(), q.mi.medium->phase(), q.w, 0.9f, 0.5f));
     }
-    const WalkGuideStats st = guide.stats();
     state.counters["descents_per_vertex"] = st.vertices ? double(st.vertex_descents) / double(st.vertices) : 0.0;
     state.counters["products_per_vertex"] = st.vertices ? double(st.vertex_products) / double(st.vertices) : 0.0;
     state.SetLabel(direction ? "init, estimate, direction mixture, scatter probability"
@@ -671,12 +671,11 @@ void sized_field_counters(benchmark::State& state, const GuidingField& field) {
 // One distance decision per segment as the walk makes it from a medium vertex whose leaf the
 // direction decision there found (the GuidedVertex's leaf known; its init is timed with the
 // decision), along a random direction to the field's bounds: range(0) = 0 distance="vsp" (one table
-// lookup), 1 distance="vsp_product" (vsp plus the candidates' point lookups when it scatters), 2
-// distance="incremental" (the bins: one per leaf crossed, so its cost grows with the field);
-// range(1) the leaf count asked for. Counters: `lookups` per decision (descents and table reads
-// beyond free flight's: for the bins, the leaves crossed), `scattered`.
+// lookup), 2 distance="incremental" (the bins: one per leaf crossed, so its cost grows with the field;
+// 1 was the retired vsp_product); range(1) the leaf count asked for. Counters: `steps` per decision
+// (for the bins, the leaves crossed), `scattered`.
 void BM_SizedDistance(benchmark::State& state) {
-    const DistanceGuiding kinds[] = {DistanceGuiding::Vsp, DistanceGuiding::VspProduct, DistanceGuiding::Incremental};
+    const DistanceGuiding kinds[] = {DistanceGuiding::Vsp, DistanceGuiding::Vsp, DistanceGuiding::Incremental};
     const int leaves = int(state.range(1));
     const WalkGuide& guide = sized_guide(leaves, kinds[state.range(0)]);
     const std::vector<SizedQuery>& queries = sized_queries(leaves);
@@ -685,9 +684,9 @@ void BM_SizedDistance(benchmark::State& state) {
         state.SkipWithError("the demo scene has no homogeneous medium");
         return;
     }
-    DistanceScratch scratch;
-    GuidedVertex origin(guide);
-    uint64_t i = 0, scattered = 0, lookups = 0;
+    WalkGuideStats counts;
+    GuidedVertex origin(guide, counts);
+    uint64_t i = 0, scattered = 0;
     for (auto _ : state) {
         const SizedQuery& q = queries[i & (kSizedQueries - 1)];
         const Ray ray(q.p, q.d);
@@ -695,15 +694,14 @@ void BM_SizedDistance(benchmark::State& state) {
         Sampler rng(3, 0, i++);
         VertexLeaf vertex_leaf;
         const FreeFlightSample f =
-            guide.sample_distance(*medium, ray, q.end, Color3(1.f), rng, &origin, vertex_leaf, scratch);
+            origin.sample_distance(DistanceQuery{*medium, ray, q.end, Color3(1.f)}, rng, vertex_leaf, nullptr);
         scattered += f.scattered;
-        lookups += scratch.decision.lookups;
         benchmark::DoNotOptimize(f);
     }
     sized_field_counters(state, sized_field(leaves));
     state.counters["scattered"] = double(scattered) / double(std::max<uint64_t>(i, 1));
-    state.counters["lookups"] = double(lookups) / double(std::max<uint64_t>(i, 1));
-    const char* labels[] = {"vsp", "vsp_product", "incremental bins"};
+    state.counters["steps"] = double(counts.distance_steps) / double(std::max<uint64_t>(i, 1));
+    const char* labels[] = {"vsp", "vsp", "incremental bins"};
     state.SetLabel(labels[state.range(0)]);
 }
 
@@ -721,8 +719,8 @@ void BM_SizedDirection(benchmark::State& state) {
         state.SkipWithError("the demo scene has no medium");
         return;
     }
-    const WalkGuideStats before = guide.stats();
-    GuidedVertex vertex(guide);
+    WalkGuideStats after;
+    GuidedVertex vertex(guide, after);
     uint64_t i = 0, guided = 0;
     for (auto _ : state) {
         const SizedQuery& q = queries[i & (kSizedQueries - 1)];
@@ -733,10 +731,9 @@ void BM_SizedDirection(benchmark::State& state) {
         const float u_strategy = rng.next_1d();
         benchmark::DoNotOptimize(vertex.sample_direction(rng.next_2d(), u_strategy));
     }
-    const WalkGuideStats after = guide.stats();
     sized_field_counters(state, sized_field(leaves));
     const double n = double(std::max<uint64_t>(i, 1));
-    state.counters["descents"] = double(after.vertex_descents - before.vertex_descents) / n;
+    state.counters["descents"] = double(after.vertex_descents) / n;
     state.counters["guided"] = double(guided) / n;
 }
 
@@ -808,11 +805,11 @@ BENCHMARK(BM_GuidedDirection<DirectionGuiding::Product, Pdf>)->Name("BM_GuidedDi
 BENCHMARK(BM_GuidedDirection<DirectionGuiding::Incident, Pdf>)->Name("BM_GuidedDirectionPdf/incident");
 BENCHMARK(BM_DistanceQuery)->Arg(0)->Arg(30)->Arg(50);
 BENCHMARK(BM_LeafTableLookup);
-BENCHMARK(BM_SegmentDecision)->Arg(0)->Arg(1)->Arg(2)->Arg(3);
+BENCHMARK(BM_SegmentDecision)->Arg(0)->Arg(1)->Arg(2);
 BENCHMARK(BM_SegmentDecisionEquiangular)->Arg(0)->Arg(1)->Arg(2);
 BENCHMARK(BM_RouletteEstimate);
 BENCHMARK(BM_GuidedVertex)->Arg(0)->Arg(1);
-BENCHMARK(BM_SizedDistance)->ArgsProduct({{0, 1, 2}, {1000, 4000, 16000, 64000}});
+BENCHMARK(BM_SizedDistance)->ArgsProduct({{0, 2}, {1000, 4000, 16000, 64000}});
 BENCHMARK(BM_SizedDirection)->Arg(1000)->Arg(4000)->Arg(16000)->Arg(64000);
 BENCHMARK(BM_SizedLeafAt)->Arg(1000)->Arg(4000)->Arg(16000)->Arg(64000);
 BENCHMARK(BM_LeafWalk<true>)->Name("BM_LeafWalkCursor")->Arg(2000)->Arg(50000);

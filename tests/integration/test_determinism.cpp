@@ -87,45 +87,22 @@ TEST(Determinism, LearnedSelectionSameImageForOneAndTwoThreads) {
                          "guided fogbox, learned selection");
 }
 
-// Online learning (online_spp): each pass's recorded paths are joined in stream-key order before the
-// field is rebuilt, so the fields, and the image, do not depend on the thread count. 8 spp with
-// online_spp 4: updates after the passes of 1, 1 and 2 spp, then a pass with the last field.
-TEST(Determinism, OnlineLearningSameImageForOneAndTwoThreads) {
-    expect_deterministic(guided_fogbox(R"(<string name="training" value="progressive"/><integer name="training_iterations" value="3"/>)"
-                                       R"(<integer name="online_spp" value="4"/><integer name="leaf_samples" value="400"/>)",
-                                       "determinism-online"),
-                         "guided fogbox, online learning");
-}
-
 // Refinement during the render (issue 39): without a time budget the schedule reads only the passes'
 // noise, a pure function of the samples, and the further photon pass is traced and added in photon and
-// leaf order. 24 spp (passes of 1, 1, 2, 4, 8, 8): the pass ending at 4 spp fixes the noise's normaliser,
-// the one ending at 8 measures it and a refinement follows; at 16 the schedule judges it.
+// leaf order. 24 spp (passes of 1, 1, 2, 4, 8, 8): the first refinement follows the pass ending at 16
+// spp, and the last pass renders with the refined field.
 TEST(Determinism, RefinementSameImageForOneAndTwoThreads) {
-    expect_deterministic(guided_fogbox(R"(<integer name="photons" value="200000"/><integer name="refine_passes" value="2"/>)"
-                                       R"(<integer name="refine_spp" value="2"/><float name="refine_gain" value="0"/>)",
+    expect_deterministic(guided_fogbox(R"(<integer name="photons" value="200000"/><integer name="refine_passes" value="2"/>)",
                                        "determinism-refine", "24"),
                          "guided fogbox, refine_passes");
 }
 
-// guide_target=variance (docs/theory.md §23): each leaf's weights are refitted sequentially over its
-// samples in input order, in the training's rebuilds and the online updates alike.
-TEST(Determinism, VarianceAwareTargetSameImageForOneAndTwoThreads) {
-    expect_deterministic(guided_fogbox(R"(<string name="training" value="progressive"/><integer name="training_iterations" value="3"/>)"
-                                       R"(<integer name="online_spp" value="4"/><integer name="leaf_samples" value="400"/>)"
-                                       R"(<string name="guide_target" value="variance"/>)",
-                                       "determinism-variance"),
-                         "guided fogbox, variance-aware target");
-}
-
 // rrs=ears (issue 38): the continuation statistics are exact sums, frozen between passes, so the
 // decisions, and the image, do not depend on the thread count. 8 spp: statistics after the passes of
-// 1, 1 and 2 spp, decisions in the passes after them (ears_min_samples 4); after 2 spp half the camera
-// samples are recorded (chosen by their sampler keys).
+// 1, 1 and 2 spp, decisions in the passes after them (ears_min_samples 4).
 TEST(Determinism, EarsSameImageForOneAndTwoThreads) {
     expect_deterministic(guided_fogbox(R"(<integer name="photons" value="200000"/><string name="rrs" value="ears"/>)"
-                                       R"(<integer name="ears_min_samples" value="4"/><integer name="ears_record_spp" value="2"/>)"
-                                       R"(<float name="ears_record_fraction" value="0.5"/>)",
+                                       R"(<integer name="ears_min_samples" value="4"/>)",
                                        "determinism-ears"),
                          "guided fogbox, rrs=ears");
 }
@@ -137,16 +114,6 @@ TEST(Determinism, VspDistanceSameImageForOneAndTwoThreads) {
                          "guided fogbox, distance=vsp");
 }
 
-// ... with the equiangular share of the conditional distance (a light point drawn per scatter,
-// docs/theory.md §7.10.1) at 0.5 and 1.
-TEST(Determinism, VspEquiangularSameImageForOneAndTwoThreads) {
-    for (const char* e : {"0.5", "1"})
-        expect_deterministic(guided_fogbox(std::string(R"(<integer name="photons" value="200000"/><string name="distance" value="vsp"/>)"
-                                                       R"(<float name="vsp_equiangular" value=")") + e + R"("/>)",
-                                           "determinism-vsp-equi"),
-                             std::string("guided fogbox, distance=vsp, vsp_equiangular=") + e);
-}
-
 // ... in the heterogeneous cloud: the resampled segment decision (a data-dependent number of
 // tentative collisions per segment).
 TEST(Determinism, VspResampledSameImageForOneAndTwoThreads) {
@@ -155,22 +122,3 @@ TEST(Determinism, VspResampledSameImageForOneAndTwoThreads) {
                          "guided cloud, distance=vsp");
 }
 
-// Issue 37 deliverable 4: distance="vsp_product" and the per-cell distance method chosen from the
-// pilot's rounds (counted lookups, exact sums): the same image for any thread count.
-TEST(Determinism, VspProductAndMethodChoiceSameImageForOneAndTwoThreads) {
-    expect_deterministic(guided_fogbox(R"(<integer name="photons" value="200000"/><string name="distance" value="vsp_product"/>)",
-                                       "determinism-vsp-product"),
-                         "guided fogbox, distance=vsp_product");
-    expect_deterministic(guided_fogbox(R"(<integer name="photons" value="200000"/><string name="distance" value="vsp"/>)"
-                                       R"(<integer name="selection_spp" value="2"/><integer name="selection_min_samples" value="8"/>)"
-                                       R"(<boolean name="selection_distance_method" value="true"/>)",
-                                       "determinism-method-choice"),
-                         "guided fogbox, per-cell distance method");
-    // Guided vertices made dear: the cells fall back to volpath (its decisions and throughput roulette).
-    expect_deterministic(guided_fogbox(R"(<integer name="photons" value="200000"/><string name="distance" value="vsp"/>)"
-                                       R"(<integer name="selection_spp" value="2"/><integer name="selection_min_samples" value="8"/>)"
-                                       R"(<boolean name="selection_distance_method" value="true"/>)"
-                                       R"(<float name="selection_cost_ns_guided_direction" value="1e7"/>)",
-                                       "determinism-method-volpath"),
-                         "guided fogbox, per-cell method with volpath cells");
-}

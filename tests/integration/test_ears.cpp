@@ -173,8 +173,7 @@ TEST(Ears, FixedBudgetAndSettings) {
     for (const char* bad : {R"(<string name="rrs" value="grrs"/><integer name="ears_min_samples" value="8"/>)",
                             R"(<string name="rrs" value="ears"/><float name="rrs_window" value="5"/>)",
                             R"(<string name="rrs" value="ears"/><integer name="ears_min_samples" value="1"/>)",
-                            R"(<string name="rrs" value="ears"/><float name="ears_record_fraction" value="0"/>)",
-                            R"(<string name="rrs" value="grrs"/><float name="ears_record_fraction" value="0.5"/>)"}) {
+                            R"(<string name="rrs" value="grrs"/><float name="ears_budget_factor" value="2"/>)"}) {
         SCOPED_TRACE(bad);
         const std::string xml = ears_furnace_xml(std::string(R"(<integrator type="guided_volpath">)") + bad + "</integrator>");
         EXPECT_THROW(load_scene(dir.write("bad.xml", xml)), std::exception);

@@ -409,22 +409,26 @@ TEST(GuidedVolPath, BadRouletteSplittingParametersAreErrorsNamingTheLine) {
              {R"(<float name="rrs_q_max" value="0.5"/>)", "rrs_q_max must be"},
              {R"(<integer name="rrs_max_branches" value="0"/>)", "rrs_max_branches must be"},
              {R"(<float name="rrs_branch_budget" value="0.5"/>)", "rrs_branch_budget must be"},
-             {R"(<string name="pixel_estimate" value="guess"/>)", "invalid pixel_estimate"},
              {R"(<string name="rrs" value="standard"/><float name="rrs_window" value="5"/>)",
-              "only applies to rrs=grr or rrs=grrs"},
-             // Issue 37 deliverable 4's settings: nothing that would silently do nothing.
-             {R"(<integer name="selection_spp" value="0"/><boolean name="selection_distance_method" value="true"/>)",
-              "selection_distance_method needs a learned selection"},
-             {R"(<string name="distance" value="standard"/><boolean name="selection_distance_method" value="true"/>)",
-              "selection_distance_method needs a learned selection"},
-             {R"(<float name="selection_cost_lookup" value="0.5"/>)", "selection_cost_lookup only applies"},
-             {R"(<float name="selection_cost_ns_guided_direction" value="5"/>)",
-              "selection_cost_ns_guided_direction only applies"},
-             {R"(<boolean name="selection_distance_method" value="true"/><float name="selection_cost_ns_segment" value="-1"/>)",
-              "selection_cost_ns_segment must be a finite value"},
-             {R"(<integer name="product_candidates" value="8"/>)", "product_candidates only applies"},
-             {R"(<string name="distance" value="vsp_product"/><integer name="product_candidates" value="0"/>)",
-              "product_candidates"}}) {
+              "only applies to rrs=grr, grrs or ears"},
+             {R"(<string name="rrs" value="standard"/><integer name="selection_spp" value="0"/>)"
+              R"(<integer name="pixel_estimate_rays" value="8"/>)",
+              "pixel_estimate_rays only applies"},
+             {R"(<integer name="selection_spp" value="0"/><integer name="selection_min_samples" value="8"/>)",
+              "selection_min_samples only applies"},
+             {R"(<integer name="ears_min_samples" value="8"/>)", "ears_min_samples only applies to rrs=ears"},
+             {R"(<string name="distance" value="vsp_product"/>)", "invalid distance 'vsp_product' (one of: standard, incremental, vsp)"},
+             {R"(<string name="distance" value="tabulated"/>)", "invalid distance 'tabulated'"},
+             // refine_passes: a loaded field keeps no photon statistics; estimate renders nothing to refine during.
+             {R"(<integer name="refine_passes" value="-1"/>)", "refine_passes must be in [0, 32]"},
+             {R"(<integer name="refine_passes" value="2"/><string name="estimate" value="incident"/>)",
+              "refine_passes does not apply to estimate"},
+             // Retired parameters (issue 48): an error naming the parameter and what replaced it.
+             {R"(<string name="training" value="progressive"/>)", "'training' was retired"},
+             {R"(<integer name="online_spp" value="8"/>)", "'online_spp' was retired"},
+             {R"(<boolean name="selection_distance_method" value="true"/>)", "'selection_distance_method' was retired"},
+             {R"(<float name="refine_gain" value="0.1"/>)", "'refine_gain' was retired"},
+             {R"(<string name="hetero_distance" value="bins"/>)", "'hetero_distance' was retired"}}) {
         SCOPED_TRACE(c.params);
         const CliResult r = run(c.params);
         EXPECT_EQ(r.exit_code, 1);
@@ -435,4 +439,32 @@ TEST(GuidedVolPath, BadRouletteSplittingParametersAreErrorsNamingTheLine) {
     // The full system (the defaults) renders.
     const CliResult ok = run(R"(<integer name="photons" value="20000"/>)");
     EXPECT_EQ(ok.exit_code, 0) << ok.err;
+}
+
+// refine_passes refines a photon field trained in this render: with a loaded field it is an error naming
+// the file and line, and a given pre-pass (render --field) is refused before rendering.
+TEST(GuidedVolPath, RefinementOfALoadedFieldIsAnError) {
+    TempDir dir("refine-errors");
+    const std::string field = dir.file("f.vgfield");
+    const std::string photons = R"(<integrator type="guided_volpath"><integer name="photons" value="20000"/>)";
+    const std::string save = point_light_scene(
+        Point3f(0.f), 0.5f, 0.5f, photons + fmt::format(R"(<string name="save_field" value="{}"/></integrator>)", field));
+    ASSERT_EQ(run_cli({"render", dir.write("save.xml", save), "-o", dir.file("s.exr"), "--spp", "1", "--quiet"}).exit_code, 0);
+    const std::string load = point_light_scene(
+        Point3f(0.f), 0.5f, 0.5f,
+        photons + fmt::format(R"(<integer name="refine_passes" value="2"/><string name="load_field" value="{}"/></integrator>)",
+                              field));
+    CliResult r = run_cli({"render", dir.write("s.xml", load), "-o", dir.file("o.exr"), "--spp", "1", "--quiet"});
+    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_NE(r.err.find("s.xml:2"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("refine_passes cannot refine a loaded field"), std::string::npos) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(dir.file("o.exr")));
+    const std::string scene = dir.write(
+        "refine.xml", point_light_scene(Point3f(0.f), 0.5f, 0.5f,
+                                        photons + R"(<integer name="refine_passes" value="2"/></integrator>)"));
+    ASSERT_EQ(run_cli({"train", scene, "-o", dir.file("t.vgtrain"), "--quiet"}).exit_code, 0);
+    r = run_cli({"render", scene, "--field", dir.file("t.vgtrain"), "-o", dir.file("o.exr"), "--spp", "1", "--quiet"});
+    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_NE(r.err.find("refine_passes"), std::string::npos) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(dir.file("o.exr")));
 }

@@ -20,5 +20,5 @@ def fogbox():
 @pytest.fixture
 def guided():
     """A guided_volpath integrator that trains in well under a second."""
-    return volguide.create_integrator("guided_volpath", photons=20000, distance="tabulated",
+    return volguide.create_integrator("guided_volpath", photons=20000, distance="incremental",
                                       direction="product", rrs="grrs")

@@ -10,12 +10,7 @@
 //  - the equiangular share (§7.10.1): the mixture's conditional distance by chi-square against its
 //    CDF, its pdf integrating to 1, and its weights exact by the same z-tests;
 //  - P = P_u gives free flight's weights (T / the spectral mixture density); a guided probability
-//    that never scatters (defensive share 0) must fail the scatter z-test (the test can fail);
-//  - distance=vsp_product (§7.11): the resampled distance has no closed-form density, so its
-//    estimator is tested against the same integrals (homogeneous: N candidates of p(t | scatter)
-//    resampled by a positive target unrelated to the integrand; heterogeneous: the reservoir by
-//    |w|_q times the target, each mixed with plain resampling by kProductDefensive), also for a target
-//    that is 0 on half the segment.
+//    that never scatters (defensive share 0) must fail the scatter z-test (the test can fail).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -108,9 +103,9 @@ TEST(VspDistance, ConditionalPdfIntegratesToOne) {
 
 // Runs n decisions and z-tests the weighted expectations per channel (albedo 0.7); returns the
 // largest |z| of the scatter mass.
-// `target` (non-null): the product's resampled decision with 4 candidates; `equi`: the equiangular share.
+// `equi`: the equiangular share.
 static double check_weights(const Case& k, float guided, float c, int n, bool expect_pass,
-                            const std::function<float(float)>* target = nullptr, const VspEquiangular& equi = {}) {
+                            const VspEquiangular& equi = {}) {
     const Color3 q = channel_probabilities(k.throughput);
     const HomogeneousVsp vsp(k.sigma_t, k.s, q);
     const float P = vsp.probability(guided, c);
@@ -118,13 +113,8 @@ static double check_weights(const Case& k, float guided, float c, int n, bool ex
     RunningStats scat[3], scat_t[3], pass[3];
     for (int i = 0; i < n; ++i) {
         Sampler s(9, 0, uint64_t(i));
-        HomogeneousVsp::Sample x;
-        if (target) {
-            x = vsp.sample_resampled(P, 4, *target, s);
-        } else {
-            const float u0 = s.next_1d(), u1 = s.next_1d(), u2 = s.next_1d();
-            x = vsp.sample(P, u0, u1, u2, equi);
-        }
+        const float u0 = s.next_1d(), u1 = s.next_1d(), u2 = s.next_1d();
+        const HomogeneousVsp::Sample x = vsp.sample(P, u0, u1, u2, equi);
         EXPECT_TRUE(x.flight_weight.is_finite());
         for (int ch = 0; ch < 3; ++ch) {
             const double w = x.flight_weight[ch] * (x.scattered ? k.sigma_t[ch] * albedo : 1.f);
@@ -158,32 +148,6 @@ TEST(VspDistance, WeightsAreExact) {
                                                 << " c " << c);
                 check_weights(k, guided, c, 100000, true);
             }
-}
-
-// A positive target peaked away from where T sigma_s puts its mass (and, for the infinite segment,
-// bounded: the same shape in t).
-static float vsp_product_test_target(float t) { return 0.2f + 5.f * std::exp(-4.f * (t - 1.f) * (t - 1.f)); }
-
-TEST(VspDistance, ProductWeightsAreExact) {
-    const std::function<float(float)> target = vsp_product_test_target;
-    for (const Case& k : kCases)
-        for (float guided : {0.02f, 0.6f})
-            for (float c : {0.1f, 0.5f}) {
-                SCOPED_TRACE(testing::Message() << "sigma_t " << k.sigma_t.b << " s " << k.s << " guided " << guided
-                                                << " c " << c);
-                check_weights(k, guided, c, 100000, true, &target);
-            }
-}
-
-TEST(VspDistance, ProductTargetZeroSomewhereStaysExact) {
-    // Candidates beyond half the segment have target 0: only the defensive plain reservoir keeps
-    // them (kProductDefensive), with the weight that makes up for it. (The z-test's power to see a
-    // missing scatter mass: ANeverScatteringGuideFails, ResampledSegmentBiasIsDetected.)
-    for (const Case& k : kCases) {
-        const float half = std::isinf(k.s) ? 1.f : 0.5f * k.s;
-        const std::function<float(float)> target = [half](float t) { return t < half ? 1.f : 0.f; };
-        check_weights(k, 0.6f, 0.5f, 100000, true, &target);
-    }
 }
 
 TEST(VspDistance, ANeverScatteringGuideFails) {
@@ -314,7 +278,7 @@ TEST(VspDistance, EquiangularMixtureWeightsAreExact) {
                 SCOPED_TRACE(testing::Message() << "sigma_t " << k.sigma_t.b << " s " << k.s << " light y " << light.y.y
                                                 << " e " << e);
                 const EquiangularSampler eq(ray.o, ray.d, k.s, light.y);
-                check_weights(k, 0.6f, 0.3f, 100000, true, nullptr, VspEquiangular{&eq, e});
+                check_weights(k, 0.6f, 0.3f, 100000, true, VspEquiangular{&eq, e});
             }
 }
 
@@ -323,7 +287,7 @@ TEST(VspDistance, EquiangularMixtureWeightsAreExact) {
 // cloud: E[w 1{scattered}], E[w 1{scattered} t] and E[w 1{passed}] per channel, grey and chromatic,
 // tight and 10x loose majorant, for fixed probabilities, the unguided estimate and a mixture.
 static double check_resampled(HeterogeneousMedium& m, const std::function<float(float)>& probability, int n,
-                              uint64_t seed, bool expect_pass, const SegmentTarget* target = nullptr) {
+                              uint64_t seed, bool expect_pass) {
     double worst = 0.0;
     const auto rays = test_rays();
     for (size_t ri = 0; ri < rays.size(); ++ri) {
@@ -335,7 +299,7 @@ static double check_resampled(HeterogeneousMedium& m, const std::function<float(
             for (int i = 0; i < n; ++i) {
                 Sampler s(seed + ri, uint64_t(ms), uint64_t(i));
                 const FreeFlightSample fs =
-                    resampled_segment_flight(m, r.ray, r.tmax, Color3(0.3f, 1.f, 0.6f), probability, s, target);
+                    resampled_segment_flight(m, r.ray, r.tmax, Color3(0.3f, 1.f, 0.6f), probability, s);
                 EXPECT_TRUE(fs.weight.is_finite());
                 if (fs.scattered) EXPECT_LT(fs.t, r.tmax);
                 for (int c = 0; c < 3; ++c) {
@@ -375,15 +339,6 @@ TEST(VspDistance, ResampledSegmentGrey) {
 TEST(VspDistance, ResampledSegmentChromatic) {
     auto m = cloud_medium(3, Color3(0.9f, 0.5f, 0.99f), 4.f);
     check_resampled(*m, [](float unguided) { return 0.5f * unguided + 0.25f; }, 20000, 600, true);
-}
-
-TEST(VspDistance, ResampledSegmentProduct) {
-    auto fn = [](float t) { return vsp_product_test_target(t); };
-    const SegmentTarget target(fn);
-    auto grey = cloud_medium(1, Color3(0.7f), 4.f);
-    check_resampled(*grey, [](float unguided) { return unguided; }, 20000, 800, true, &target);
-    auto chromatic = cloud_medium(3, Color3(0.9f, 0.5f, 0.99f), 4.f);
-    check_resampled(*chromatic, [](float unguided) { return 0.5f * unguided + 0.25f; }, 20000, 810, true, &target);
 }
 
 TEST(VspDistance, ResampledSegmentBiasIsDetected) {

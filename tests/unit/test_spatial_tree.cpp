@@ -162,37 +162,26 @@ TEST(SpatialTree, BuildIsAPureFunctionOfTheSamples) {
 
 // Large subtrees build their halves concurrently and splice them in the sequential build's order:
 // splicing at every split of 64 samples or more, on one thread and on two, gives the arrays of the
-// sequential build exactly (nodes, leaf numbering, samples per leaf), masked or not, split by counts
-// or by the light too.
+// sequential build exactly (nodes, leaf numbering, samples per leaf), masked or not.
 TEST(SpatialTree, ConcurrentBuildIsTheSequentialBuild) {
     const auto pts = points(60000, 5);
     std::vector<uint8_t> counted(pts.size());
     for (size_t i = 0; i < pts.size(); ++i) counted[i] = uint8_t(i % 3 != 0);
-    std::vector<float> values(pts.size());
-    for (size_t i = 0; i < pts.size(); ++i) values[i] = 0.1f + pts[i].x * pts[i].x;
-    for (int config : {0, 1, 2}) {
-        const bool masked = config == 1, by_light = config == 2;
-        SCOPED_TRACE(masked ? "masked" : by_light ? "split by the light too" : "all counted");
+    for (const bool masked : {false, true}) {
+        SCOPED_TRACE(masked ? "masked" : "all counted");
         const std::span<const uint8_t> mask = masked ? std::span<const uint8_t>(counted) : std::span<const uint8_t>();
         SpatialTreeSettings sequential;
-        sequential.max_samples = by_light ? 2000 : 50;
-        sequential.split_contrast = by_light ? 0.05f : 0.f;
-        sequential.contrast_min_samples = 30;
+        sequential.max_samples = 50;
         sequential.parallel_min_samples = pts.size() + 1;
-        const SpatialTree ref = SpatialTree::build(kBounds, pts, sequential, mask, values);
-        if (by_light) {
-            SpatialTreeSettings counts_only = sequential;
-            counts_only.split_contrast = 0.f;
-            ASSERT_GT(ref.leaf_count(), 2 * SpatialTree::build(kBounds, pts, counts_only, mask, values).leaf_count());
-        }
-        ASSERT_GT(ref.leaf_count(), by_light ? 60 : 500);
+        const SpatialTree ref = SpatialTree::build(kBounds, pts, sequential, mask);
+        ASSERT_GT(ref.leaf_count(), 500);
         SpatialTreeSettings concurrent = sequential;
         concurrent.parallel_min_samples = 64;
         for (int threads : {1, 2}) {
             SCOPED_TRACE(threads);
             tbb::task_arena arena(threads);
             const SpatialTree t =
-                arena_execute(arena, [&] { return SpatialTree::build(kBounds, pts, concurrent, mask, values); });
+                arena_execute(arena, [&] { return SpatialTree::build(kBounds, pts, concurrent, mask); });
             ASSERT_EQ(t.nodes().size(), ref.nodes().size());
             for (size_t i = 0; i < t.nodes().size(); ++i) {
                 ASSERT_EQ(t.nodes()[i].split, ref.nodes()[i].split) << "node " << i;
@@ -207,70 +196,6 @@ TEST(SpatialTree, ConcurrentBuildIsTheSequentialBuild) {
             EXPECT_EQ(t.depth(), ref.depth());
         }
     }
-}
-
-// The transport-shaped refinement (split_contrast): within the sample limit, a node splits where its
-// halves' values differ -- a bright slab x > 0.5 in a dim box, per volume (photon densities: the
-// bright side also holds more points) and per point (camera vertices: the same density; the bright
-// side also holds three zero-valued points of count 0 per vertex, as NEE samples add nothing to the
-// fluence mean's divisor) -- but not where they do not (uniform light: no split beyond the count
-// limit), and never below contrast_min_samples counted points per half.
-TEST(SpatialTree, LeavesSplitWhereTheLightChanges) {
-    const BBox3f box(Point3f(0.f), Point3f(1.f));
-    for (bool per_volume : {true, false}) {
-        SCOPED_TRACE(per_volume ? "per volume" : "per point");
-        std::vector<Point3f> pts;
-        std::vector<float> values, uniform, counts;
-        std::vector<uint8_t> counted;
-        for (int i = 0; i < 40000; ++i) {
-            Sampler s(9, 0, uint64_t(i));
-            Point3f p(s.next_1d(), s.next_1d(), s.next_1d());
-            // Per volume: four times the points in the bright slab, each of the same value.
-            if (per_volume && p.x < 0.5f && s.next_1d() < 0.75f) continue;
-            pts.push_back(p);
-            values.push_back(per_volume ? 1.f : (p.x > 0.5f ? 4.f : 1.f));
-            uniform.push_back(per_volume && p.x > 0.5f ? 0.25f : 1.f);  // the same light everywhere
-            counts.push_back(1.f);
-            counted.push_back(1);
-            if (!per_volume && p.x > 0.5f)
-                for (int k = 0; k < 3; ++k) {
-                    pts.push_back(p);
-                    values.push_back(0.f);
-                    uniform.push_back(0.f);
-                    counts.push_back(0.f);
-                    counted.push_back(0);
-                }
-        }
-        SpatialTreeSettings settings;
-        settings.max_samples = int(pts.size());  // no split by count
-        settings.contrast_per_volume = per_volume;
-        settings.contrast_min_samples = 200;
-        const SpatialTree off = SpatialTree::build(box, pts, settings, counted, values, counts);
-        EXPECT_EQ(off.leaf_count(), 1);
-        settings.split_contrast = 0.3f;
-        const SpatialTree flat = SpatialTree::build(box, pts, settings, counted, uniform, counts);
-        EXPECT_EQ(flat.leaf_count(), 1) << "uniform light";
-        const SpatialTree lit = SpatialTree::build(box, pts, settings, counted, values, counts);
-        ASSERT_GT(lit.leaf_count(), 1);
-        // The edge x = 0.5 separates the leaves: none straddles it by more than a sliver, and every
-        // leaf keeps its share of counted points.
-        for (int l = 0; l < lit.leaf_count(); ++l) {
-            const BBox3f& b = lit.leaf_bounds(l);
-            EXPECT_TRUE(b.hi.x <= 0.55f || b.lo.x >= 0.45f) << "leaf " << l << " x in [" << b.lo.x << ", " << b.hi.x << "]";
-            size_t n = 0;
-            for (uint32_t i : lit.leaf_samples(l)) n += counted[i];
-            EXPECT_GE(n, 200u) << "leaf " << l;
-        }
-    }
-    SpatialTreeSettings bad;
-    bad.split_contrast = 0.3f;
-    EXPECT_THROW(SpatialTree::build(box, std::vector<Point3f>(10, Point3f(0.5f)), bad), std::invalid_argument);
-    EXPECT_THROW(SpatialTree::build(box, std::vector<Point3f>(10, Point3f(0.5f)), bad, {}, std::vector<float>(10, 1.f),
-                                    std::vector<float>(3, 1.f)),
-                 std::invalid_argument);
-    bad.split_contrast = 1.f;
-    EXPECT_THROW(SpatialTree::build(box, std::vector<Point3f>(10, Point3f(0.5f)), bad, {}, std::vector<float>(10, 1.f)),
-                 std::invalid_argument);
 }
 
 TEST(SpatialTree, TraversalIsContiguousOrderedAndAgreesWithPointLookup) {

@@ -98,8 +98,8 @@ struct DistanceSample {
     float t = 0.f;    // medium: the scattering distance; surface: t1 of the last bin (0 without bins)
     float pdf = 1.f;  // medium: mixture density p(t) [1/length] (7.5); surface: P_surf (probability)
     // The mixture's two parts at the sample, pdf = c_T pdf_transmittance + (1 - c_T) pdf_guided
-    // (transmittance: the channel split's mixture of T_R, T_G, T_B); learned selection
-    // (guiding/selection.h) evaluates other mixtures of them. Negative: not known (tabulated).
+    // (transmittance: the channel split's mixture of T_R, T_G, T_B); the learned selection evaluates
+    // other mixtures of them. Negative: not known (tabulated).
     float pdf_transmittance = -1.f, pdf_guided = -1.f;
     int steps = 0;    // bins pulled from the source (zero-length bins included)
     DistanceStrategy strategy = DistanceStrategy::Guided;

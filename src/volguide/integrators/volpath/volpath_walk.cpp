@@ -282,9 +282,8 @@ bool VolumeWalk::continue_copies(const Continuation& c, ContinuationStage stage,
     // The n copies share the path's allowance, so the live branches' allowances never sum to more
     // than the camera sample's budget.
     state_.split_allowance /= float(c.n);
-    // A copy's vertex is begun again when it resumes (resume_policy_vertex), its leaf not known: with
-    // the one its original found, a copy's first distance decision could skip the guided walk where
-    // its original did not (WalkGuide::sample_distance), and splitting would draw other random numbers.
+    // A copy's vertex is begun again when it resumes (resume_policy_vertex), without what the decision
+    // that reached it handed on: the policy keeps one vertex object per walk, not one per copy.
     const bool at_vertex = vertex && stage == ContinuationStage::Distance;
     for (int k = 1; k < c.n; ++k)
         stack_.push_back(PendingBranch{state_, rng_->fork(uint64_t(k)), at_vertex, vertex != nullptr,

@@ -68,8 +68,8 @@ class GuidedVertex {
     Color3 estimate(ContinuationStage stage, const Vec3f& w);
 
   private:
-    // The leaf a decision of a ray leaving from this point reads (-1: none), and whether guiding it
-    // cannot pay (a vertex leaf of confidence below WalkGuide::kSkipConfidence).
+    // The leaf a distance decision of a ray leaving from this point reads: the vertex's, or where
+    // there is no vertex and `needed`, the leaf at the ray's origin (-1: none).
     int origin_leaf(const DistanceQuery& query, bool needed);
     // The direction mixture's phase probability in leaf `index` (the configured one, the learned
     // share's, damped by the leaf's confidence); 1: the phase function alone.
