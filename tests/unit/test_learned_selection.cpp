@@ -31,7 +31,7 @@ float pilot_sample(int i, int n) {
 }
 
 // Adds n decisions of `cell` whose integrand is 2 on [lo, lo + 1/2) (S = f / q, I = 1).
-void add_toy(SelectionStatistics& stats, size_t cell, float lo, int n, int first = 0, int step = 1) {
+void add_toy(CellStatistics& stats, size_t cell, float lo, int n, int first = 0, int step = 1) {
     for (int i = first; i < n; i += step) {
         const float x = pilot_sample(i, n);
         const float p_u = 1.f, p_g = x < 0.5f ? 2.f : 0.f, q = 0.5f * (p_u + p_g);
@@ -51,12 +51,12 @@ SelectionSettings plain_settings() {
 }  // namespace
 
 TEST(Selection, SecondMomentsMatchTheIntegrals) {
-    SelectionStatistics stats(3);
+    CellStatistics stats(3);
     const int n = 20000;
     add_toy(stats, 0, 0.f, n);
     add_toy(stats, 1, 0.5f, n);
-    const auto& right = stats.moments(SelectionDecision::Direction, 0);
-    const auto& wrong = stats.moments(SelectionDecision::Direction, 1);
+    const auto& right = stats.decision(SelectionDecision::Direction, 0);
+    const auto& wrong = stats.decision(SelectionDecision::Direction, 1);
     EXPECT_EQ(right.count, uint64_t(n));
     for (size_t k = 0; k < kShareCount; ++k) {
         const double a = kSelectionShares[k];
@@ -68,11 +68,11 @@ TEST(Selection, SecondMomentsMatchTheIntegrals) {
 }
 
 TEST(Selection, FitFollowsTheGuideWhereItIsRightAndDropsItWhereItIsWrong) {
-    SelectionStatistics stats(4);
+    CellStatistics stats(4);
     add_toy(stats, 0, 0.f, 2000);
     add_toy(stats, 1, 0.5f, 2000);
     add_toy(stats, 2, 0.f, 10);  // too few samples
-    for (int i = 0; i < 4000; ++i) stats.add_camera_sample(1.0);
+    for (int i = 0; i < 4000; ++i) stats.add_camera_sample(1.0, 1, 0, 1);
     const LearnedSelection sel = LearnedSelection::fit(stats, plain_settings(), {0.5f, 0.5f, 0.5f});
     ASSERT_EQ(sel.cells(), 4u);
     EXPECT_FLOAT_EQ(sel.share(SelectionDecision::Direction, 0), kSelectionShares.back());
@@ -113,22 +113,22 @@ TEST(Selection, SumsAreExactInAnyOrder) {
     EXPECT_NEAR(a.value(), 2e15 + 1e12 + 3.5 + 0.125 + 7e-3, 1.0);
 
     // Two "threads" with interleaved halves give the statistics of one.
-    SelectionStatistics one(2), even(2), odd(2);
+    CellStatistics one(2), even(2), odd(2);
     add_toy(one, 0, 0.f, 1000);
     add_toy(even, 0, 0.f, 1000, 0, 2);
     add_toy(odd, 0, 0.f, 1000, 1, 2);
-    SelectionStatistics merged(2);
+    CellStatistics merged(2);
     merged += odd;
     merged += even;
     for (size_t k = 0; k < kShareCount; ++k)
-        EXPECT_EQ(merged.moments(SelectionDecision::Direction, 0).m[k].value(),
-                  one.moments(SelectionDecision::Direction, 0).m[k].value());
-    EXPECT_EQ(merged.moments(SelectionDecision::Direction, 0).count, 1000u);
-    EXPECT_THROW(merged += SelectionStatistics(3), std::logic_error);
+        EXPECT_EQ(merged.decision(SelectionDecision::Direction, 0).m[k].value(),
+                  one.decision(SelectionDecision::Direction, 0).m[k].value());
+    EXPECT_EQ(merged.decision(SelectionDecision::Direction, 0).count, 1000u);
+    EXPECT_THROW(merged += CellStatistics(3), std::logic_error);  // a bug, not a user error
 }
 
 TEST(Selection, BytesRoundTripAndMalformedOnesAreRejected) {
-    SelectionStatistics stats(3);
+    CellStatistics stats(3);
     add_toy(stats, 0, 0.f, 500);
     add_toy(stats, 1, 0.5f, 500);
     const LearnedSelection sel = LearnedSelection::fit(stats, plain_settings(), {0.5f, 0.5f, 0.5f});
@@ -168,7 +168,7 @@ TEST(Selection, BytesRoundTripAndMalformedOnesAreRejected) {
 // The pre-pass state carries the selection (train once, render --field everywhere with the same
 // selection); pre-passes without one still read.
 TEST(Selection, PrepassStateCarriesTheSelection) {
-    SelectionStatistics stats(3);
+    CellStatistics stats(3);
     add_toy(stats, 0, 0.f, 500);
     add_toy(stats, 1, 0.5f, 500);
     const std::string sel = LearnedSelection::fit(stats, plain_settings(), {0.5f, 0.5f, 0.5f}).serialize();

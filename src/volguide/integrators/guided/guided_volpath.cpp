@@ -259,15 +259,16 @@ void GuidedVolPathIntegrator::learn_selection(const Scene& scene, const Preproce
         p.phase = "selection pilot";
         context.progress(p);
     }
-    const SelectionStatistics stats = run_selection_pilot(
-        scene, settings_.selection.pilot_spp, guide_->selection_cells(),
-        [&](Point2f film_uv) { return pixel_estimate_.at(film_uv); },
-        [&](Sampler& sampler, const Ray& ray, SelectionRecorder& recorder) {
+    const Film& film = scene.sensor().film();
+    Learner learner(guide_->selection_cells(), film.width(), film.height());
+    run_selection_pilot(
+        scene, settings_.selection.pilot_spp, [&](Point2f film_uv) { return pixel_estimate_.at(film_uv); },
+        [&](Sampler& sampler, const Ray& ray, CellRecorder& recorder) {
             GuidedWalkPolicy policy(*guide_, nullptr, 0.f);
             return walk_.walk(scene, sampler, ray, &policy, &recorder);
         },
-        context);
-    guide_->set_selection(LearnedSelection::fit(stats, settings_.selection, guide_->configured_shares()));
+        context, learner);
+    guide_->set_selection(LearnedSelection::fit(learner.total(), settings_.selection, guide_->configured_shares()));
     const LearnedSelection::Summary sum = guide_->selection().summary();
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     // A refinement learns the selection again: its figures replace the last ones.
@@ -319,15 +320,14 @@ float GuidedVolPathIntegrator::camera_guided(const CameraRay& camera) const {
     return pixel_estimate_.camera_scatter_probability(camera.film_uv);
 }
 
-Color3 GuidedVolPathIntegrator::render_walk(const Scene& scene, Sampler& sampler, const CameraRay& camera,
-                                            PathRecorder* recorder) const {
+Color3 GuidedVolPathIntegrator::render_walk(const Scene& scene, Sampler& sampler, const CameraRay& camera) const {
     const float pixel = rrs_ ? pixel_estimate_.at(camera.film_uv) : 0.f;
-    if (!ears_) return guided_walk(scene, sampler, camera.ray, pixel, recorder, camera_guided(camera));
+    if (!ears_) return guided_walk(scene, sampler, camera.ray, pixel, nullptr, camera_guided(camera));
     // The statistics keep X / I; the decisions compare with the pass's learned estimate I'.
     const long px = ears_->pixel(camera.film_uv);
     const float learned = ears_->snapshot().pixel_estimate(px, pixel);
-    ContinuationRecorder& learning = ears_->recorder();
-    learning.begin(recorder, px, pixel);
+    CellRecorder& learning = ears_->recorder();
+    learning.begin(px, pixel);
     const Color3 L = guided_walk(scene, sampler, camera.ray, learned, &learning, camera_guided(camera));
     learning.end();
     return L;
@@ -339,7 +339,7 @@ Color3 GuidedVolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const C
             settings_.estimate == FieldEstimate::Incident ? CacheQuantity::Incident : CacheQuantity::Inscattered;
         return estimator_->estimate(camera.ray, scene.sensor().medium(), q, sampler);
     }
-    return render_walk(scene, sampler, camera, nullptr);
+    return render_walk(scene, sampler, camera);
 }
 
 std::vector<std::pair<std::string, double>> GuidedVolPathIntegrator::statistics() const {

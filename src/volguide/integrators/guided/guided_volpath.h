@@ -22,7 +22,7 @@
 #include "volguide/guiding/guiding_field.h"
 #include "volguide/guiding/roulette_splitting.h"
 #include "volguide/integrators/guided/estimates/cache_estimate.h"
-#include "volguide/integrators/guided/estimates/continuation_recorder.h"
+#include "volguide/integrators/guided/estimates/continuation_snapshot.h"
 #include "volguide/integrators/guided/prepass/guided_prepass.h"
 #include "volguide/integrators/guided/guided_volpath_settings.h"
 #include "volguide/integrators/guided/estimates/pixel_estimate.h"
@@ -77,9 +77,8 @@ private:
     // for a camera sample (NaN: none).
     bool wants_camera_buffer() const;
     float camera_guided(const CameraRay& camera) const;
-    // Li's guided walk of a camera sample, recorded by `recorder` (may be null) and, with rrs=ears,
-    // by the thread's ContinuationRecorder around it.
-    Color3 render_walk(const Scene& scene, Sampler& sampler, const CameraRay& camera, PathRecorder* recorder) const;
+    // Li's guided walk of a camera sample, recorded with rrs=ears by the learner's recorder.
+    Color3 render_walk(const Scene& scene, Sampler& sampler, const CameraRay& camera) const;
     // preprocess()'s steps: the field (loaded or trained) with its leaves' medium fractions, then
     // the pixel estimate I of guided RR/splitting.
     void load_or_train_field(const Scene& scene, const PreprocessContext& context);

@@ -193,7 +193,7 @@ void read_roulette(const Properties& props, RouletteSplittingSettings& r) {
         props.fail_at("rrs_window", "guided_volpath: rrs_window does not apply to rrs=ears (no weight window)");
 }
 
-// rrs=ears (continuation_stats.h): ears_min_samples, ears_budget_factor (errors with another rrs); the
+// rrs=ears (continuation_snapshot.h): ears_min_samples, ears_budget_factor (errors with another rrs); the
 // walk's throughput roulette, ears' fallback, is rr_rule=bounded unless rr_rule is given; the branch
 // budget is adaptive unless rrs_branch_budget is given.
 void read_ears(const Properties& props, GuidedVolPathSettings& s) {

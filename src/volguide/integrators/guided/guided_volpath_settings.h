@@ -12,7 +12,7 @@
 #include "volguide/guiding/field_refinement.h"
 #include "volguide/guiding/guiding_field.h"
 #include "volguide/guiding/roulette_splitting.h"
-#include "volguide/integrators/guided/estimates/continuation_stats.h"
+#include "volguide/integrators/guided/estimates/continuation_snapshot.h"
 #include "volguide/integrators/guided/estimates/learned_selection.h"
 #include "volguide/integrators/guided/estimates/pixel_estimate.h"
 #include "volguide/integrators/guided/training/refinement_schedule.h"

@@ -12,9 +12,6 @@ namespace volguide {
 
 namespace {
 
-constexpr double kFixedScale = 4294967296.0;  // 2^32
-constexpr double kMaxTerm = 1e15;
-constexpr double kTwo64 = 18446744073709551616.0;
 constexpr uint32_t kSelectionMagic = 0x4c534756;  // "VGSL"
 constexpr uint32_t kVersion = 3;  // 1, 2: with the retired continuation gate and distance method bytes
 
@@ -57,7 +54,7 @@ using PerDecision = std::array<std::array<double, kShares>, kSelectionDecisions>
 
 // The pilot's moments per cell and decision, each at the default share; `pooled`: their sum over
 // the cells.
-Entries gather_entries(const SelectionStatistics& stats, const SelectionSettings& settings,
+Entries gather_entries(const CellStatistics& stats, const SelectionSettings& settings,
                        const std::array<float, kSelectionDecisions>& default_share, PerDecision& pooled) {
     std::array<size_t, kSelectionDecisions> default_index{};
     for (int d = 0; d < kSelectionDecisions; ++d)
@@ -66,7 +63,7 @@ Entries gather_entries(const SelectionStatistics& stats, const SelectionSettings
     pooled = {};
     for (size_t r = 0; r < entries.size(); ++r)
         for (int d = 0; d < kSelectionDecisions; ++d) {
-            const SelectionStatistics::Moments& mo = stats.moments(SelectionDecision(d), r);
+            const DecisionMoments& mo = stats.decision(SelectionDecision(d), r);
             Entry& e = entries[r][size_t(d)];
             for (size_t k = 0; k < kShares; ++k) e.m[k] = mo.m[k].value();
             e.current = mo.current.value();
@@ -106,7 +103,7 @@ void shrink_towards_pooled(Entries& entries, const PerDecision& pooled, float pr
 
 // Each learned entry takes argmin_a M_r(a) / V + n_r kappa [a > 0] / T (selection.h); T, the cost in
 // decisions, depends on the shares chosen, hence three rounds.
-void choose_with_cost(Entries& entries, const SelectionStatistics& stats, const SelectionSettings& settings) {
+void choose_with_cost(Entries& entries, const CellStatistics& stats, const SelectionSettings& settings) {
     auto cost_of = [&](int d, size_t k, double count) {
         return count * (kSelectionShares[k] > 0.f ? double(settings.kappa[size_t(d)]) : 0.0);
     };
@@ -147,69 +144,7 @@ LearnedSelection::Cell fitted_cell(const std::array<Entry, kSelectionDecisions>&
 
 }  // namespace
 
-void ExactSum::add_words(uint64_t hi, uint64_t lo) {
-    lo_ += lo;
-    hi_ += hi + (lo_ < lo ? 1 : 0);
-}
-
-void ExactSum::add(double term) {
-    if (!(term > 0.0)) return;  // zero, negative rounding noise, NaN
-    const double t = std::floor(std::min(term, kMaxTerm) * kFixedScale);  // < 2^82
-    const double hi = std::floor(t / kTwo64);
-    add_words(uint64_t(hi), uint64_t(t - hi * kTwo64));  // both parts exact in double
-}
-
-ExactSum& ExactSum::operator+=(const ExactSum& o) {
-    add_words(o.hi_, o.lo_);
-    return *this;
-}
-
-double ExactSum::value() const {
-    return (double(hi_) * kTwo64 + double(lo_)) / kFixedScale;
-}
-
-SelectionStatistics::SelectionStatistics(size_t cells) : moments_(cells) {}
-
-void SelectionStatistics::add_decision(SelectionDecision d, size_t cell, double s2, float q_cur, float p_u,
-                                       float p_g) {
-    if (cell >= moments_.size() || !(q_cur > 0.f) || !std::isfinite(s2)) return;
-    Moments& m = moments_[cell][size_t(d)];
-    ++m.count;
-    if (!(s2 > 0.0)) return;
-    m.current.add(s2);
-    for (size_t k = 0; k < kSelectionShares.size(); ++k) {
-        const double a = kSelectionShares[k];
-        const double q = (1.0 - a) * double(p_u) + a * double(p_g);
-        // A share whose mixture cannot sample what was sampled: infinite second moment (clamped).
-        m.m[k].add(q > 0.0 ? s2 * double(q_cur) / q : kMaxTerm);
-    }
-}
-
-void SelectionStatistics::add_camera_sample(double s2) {
-    ++camera_samples_;
-    if (std::isfinite(s2)) camera_moment_.add(s2);
-}
-
-SelectionStatistics& SelectionStatistics::operator+=(const SelectionStatistics& o) {
-    if (moments_.empty()) moments_.resize(o.moments_.size());
-    if (o.moments_.size() != moments_.size())
-        throw std::logic_error("SelectionStatistics: different cell counts");
-    for (size_t r = 0; r < moments_.size(); ++r) {
-        for (int d = 0; d < kSelectionDecisions; ++d) {
-            Moments& a = moments_[r][size_t(d)];
-            const Moments& b = o.moments_[r][size_t(d)];
-            for (size_t k = 0; k < kSelectionShares.size(); ++k) a.m[k] += b.m[k];
-            a.current += b.current;
-            a.count += b.count;
-        }
-    }
-    unrecorded_ += o.unrecorded_;
-    camera_samples_ += o.camera_samples_;
-    camera_moment_ += o.camera_moment_;
-    return *this;
-}
-
-LearnedSelection LearnedSelection::fit(const SelectionStatistics& stats, const SelectionSettings& settings,
+LearnedSelection LearnedSelection::fit(const CellStatistics& stats, const SelectionSettings& settings,
                                        const std::array<float, kSelectionDecisions>& default_share) {
     PerDecision pooled;  // sum over cells of M(share k)
     Entries entries = gather_entries(stats, settings, default_share, pooled);

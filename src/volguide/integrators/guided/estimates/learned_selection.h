@@ -10,8 +10,9 @@
 // decision sampled from q_cur, with S the contribution of everything after it to the camera sample
 // and I the pixel estimate, the pixel's second moment attributable to it under share a is
 //   M(a) = E_cur[(S / I)^2 q_cur / q_a]
-// (the path's prefix weight cancels: S = beta f R / q_cur). SelectionStatistics sums these terms
-// per cell and decision for every share of kSelectionShares at once (one sample serves all).
+// (the path's prefix weight cancels: S = beta f R / q_cur). The learner's CellStatistics
+// (cell_statistics.h) sums these terms per cell and decision for every share of kSelectionShares at once
+// (one sample serves all).
 // fit() then picks per cell the share that minimises the render's variance x time:
 //   argmin_a  M_r(a) / V + n_r kappa [a > 0] / T,
 // V the pixel estimator's second moment (the pilot's sum of (X / I)^2 over camera samples, X the
@@ -32,12 +33,9 @@
 #include <string>
 #include <vector>
 
-namespace volguide {
+#include "volguide/integrators/guided/estimates/cell_statistics.h"
 
-enum class SelectionDecision : uint8_t { Distance = 0, Direction = 1, Surface = 2 };
-inline constexpr int kSelectionDecisions = 3;
-// The guided shares the pilot evaluates.
-inline constexpr std::array<float, 6> kSelectionShares = {0.f, 0.1f, 0.25f, 0.5f, 0.75f, 0.9f};
+namespace volguide {
 
 struct SelectionSettings {
     int pilot_spp = 2;  // camera samples per pixel of the pilot (0: no learned selection)
@@ -52,60 +50,13 @@ struct SelectionSettings {
     std::array<float, kSelectionDecisions> kappa = {1.f, 0.25f, 0.25f};
 };
 
-// An exact sum of non-negative terms: fixed point with 2^-32 resolution in 128 bits (two words),
-// each term clamped to 1e15.
-class ExactSum {
-  public:
-    void add(double term);
-    ExactSum& operator+=(const ExactSum& o);
-    double value() const;
-
-  private:
-    void add_words(uint64_t hi, uint64_t lo);
-    uint64_t hi_ = 0, lo_ = 0;
-};
-
-class SelectionStatistics {
-  public:
-    SelectionStatistics() = default;
-    // `cells`: the field's leaves + 1 (the last: outside the field).
-    explicit SelectionStatistics(size_t cells);
-    size_t cells() const { return moments_.size(); }
-
-    // One decision in `cell` sampled with density q_cur, whose unguided and guided densities at
-    // the sample are p_u and p_g; s2 = (S / I)^2 of what followed it.
-    void add_decision(SelectionDecision d, size_t cell, double s2, float q_cur, float p_u, float p_g);
-    // Every decision of the pilot's walks, recorded or not (the cost model's unit).
-    void add_unrecorded_decisions(uint64_t n) { unrecorded_ += n; }
-    // A camera sample of value X in a pixel of estimate I: s2 = (X / I)^2.
-    void add_camera_sample(double s2);
-
-    SelectionStatistics& operator+=(const SelectionStatistics& o);
-
-    struct Moments {
-        std::array<ExactSum, kSelectionShares.size()> m;
-        ExactSum current;  // sum of s2: M at the share the pilot sampled with
-        uint64_t count = 0;
-    };
-    const Moments& moments(SelectionDecision d, size_t cell) const { return moments_[cell][size_t(d)]; }
-    uint64_t unrecorded_decisions() const { return unrecorded_; }
-    uint64_t camera_samples() const { return camera_samples_; }
-    double camera_moment() const { return camera_moment_.value(); }
-
-  private:
-    std::vector<std::array<Moments, kSelectionDecisions>> moments_;
-    uint64_t unrecorded_ = 0;
-    uint64_t camera_samples_ = 0;
-    ExactSum camera_moment_;
-};
-
 class LearnedSelection {
   public:
     static constexpr float kDefault = -1.f;  // share: keep the configured mixture
     LearnedSelection() = default;
     // Learns from the pilot's statistics; `default_share[d]`: the configured guided share of each
     // decision (what the pilot sampled with, where nothing is learned).
-    static LearnedSelection fit(const SelectionStatistics& stats, const SelectionSettings& settings,
+    static LearnedSelection fit(const CellStatistics& stats, const SelectionSettings& settings,
                                 const std::array<float, kSelectionDecisions>& default_share);
 
     bool empty() const { return cells_.empty(); }

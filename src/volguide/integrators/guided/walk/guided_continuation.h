@@ -16,7 +16,7 @@
 // applies the result: the path's weight 1/q and its copies (VolumeWalk::continue_path).
 //
 // rrs=ears (docs/theory.md §9.8) decides instead from the learned statistics of the pass's frozen
-// ContinuationSnapshot (estimates/continuation_stats.h): the factor of the vertex leaf's cell and the
+// ContinuationSnapshot (estimates/continuation_snapshot.h): the factor of the vertex leaf's cell and the
 // direction bin of w, with the path's weight relative to I; RouletteSplitting bounds it. Where the
 // statistics are too few there is no decision (the walk's throughput roulette, rr_rule=bounded by
 // default with ears).
@@ -24,7 +24,7 @@
 #include "volguide/core/sampler.h"
 #include "volguide/geometry/interaction.h"
 #include "volguide/guiding/roulette_splitting.h"
-#include "volguide/integrators/guided/estimates/continuation_stats.h"
+#include "volguide/integrators/guided/estimates/continuation_snapshot.h"
 #include "volguide/integrators/guided/walk/guided_vertex.h"
 #include "volguide/integrators/guided/walk/walk_guide.h"
 #include "volguide/integrators/volpath/walk_policy.h"

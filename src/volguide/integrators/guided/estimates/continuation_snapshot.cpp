@@ -1,106 +1,11 @@
-#include "volguide/integrators/guided/estimates/continuation_stats.h"
+#include "volguide/integrators/guided/estimates/continuation_snapshot.h"
 
 #include <algorithm>
 #include <cmath>
 
 namespace volguide {
 
-namespace {
-constexpr double kPixelScale = 65536.0;          // 2^16: x^2 <= 1e10 per sample, 10^4 such fit in 2^63
-constexpr double kPixelClamp = 1e5;
-}  // namespace
-
-int continuation_direction_bin(const Vec3f& w) {
-    const float ax = std::abs(w.x), ay = std::abs(w.y), az = std::abs(w.z);
-    if (ax >= ay && ax >= az) return w.x >= 0.f ? 0 : 1;
-    if (ay >= az) return w.y >= 0.f ? 2 : 3;
-    return w.z >= 0.f ? 4 : 5;
-}
-
-ContinuationMoments& ContinuationMoments::operator+=(const ContinuationMoments& o) {
-    n += o.n;
-    sum += o.sum;
-    sum_sq += o.sum_sq;
-    cost += o.cost;
-    return *this;
-}
-
-ContinuationStatistics::ContinuationStatistics(size_t cells)
-    : cells_(cells), moments_(size_t(kContinuationStages) * cells * size_t(kContinuationDirectionBins)) {}
-
-void ContinuationStatistics::add_point(ContinuationStage stage, size_t cell, int bin, double y, uint64_t cost) {
-    if (cell >= cells_ || !std::isfinite(y)) return;
-    ContinuationMoments& m = moments_[index(stage, cell, bin)];
-    ++m.n;
-    m.sum.add(y);
-    m.sum_sq.add(y * y);
-    m.cost += cost;
-}
-
-void ContinuationStatistics::add_camera_sample(uint64_t cost, int branches) {
-    ++camera_samples_;
-    cost_ += cost;
-    branches_ += uint64_t(std::max(branches, 0));
-}
-
-void ContinuationStatistics::clear() {
-    std::fill(moments_.begin(), moments_.end(), ContinuationMoments());
-    camera_samples_ = cost_ = branches_ = 0;
-}
-
-ContinuationStatistics& ContinuationStatistics::operator+=(const ContinuationStatistics& o) {
-    if (cells_ == 0) *this = ContinuationStatistics(o.cells_);
-    if (o.cells_ == cells_)
-        for (size_t i = 0; i < moments_.size(); ++i) moments_[i] += o.moments_[i];
-    camera_samples_ += o.camera_samples_;
-    cost_ += o.cost_;
-    branches_ += o.branches_;
-    return *this;
-}
-
-PixelMoments::PixelMoments(int width, int height)
-    : width_(width),
-      height_(height),
-      sum_(new std::atomic<int64_t>[size_t(width) * size_t(height)]),
-      sum_sq_(new std::atomic<int64_t>[size_t(width) * size_t(height)]),
-      count_(new std::atomic<uint32_t>[size_t(width) * size_t(height)]) {
-    clear();
-}
-
-long PixelMoments::pixel(Point2f film_uv) const {
-    const float fx = std::floor(film_uv.x * float(width_)), fy = std::floor(film_uv.y * float(height_));
-    if (!(fx >= 0.f && fy >= 0.f && fx < float(width_) && fy < float(height_))) return -1;
-    return long(fy) * long(width_) + long(fx);
-}
-
-void PixelMoments::add(long pixel, double x) {
-    if (pixel < 0 || pixel >= long(width_) * long(height_) || !std::isfinite(x)) return;
-    x = std::clamp(x, 0.0, kPixelClamp);
-    const size_t p = size_t(pixel);
-    sum_[p].fetch_add(int64_t(std::nearbyint(x * kPixelScale)), std::memory_order_relaxed);
-    sum_sq_[p].fetch_add(int64_t(std::nearbyint(x * x * kPixelScale)), std::memory_order_relaxed);
-    count_[p].fetch_add(1, std::memory_order_relaxed);
-}
-
-PixelMoments::Pixel PixelMoments::at(size_t p) const {
-    Pixel px;
-    px.n = double(count_[p].load(std::memory_order_relaxed));
-    px.sum = double(sum_[p].load(std::memory_order_relaxed)) / kPixelScale;
-    px.sum_sq = double(sum_sq_[p].load(std::memory_order_relaxed)) / kPixelScale;
-    return px;
-}
-
-float PixelMoments::Pixel::correction(double prior) const { return float((prior + sum) / (prior + n)); }
-
-void PixelMoments::clear() {
-    for (size_t p = 0; p < size_t(width_) * size_t(height_); ++p) {
-        sum_[p].store(0, std::memory_order_relaxed);
-        sum_sq_[p].store(0, std::memory_order_relaxed);
-        count_[p].store(0, std::memory_order_relaxed);
-    }
-}
-
-ContinuationSnapshot ContinuationSnapshot::from(const ContinuationStatistics& stats, const PixelMoments& pixels,
+ContinuationSnapshot ContinuationSnapshot::from(const CellStatistics& stats, const PixelMoments& pixels,
                                                 const EarsSettings& settings, double unsplit_cost) {
     ContinuationSnapshot snap;
     snap.cells_ = stats.cells();
@@ -108,7 +13,7 @@ ContinuationSnapshot ContinuationSnapshot::from(const ContinuationStatistics& st
     for (int stage = 0; stage < kContinuationStages; ++stage)
         for (size_t cell = 0; cell < snap.cells_; ++cell)
             for (int bin = 0; bin < kContinuationDirectionBins; ++bin) {
-                const ContinuationMoments& m = stats.moments(ContinuationStage(stage), cell, bin);
+                const ContinuationMoments& m = stats.continuation(ContinuationStage(stage), cell, bin);
                 if (m.n < std::max<uint64_t>(settings.min_samples, 2) || m.cost == 0) continue;
                 const double n = double(m.n), mean = m.sum.value() / n, m2 = std::max(0.0, m.sum_sq.value() / n);
                 const double cost = double(m.cost) / n;
@@ -168,6 +73,32 @@ float ContinuationSnapshot::factor(ContinuationStage stage, size_t cell, int bin
     if (q_r <= 1.f) return q_r;
     const float q_s = relative_weight * c.s * image_factor_;
     return q_s >= 1.f ? q_s : 1.f;
+}
+
+ContinuationLearning::ContinuationLearning(size_t cells, int width, int height, const EarsSettings& settings)
+    : settings_(settings), learner_(cells, width, height) {
+    snapshot_ = ContinuationSnapshot::from(learner_.total(), learner_.pixels(), settings_, 0.0);
+}
+
+void ContinuationLearning::end_pass() {
+    learner_.end_pass();
+    const CellStatistics& total = learner_.total();
+    // The first pass decided nothing (no statistics yet): its cost is the unsplit walk's.
+    if (updates_ == 0 && total.camera_samples() > 0)
+        unsplit_cost_ = double(total.cost()) / double(total.camera_samples());
+    snapshot_ = ContinuationSnapshot::from(total, learner_.pixels(), settings_, unsplit_cost_);
+    ++updates_;
+}
+
+std::vector<std::pair<std::string, double>> ContinuationLearning::named() const {
+    return {{"ears_updates", double(updates_)},
+            {"ears_learned_points", double(snapshot_.learned_points())},
+            {"ears_learned_surface_points", double(snapshot_.learned_surface_points())},
+            {"ears_image_relative_variance", snapshot_.image_variance()},
+            {"ears_image_cost_per_sample", snapshot_.image_cost()},
+            {"ears_branch_budget", double(snapshot_.branch_budget())},
+            {"ears_unsplit_cost_per_sample", unsplit_cost_},
+            {"ears_recorded_camera_samples", double(learner_.total().camera_samples())}};
 }
 
 }  // namespace volguide

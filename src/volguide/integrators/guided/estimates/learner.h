@@ -1,0 +1,38 @@
+#pragma once
+// guided_volpath's learner between passes: each thread's CellRecorder (cell_recorder.h) and cell
+// statistics of the current pass, the sums of the passes so far and the film's pixel moments. The
+// learned selection's pilot (selection_pilot.h) runs one pass of it before the render; rrs=ears
+// (continuation_snapshot.h) runs it over the render's own passes. end_pass() (between passes: no walk
+// runs) adds the threads' sums to the total: integer sums, so the total is the same for any thread
+// count.
+#include <tbb/enumerable_thread_specific.h>
+
+#include "volguide/integrators/guided/estimates/cell_recorder.h"
+#include "volguide/integrators/guided/estimates/cell_statistics.h"
+
+namespace volguide {
+
+class Learner {
+  public:
+    // `cells`: the field's leaves + 1; the film's width and height.
+    Learner(size_t cells, int width, int height);
+    // The calling thread's recorder (one camera sample at a time: begin ... end).
+    CellRecorder& recorder() const { return threads_.local().recorder; }
+    long pixel(Point2f film_uv) const { return pixels_.pixel(film_uv); }
+    // Adds the threads' statistics of the pass to the total.
+    void end_pass();
+    const CellStatistics& total() const { return total_; }
+    const PixelMoments& pixels() const { return pixels_; }
+
+  private:
+    struct Thread {
+        Thread(size_t cells, PixelMoments* pixels) : stats(cells), recorder(stats, *pixels) {}
+        CellStatistics stats;
+        CellRecorder recorder;
+    };
+    PixelMoments pixels_;
+    mutable tbb::enumerable_thread_specific<Thread> threads_;
+    CellStatistics total_;
+};
+
+}  // namespace volguide
