@@ -1,4 +1,4 @@
-# Sourced by bench/field_estimates.sh and bench/field_refinement.sh (WORK, VG and SIZE set by the
+# Sourced by bench/field_estimates.sh (WORK, VG and SIZE set by the
 # caller): integrator files and the volume-only volpath reference the field estimates are scored on.
 
 integrator() {  # name body: writes $WORK/name.xml holding the integrator element `body`

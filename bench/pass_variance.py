@@ -8,8 +8,8 @@ have the mean per-sample relative variance
 
     v = ((relMSE(n2) - R) n2^2 - (relMSE(n1) - R) n1^2) / (n2 - n1).
 
-Online learning (guided_volpath's online_spp) changes the field at spp 1, 2, 4, ..., online_spp, and
-the passes are merged weighted by their sample count. This prints v for every stretch, the relMSE
+A field refined during the render (guided_volpath's refine_passes) changes between passes, and the
+passes are merged weighted by their sample count. This prints v for every stretch, the relMSE
 the count weighting gives (the render's own, minus R) and what inverse-variance weighting of the
 same stretches would give, 1 / sum(n_i / v_i): how much the count weighting loses. The figures are
 as noisy as the relMSE of each record (one run, one seed); a stretch of few samples is noisy.

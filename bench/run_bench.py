@@ -44,8 +44,6 @@ METHODS = {
     "guided_volpath rrs=grrs": {"guided": {"rrs": "grrs"}},
     "guided_volpath distance=incremental direction=product": {
         "guided": {"distance": "incremental", "direction": "product"}},
-    "guided_volpath distance=tabulated direction=product": {
-        "guided": {"distance": "tabulated", "direction": "product"}},
     "guided_volpath distance=incremental direction=product rrs=grr": {
         "guided": {"distance": "incremental", "direction": "product", "rrs": "grr"}},
     "guided_volpath distance=incremental direction=product rrs=grrs": {
@@ -53,8 +51,6 @@ METHODS = {
     # The full system with issue 37's one decision per segment (theory §7.10) in place of the bins.
     "guided_volpath distance=vsp direction=product rrs=grrs": {
         "guided": {"distance": "vsp", "direction": "product", "rrs": "grrs"}},
-    "guided_volpath distance=vsp_product direction=product rrs=grrs": {
-        "guided": {"distance": "vsp_product", "direction": "product", "rrs": "grrs"}},
     # The full system without the guided distance decision (issue 22: is it worth its cost on fogbox?).
     "guided_volpath direction=product rrs=grrs": {"guided": {"direction": "product", "rrs": "grrs"}},
     # The peer (issue 19): Intel Open PGL's directional guiding as Cycles drives it, trained online
@@ -74,13 +70,6 @@ EXTRA_METHODS = {
     "guided_volpath rrs=ears": {"guided": {"rrs": "ears"}},
     "guided_volpath distance=incremental direction=product rrs=ears": {
         "guided": {"distance": "incremental", "direction": "product", "rrs": "ears"}},
-    # Issue 37: the per-cell choice among volpath, free flight, vsp, vsp_product and the bins by the
-    # cost model in counted ns (docs/theory.md §7.12), vsp where a cell has too few pilot decisions.
-    "guided_volpath distance=vsp direction=product rrs=grrs selection_distance_method=true": {
-        "guided": {"distance": "vsp", "direction": "product", "rrs": "grrs", "selection_distance_method": True}},
-    # Heterogeneous media: the bins (docs/theory.md §7.7 H1) instead of guided tracking (H2, the default).
-    "guided_volpath distance=incremental hetero_distance=bins": {
-        "guided": {"distance": "incremental", "hetero_distance": "bins"}},
     # Ablations of the direction decision at surfaces and of the distance mixture's defensive share.
     "guided_volpath distance=incremental direction=product surface_guiding=false": {
         "guided": {"distance": "incremental", "direction": "product", "surface_guiding": False}},
@@ -105,17 +94,6 @@ EXTRA_METHODS = {
     # Issue 21: the full system without learned selection (its default since 2026-11-25: a 2-spp pilot).
     "guided_volpath distance=incremental direction=product rrs=grrs selection_spp=0": {
         "guided": {"distance": "incremental", "direction": "product", "rrs": "grrs", "selection_spp": 0}},
-    # Issue 22: the full system trained from camera paths instead of photons, and with online
-    # learning from its own first 64 spp.
-    "guided_volpath distance=incremental direction=product rrs=grrs training=progressive": {
-        "guided": {"distance": "incremental", "direction": "product", "rrs": "grrs", "training": "progressive"}},
-    "guided_volpath distance=incremental direction=product rrs=grrs training=progressive online_spp=64": {
-        "guided": {"distance": "incremental", "direction": "product", "rrs": "grrs", "training": "progressive",
-                   "online_spp": 64}},
-    # ... and at longer budgets, learning for longer (issue 22's 600 s comparison).
-    "guided_volpath distance=incremental direction=product rrs=grrs training=progressive online_spp=512": {
-        "guided": {"distance": "incremental", "direction": "product", "rrs": "grrs", "training": "progressive",
-                   "online_spp": 512}},
     # Issue 20: the full system with half the photon deposits (training ~half as long, ~half the
     # leaves: coarser and shorter distance walks); 2 M is guided_volpath's default since 2026-11-25
     # (so that method is the full system itself, named explicitly for comparisons with earlier runs).
@@ -125,12 +103,9 @@ EXTRA_METHODS = {
         "guided": {"distance": "incremental", "direction": "product", "rrs": "grrs", "max_deposits": 1000000}},
     # Issue 22's 600 s comparison: does a longer budget afford a finer photon field (4x the deposits)?
     # Issue 39: the field refined during the render (further photon passes at doublings of spp while
-    # they pay, docs/theory.md §22), and the variance-aware direction target of camera-path training (§23).
+    # they pay, docs/theory.md §22).
     "guided_volpath distance=incremental direction=product rrs=grrs refine_passes=8": {
         "guided": {"distance": "incremental", "direction": "product", "rrs": "grrs", "refine_passes": 8}},
-    "guided_volpath distance=incremental direction=product rrs=grrs training=progressive online_spp=64 guide_target=variance": {
-        "guided": {"distance": "incremental", "direction": "product", "rrs": "grrs", "training": "progressive",
-                   "online_spp": 64, "guide_target": "variance"}},
     "guided_volpath distance=incremental direction=product rrs=grrs max_deposits=8000000": {
         "guided": {"distance": "incremental", "direction": "product", "rrs": "grrs", "max_deposits": 8000000}},
 }

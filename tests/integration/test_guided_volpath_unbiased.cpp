@@ -632,8 +632,7 @@ TEST(GuidedVolPathUnbiased, VspEquiangularIsUnbiased) {
         if (het) {
             EXPECT_EQ(s.at("distance_vsp_equiangular_fraction"), 0.0);
         } else {
-            EXPECT_GT(s.at("distance_vsp_equiangular_fraction"), 0.3);  // a share of 0.5 of the scatters
-            EXPECT_LT(s.at("distance_vsp_equiangular_fraction"), 0.7);
+            EXPECT_GT(s.at("distance_vsp_equiangular_fraction"), 0.9);  // scatters drawn from the mixture
         }
     }
 }

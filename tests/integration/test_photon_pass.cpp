@@ -417,14 +417,15 @@ TEST(GuidedVolPath, BadRouletteSplittingParametersAreErrorsNamingTheLine) {
              {R"(<integer name="selection_spp" value="0"/><integer name="selection_min_samples" value="8"/>)",
               "selection_min_samples only applies"},
              {R"(<integer name="ears_min_samples" value="8"/>)", "ears_min_samples only applies to rrs=ears"},
-             {R"(<string name="distance" value="vsp_product"/>)", "invalid distance 'vsp_product' (one of: standard, incremental, vsp)"},
-             {R"(<string name="distance" value="tabulated"/>)", "invalid distance 'tabulated'"},
+             {R"(<string name="distance" value="vsp_product"/>)", "distance=\"vsp_product\" was retired"},
+             {R"(<string name="distance" value="tabulated"/>)", "distance=\"tabulated\" was retired"},
+             {R"(<string name="distance" value="bins"/>)", "invalid distance 'bins' (one of: standard, incremental, vsp)"},
              // refine_passes: a loaded field keeps no photon statistics; estimate renders nothing to refine during.
              {R"(<integer name="refine_passes" value="-1"/>)", "refine_passes must be in [0, 32]"},
              {R"(<integer name="refine_passes" value="2"/><string name="estimate" value="incident"/>)",
               "refine_passes does not apply to estimate"},
              // Retired parameters (issue 48): an error naming the parameter and what replaced it.
-             {R"(<string name="training" value="progressive"/>)", "'training' was retired"},
+             {R"(<string name="training" value="progressive"/>)", "training=\"progressive\" was retired"},
              {R"(<integer name="online_spp" value="8"/>)", "'online_spp' was retired"},
              {R"(<boolean name="selection_distance_method" value="true"/>)", "'selection_distance_method' was retired"},
              {R"(<float name="refine_gain" value="0.1"/>)", "'refine_gain' was retired"},
@@ -436,8 +437,8 @@ TEST(GuidedVolPath, BadRouletteSplittingParametersAreErrorsNamingTheLine) {
         EXPECT_NE(r.err.find("s.xml:2"), std::string::npos) << r.err;
         EXPECT_FALSE(std::filesystem::exists(dir.file("o.exr")));
     }
-    // The full system (the defaults) renders.
-    const CliResult ok = run(R"(<integer name="photons" value="20000"/>)");
+    // The full system (the defaults) renders, with the contract's training="photons" too.
+    const CliResult ok = run(R"(<integer name="photons" value="20000"/><string name="training" value="photons"/>)");
     EXPECT_EQ(ok.exit_code, 0) << ok.err;
 }
 

@@ -18,6 +18,9 @@ struct Choice {
     E value;
 };
 
+// How the field is trained: the photon pre-pass (docs/interface.md keeps the parameter's name; its
+// other value was retired).
+constexpr Choice<bool> kTraining[] = {{"photons", true}};
 // The user's names of the distance decisions (one family, walk/distance_sampler.h).
 constexpr Choice<DistanceGuiding> kDistance[] = {{"standard", DistanceGuiding::Standard},
                                                  {"incremental", DistanceGuiding::Incremental},
@@ -45,7 +48,6 @@ constexpr const char* kLostTraining =
 constexpr const char* kFixedRefinement = "the refinement schedule's settings are fixed; refine_passes remains";
 constexpr const char* kLostSelection = "the per-cell method choice and the continuation gate lost; selection_spp remains";
 constexpr Retired kRetired[] = {
-    {"training", kLostTraining},
     {"training_iterations", kLostTraining},
     {"online_spp", kLostTraining},
     {"guide_target", "the variance-aware target lost to the radiance target"},
@@ -75,9 +77,24 @@ constexpr Retired kRetired[] = {
     {"ears_record_fraction", "rrs=ears records every camera sample"},
 };
 
+// Values of a parameter that remains (docs/interface.md names them).
+struct RetiredValue {
+    const char* name;
+    const char* value;
+    const char* why;
+};
+constexpr RetiredValue kRetiredValues[] = {
+    {"training", "progressive", kLostTraining},
+    {"distance", "tabulated", "the full-CDF sampler is a test reference; \"incremental\" samples the same distribution"},
+    {"distance", "vsp_product", "it lost to \"vsp\" and \"incremental\" at equal time"},
+};
+
 void reject_retired(const Properties& props) {
     for (const Retired& r : kRetired)
         if (props.has(r.name)) props.fail_at(r.name, "guided_volpath: '{}' was retired: {}", r.name, r.why);
+    for (const RetiredValue& r : kRetiredValues)
+        if (props.has(r.name) && props.get_string(r.name) == r.value)
+            props.fail_at(r.name, "guided_volpath: {}=\"{}\" was retired: {}", r.name, r.value, r.why);
     for (const Properties::Entry& e : props.entries())
         if (e.name.rfind("selection_cost_ns_", 0) == 0)
             props.fail_at(e.name, "guided_volpath: '{}' was retired: {}", e.name, kLostSelection);
@@ -122,8 +139,9 @@ float finite_at_least(const Properties& props, const char* name, float def, floa
     return v;
 }
 
-// photons, max_deposits, photon_focus, training_fraction, and the field's leaf_samples and lobes.
+// training, photons, max_deposits, photon_focus, training_fraction, and the field's leaf_samples and lobes.
 void read_training(const Properties& props, GuidedVolPathSettings& s) {
+    read_choice<bool>(props, "training", true, kTraining);
     s.photons = props.get_int("photons", s.photons);
     if (s.photons < 1) props.fail_at("photons", "guided_volpath: photons must be >= 1, got {}", s.photons);
     s.max_deposits = props.get_int("max_deposits", s.max_deposits);

@@ -9,7 +9,7 @@
 #include "volguide/guiding/surface_guide.h"
 #include "volguide/vmm/vmm.h"
 #include "volguide/integrators/guided/estimates/cache_estimate.h"
-#include "volguide/integrators/guided/walk/guided_surface_sampler.h"
+#include "volguide/integrators/guided/estimates/surface_leaf.h"
 #include "volguide/integrators/camera_sample.h"
 #include "volguide/integrators/integrator.h"
 #include "volguide/integrators/volume_nee.h"

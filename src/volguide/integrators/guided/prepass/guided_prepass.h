@@ -2,7 +2,7 @@
 // What guided_volpath's pre-pass leaves for rendering, as bytes (Integrator::prepass_state): the
 // guiding field (guiding/field_io's format, with its own checksum) and, with guided RR/splitting,
 // the pixel estimate's RGB image before its floor (PixelEstimate::from_image rebuilds the rest
-// exactly), and the learned selection (guiding/selection.h) when there is one. Layout
+// exactly), and the learned selection (estimates/learned_selection.h) when there is one. Layout
 // (little-endian): u64 field byte count, the field bytes, u32 width, u32 height (0 x 0: no pixel
 // estimate), width x height x 3 f32, then optionally u64 selection byte count and its bytes
 // (LearnedSelection::serialize; absent in pre-passes without a selection). The container that checks which scene and

@@ -22,7 +22,6 @@ class FreeFlightDistance final : public DistanceSampler {
     using DistanceSampler::DistanceSampler;
     FreeFlightSample sample(const DistanceQuery& q, DistanceContext& ctx, Sampler& sampler,
                             WalkGuideStats&) const override {
-        ctx.record.leaf = ctx.origin;
         FreeFlightSample fs = q.medium.sample_free_flight(q.ray, q.tmax, q.throughput, sampler);
         if (ctx.origin >= 0 && fs.scattered && guide_.field().tree().holds_point(ctx.origin, fs.mi.p))
             ctx.scattering = ctx.origin;
@@ -38,7 +37,6 @@ class IncrementalDistance final : public DistanceSampler {
     using DistanceSampler::DistanceSampler;
     FreeFlightSample sample(const DistanceQuery& q, DistanceContext& ctx, Sampler& sampler,
                             WalkGuideStats& counts) const override {
-        ctx.record.leaf = ctx.origin;
         const GuidingField& field = guide_.field();
         float b0, b1;
         const bool crosses = !field.empty() && field.tree().bounds().ray_intersect(q.ray, b0, b1) && b1 > 0.f;
@@ -133,7 +131,6 @@ class VspDistance final : public DistanceSampler {
     using DistanceSampler::DistanceSampler;
     FreeFlightSample sample(const DistanceQuery& q, DistanceContext& ctx, Sampler& sampler,
                             WalkGuideStats& counts) const override {
-        ctx.record.leaf = ctx.origin;
         ++counts.distance_queries;
         ++counts.vsp_queries;
         counts.vsp_camera += camera(q);

@@ -45,7 +45,7 @@ struct DistanceContext {
     int origin = -1;        // in: the origin's leaf (-1: none known, or outside the field)
     float unguided = 0.5f;  // in: c_T, the unguided share of the decision's mixture
     int scattering = -1;    // out: the scattering vertex's leaf, where the decision knows it
-    DecisionRecord record;  // out: the mixture's parts at the outcome and the field lookups made
+    DecisionRecord record;  // in: its leaf (the origin's, the decision's cell); out: the mixture's parts
     std::vector<ProxySegment> proxies;  // scratch of the bins, kept between decisions for its storage
 };
 

@@ -59,6 +59,7 @@ FreeFlightSample GuidedVertex::sample_distance(const DistanceQuery& query, Sampl
             ctx.unguided = 1.f - share;
         }
     }
+    ctx.record.leaf = ctx.origin;  // the decision's cell, mixture or not
     const FreeFlightSample fs = method->sample(query, ctx, sampler, counts_);
     scattering.leaf = ctx.scattering;
     if (record) *record = ctx.record;

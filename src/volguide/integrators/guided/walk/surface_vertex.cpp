@@ -1,6 +1,7 @@
 #include "volguide/integrators/guided/walk/surface_vertex.h"
 
 #include "volguide/guiding/surface_guide.h"
+#include "volguide/integrators/guided/estimates/surface_leaf.h"
 
 namespace volguide {
 
