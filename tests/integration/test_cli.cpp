@@ -270,7 +270,9 @@ TEST_F(Cli, ReferenceGivesRelMseAndAConvergenceCurve) {
     const int expected[] = {1, 2, 4, 8, 10};
     for (size_t k = 0; k < curve.size(); ++k) {
         EXPECT_EQ(curve[k]["spp"].get<int>(), expected[k]);
-        if (k > 0) EXPECT_GE(curve[k]["seconds"].get<double>(), curve[k - 1]["seconds"].get<double>());
+        if (k > 0) {
+            EXPECT_GE(curve[k]["seconds"].get<double>(), curve[k - 1]["seconds"].get<double>());
+        }
     }
     EXPECT_LT(curve[4]["relmse_1e-2"].get<double>(), curve[0]["relmse_1e-2"].get<double>());
     EXPECT_DOUBLE_EQ(curve[4]["relmse_1e-2"].get<double>(), dj["relmse_1e-2"].get<double>());

@@ -93,7 +93,9 @@ void expect_ears_decided(const std::map<std::string, double>& s, bool roulette =
     EXPECT_GT(s.at("ears_learned_points"), 0.0);
     EXPECT_GT(s.at("ears_image_relative_variance"), 0.0);
     EXPECT_GT(s.at("rrs_decisions"), 0.0);
-    if (roulette) EXPECT_GT(s.at("rrs_kills"), 0.0);
+    if (roulette) {
+        EXPECT_GT(s.at("rrs_kills"), 0.0);
+    }
     EXPECT_GT(s.at("rrs_unlearned"), 0.0);  // the first passes, before any statistics
     EXPECT_LE(s.at("rrs_branches_max"), 64.0);
     EXPECT_EQ(s.at("rrs_cap_hits"), 0.0);

@@ -92,7 +92,9 @@ void expect_replays_match_render(const std::string& integrator_xml, bool positio
         nonzero += L.max_value() > 0.f;
     }
     EXPECT_GT(nonzero, 3);  // the comparison sees light, not only black pixels
-    if (position_matters) EXPECT_GT(moved_differs, 0);
+    if (position_matters) {
+        EXPECT_GT(moved_differs, 0);
+    }
 }
 
 // tools/replay_sample's printed value of sample 0 of pixel (x, y).

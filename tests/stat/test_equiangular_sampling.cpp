@@ -53,7 +53,9 @@ TEST(EquiangularSampling, NormalisedAndOutsideIsZero) {
         ASSERT_TRUE(eq.valid());
         EXPECT_NEAR(integrate_pdf(eq, cfg.tmax, 1e7), 1.0, 2e-3);
         EXPECT_EQ(eq.pdf(-0.1f), 0.f);
-        if (!std::isinf(cfg.tmax)) EXPECT_EQ(eq.pdf(cfg.tmax * 1.01f), 0.f);
+        if (!std::isinf(cfg.tmax)) {
+            EXPECT_EQ(eq.pdf(cfg.tmax * 1.01f), 0.f);
+        }
     }
 }
 
