@@ -22,7 +22,8 @@ namespace volguide {
 // `weight` is its fluence contribution: Phi_p / sigma_t for a photon collision (collision
 // estimator, docs/theory.md §2.5, §5.2), or L^ / p(direction) for a camera-path vertex (§10.2).
 // `count` is the sample's share of the PerSampleMean divisor: 1 per camera-path vertex; 0 for a
-// vertex's NEE sample, a second MIS strategy's sample of the same vertex (training_recorder.h).
+// vertex's NEE sample, a second MIS strategy's sample of the same vertex (a library user's camera-path
+// training; volguide's renderer trains from photons).
 struct RadianceSample {
     Point3f position;
     Vec3f direction;

@@ -1,9 +1,8 @@
 #pragma once
 // What volpath's walk (volpath_walk.h) reports of one camera sample, apart from its decisions
-// (walk_policy.h): the path's events in path order, for whoever learns from them. Three recorders
-// plug in here: the guiding field's training (guided/training/training_recorder.h), Open PGL's path
-// segments (openpgl/openpgl_path_recorder.h) and the learned selection's pilot
-// (guided/estimates/selection_pilot.h). A recorder decides nothing: the walk draws the same random
+// (walk_policy.h): the path's events in path order, for whoever learns from them. Two recorders
+// plug in here: guided_volpath's learner (guided/estimates/cell_recorder.h: the learned selection's
+// pilot and rrs=ears) and Open PGL's path segments (openpgl/openpgl_path_recorder.h). A recorder decides nothing: the walk draws the same random
 // numbers with or without one. The defaults record nothing; a recorder overrides what it keeps.
 // One recorder serves one walk at a time.
 #include "volguide/core/color.h"
