@@ -1,0 +1,247 @@
+// The plugin rules of the Mitsuba 0.x upgrade (legacy_rules.h) for shapes, sensors, emitters, samplers,
+// integrators, films and textures; BSDFs are in legacy_rules_bsdf.cpp, media in legacy_rules_media.cpp.
+#include <cctype>
+#include <cstring>
+#include <fstream>
+#include <string>
+
+#include "volguide/scene/legacy_dom.h"
+#include "volguide/scene/legacy_rules.h"
+#include "volguide/scene/xml_values.h"
+
+namespace volguide::legacy {
+
+namespace {
+
+bool is_element(pugi::xml_node n) {
+    return n.type() == pugi::node_element;
+}
+
+// What 0.6's Shape::configure looks at when a shape has no BSDF.
+struct ShapeChildren {
+    bool bsdf = false, emitter = false, medium_transition = false;
+};
+
+ShapeChildren shape_children(const Dom& dom, pugi::xml_node shape) {
+    ShapeChildren s;
+    for (pugi::xml_node c : shape.children()) {
+        if (!is_element(c)) continue;
+        const std::string tag = dom.object_tag(c), name = dom.attr(c, "name");
+        // An unnamed reference out of this file is taken for the shape's BSDF, what such references
+        // nearly always are (0.6 would know; the upgrade of one file cannot).
+        const bool unknown_ref = tag.empty() && std::strcmp(c.name(), "ref") == 0 && name.empty();
+        s.bsdf = s.bsdf || tag == "bsdf" || unknown_ref;
+        s.emitter = s.emitter || tag == "emitter";
+        s.medium_transition = s.medium_transition || name == "interior" || name == "exterior";
+    }
+    return s;
+}
+
+// The `medium` an emitter or sensor sits in: 0.6 takes a nested or referenced medium of any name.
+void name_medium_child(Dom& dom, pugi::xml_node object) {
+    for (pugi::xml_node c : object.children())
+        if (is_element(c) && dom.object_tag(c) == "medium") dom.set_attr(c, "name", "medium");
+}
+
+bool is_hdr_file(const std::string& name) {
+    const std::string l = lowercase(name);
+    for (const char* ext : {".exr", ".hdr", ".rgbe", ".pfm"})
+        if (l.size() >= std::strlen(ext) && l.compare(l.size() - std::strlen(ext), std::string::npos, ext) == 0)
+            return true;
+    return false;
+}
+
+// 0.6's `gamma` of an image (bitmap, envmap): -1 sRGB, 1 linear, absent: from the file (sRGB for 8-bit
+// images, linear for floating-point ones). Returns whether the image is to be read raw (no sRGB curve);
+// the caller removes the parameter.
+bool raw_from_gamma(Dom& dom, pugi::xml_node object, pugi::xml_node gamma) {
+    const bool hdr = is_hdr_file(dom.attr(dom.param(object, "filename"), "value"));
+    const double g = dom.number(gamma);
+    if (g == 1) return !hdr;
+    if (g == -1 && !hdr) return false;
+    if (g == -1)
+        dom.fail(gamma, "gamma -1 on a floating-point image (its values decoded with the sRGB curve) has no "
+                        "equivalent: remove it");
+    dom.fail(gamma, "gamma {} has no equivalent: Mitsuba 3 reads 8-bit images through the sRGB curve (gamma -1) or "
+                    "as they are ('raw', gamma 1); convert the image",
+             g);
+}
+
+// The string value of an optional 0.6 parameter, removed; `def` when absent.
+std::string take_string(Dom& dom, pugi::xml_node object, const char* name, const std::string& def) {
+    pugi::xml_node p = dom.param(object, name);
+    if (!p) return def;
+    std::string v = lowercase(dom.string(p));
+    dom.remove(p);
+    return v;
+}
+
+}  // namespace
+
+// ---- shapes -------------------------------------------------------------------------------------------
+
+// A shape without a BSDF: 0.6 makes an emitter's black (an absorbing light), a medium boundary's
+// index-matched (null), and anything else diffuse 0.5, Mitsuba 3's default.
+void shape_defaults(Dom& dom, pugi::xml_node shape) {
+    const ShapeChildren s = shape_children(dom, shape);
+    if (s.bsdf || (!s.emitter && !s.medium_transition)) return;
+    pugi::xml_node bsdf = dom.add(shape, "bsdf", shape);
+    if (s.emitter) {
+        bsdf.append_attribute("type").set_value("diffuse");
+        dom.add_value(bsdf, "rgb", "reflectance", "0", shape);
+    } else {
+        bsdf.append_attribute("type").set_value("null");
+    }
+}
+
+// An OBJ gets its materials from its .mtl file in 0.6 unless loadMaterials is false or the shape has a
+// BSDF: volguide reads no .mtl, so that case is an error; so is a BSDF named after one material.
+void obj_materials(Dom& dom, pugi::xml_node shape) {
+    for (pugi::xml_node c : shape.children())
+        if (is_element(c) && dom.object_tag(c) == "bsdf" && !dom.stripped_name(c).empty())
+            dom.fail(c, "a BSDF named after an OBJ material ('{}') has no equivalent: volguide gives an OBJ one BSDF; "
+                        "split the file by material",
+                     dom.stripped_name(c));
+    pugi::xml_node load = dom.param(shape, "loadMaterials");
+    const bool load_materials = !load || dom.boolean(load);
+    if (load) dom.remove(load);
+    if (load_materials && !shape_children(dom, shape).bsdf) {
+        const std::string obj = dom.attr(dom.param(shape, "filename"), "value");
+        if (auto path = dom.resolve(obj)) {
+            std::ifstream in(*path);
+            std::string line;
+            bool mtllib = false, usemtl = false;
+            while (std::getline(in, line)) {
+                const std::string_view t = trim(line);
+                mtllib = mtllib || t.starts_with("mtllib");
+                usemtl = usemtl || t.starts_with("usemtl");
+            }
+            if (mtllib && usemtl)
+                dom.fail(shape, "Mitsuba 0.6 gives this OBJ the materials of its .mtl file (loadMaterials): volguide "
+                                "reads no .mtl; give the shape a BSDF, or loadMaterials=false for 0.6's default");
+        }
+    }
+    shape_defaults(dom, shape);
+}
+
+// ---- sensors and emitters ------------------------------------------------------------------------------
+
+void sensor_rules(Dom& dom, pugi::xml_node sensor) {
+    if (pugi::xml_node axis = dom.param(sensor, "fovAxis")) {
+        if (!dom.param(sensor, "fov")) {
+            dom.warn(axis, "'fovAxis' is ignored without 'fov' (as Mitsuba 0.6 ignores it)");
+            dom.remove(axis);
+        } else {
+            const std::string a = lowercase(dom.string(axis));
+            if (a != "x" && a != "y" && a != "diagonal" && a != "smaller" && a != "larger")
+                dom.fail(axis, "unknown fovAxis '{}' (x, y, diagonal, smaller or larger)", a);
+            dom.set_attr(axis, "name", "fov_axis");
+            dom.set_attr(axis, "value", a);
+        }
+    }
+    name_medium_child(dom, sensor);
+}
+
+void emitter_medium(Dom& dom, pugi::xml_node emitter) {
+    name_medium_child(dom, emitter);
+}
+
+void envmap_rules(Dom& dom, pugi::xml_node emitter) {
+    if (pugi::xml_node gamma = dom.param(emitter, "gamma")) {
+        if (raw_from_gamma(dom, emitter, gamma))
+            dom.fail(gamma, "gamma 1 on an 8-bit environment map has no equivalent (Mitsuba 3 decodes it with the "
+                            "sRGB curve): convert the image to OpenEXR");
+        dom.remove(gamma);
+    }
+    name_medium_child(dom, emitter);
+}
+
+// ---- samplers, integrators, films ---------------------------------------------------------------------
+
+void low_discrepancy_sampler(Dom& dom, pugi::xml_node sampler) {
+    pugi::xml_node count = dom.param(sampler, "sample_count");
+    dom.warn(sampler, "Mitsuba 0.6's sampler '{}' is read as 'independent' ({} samples per pixel): same "
+                      "expectation, different noise",
+             dom.attr(sampler, "type"), count ? dom.attr(count, "value") : std::string("4"));
+}
+
+void volpath_simple(Dom& dom, pugi::xml_node integrator) {
+    dom.warn(integrator, "Mitsuba 0.6's 'volpath_simple' is read as 'volpath': same expectation, different noise "
+                         "(volpath weights its light samples by MIS)");
+}
+
+// The ldrfilm's tonemap is volguide's (render/sensors/ldrfilm.h); Mitsuba 3 has no ldrfilm, so the
+// upgraded file gets an hdrfilm and loses a tonemap that differs from the plain sRGB curve.
+void ldrfilm(Dom& dom, pugi::xml_node film) {
+    if (!dom.for_mitsuba3()) return;
+    std::string kept;
+    for (const char* name : {"tonemap_method", "gamma", "exposure", "key", "burn"}) {
+        pugi::xml_node p = dom.param(film, name);
+        if (!p) continue;
+        kept += fmt::format("{}{}={}", kept.empty() ? "" : ", ", name, dom.attr(p, "value"));
+        dom.remove(p);
+    }
+    if (!kept.empty())
+        dom.warn(film, "Mitsuba 3 has no ldrfilm: the upgraded file has an hdrfilm and loses the PNG tonemap ({}); "
+                       "`volguide render` of the 0.6 file applies it",
+                 kept);
+    dom.set_attr(film, "type", "hdrfilm");
+}
+
+// ---- textures -------------------------------------------------------------------------------------------
+
+// 0.6 looks a texture up at uv * (uscale, vscale) + (uoffset, voffset): a scale, then a translation.
+// (Mitsuba 3's upgrade writes them the other way round, which also scales the offset.)
+void uv_transform(Dom& dom, pugi::xml_node texture) {
+    double v[5] = {0, 0, 1, 1, 1};
+    const char* names[5] = {"uoffset", "voffset", "uscale", "vscale", "uvscale"};
+    pugi::xml_node first;
+    for (int i = 0; i < 5; ++i) {
+        pugi::xml_node p = dom.param(texture, names[i]);
+        if (!p) continue;
+        v[i] = dom.number(p);
+        dom.note_fixed_parameter(p);
+        if (!first) first = p;
+    }
+    if (!first) return;
+    const double su = dom.param(texture, "uscale") ? v[2] : v[4], sv = dom.param(texture, "vscale") ? v[3] : v[4];
+    pugi::xml_node t = dom.add(texture, "transform", first, first);
+    t.append_attribute("name").set_value("to_uv");
+    pugi::xml_node scale = dom.add(t, "scale", first), translate = dom.add(t, "translate", first);
+    scale.append_attribute("x").set_value(float_text(su).c_str());
+    scale.append_attribute("y").set_value(float_text(sv).c_str());
+    translate.append_attribute("x").set_value(float_text(v[0]).c_str());
+    translate.append_attribute("y").set_value(float_text(v[1]).c_str());
+    for (const char* n : names)
+        if (pugi::xml_node p = dom.param(texture, n)) dom.remove(p);
+}
+
+void bitmap_rules(Dom& dom, pugi::xml_node texture) {
+    const bool has_filter = dom.param(texture, "filterType");
+    const std::string filter = take_string(dom, texture, "filterType", "ewa");
+    if (filter == "ewa" || filter == "trilinear")
+        dom.warn(texture, "Mitsuba 0.6 filters this bitmap with {} over each ray's footprint{}; volguide reads it "
+                          "bilinearly (Mitsuba 3's filter): the same texture, sharper where it is minified",
+                 filter == "ewa" ? "EWA" : "trilinear MIP mapping", has_filter ? "" : " (its default)");
+    else if (filter != "bilinear" && filter != "nearest")
+        dom.fail(texture, "unknown filterType '{}' (ewa, trilinear, bilinear or nearest)", filter);
+    if (filter == "nearest") dom.add_value(texture, "string", "filter_type", "nearest", texture);
+
+    const std::string both = take_string(dom, texture, "wrapMode", "repeat");
+    const std::string u = take_string(dom, texture, "wrapModeU", both), v = take_string(dom, texture, "wrapModeV", both);
+    if (u != v) dom.fail(texture, "different wrap modes along u and v ('{}', '{}') have no equivalent", u, v);
+    if (u == "zero" || u == "one")
+        dom.fail(texture, "wrap mode '{}' (a constant outside [0, 1]) has no equivalent: use repeat, mirror or clamp", u);
+    if (u != "repeat" && u != "mirror" && u != "clamp") dom.fail(texture, "unknown wrap mode '{}'", u);
+    if (u != "repeat") dom.add_value(texture, "string", "wrap_mode", u, texture);
+
+    if (pugi::xml_node gamma = dom.param(texture, "gamma")) {
+        if (raw_from_gamma(dom, texture, gamma)) dom.add_value(texture, "boolean", "raw", "true", gamma);
+        dom.remove(gamma);
+    }
+    // 0.6 keeps texels in half precision (its MIP maps store half floats).
+    dom.add_value(texture, "string", "format", "fp16", texture);
+    uv_transform(dom, texture);
+}
+
+}  // namespace volguide::legacy
