@@ -28,9 +28,14 @@ pugi::xml_node indentation_before(pugi::xml_node node) {
 }  // namespace
 
 Dom::Dom(XmlFile& file, const LegacyContext& ctx) : file_(file), ctx_(ctx) {
-    collect_ids(file.edit().document_element(), ids_);
-    if (file.edit().document_element().attribute("id"))
-        ids_.emplace(file.edit().document_element().attribute("id").value(), file.edit().document_element());
+    refresh_ids();
+}
+
+void Dom::refresh_ids() {
+    ids_.clear();
+    pugi::xml_node root = file_.edit().document_element();
+    collect_ids(root, ids_);
+    if (root.attribute("id")) ids_.emplace(root.attribute("id").value(), root);
 }
 
 std::string Dom::attr(pugi::xml_node node, const char* name) const {

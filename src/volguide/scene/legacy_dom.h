@@ -73,6 +73,8 @@ class Dom {
     // A value with `$name` that a computed value replaces: the written file keeps the value.
     void note_fixed_parameter(pugi::xml_node value) const;
 
+    // Reads the file's ids again (after they were renamed).
+    void refresh_ids();
     // The element with id `id` in this file (null when it is declared elsewhere).
     pugi::xml_node by_id(const std::string& id) const;
     // The tag of the object a child stands for: its own for a nested object, the referenced one's

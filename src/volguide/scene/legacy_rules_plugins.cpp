@@ -3,7 +3,9 @@
 #include <cctype>
 #include <cstring>
 #include <fstream>
+#include <set>
 #include <string>
+#include <vector>
 
 #include "volguide/scene/legacy_dom.h"
 #include "volguide/scene/legacy_rules.h"
@@ -15,6 +17,13 @@ namespace {
 
 bool is_element(pugi::xml_node n) {
     return n.type() == pugi::node_element;
+}
+
+std::vector<pugi::xml_node> elements_of(pugi::xml_node node) {
+    std::vector<pugi::xml_node> out;
+    for (pugi::xml_node c : node.children())
+        if (is_element(c)) out.push_back(c);
+    return out;
 }
 
 // What 0.6's Shape::configure looks at when a shape has no BSDF.
@@ -94,33 +103,50 @@ void shape_defaults(Dom& dom, pugi::xml_node shape) {
     }
 }
 
-// An OBJ gets its materials from its .mtl file in 0.6 unless loadMaterials is false or the shape has a
-// BSDF: volguide reads no .mtl, so that case is an error; so is a BSDF named after one material.
+// The materials an OBJ file names: its `mtllib` and `usemtl` lines.
+struct ObjMaterials {
+    bool library = false;
+    std::set<std::string> used;
+};
+
+ObjMaterials obj_materials_of(const Dom& dom, pugi::xml_node shape) {
+    ObjMaterials m;
+    auto path = dom.resolve(dom.attr(dom.param(shape, "filename"), "value"));
+    if (!path) return m;  // the shape reports the missing file at its line
+    std::ifstream in(*path);
+    std::string line;
+    while (std::getline(in, line)) {
+        const auto tokens = tokenize_list(trim(line));
+        if (tokens.size() >= 1 && tokens[0] == "mtllib") m.library = true;
+        if (tokens.size() >= 2 && tokens[0] == "usemtl") m.used.emplace(tokens[1]);
+    }
+    return m;
+}
+
+// 0.6 gives an OBJ the materials of its .mtl file unless loadMaterials is false, and a BSDF named after
+// a material to the faces using it. volguide gives an OBJ one BSDF and reads no .mtl: a BSDF named after
+// the only material is the shape's, one named after no material is ignored (as 0.6 ignores it), and
+// anything that would give faces different materials is an error.
 void obj_materials(Dom& dom, pugi::xml_node shape) {
-    for (pugi::xml_node c : shape.children())
-        if (is_element(c) && dom.object_tag(c) == "bsdf" && !dom.stripped_name(c).empty())
-            dom.fail(c, "a BSDF named after an OBJ material ('{}') has no equivalent: volguide gives an OBJ one BSDF; "
-                        "split the file by material",
-                     dom.stripped_name(c));
+    const ObjMaterials m = obj_materials_of(dom, shape);
+    for (pugi::xml_node c : elements_of(shape)) {
+        const std::string name = dom.stripped_name(c);
+        if (dom.object_tag(c) != "bsdf" || name.empty()) continue;
+        if (!m.used.count(name)) {
+            dom.warn(c, "the OBJ file uses no material '{}': this BSDF is ignored, as Mitsuba 0.6 ignores it", name);
+            dom.remove(c);
+        } else if (m.used.size() > 1) {
+            dom.fail(c, "a BSDF named after one of the OBJ's materials ('{}') has no equivalent: volguide gives an "
+                        "OBJ one BSDF; split the file by material",
+                     name);
+        }
+    }
     pugi::xml_node load = dom.param(shape, "loadMaterials");
     const bool load_materials = !load || dom.boolean(load);
     if (load) dom.remove(load);
-    if (load_materials && !shape_children(dom, shape).bsdf) {
-        const std::string obj = dom.attr(dom.param(shape, "filename"), "value");
-        if (auto path = dom.resolve(obj)) {
-            std::ifstream in(*path);
-            std::string line;
-            bool mtllib = false, usemtl = false;
-            while (std::getline(in, line)) {
-                const std::string_view t = trim(line);
-                mtllib = mtllib || t.starts_with("mtllib");
-                usemtl = usemtl || t.starts_with("usemtl");
-            }
-            if (mtllib && usemtl)
-                dom.fail(shape, "Mitsuba 0.6 gives this OBJ the materials of its .mtl file (loadMaterials): volguide "
-                                "reads no .mtl; give the shape a BSDF, or loadMaterials=false for 0.6's default");
-        }
-    }
+    if (load_materials && m.library && !m.used.empty() && !shape_children(dom, shape).bsdf)
+        dom.fail(shape, "Mitsuba 0.6 gives this OBJ the materials of its .mtl file (loadMaterials): volguide reads no "
+                        ".mtl; give the shape a BSDF, or loadMaterials=false for 0.6's default");
     shape_defaults(dom, shape);
 }
 

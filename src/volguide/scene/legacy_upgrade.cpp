@@ -65,6 +65,7 @@ class Upgrader {
     void run() {
         pugi::xml_node root = file_.edit().document_element();
         rename_pre_2_0(root);
+        dom_.refresh_ids();
         if (std::strcmp(root.name(), "scene") == 0)
             upgrade_scene(root);
         else if (is_legacy_object_tag(root.name()))
@@ -214,6 +215,21 @@ std::string unsupported_version_message(std::string_view text) {
     if (v->major == 0 && v->minor > 6) return fmt::format("scene format version {} is not a Mitsuba release: {}", text, readable);
     if (v->major == 0 || v->major == 2 || v->major == 3) return {};
     return fmt::format("scene format version {} is not supported ({})", text, readable);
+}
+
+void add_legacy_default_integrator(XmlFile& main) {
+    pugi::xml_node scene = main.edit().document_element();
+    if (std::strcmp(scene.name(), "scene") != 0) return;
+    LegacyContext ctx;
+    Dom dom(main, ctx);
+    pugi::xml_node first;
+    for (pugi::xml_node c : scene.children())
+        if (c.type() == pugi::node_element) {
+            first = c;
+            break;
+        }
+    pugi::xml_node integrator = dom.add(scene, "integrator", scene, first);
+    integrator.append_attribute("type").set_value("direct");
 }
 
 void upgrade_legacy_file(XmlFile& file, const LegacyContext& ctx) {

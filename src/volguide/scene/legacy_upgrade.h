@@ -37,6 +37,9 @@ std::string unsupported_version_message(std::string_view version);
 
 // Rewrites a 0.x file (is_legacy_file) into the Mitsuba 3 form; its root's version becomes 3.0.0.
 void upgrade_legacy_file(XmlFile& file, const LegacyContext& ctx);
+// Mitsuba 0.6 renders a scene without an integrator with `direct`, Mitsuba 3 with `path`: the main
+// file of a 0.x scene whose files declare no integrator gets 0.6's, written out.
+void add_legacy_default_integrator(XmlFile& main);
 
 // Mitsuba 3's rename of pre-2.0 parameter names: a lower-case letter followed by upper-case ones
 // gets an underscore and the upper-case run is lowered ("sigmaA" → "sigma_a", "intIOR" → "int_ior").

@@ -65,6 +65,7 @@ class Reader {
 
     SceneGraph run() {
         XmlFile& main = collect_main(XmlParseMode::scene);
+        upgrade_defaults(main);
         for (auto& [key, file] : files_)
             if (is_legacy_file(*file, params_)) upgrade_legacy_file(*file, context(UpgradeTarget::volguide));
         read_root(main);
@@ -85,6 +86,7 @@ class Reader {
             if (file.get() != &main && is_legacy_file(*file, params_))
                 warn(SourceLocation{file->display_path(), 1},
                      "an included Mitsuba 0.x file is not upgraded with the file including it: upgrade it too");
+        upgrade_defaults(main);
         upgrade_legacy_file(main, context(UpgradeTarget::mitsuba3));
         return main.text();
     }
@@ -106,6 +108,16 @@ class Reader {
     }
 
     LegacyContext context(UpgradeTarget target) const { return {target, &params_, &resolver_}; }
+
+    // The defaults of a 0.x main scene that differ from Mitsuba 3's (add_legacy_default_integrator):
+    // decided over every file of the scene, before any is rewritten.
+    void upgrade_defaults(XmlFile& main) {
+        if (!is_legacy_file(main, params_)) return;
+        for (auto& [key, file] : files_)
+            for (pugi::xml_node c : file->root().children())
+                if (std::string_view(c.name()) == "integrator") return;
+        add_legacy_default_integrator(main);
+    }
 
     static FileResolver::Dir main_dir(const std::string& path) {
         return {fs::absolute(path).lexically_normal().parent_path(), fs::path(path).parent_path().string()};
