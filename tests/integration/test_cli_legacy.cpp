@@ -148,7 +148,7 @@ const char* kScene3 = R"(<scene version="3.0.0">
     </shape>
     <shape type="rectangle">
         <transform name="to_world"><scale value="0.8"/><rotate x="1" angle="180"/><translate z="4.5"/></transform>
-        <emitter type="area"><spectrum name="radiance" value="12"/></emitter>
+        <emitter type="area"><rgb name="radiance" value="12"/></emitter>
         <bsdf type="diffuse"><rgb name="reflectance" value="0"/></bsdf>
     </shape>
 </scene>

@@ -15,6 +15,7 @@
 #include "volguide/scene/cie1931.h"
 #include "volguide/scene/legacy_upgrade.h"
 #include "volguide/scene/legacy_values.h"
+#include "volguide/scene/xml_reader.h"
 
 using namespace volguide;
 using namespace volguide::test;
@@ -410,7 +411,7 @@ TEST(LegacyShapes, DefaultBsdfsAndMeshes) {
         "<medium type=\"homogeneous\" id=\"fog\"><spectrum name=\"sigma_t\" value=\"1\"/>"
         "<spectrum name=\"albedo\" value=\"0.5\"/></medium>\n"
         "<shape type=\"sphere\"><point name=\"center\" x=\"1\" y=\"2\" z=\"3\"/><emitter type=\"area\">"
-        "<spectrum name=\"radiance\" value=\"5\"/></emitter><bsdf type=\"diffuse\"><rgb name=\"reflectance\" "
+        "<rgb name=\"radiance\" value=\"5\"/></emitter><bsdf type=\"diffuse\"><rgb name=\"reflectance\" "
         "value=\"0\"/></bsdf></shape>\n"
         "<shape type=\"cube\"><ref name=\"interior\" id=\"fog\"/><boolean name=\"flip_normals\" value=\"true\"/>"
         "<bsdf type=\"null\"/></shape>\n"
@@ -540,4 +541,57 @@ TEST(LegacyWarningsAndErrors, ErrorsOfRewrittenElementsKeepTheirLines) {
                                              "<spectrum name=\"sigmaA\" value=\"-0.5\"/>\n"
                                              "<spectrum name=\"sigmaS\" value=\"1\"/></medium>\n"));
     expect_input_error([&] { load_scene_properties(f); }, f, 3, "albedo must lie in [0, 1]");
+}
+
+TEST(LegacyUpgrade, WrittenFileReadsAsTheInput) {
+    ScratchDir dir;
+    write_png(dir.path("tex.png"), Image(2, 2, Color3(0.25f)));
+    VolGrid g = make_vol_grid(3, 3, 3, 1, [](float, float, float, int) { return 0.f; });
+    g.values[13] = 2.f;
+    write_vol_file(dir.path("d.vol"), g);
+    const std::string in = dir.write(
+        "in.xml",
+        "<?xml version=\"1.0\"?>\n<!-- kept -->\n" +
+            legacy_scene(
+                "<integrator type=\"volpath\"><integer name=\"maxDepth\" value=\"5\"/></integrator>\n"
+                "<sensor type=\"perspective\"><float name=\"fov\" value=\"50\"/>\n"
+                "  <transform name=\"toWorld\"><lookAt origin=\"0,0,4\" target=\"0,0,0\" up=\"0,1,0\"/></transform>\n"
+                "  <sampler type=\"halton\"><integer name=\"sampleCount\" value=\"12\"/></sampler>\n"
+                "  <film type=\"hdrfilm\"><integer name=\"width\" value=\"8\"/><integer name=\"height\" value=\"6\"/>"
+                "</film><ref id=\"fog\"/></sensor>\n"
+                "<medium type=\"homogeneous\" id=\"fog\"><spectrum name=\"sigmaA\" value=\"0.1\"/>"
+                "<srgb name=\"sigmaS\" value=\"0.5, 0.25, 1\"/></medium>\n"
+                "<medium type=\"heterogeneous\" id=\"smoke\"><volume name=\"density\" type=\"gridvolume\">"
+                "<string name=\"filename\" value=\"d.vol\"/></volume><volume name=\"albedo\" type=\"constvolume\">"
+                "<rgb name=\"value\" value=\"#c0c0ff\"/></volume></medium>\n"
+                "<shape type=\"cube\"><ref name=\"interior\" id=\"smoke\"/></shape>\n"
+                "<shape type=\"rectangle\"><bsdf type=\"roughconductor\"><string name=\"material\" value=\"Au\"/>"
+                "<float name=\"alpha\" value=\"0.3\"/></bsdf></shape>\n"
+                "<shape type=\"sphere\"><bsdf type=\"diffuse\"><texture type=\"bitmap\" name=\"reflectance\">"
+                "<string name=\"filename\" value=\"tex.png\"/><float name=\"uoffset\" value=\"0.5\"/></texture></bsdf>"
+                "<emitter type=\"area\"><spectrum name=\"radiance\" value=\"400:1, 700:2\"/></emitter></shape>\n"));
+    const std::string text = upgrade_scene_file(in, {});
+    const std::string out = dir.write("out.xml", text);
+    expect_same_records(load_fake(in), load_fake(out), "scene");
+    EXPECT_EQ(text.rfind("<?xml version=\"1.0\"?>\n<!-- kept -->\n<scene version=\"3.0.0\">", 0), 0u) << text;
+    for (const char* name06 : {"maxDepth", "toWorld", "lookAt", "sigmaA", "srgb", "halton", "density", "uoffset"})
+        EXPECT_EQ(text.find(name06), std::string::npos) << name06 << " in\n" << text;
+    // A file that is not 0.x is refused.
+    expect_input_error([&] { upgrade_scene_file(out, {}); }, out, 3, "not a Mitsuba 0.x file");
+}
+
+TEST(LegacyUpgrade, LdrfilmBecomesHdrfilm) {
+    ScratchDir dir;
+    LegacyWarnings w;
+    // With 0.6's default tonemap (the sRGB curve) nothing is lost: no warning.
+    const std::string plain = dir.write("plain.xml", legacy_scene("<sensor type=\"perspective\"><film type=\"ldrfilm\">"
+                                                                  "<float name=\"gamma\" value=\"-1\"/></film></sensor>\n"));
+    EXPECT_NE(upgrade_scene_file(plain, {}).find("<film type=\"hdrfilm\"/>"), std::string::npos);
+    EXPECT_TRUE(w.list.empty()) << w.list.front();
+    const std::string tonemapped = dir.write("reinhard.xml", legacy_scene("<sensor type=\"perspective\">\n"
+                                                                          "<film type=\"ldrfilm\"><string name=\""
+                                                                          "tonemapMethod\" value=\"reinhard\"/>"
+                                                                          "</film></sensor>\n"));
+    upgrade_scene_file(tonemapped, {});
+    EXPECT_TRUE(w.has(3, "loses the PNG tonemap (tonemap_method=reinhard)"));
 }

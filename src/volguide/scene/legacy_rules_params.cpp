@@ -25,8 +25,8 @@ void strict_normals(Dom& dom, pugi::xml_node, pugi::xml_node param) {
 void sampling_weight(Dom& dom, pugi::xml_node, pugi::xml_node param) {
     const double w = dom.number(param);
     if (w != 1)
-        dom.warn(param, "samplingWeight {} has no effect: volguide chooses emitters by their power, with the same "
-                        "expectation",
+        dom.warn(param, "samplingWeight {} has no effect: volguide picks the emitter of a light sample uniformly, as "
+                        "Mitsuba 3 does (0.6 in proportion to samplingWeight), with the same expectation",
                  w);
     dom.remove(param);
 }

@@ -196,21 +196,33 @@ void volpath_simple(Dom& dom, pugi::xml_node integrator) {
                          "(volpath weights its light samples by MIS)");
 }
 
-// The ldrfilm's tonemap is volguide's (render/sensors/ldrfilm.h); Mitsuba 3 has no ldrfilm, so the
-// upgraded file gets an hdrfilm and loses a tonemap that differs from the plain sRGB curve.
+// The ldrfilm's tonemap is volguide's (render/sensors/hdrfilm.h, make_ldrfilm), which refuses what a
+// method does not use; 0.6 reads such values and ignores them, so they go. Mitsuba 3 has no ldrfilm:
+// the upgraded file gets an hdrfilm and loses a tonemap other than the plain sRGB curve, which is said.
 void ldrfilm(Dom& dom, pugi::xml_node film) {
+    pugi::xml_node method = dom.param(film, "tonemap_method");
+    const std::string m = method ? lowercase(dom.string(method)) : "gamma";
+    if (m != "gamma" && m != "reinhard") dom.fail(method, "tonemapMethod must be 'gamma' or 'reinhard', got '{}'", m);
+    if (method) dom.set_attr(method, "value", m);
+    static const std::vector<const char*> unused_by_gamma{"key", "burn"}, unused_by_reinhard{"exposure"};
+    for (const char* unused : m == "gamma" ? unused_by_gamma : unused_by_reinhard)
+        if (pugi::xml_node p = dom.param(film, unused)) dom.remove(p);
     if (!dom.for_mitsuba3()) return;
-    std::string kept;
+    std::string lost;
     for (const char* name : {"tonemap_method", "gamma", "exposure", "key", "burn"}) {
         pugi::xml_node p = dom.param(film, name);
         if (!p) continue;
-        kept += fmt::format("{}{}={}", kept.empty() ? "" : ", ", name, dom.attr(p, "value"));
+        const std::string v = dom.attr(p, "value");
+        const bool is_default = (std::string_view(name) == "tonemap_method" && v == "gamma") ||
+                                (std::string_view(name) == "gamma" && dom.number(p) == -1) ||
+                                (std::string_view(name) == "exposure" && dom.number(p) == 0);
+        if (!is_default) lost += fmt::format("{}{}={}", lost.empty() ? "" : ", ", name, v);
         dom.remove(p);
     }
-    if (!kept.empty())
+    if (!lost.empty())
         dom.warn(film, "Mitsuba 3 has no ldrfilm: the upgraded file has an hdrfilm and loses the PNG tonemap ({}); "
                        "`volguide render` of the 0.6 file applies it",
-                 kept);
+                 lost);
     dom.set_attr(film, "type", "hdrfilm");
 }
 

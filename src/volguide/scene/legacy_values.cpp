@@ -100,7 +100,13 @@ void convert_blackbody(Dom& dom, pugi::xml_node value) {
     set_rgb(dom, value, c);
 }
 
-// A <spectrum> of 0.6: one value (kept), three (RGB), pairs or a file (converted).
+bool within_emitter(pugi::xml_node value) {
+    for (pugi::xml_node n = value.parent(); n; n = n.parent())
+        if (std::strcmp(n.name(), "emitter") == 0) return true;
+    return false;
+}
+
+// A <spectrum> of 0.6: one value (kept, but an emitter's), three (RGB), pairs or a file (converted).
 void convert_spectrum(Dom& dom, pugi::xml_node value) {
     if (value.attribute("type"))
         dom.fail(value, "Mitsuba 0.6's <spectrum> is a value: it takes no 'type' (spectrum plugins are Mitsuba 3's)");
@@ -112,7 +118,12 @@ void convert_spectrum(Dom& dom, pugi::xml_node value) {
     if (value.attribute("intent") && pairs)
         dom.fail(value, "<spectrum>: 'intent' is only read with a single value (as in Mitsuba 0.6)");
     check_intent(dom, value);
-    if (!pairs && tokens.size() == 1) return;  // a constant: the same grey in both versions
+    // A constant is grey in 0.6's RGB build. Mitsuba 3 reads it so, except inside an emitter, where its
+    // newest releases take the equal-energy colour: there it is written as the grey it is.
+    if (!pairs && tokens.size() == 1) {
+        if (within_emitter(value)) set_rgb(dom, value, color_value(dom, value));
+        return;
+    }
     if (!pairs && tokens.size() == 3) return set_rgb(dom, value, color_value(dom, value));
     if (!pairs)
         dom.fail(value, "<spectrum>: Mitsuba 0.6's RGB build reads one value, three (RGB) or wavelength:value "

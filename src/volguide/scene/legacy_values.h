@@ -14,7 +14,9 @@ namespace volguide::legacy {
 //  - <blackbody temperature="T[K]" scale="s"> → <rgb> of Planck's radiance (W m⁻² sr⁻¹ nm⁻¹);
 //  - <spectrum> of wavelength:value pairs or a .spd file → <rgb>: 0.6 integrates every spectrum
 //    against the CIE curves without D65, reflectances included, and clips negatives only (Mitsuba 3
-//    does so for an emitter's spectra); three values without wavelengths are the RGB build's RGB;
+//    does so for an emitter's spectra); three values without wavelengths are the RGB build's RGB; a
+//    constant inside an emitter → <rgb> (the grey 0.6 means, which Mitsuba 3's newest releases would
+//    read as the equal-energy colour);
 //  - <animation> → an error: volguide renders one instant.
 void convert_value(Dom& dom, pugi::xml_node value);
 
