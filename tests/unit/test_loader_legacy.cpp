@@ -187,6 +187,12 @@ TEST(LegacySensors, CameraFilmSampler) {
                       "  <sampler type=\"ldsampler\"><integer name=\"sample_count\" value=\"16\"/></sampler>\n"
                       "</sensor>\n");
     EXPECT_TRUE(w.has(7, "'dimension'"));
+    // 0.6's films read annotations, which volguide does not write: a warning each.
+    load_fake(dir.write("labels.xml", legacy_scene("<sensor type=\"perspective\"><film type=\"ldrfilm\">\n"
+                                                   "<string name=\"label[10, 10]\" value=\"$scene['renderTime']\"/>\n"
+                                                   "<string name=\"metadata['k']\" value=\"v\"/></film></sensor>\n")));
+    EXPECT_TRUE(w.has(3, "annotations"));
+    EXPECT_TRUE(w.has(4, "annotations"));
     // The low-discrepancy samplers Mitsuba 3 lacks are independent ones, said on stderr.
     expect_same_scene(dir, "<sensor type=\"perspective\"><sampler type=\"sobol\"><integer name=\"sampleCount\" "
                            "value=\"32\"/></sampler></sensor>\n",

@@ -18,7 +18,13 @@ constexpr ParamRule kMonteCarlo[] = {
     {"strictNormals", Act::hook, nullptr, strict_normals},
 };
 constexpr ParamRule kSampler[] = {{"sampleCount"}};
+// A name ending in '[' stands for every parameter it begins: 0.6's films read annotations
+// `metadata['key']` and `label[x, y]`.
+constexpr const char* kAnnotation = "annotations (metadata['...'], label[...]) are not written: volguide adds no "
+                                    "metadata or text to its images";
 constexpr ParamRule kFilm[] = {
+    {"metadata[", Act::note, kAnnotation},
+    {"label[", Act::note, kAnnotation},
     {"width"},
     {"height"},
     {"cropOffsetX"},
@@ -410,8 +416,10 @@ constexpr PluginRule kPlugins[] = {
 // clang-format on
 
 const ParamRule* find_in(std::span<const ParamRule> rules, std::string_view name) {
-    for (const ParamRule& r : rules)
-        if (name == r.name) return &r;
+    for (const ParamRule& r : rules) {
+        const std::string_view rule = r.name;
+        if (name == rule || (rule.ends_with('[') && name.starts_with(rule))) return &r;
+    }
     return nullptr;
 }
 

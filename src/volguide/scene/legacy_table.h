@@ -24,7 +24,7 @@ using ParamHook = void (*)(Dom& dom, pugi::xml_node object, pugi::xml_node param
 using PluginHook = void (*)(Dom& dom, pugi::xml_node object);
 
 struct ParamRule {
-    const char* name;  // Mitsuba 0.6's name
+    const char* name;  // Mitsuba 0.6's name; one ending in '[' stands for every name it begins
     Act act = Act::rename;
     const char* text = nullptr;
     ParamHook hook = nullptr;
