@@ -621,3 +621,21 @@ TEST(LegacyTable, DocsListEveryPluginAndParameter) {
                     << p.type << " parameter " << r.name;
     }
 }
+
+TEST(LegacyUpgrade, ComputedValuesFixTheirParameters) {
+    ScratchDir dir;
+    LegacyWarnings w;
+    const std::string f = dir.write("p.xml", legacy_scene("<default name=\"a\" value=\"0.25\"/>\n"
+                                                          "<medium type=\"homogeneous\" id=\"m\"><spectrum name=\"sigmaA\" "
+                                                          "value=\"$a\"/>\n<spectrum name=\"sigmaS\" value=\"0.75\"/>"
+                                                          "</medium>\n"));
+    LoadOptions options;
+    options.defines["a"] = "0.5";
+    const std::string text = upgrade_scene_file(f, options);
+    EXPECT_NE(text.find("<rgb name=\"sigma_t\" value=\"1.25 1.25 1.25\"/>"), std::string::npos) << text;
+    EXPECT_TRUE(w.has(3, "'sigmaA' is \"$a\" (\"0.5\" here) and enters a computed value"));
+    // Loading (not writing) the file says nothing: the value is the parameter's.
+    w.list.clear();
+    load_fake(f);
+    EXPECT_TRUE(w.list.empty()) << w.list.front();
+}

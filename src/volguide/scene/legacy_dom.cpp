@@ -181,7 +181,8 @@ void Dom::note_fixed_parameter(pugi::xml_node value) const {
     if (!for_mitsuba3()) return;
     for (pugi::xml_attribute a : value.attributes())
         if (std::strchr(a.value(), '$'))
-            warn(value, "the upgraded file holds the value this '{}' computes with '{}' = \"{}\", not the parameter",
+            warn(value, "'{}' is \"{}\" (\"{}\" here) and enters a computed value: the upgraded file holds the "
+                        "number, not the parameter",
                  value.attribute("name").value(), a.value(), attr(value, a.name()));
 }
 
