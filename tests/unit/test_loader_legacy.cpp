@@ -639,3 +639,25 @@ TEST(LegacyUpgrade, ComputedValuesFixTheirParameters) {
     load_fake(f);
     EXPECT_TRUE(w.list.empty()) << w.list.front();
 }
+
+TEST(LegacyIncludes, EachFileIsReadByItsOwnVersion) {
+    ScratchDir dir;
+    // A 0.6 file included by a 3.0 one is upgraded; the 3.0 one is not, and gets Mitsuba 3's defaults.
+    dir.write("part06.xml", legacy_scene("<bsdf type=\"diffuse\" id=\"white\"><spectrum name=\"diffuseReflectance\" "
+                                         "value=\"0.8\"/></bsdf>\n<shape type=\"sphere\"><ref id=\"white\"/>"
+                                         "<transform name=\"toWorld\"><translate x=\"1\"/></transform></shape>\n"));
+    dir.write("part3.xml", scene("<integrator type=\"path\"><integer name=\"max_depth\" value=\"3\"/></integrator>\n"));
+    const std::string main3 = dir.write("main3.xml", scene("<include filename=\"part06.xml\"/>\n"));
+    const std::string expected3 = dir.write("expected3.xml", scene(
+        "<bsdf type=\"diffuse\" id=\"white\"><spectrum name=\"reflectance\" value=\"0.8\"/></bsdf>\n<shape "
+        "type=\"sphere\"><ref id=\"white\"/><transform name=\"to_world\"><translate x=\"1\"/></transform></shape>\n"));
+    expect_same_records(load_fake(main3), load_fake(expected3), "scene");
+    // A 0.6 main file gets 0.6's default integrator only when none of its files declares one.
+    const std::string main06 = dir.write("main06.xml", legacy_scene("<include filename=\"part06.xml\"/>\n"));
+    EXPECT_EQ(child(load_fake(main06), "integrator")->props.type(), "direct");
+    const std::string with_integrator =
+        dir.write("main06b.xml", legacy_scene("<include filename=\"part06.xml\"/>\n<include filename=\"part3.xml\"/>\n"));
+    const Properties p = load_fake(with_integrator);
+    ASSERT_EQ(p.children("integrator").size(), 1u);
+    EXPECT_EQ(child(p, "integrator")->props.type(), "path");
+}
