@@ -374,6 +374,15 @@ TEST(LegacyBsdfs, EnergyConservationCanBeOff) {
     load_fake(dir.write("on.xml", legacy_scene("<bsdf type=\"diffuse\" id=\"a\">\n"
                                                "<spectrum name=\"reflectance\" value=\"2\"/></bsdf>\n")));
     EXPECT_TRUE(w.has(3, "scaled by 0.495"));
+    // A floating-point texture above 1 would be scaled by 0.6: no equivalent, an error at its line.
+    write_exr(dir.path("bright.exr"), Image(2, 2, Color3(2.f, 0.5f, 0.5f)));
+    const std::string texture = "<texture type=\"bitmap\" name=\"reflectance\"><string name=\"filename\" "
+                                "value=\"bright.exr\"/><string name=\"filterType\" value=\"bilinear\"/></texture>";
+    const std::string f = dir.write("tex.xml", legacy_scene("<bsdf type=\"diffuse\" id=\"a\">\n" + texture + "</bsdf>\n"));
+    expect_input_error([&] { load_fake(f); }, f, 3, "scales this texture by 0.495");
+    EXPECT_NO_THROW(load_fake(dir.write("off.xml", legacy_scene("<bsdf type=\"diffuse\" id=\"a\"><boolean name=\""
+                                                                 "ensureEnergyConservation\" value=\"false\"/>" +
+                                                                 texture + "</bsdf>\n"))));
 }
 
 TEST(LegacyTextures, BitmapAndUvTransforms) {

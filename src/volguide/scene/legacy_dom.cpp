@@ -209,6 +209,13 @@ std::string lowercase(std::string s) {
     return s;
 }
 
+bool is_float_image(const std::string& filename) {
+    const std::string l = lowercase(filename);
+    for (std::string_view ext : {".exr", ".hdr", ".rgbe", ".pfm"})
+        if (std::string_view(l).ends_with(ext)) return true;
+    return false;
+}
+
 std::string float_text(double v) {
     return fmt::format("{}", float(v));
 }

@@ -94,6 +94,9 @@ class Dom {
 // Mitsuba 3 read scene numbers into floats).
 std::string float_text(double v);
 std::string lowercase(std::string s);
+// Whether an image file holds floating-point values (OpenEXR, Radiance, PFM), by its extension: 0.6 reads
+// those linearly and 8-bit ones through the sRGB curve unless told otherwise.
+bool is_float_image(const std::string& filename);
 std::string rgb_text(const Rgb& c);
 
 }  // namespace volguide::legacy

@@ -22,11 +22,15 @@ namespace {
 double bitmap_maximum(Dom& dom, pugi::xml_node texture) {
     if (std::string_view(texture.name()) != "texture" || dom.attr(texture, "type") != "bitmap") return 0;
     const std::string name = dom.attr(dom.param(texture, "filename"), "value");
-    const std::string ext = name.size() >= 4 ? name.substr(name.size() - 4) : name;
-    if (ext != ".exr" && ext != ".EXR") return 0;
+    if (!is_float_image(name)) return 0;
     auto path = dom.resolve(name);
     if (!path) return 0;  // the bitmap reports the missing file at its line
-    const Image image = read_image(*path);
+    Image image;
+    try {
+        image = read_image(*path);
+    } catch (const InputError&) {
+        return 0;  // the bitmap reports a file it cannot read at its line
+    }
     double m = 0;
     for (const Color3& c : image.pixels) m = std::max({m, double(c.r), double(c.g), double(c.b)});
     return m;

@@ -52,19 +52,11 @@ void name_medium_child(Dom& dom, pugi::xml_node object) {
         if (is_element(c) && dom.object_tag(c) == "medium") dom.set_attr(c, "name", "medium");
 }
 
-bool is_hdr_file(const std::string& name) {
-    const std::string l = lowercase(name);
-    for (const char* ext : {".exr", ".hdr", ".rgbe", ".pfm"})
-        if (l.size() >= std::strlen(ext) && l.compare(l.size() - std::strlen(ext), std::string::npos, ext) == 0)
-            return true;
-    return false;
-}
-
 // 0.6's `gamma` of an image (bitmap, envmap): -1 sRGB, 1 linear, absent: from the file (sRGB for 8-bit
 // images, linear for floating-point ones). Returns whether the image is to be read raw (no sRGB curve);
 // the caller removes the parameter.
 bool raw_from_gamma(Dom& dom, pugi::xml_node object, pugi::xml_node gamma) {
-    const bool hdr = is_hdr_file(dom.attr(dom.param(object, "filename"), "value"));
+    const bool hdr = is_float_image(dom.attr(dom.param(object, "filename"), "value"));
     const double g = dom.number(gamma);
     if (g == 1) return !hdr;
     if (g == -1 && !hdr) return false;
