@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <filesystem>
 
 #include "support/cli.h"
 #include "support/test_support.h"
@@ -254,13 +255,16 @@ TEST(CliLegacy, ErrorsNameTheZeroSixFilesLine) {
     TempDir dir("legacy_errors");
     write_assets(dir);
     std::string scene = kScene06;
-    const std::string strict = "<boolean name=\"strictNormals\" value=\"false\"/>";
-    scene.replace(scene.find(strict), strict.size(), "<boolean name=\"strictNormals\" value=\"true\"/>");
+    const std::string ggx = "<string name=\"distribution\" value=\"ggx\"/>";
+    scene.replace(scene.find(ggx), ggx.size(), "<string name=\"distribution\" value=\"phong\"/>");
     const std::string f = dir.write("bad06.xml", scene);
+    const std::string expected = fmt::format("bad06.xml:{}: the Phong microfacet distribution has no equivalent",
+                                             line_of(scene, "value=\"phong\""));
     for (const char* command : {"render", "upgrade"}) {
         CliResult r = std::string(command) == "render" ? run_cli({"render", f, "-o", dir.file("x.exr"), "--quiet"})
                                                         : run_cli({"upgrade", f, "-o", dir.file("x.xml")});
         EXPECT_EQ(r.exit_code, 1) << command;
-        EXPECT_NE(r.err.find("bad06.xml:6: strictNormals=true"), std::string::npos) << command << ": " << r.err;
+        EXPECT_NE(r.err.find(expected), std::string::npos) << command << ": " << r.err;
+        EXPECT_FALSE(std::filesystem::exists(dir.file("x.exr")) || std::filesystem::exists(dir.file("x.xml")));
     }
 }

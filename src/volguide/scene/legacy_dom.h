@@ -75,6 +75,10 @@ class Dom {
 
     // Reads the file's ids again (after they were renamed).
     void refresh_ids();
+    // An integrator's strictNormals=true, whose effect depends on the file's shapes (strict_normals).
+    void set_strict_normals(pugi::xml_node param) { strict_normals_ = loc(param); }
+    const std::optional<SourceLocation>& strict_normals() const { return strict_normals_; }
+
     // The element with id `id` in this file (null when it is declared elsewhere).
     pugi::xml_node by_id(const std::string& id) const;
     // The tag of the object a child stands for: its own for a nested object, the referenced one's
@@ -88,6 +92,7 @@ class Dom {
     const LegacyContext& ctx_;
     std::map<std::string, pugi::xml_node> ids_;
     std::map<const void*, std::string> stripped_names_;
+    std::optional<SourceLocation> strict_normals_;
 };
 
 // A number as the shortest text that reads back as the same single-precision float (volguide and

@@ -25,7 +25,7 @@ void tracking_method(Dom&, pugi::xml_node object, pugi::xml_node param);
 void monochromatic(Dom&, pugi::xml_node object, pugi::xml_node param);
 void obj_shape_index(Dom&, pugi::xml_node object, pugi::xml_node param);
 
-// ---- plugins (legacy_rules_plugins.cpp, legacy_rules_media.cpp) -----------------------------------
+// ---- plugins (legacy_rules_plugins.cpp, legacy_rules_bsdf.cpp, legacy_rules_media.cpp) -------------
 void shape_defaults(Dom&, pugi::xml_node shape);  // 0.6's BSDF of a shape without one
 void obj_materials(Dom&, pugi::xml_node shape);   // loadMaterials, then shape_defaults
 void sensor_rules(Dom&, pugi::xml_node sensor);   // fovAxis without fov, the unnamed medium
@@ -46,5 +46,9 @@ void mixturebsdf_rules(Dom&, pugi::xml_node bsdf);
 void homogeneous_rules(Dom&, pugi::xml_node medium);
 void heterogeneous_rules(Dom&, pugi::xml_node medium);
 void gridvolume_rules(Dom&, pugi::xml_node volume);
+
+// ---- the whole file, once its elements are upgraded (legacy_rules_plugins.cpp) ---------------------
+// strictNormals=true: no effect where every shading normal is its geometric one, a warning elsewhere.
+void strict_normals_effect(Dom&, pugi::xml_node root);
 
 }  // namespace volguide::legacy

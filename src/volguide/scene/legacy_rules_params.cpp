@@ -15,10 +15,11 @@ std::string name_of(const Dom& dom, pugi::xml_node param) {
 
 }  // namespace
 
+// 0.6's strictNormals=true drops paths at vertices whose shading and geometric normals put a direction
+// on different sides; volguide follows the shading normals (0.6's default). Whether that changes the
+// image depends on the shapes: strict_normals_effect decides once the file is read.
 void strict_normals(Dom& dom, pugi::xml_node, pugi::xml_node param) {
-    if (dom.boolean(param))
-        dom.fail(param, "strictNormals=true (dropping paths whose shading and geometric normals disagree) has no "
-                        "equivalent: volguide follows the shading normals, 0.6's default; remove it");
+    if (dom.boolean(param)) dom.set_strict_normals(param);
     dom.remove(param);
 }
 

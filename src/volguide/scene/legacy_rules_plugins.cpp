@@ -142,6 +142,34 @@ void obj_materials(Dom& dom, pugi::xml_node shape) {
     shape_defaults(dom, shape);
 }
 
+// Where every shading normal is the geometric one (analytic shapes, the flat rectangle and cube, meshes
+// with faceNormals), strictNormals has nothing to drop: the image is 0.6's. A smooth mesh, or shapes in
+// files this one includes, may differ at grazing angles: said once, at the parameter's line.
+void strict_normals_effect(Dom& dom, pugi::xml_node root) {
+    if (!dom.strict_normals()) return;
+    std::vector<pugi::xml_node> stack{root};
+    std::string smooth;
+    while (!stack.empty() && smooth.empty()) {
+        pugi::xml_node n = stack.back();
+        stack.pop_back();
+        const std::string_view tag = n.name();
+        if (tag == "include") smooth = "the files it includes";
+        if (tag == "shape") {
+            const std::string type = dom.attr(n, "type");
+            pugi::xml_node flat = dom.param(n, "face_normals");
+            if ((type == "obj" || type == "ply" || type == "serialized") && !(flat && dom.boolean(flat)))
+                smooth = "its " + type + " mesh at line " + std::to_string(dom.loc(n).line);
+        }
+        for (pugi::xml_node c : elements_of(n)) stack.push_back(c);
+    }
+    if (!smooth.empty())
+        warn(*dom.strict_normals(),
+             "strictNormals=true is read as false: volguide follows the shading normals where 0.6 drops paths at "
+             "vertices whose shading and geometric normals disagree about a direction's side, so the image may differ "
+             "at grazing angles of smooth meshes ({}); meshes with faceNormals are unaffected",
+             smooth);
+}
+
 // ---- sensors and emitters ------------------------------------------------------------------------------
 
 void sensor_rules(Dom& dom, pugi::xml_node sensor) {

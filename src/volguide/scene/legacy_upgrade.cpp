@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "volguide/scene/legacy_dom.h"
+#include "volguide/scene/legacy_rules.h"
 #include "volguide/scene/legacy_table.h"
 #include "volguide/scene/legacy_values.h"
 #include "volguide/scene/xml_values.h"
@@ -71,6 +72,7 @@ class Upgrader {
         else if (is_legacy_object_tag(root.name()))
             upgrade_object(root);
         // Anything else is reported by the reader (the root must be a scene or an object).
+        strict_normals_effect(dom_, root);
         dom_.set_attr(root, "version", "3.0.0");
     }
 
