@@ -121,9 +121,10 @@ std::array<double, 3> Dom::vec3(pugi::xml_node value) const {
         fail(value, "'{}' must be a <point> here (got <{}>)", value.attribute("name").value(), tag);
     std::array<double, 3> out{};
     if (value.attribute("value")) {
-        const auto tokens = tokenize_list(attr(value, "value"));
+        const std::string text = attr(value, "value");  // the tokens view it
+        const auto tokens = tokenize_list(text);
         if (tokens.size() != 1 && tokens.size() != 3)
-            fail(value, "<{}>: 'value' needs 1 or 3 numbers (got \"{}\")", tag, attr(value, "value"));
+            fail(value, "<{}>: 'value' needs 1 or 3 numbers (got \"{}\")", tag, text);
         for (size_t i = 0; i < 3; ++i) {
             auto x = parse_double(tokens[tokens.size() == 1 ? 0 : i]);
             if (!x) fail(value, "<{}>: could not parse \"{}\" as a finite number", tag, tokens[i]);

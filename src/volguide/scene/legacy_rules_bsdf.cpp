@@ -146,7 +146,8 @@ void mixturebsdf_rules(Dom& dom, pugi::xml_node bsdf) {
     pugi::xml_node weights = dom.param(bsdf, "weights");
     if (!weights) dom.fail(bsdf, "Mitsuba 0.6's mixturebsdf needs 'weights'");
     std::vector<double> w;
-    for (std::string_view t : tokenize_list(dom.string(weights))) {
+    const std::string text = dom.string(weights);  // the tokens view it
+    for (std::string_view t : tokenize_list(text)) {
         auto x = parse_double(t);
         if (!x) dom.fail(weights, "could not parse weight \"{}\" as a finite number", t);
         w.push_back(*x);
