@@ -229,7 +229,7 @@ int run_render(const RenderArgs& args) {
         if (extension_of(output) == ".exr")
             write_part(output, part);
         else
-            write_image(output, result.mean);
+            write_image(output, result.mean, scene->sensor().film().png_tonemap());  // an ldrfilm's tonemap
     std::string var_output;
     if (scene->integrator().writes_variance() || args.variance) {
         var_output = variance_path(outputs.front());

@@ -71,6 +71,13 @@ struct ConvertArgs {
 };
 int run_convert(const ConvertArgs& args);
 
+// volguide upgrade IN.xml -o OUT.xml [-D name=value]...: a Mitsuba 0.x scene in Mitsuba 3's form.
+struct UpgradeArgs {
+    std::string scene, output;
+    std::vector<std::string> defines;
+};
+int run_upgrade(const UpgradeArgs& args);
+
 struct InfoArgs {
     std::string scene;
     std::vector<std::string> defines;

@@ -1,5 +1,6 @@
-// volguide command line: render | train | merge | diff | convert | info (docs/interface.md). Exit codes: 0 success, 1 input or
-// I/O error (one line `volguide: FILE:LINE: message` on stderr), 2 usage error.
+// volguide command line: render | train | merge | diff | convert | info | upgrade (docs/interface.md).
+// Exit codes: 0 success, 1 input or I/O error (one line `volguide: FILE:LINE: message` on stderr),
+// 2 usage error.
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <exception>
@@ -104,6 +105,16 @@ CLI::App* add_convert_command(CLI::App& app, ConvertArgs& convert) {
     return convert_cmd;
 }
 
+// The `upgrade` subcommand and its options, parsed into `upgrade`.
+CLI::App* add_upgrade_command(CLI::App& app, UpgradeArgs& upgrade) {
+    CLI::App* cmd = app.add_subcommand("upgrade", "write a Mitsuba 0.x (0.4-0.6) scene in Mitsuba 3's form");
+    cmd->add_option("scene", upgrade.scene, "Mitsuba 0.x XML scene")->required();
+    cmd->add_option("-o,--output", upgrade.output, "the upgraded scene (.xml)")->required();
+    cmd->add_option("-D,--define", upgrade.defines, "set a scene <default> (name=value); repeatable")
+        ->allow_extra_args(false);
+    return cmd;
+}
+
 // The `info` subcommand and its options, parsed into `info`.
 CLI::App* add_info_command(CLI::App& app, InfoArgs& info) {
     CLI::App* info_cmd = app.add_subcommand("info", "summarise a scene, or a saved guiding field (--field)");
@@ -136,12 +147,14 @@ int main(int argc, char** argv) {
     DiffArgs diff;
     ConvertArgs convert;
     InfoArgs info;
+    UpgradeArgs upgrade;
     CLI::App* render_cmd = add_render_command(app, render);
     CLI::App* train_cmd = add_train_command(app, train);
     CLI::App* merge_cmd = add_merge_command(app, merge);
     CLI::App* diff_cmd = add_diff_command(app, diff);
     CLI::App* convert_cmd = add_convert_command(app, convert);
     add_info_command(app, info);
+    CLI::App* upgrade_cmd = add_upgrade_command(app, upgrade);
 
     try {
         app.parse(argc, argv);
@@ -177,6 +190,10 @@ int main(int argc, char** argv) {
         if (convert_cmd->parsed()) {
             context = convert.input;
             return run_convert(convert);
+        }
+        if (upgrade_cmd->parsed()) {
+            context = upgrade.scene;
+            return run_upgrade(upgrade);
         }
         context = info.field.empty() ? info.scene : info.field;
         return run_info(info);

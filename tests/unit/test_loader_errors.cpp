@@ -73,7 +73,9 @@ const std::vector<BadScene> kBadScenes = {
      scene("<bsdf type=\"d\">\n  <spectrum name=\"r\" value=\"500:1, 400:1\"/>\n</bsdf>\n"), 3, "increasing"},
     {"root is not a scene", "<bsdf version=\"3.0.0\" type=\"d\"/>\n", 1, "<scene>"},
     {"missing version", "\n<scene>\n</scene>\n", 2, "'version'"},
-    {"old version", "<scene version=\"0.6.0\">\n</scene>\n", 1, "not supported"},
+    // 0.4 to 0.6 are read since issue 50 (test_loader_legacy.cpp); older and unknown versions are not.
+    {"old version", "<scene version=\"0.3.0\">\n</scene>\n", 1, "predates Mitsuba 0.4"},
+    {"unknown version", "<scene version=\"1.0.0\">\n</scene>\n", 1, "not supported"},
     {"nested scene", scene("<shape type=\"s\">\n  <scene version=\"3.0.0\"/>\n</shape>\n"), 3,
      "root element"},
     {"path not at top level", scene("<shape type=\"s\">\n  <path value=\".\"/>\n</shape>\n"), 3, "<path>"},

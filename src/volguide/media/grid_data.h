@@ -20,6 +20,8 @@ struct GridData {
 
 // Mitsuba .vol (binary "VOL" version 3, float32 encoding). Throws InputError naming the file.
 GridData read_vol_file(const std::string& path);
+// Its header only (resolution, channels, bounding box; no values), checked as read_vol_file checks it.
+GridData read_vol_header(const std::string& path);
 // Writes `grid` as a .vol file (its bbox, or the unit cube when it has none), through a temporary
 // file; throws std::runtime_error naming the file on failure.
 void write_vol_file(const std::string& path, const GridData& grid);

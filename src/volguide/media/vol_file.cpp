@@ -23,8 +23,11 @@ static_assert(std::endian::native == std::endian::little, ".vol reading assumes 
 
 }  // namespace
 
-GridData read_vol_file(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
+namespace {
+
+// Reads and checks the header of `in`, opened from `path`: the grid has no values yet, `count` is the
+// number of floats that follow (checked against the file's size before anything is allocated).
+GridData read_header(std::ifstream& in, const std::string& path, uint64_t& count) {
     if (!in) vol_fail(path, "cannot open the .vol file");
     in.seekg(0, std::ios::end);
     const std::streamoff size = in.tellg();
@@ -53,17 +56,31 @@ GridData read_vol_file(const std::string& path) {
     std::memcpy(box, header + 24, sizeof(box));
     g.bbox = BBox3f(Point3f(box[0], box[1], box[2]), Point3f(box[3], box[4], box[5]));
 
-    // The resolution is bounded by the file's size before anything is allocated. Dimensions up to
-    // 2^31 each would overflow a 64-bit product, so each factor is checked against what the file
-    // can still hold before it is multiplied in.
+    // Dimensions up to 2^31 each would overflow a 64-bit product, so each factor is checked against
+    // what the file can still hold before it is multiplied in.
     const uint64_t capacity = uint64_t(size - header_size) / 4;
-    uint64_t count = uint64_t(g.channels);
+    count = uint64_t(g.channels);
     for (int32_t n : {g.nx, g.ny, g.nz}) {
         if (uint64_t(n) > capacity / count)  // count * n > capacity, tested without overflowing
             vol_fail(path, fmt::format("truncated .vol data ({} bytes hold {} floats, but {}x{}x{}x{} are declared)",
                                        size, capacity, g.nx, g.ny, g.nz, g.channels));
         count *= uint64_t(n);
     }
+    return g;
+}
+
+}  // namespace
+
+GridData read_vol_header(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    uint64_t count = 0;
+    return read_header(in, path, count);
+}
+
+GridData read_vol_file(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    uint64_t count = 0;
+    GridData g = read_header(in, path, count);
     g.values.resize(count);
     in.read(reinterpret_cast<char*>(g.values.data()), std::streamsize(4 * count));
     if (!in) vol_fail(path, "read error in the .vol data");

@@ -158,15 +158,13 @@ void write_exr(const std::string& path, const Image& image) {
     });
 }
 
-void write_png(const std::string& path, const Image& image) {
+void write_png(const std::string& path, const Image& image, const PngTonemap& tonemap) {
     check_image(path, image);
+    const Image display = display_values(image, tonemap);
     std::vector<unsigned char> bytes(image.pixels.size() * 3);
     for (size_t i = 0; i < image.pixels.size(); ++i)
-        for (int c = 0; c < 3; ++c) {
-            float v = image.pixels[i][c];
-            v = std::isnan(v) ? 0.f : std::clamp(v, 0.f, 1.f);
-            bytes[3 * i + c] = static_cast<unsigned char>(std::lround(linear_to_srgb(v) * 255.f));
-        }
+        for (int c = 0; c < 3; ++c)
+            bytes[3 * i + c] = static_cast<unsigned char>(std::lround(display.pixels[i][c] * 255.f));
     // Encoded in memory and written here: stbi_write_png ignores fwrite's errors, so a full disk left
     // a truncated PNG in place and the render reported success.
     std::string png;
@@ -183,12 +181,12 @@ void write_png(const std::string& path, const Image& image) {
     });
 }
 
-void write_image(const std::string& path, const Image& image) {
+void write_image(const std::string& path, const Image& image, const PngTonemap& tonemap) {
     const std::string ext = lower_extension(path);
     if (ext == ".exr")
         write_exr(path, image);
     else if (ext == ".png")
-        write_png(path, image);
+        write_png(path, image, tonemap);
     else
         fail_file(path, "unsupported output image format '" + ext + "' (use .exr or .png)");
 }

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "volguide/core/image.h"
+#include "volguide/render/tonemap.h"
 
 namespace volguide {
 
@@ -13,9 +14,9 @@ namespace volguide {
 Image read_image(const std::string& path, bool raw = false);
 // Linear float32 RGB EXR.
 void write_exr(const std::string& path, const Image& image);
-// 8-bit sRGB PNG preview (clamped, gamma encoded).
-void write_png(const std::string& path, const Image& image);
-// Dispatches on the extension (.exr or .png); throws InputError for anything else.
-void write_image(const std::string& path, const Image& image);
+// 8-bit PNG: by default the sRGB preview (clamped, gamma encoded); a film's tonemap otherwise.
+void write_png(const std::string& path, const Image& image, const PngTonemap& tonemap = {});
+// Dispatches on the extension (.exr or .png, written with `tonemap`); throws InputError for anything else.
+void write_image(const std::string& path, const Image& image, const PngTonemap& tonemap = {});
 
 }  // namespace volguide

@@ -10,6 +10,7 @@
 #include "volguide/core/object.h"
 #include "volguide/core/ray.h"
 #include "volguide/core/transform.h"
+#include "volguide/render/tonemap.h"
 
 namespace volguide {
 
@@ -33,11 +34,15 @@ public:
     // Mitsuba's hdrfilm `sample_border`: also sample positions up to the filter's border outside
     // the image, so edge pixels receive as many filtered samples as interior ones.
     bool sample_border() const { return sample_border_; }
+    // How a PNG of the render is written: the default preview, or an ldrfilm's tonemap.
+    const PngTonemap& png_tonemap() const { return png_tonemap_; }
+    void set_png_tonemap(const PngTonemap& t) { png_tonemap_ = t; }
 
 private:
     int width_, height_;
     std::shared_ptr<ReconstructionFilter> filter_;
     bool sample_border_ = false;
+    PngTonemap png_tonemap_;
 };
 
 class Medium;

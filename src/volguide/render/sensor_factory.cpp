@@ -15,6 +15,7 @@ ObjectPtr create_sensor(const Properties& props) {
 }
 
 ObjectPtr create_film(const Properties& props) {
+    if (props.type() == "ldrfilm") return make_ldrfilm(props);
     return make_hdrfilm(props);
 }
 

@@ -7,7 +7,7 @@
 namespace volguide {
 
 XmlFile::XmlFile(std::filesystem::path real_path, std::string display_path,
-                 const SourceLocation& include_site)
+                 const SourceLocation& include_site, XmlParseMode mode)
     : path_(std::move(real_path)), display_(std::move(display_path)) {
     std::ifstream in(path_, std::ios::binary);
     if (!in) {
@@ -22,9 +22,11 @@ XmlFile::XmlFile(std::filesystem::path real_path, std::string display_path,
     for (size_t i = 0; i < text_.size(); ++i)
         if (text_[i] == '\n') line_starts_.push_back(i + 1);
 
-    // parse_declaration keeps <?xml ...?> as a node so offsets stay meaningful; comments are skipped.
-    pugi::xml_parse_result result =
-        doc_.load_buffer(text_.data(), text_.size(), pugi::parse_default | pugi::parse_declaration);
+    // parse_declaration keeps <?xml ...?> as a node so offsets stay meaningful; comments are skipped
+    // unless the file is to be written back.
+    unsigned options = pugi::parse_default | pugi::parse_declaration;
+    if (mode == XmlParseMode::keep_formatting) options |= pugi::parse_comments | pugi::parse_ws_pcdata;
+    pugi::xml_parse_result result = doc_.load_buffer(text_.data(), text_.size(), options);
     if (!result) {
         // pugixml reports an unclosed element as a tag mismatch at the very end of the file.
         bool at_end = result.offset + 1 >= std::ptrdiff_t(text_.size());
@@ -50,6 +52,45 @@ void XmlFile::check_nesting_depth() const {
         for (pugi::xml_node child : node.children())
             if (child.type() == pugi::node_element) stack.push_back({child, depth + 1});
     }
+}
+
+std::ptrdiff_t XmlFile::offset_of(const pugi::xml_node& node) const {
+    auto it = offsets_.find(node.internal_object());
+    return it != offsets_.end() ? it->second : node.offset_debug();
+}
+
+void XmlFile::remember_locations() {
+    std::vector<pugi::xml_node> stack{doc_.document_element()};
+    while (!stack.empty()) {
+        pugi::xml_node node = stack.back();
+        stack.pop_back();
+        offsets_.emplace(node.internal_object(), node.offset_debug());
+        for (pugi::xml_node child : node.children())
+            if (child.type() == pugi::node_element) stack.push_back(child);
+    }
+}
+
+void XmlFile::inherit_location(pugi::xml_node node, pugi::xml_node from) {
+    offsets_[node.internal_object()] = offset_of(from);
+}
+
+namespace {
+
+struct StringWriter : pugi::xml_writer {
+    std::string out;
+    void write(const void* data, size_t size) override { out.append(static_cast<const char*>(data), size); }
+};
+
+}  // namespace
+
+std::string XmlFile::text() const {
+    // pugixml keeps no whitespace between top-level nodes: each gets a line of its own.
+    StringWriter w;
+    for (pugi::xml_node node : doc_.children()) {
+        node.print(w, "", pugi::format_raw);
+        w.out += '\n';
+    }
+    return w.out;
 }
 
 std::string XmlFile::display_directory() const {

@@ -4,7 +4,6 @@
 
 #include <array>
 #include <cmath>
-#include <fstream>
 #include <stdexcept>
 #include <vector>
 
@@ -146,44 +145,21 @@ bool is_unbounded_spectrum_name(std::string_view name) {
     return name == "eta" || name == "k" || name == "int_ior" || name == "ext_ior";
 }
 
-void read_spd_file(const XmlElement& el, const std::string& path, std::vector<double>& wl,
-                   std::vector<double>& val) {
-    std::ifstream in(path);
-    if (!in) el.fail_here("<spectrum>: cannot read '{}'", path);
-    std::string line;
-    int n = 0;
-    while (std::getline(in, line)) {
-        ++n;
-        std::string_view text = trim(line);
-        if (text.empty() || text.front() == '#') continue;
-        auto parts = tokenize_list(text);
-        if (parts.size() != 2)
-            el.fail_here("<spectrum>: '{}' line {}: expected \"wavelength value\"", path, n);
-        wl.push_back(number(el, parts[0], "wavelength"));
-        val.push_back(number(el, parts[1], "spectrum value"));
-    }
-}
-
 Color3 spectrum_value(const XmlElement& el, const std::string& name, const PropertyContext& ctx) {
     const bool has_value = !el.get("value").empty(), has_file = !el.get("filename").empty();
     if (has_value == has_file) el.fail_here("<spectrum> needs exactly one of 'value' or 'filename'");
     std::vector<double> wl, val;
+    std::string error;
     if (has_value) {
         auto tokens = tokenize_list(el.get("value"));
         if (tokens.size() == 1 && tokens[0].find(':') == std::string_view::npos)
             return Color3(float(number(el, tokens[0], "value")));  // constant: gray in RGB mode
-        for (std::string_view token : tokens) {
-            auto pair = split_on(token, ':');
-            if (pair.size() != 2) el.fail_here("<spectrum>: \"{}\" is not a wavelength:value pair", token);
-            wl.push_back(number(el, pair[0], "wavelength"));
-            val.push_back(number(el, pair[1], "spectrum value"));
-        }
+        error = parse_spectrum_pairs(el.get("value"), wl, val);
     } else {
-        read_spd_file(el, resolve_filename(el, el.get("filename"), ctx), wl, val);
+        error = read_spd_file(resolve_filename(el, el.get("filename"), ctx), wl, val);
     }
-    if (wl.size() < 2) el.fail_here("<spectrum> needs at least two wavelength:value pairs");
-    for (size_t i = 1; i < wl.size(); ++i)
-        if (!(wl[i] > wl[i - 1])) el.fail_here("<spectrum>: wavelengths must be strictly increasing");
+    if (error.empty()) error = check_spectrum_wavelengths(wl);
+    if (!error.empty()) el.fail_here("{}", error);
     SpectrumToRgbMode mode{ctx.within_emitter, is_unbounded_spectrum_name(name)};
     SpectrumToRgbResult r = spectrum_to_linear_srgb(wl, val, mode);
     if (r.clamped)

@@ -8,7 +8,9 @@
 #include <utility>
 #include <vector>
 
+#include "volguide/core/log.h"
 #include "volguide/scene/file_resolver.h"
+#include "volguide/scene/legacy_upgrade.h"
 #include "volguide/scene/scene_parameters.h"
 #include "volguide/scene/xml_element.h"
 #include "volguide/scene/xml_file.h"
@@ -43,7 +45,8 @@ bool reserved_name(const std::string& s) {
     return !s.empty() && s.front() == '_';
 }
 
-// Mitsuba writes versions as "major.minor.patch"; volguide reads the 2.x and 3.x formats.
+// Mitsuba writes versions as "major.minor.patch"; volguide reads the 2.x and 3.x formats, and the 0.x
+// formats of Mitsuba 0.4 to 0.6, which are upgraded (legacy_upgrade.h) before this check sees them.
 void check_version(const XmlElement& el) {
     const std::string& v = el.require("version");
     auto parts = split_on(v, '.');
@@ -51,9 +54,8 @@ void check_version(const XmlElement& el) {
     for (auto p : parts)
         ok = ok && parse_int64(p) && p.find_first_not_of("0123456789") == std::string_view::npos;
     if (!ok) el.fail_here("could not parse version \"{}\" (expected major.minor.patch)", v);
-    int64_t major = *parse_int64(parts[0]);
-    if (major != 2 && major != 3)
-        el.fail_here("scene format version {} is not supported (volguide reads versions 2.x and 3.x)", v);
+    const std::string unsupported = unsupported_version_message(v);
+    if (!unsupported.empty()) el.fail_here("{}", unsupported);
 }
 
 class Reader {
@@ -62,22 +64,61 @@ class Reader {
         : params_(options.defines), resolver_(main_dir(path)), main_display_(path) {}
 
     SceneGraph run() {
+        XmlFile& main = collect_main(XmlParseMode::scene);
+        upgrade_defaults(main);
+        for (auto& [key, file] : files_)
+            if (is_legacy_file(*file, params_)) upgrade_legacy_file(*file, context(UpgradeTarget::volguide));
+        read_root(main);
+        return std::move(graph_);
+    }
+
+    // The main file in Mitsuba 3's form, as text (volguide upgrade); its includes are read, not written.
+    std::string upgrade_main() {
+        XmlFile& main = collect_main(XmlParseMode::keep_formatting);
+        if (!is_legacy_file(main, params_)) {
+            const std::string version = main.root().attribute("version").value();
+            const std::string unsupported = unsupported_version_message(version);
+            fail(main.location(main.root()), "{}", unsupported.empty()
+                                                       ? fmt::format("not a Mitsuba 0.x file (version \"{}\"): nothing to upgrade", version)
+                                                       : unsupported);
+        }
+        for (auto& [key, file] : files_)
+            if (file.get() != &main && is_legacy_file(*file, params_))
+                warn(SourceLocation{file->display_path(), 1},
+                     "an included Mitsuba 0.x file is not upgraded with the file including it: upgrade it too");
+        upgrade_defaults(main);
+        upgrade_legacy_file(main, context(UpgradeTarget::mitsuba3));
+        return main.text();
+    }
+
+  private:
+    // Pass 1 over the main file and its includes: defaults, paths and every file loaded.
+    XmlFile& collect_main(XmlParseMode mode) {
         std::error_code ec;
         if (!fs::is_regular_file(main_display_, ec))
             fail(SourceLocation{main_display_, 0}, "scene file not found");
         fs::path real = fs::absolute(main_display_).lexically_normal();
-        const XmlFile& main = load(real, main_display_, SourceLocation{});
+        XmlFile& main = load(real, main_display_, SourceLocation{}, mode);
 
         include_stack_.push_back({key_of(real), main_display_});
         collect(main);
         include_stack_.pop_back();
         params_.check_overrides(SourceLocation{main_display_, 0});
-
-        read_root(main);
-        return std::move(graph_);
+        return main;
     }
 
-  private:
+    LegacyContext context(UpgradeTarget target) const { return {target, &params_, &resolver_}; }
+
+    // The defaults of a 0.x main scene that differ from Mitsuba 3's (add_legacy_default_integrator):
+    // decided over every file of the scene, before any is rewritten.
+    void upgrade_defaults(XmlFile& main) {
+        if (!is_legacy_file(main, params_)) return;
+        for (auto& [key, file] : files_)
+            for (pugi::xml_node c : file->root().children())
+                if (std::string_view(c.name()) == "integrator") return;
+        add_legacy_default_integrator(main);
+    }
+
     static FileResolver::Dir main_dir(const std::string& path) {
         return {fs::absolute(path).lexically_normal().parent_path(), fs::path(path).parent_path().string()};
     }
@@ -88,11 +129,12 @@ class Reader {
     }
     FileResolver::Dir dir_of(const XmlFile& f) const { return {f.directory(), f.display_directory()}; }
 
-    const XmlFile& load(const fs::path& real, const std::string& display, const SourceLocation& site) {
+    XmlFile& load(const fs::path& real, const std::string& display, const SourceLocation& site,
+                  XmlParseMode mode = XmlParseMode::scene) {
         fs::path key = key_of(real);
         auto it = files_.find(key);
         if (it == files_.end())
-            it = files_.emplace(key, std::make_unique<XmlFile>(real, display, site)).first;
+            it = files_.emplace(key, std::make_unique<XmlFile>(real, display, site, mode)).first;
         return *it->second;
     }
 
@@ -279,6 +321,10 @@ class Reader {
 
 SceneGraph read_scene_graph(const std::string& path, const LoadOptions& options) {
     return Reader(path, options).run();
+}
+
+std::string upgrade_scene_file(const std::string& path, const LoadOptions& options) {
+    return Reader(path, options).upgrade_main();
 }
 
 }  // namespace volguide

@@ -11,4 +11,9 @@ namespace volguide {
 
 SceneGraph read_scene_graph(const std::string& path, const LoadOptions& options);
 
+// `volguide upgrade`: the text of a Mitsuba 0.x scene file in Mitsuba 3's form (legacy_upgrade.h),
+// comments and indentation kept. Files it includes are read (their defaults and paths count) but not
+// rewritten; an included 0.x file is a warning. InputError when the file is not a 0.x file.
+std::string upgrade_scene_file(const std::string& path, const LoadOptions& options);
+
 }  // namespace volguide

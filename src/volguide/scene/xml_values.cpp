@@ -1,8 +1,11 @@
 #include "volguide/scene/xml_values.h"
 
+#include <fmt/format.h>
+
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <fstream>
 
 namespace volguide {
 
@@ -70,6 +73,63 @@ std::optional<bool> parse_bool(std::string_view text) {
     if (lower == "true") return true;
     if (lower == "false") return false;
     return std::nullopt;
+}
+
+namespace {
+
+// One number of a spectrum; false with `error` set when it is not a finite number.
+bool spectrum_number(std::string_view text, const char* what, double& out, std::string& error) {
+    auto v = parse_double(text);
+    if (!v) {
+        error = fmt::format("<spectrum>: could not parse {} \"{}\" as a finite number", what, text);
+        return false;
+    }
+    out = *v;
+    return true;
+}
+
+}  // namespace
+
+std::string parse_spectrum_pairs(std::string_view text, std::vector<double>& wavelengths,
+                                 std::vector<double>& values) {
+    std::string error;
+    for (std::string_view token : tokenize_list(text)) {
+        auto pair = split_on(token, ':');
+        if (pair.size() != 2) return fmt::format("<spectrum>: \"{}\" is not a wavelength:value pair", token);
+        double wl = 0, v = 0;
+        if (!spectrum_number(pair[0], "wavelength", wl, error) || !spectrum_number(pair[1], "spectrum value", v, error))
+            return error;
+        wavelengths.push_back(wl);
+        values.push_back(v);
+    }
+    return {};
+}
+
+std::string read_spd_file(const std::string& path, std::vector<double>& wavelengths, std::vector<double>& values) {
+    std::ifstream in(path);
+    if (!in) return fmt::format("<spectrum>: cannot read '{}'", path);
+    std::string line, error;
+    int n = 0;
+    while (std::getline(in, line)) {
+        ++n;
+        std::string_view text = trim(line);
+        if (text.empty() || text.front() == '#') continue;
+        auto parts = tokenize_list(text);
+        if (parts.size() != 2) return fmt::format("<spectrum>: '{}' line {}: expected \"wavelength value\"", path, n);
+        double wl = 0, v = 0;
+        if (!spectrum_number(parts[0], "wavelength", wl, error) || !spectrum_number(parts[1], "spectrum value", v, error))
+            return error;
+        wavelengths.push_back(wl);
+        values.push_back(v);
+    }
+    return {};
+}
+
+std::string check_spectrum_wavelengths(const std::vector<double>& wavelengths) {
+    if (wavelengths.size() < 2) return "<spectrum> needs at least two wavelength:value pairs";
+    for (size_t i = 1; i < wavelengths.size(); ++i)
+        if (!(wavelengths[i] > wavelengths[i - 1])) return "<spectrum>: wavelengths must be strictly increasing";
+    return {};
 }
 
 }  // namespace volguide
