@@ -10,7 +10,6 @@ GuidedCollisionProbability::GuidedCollisionProbability(const GuidingField& field
     : field_(field),
       estimates_(estimates),
       direction_(estimates ? estimates->prepare(ray.d) : LeafEstimates::Direction{}),
-      c_T_(c_T),
       mixture_(mixture),
       unguided_share_(c_T),
       cursor_(field.tree(), ray, 0.f, t_end) {}

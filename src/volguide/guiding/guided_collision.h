@@ -59,7 +59,6 @@ class GuidedCollisionProbability {
     const GuidingField& field_;
     const LeafEstimates* estimates_;
     LeafEstimates::Direction direction_;  // the ray's place in the leaves' tables (computed once)
-    float c_T_;
     CollisionMixture mixture_;
     float unguided_share_;         // c_k: the unguided strategy's share at the current collision
     bool has_previous_ = false;  // the previous collision's probabilities (it was a null)
