@@ -104,8 +104,10 @@ fuzz: deps
 
 # The unit, stat and fast integration tests under ASan + UBSan (build-asan), the render loop, photon
 # pass and determinism tests under TSan (build-tsan); docs/reliability.md. CPU heavy: two more builds.
+# SANITIZE_STAGES, SANITIZE_LABELS, SANITIZE_ASAN_BUILD (environment): scripts/test-sanitize.sh;
+# SANITIZE_ASAN_BUILD=fuzz runs the ASan + UBSan stage in FUZZ_BUILD_DIR's clang build (CI, .ci/run).
 test-sanitize: deps
-	@JOBS=$(JOBS) scripts/test-sanitize.sh build-asan build-tsan
+	@JOBS=$(JOBS) FUZZ_BUILD_DIR=$(FUZZ_BUILD_DIR) scripts/test-sanitize.sh build-asan build-tsan
 
 format:
 	clang-format -i $$(git ls-files '*.cpp' '*.h')

@@ -14,12 +14,9 @@ all_targets=(scene vol vdb field obj ply exr_part serialized image)
 if (($#)); then targets=("$@"); else targets=("${all_targets[@]}"); fi
 jobs=${JOBS:-$(nproc)}
 
-if [[ ! -f $build/CMakeCache.txt ]]; then
-  # Only the readers and what they need: no tests, benchmarks, Python module or Open PGL build.
-  CC=clang CXX=clang++ cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DVOLGUIDE_FUZZ=ON \
-    -DVOLGUIDE_BUILD_TESTS=OFF -DVOLGUIDE_BUILD_BENCH=OFF -DVOLGUIDE_BUILD_PYTHON=OFF \
-    -DVOLGUIDE_WITH_OPENPGL=OFF
-fi
+# Only the fuzz targets are built (the readers and what they need); the same build directory also
+# builds the unit and stat tests for CI's ASan + UBSan stage (scripts/test-sanitize.sh).
+"$root/scripts/configure-fuzz.sh" "$build"
 cmake --build "$build" -j "$jobs" --target "${targets[@]/#/fuzz_}"
 
 # Allocations sized by input are bounded by this budget (core/memory.h), so a size the readers accept

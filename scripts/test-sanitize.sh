@@ -1,10 +1,15 @@
 #!/usr/bin/env bash
 # make test-sanitize: the unit, stat and fast integration tests under AddressSanitizer +
 # UndefinedBehaviorSanitizer, and the multi-threaded render tests (render loop, photon pass,
-# determinism) under ThreadSanitizer, each in its own build directory (docs/reliability.md).
+# determinism) under ThreadSanitizer, each in its own build directory (docs/reliability.md; the ASan
+# stage can instead use the fuzz build, SANITIZE_ASAN_BUILD below).
 #   scripts/test-sanitize.sh [ASAN_BUILD_DIR] [TSAN_BUILD_DIR]
 # SANITIZE_STAGES: "asan tsan" (default) or one of them; SANITIZE_LABELS: the CTest labels of the
 # ASan + UBSan stage (default unit|stat|integration; CI runs a subset, see .ci/run).
+# SANITIZE_ASAN_BUILD: gcc (default: the ASan + UBSan stage in its own gcc build, ASAN_BUILD_DIR) or
+# fuzz: in the fuzz build (clang 14, ASan + UBSan and libFuzzer's coverage instrumentation,
+# FUZZ_BUILD_DIR, default build-fuzz; scripts/configure-fuzz.sh), whose instrumented library make fuzz
+# has already built: CI's stage (.ci/run), one instrumented build for both uses.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 asan=${1:-build-asan}
@@ -12,6 +17,7 @@ tsan=${2:-build-tsan}
 jobs=${JOBS:-$(nproc)}
 stages=${SANITIZE_STAGES:-asan tsan}
 labels=${SANITIZE_LABELS:-unit|stat|integration}
+asan_build=${SANITIZE_ASAN_BUILD:-gcc}
 # No benchmarks, Python module or Open PGL: they add build time and no reader or render-loop code.
 common=(-DCMAKE_BUILD_TYPE=RelWithDebInfo -DVOLGUIDE_BUILD_BENCH=OFF -DVOLGUIDE_BUILD_PYTHON=OFF
         -DVOLGUIDE_WITH_OPENPGL=OFF)
@@ -21,11 +27,25 @@ common=(-DCMAKE_BUILD_TYPE=RelWithDebInfo -DVOLGUIDE_BUILD_BENCH=OFF -DVOLGUIDE_
 slow='bench_harness|install_embed|slurm_array|BenchScene\.|GuidedVsVolpathScenes|MitsubaConformance'
 
 if [[ " $stages " == *" asan "* ]]; then
-  # Configured every time (seconds): an older build directory gets the tests_<label> targets too.
-  # -O1 -g1: ASan's recommended optimisation and line tables only, so that a fresh machine builds the
-  # unit and stat executables in about half the time (CI's time, docs/reliability.md).
-  cmake -S "$root" -B "$asan" "${common[@]}" -DVOLGUIDE_SANITIZE=address,undefined \
-    -DVOLGUIDE_SANITIZE_DEBUG=-g1 "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -DNDEBUG" > /dev/null
+  if [[ $asan_build == fuzz ]]; then
+    asan=${FUZZ_BUILD_DIR:-build-fuzz}
+    "$root/scripts/configure-fuzz.sh" "$asan"
+    if ! grep -q '^VOLGUIDE_FUZZ:BOOL=ON' "$asan/CMakeCache.txt"; then
+      echo "test-sanitize: $asan is not a fuzz build (VOLGUIDE_FUZZ=ON)" >&2
+      exit 1
+    fi
+    # Its tests on (a fuzz build configured before they were, or with them off), its other settings kept.
+    cmake -S "$root" -B "$asan" -DVOLGUIDE_BUILD_TESTS=ON > /dev/null
+  elif [[ $asan_build == gcc ]]; then
+    # Configured every time (seconds): an older build directory gets the tests_<label> targets too.
+    # -O1 -g1: ASan's recommended optimisation and line tables only, so that a fresh machine builds the
+    # unit and stat executables in about half the time (CI's time, docs/reliability.md).
+    cmake -S "$root" -B "$asan" "${common[@]}" -DVOLGUIDE_SANITIZE=address,undefined \
+      -DVOLGUIDE_SANITIZE_DEBUG=-g1 "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -DNDEBUG" > /dev/null
+  else
+    echo "test-sanitize: SANITIZE_ASAN_BUILD=$asan_build: expected gcc or fuzz" >&2
+    exit 1
+  fi
   # Labels among unit|stat|integration: only their executables (tests_<label>, tests/CMakeLists.txt);
   # anything else: every target.
   targets=()

@@ -78,7 +78,7 @@ TEST_P(GuidedDirectionChi2, MixtureMatchesItsPdf) {
     const GuidedDirectionSampler sampler(c.mode, &leaf, phase, test_wi(), c.alpha);
     ASSERT_TRUE(sampler.guided());
     const auto r = run(
-        sampler, [&](const Vec3f& d) { return double(sampler.pdf(d)); }, 100 + uint64_t(c.g * 10));
+        sampler, [&](const Vec3f& d) { return double(sampler.pdf(d)); }, 100 + uint64_t(int64_t(c.g * 10)));
     EXPECT_TRUE(r.passed) << r.report;
     EXPECT_NEAR(r.pdf_integral, 1.0, 1e-3);
     EXPECT_EQ(r.weight_mismatches, 0u);

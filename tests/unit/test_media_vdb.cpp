@@ -462,7 +462,8 @@ TEST(MediaVdb, HeaderCheckStepsOverEveryMapTypeToTheRootNode) {
         SCOPED_TRACE(type);
         ASSERT_EQ(map->type(), type);
         openvdb::GridPtrVec grids;
-        auto add = [&](openvdb::GridBase::Ptr grid, const std::string& name) {
+        // map captured by an init-capture: clang 14 cannot capture a structured binding (C++20's P1091).
+        auto add = [&, &map = map](openvdb::GridBase::Ptr grid, const std::string& name) {
             grid->setName(name);
             grid->setTransform(openvdb::math::Transform::Ptr(new openvdb::math::Transform(map->copy())));
             grids.push_back(grid);

@@ -96,7 +96,7 @@ TEST(VmmIo, ForeignDataThrows) {
     EXPECT_THROW(deserialize("<scene version=\"3.0.0\">"), VmmFormatError);
     std::string noise(200, '\0');
     Sampler s(1, 0, 0);
-    for (char& c : noise) c = char(s.next_1d() * 256);
+    for (char& c : noise) c = char(int(s.next_1d() * 256));
     EXPECT_THROW(deserialize(noise), VmmFormatError);
 }
 
