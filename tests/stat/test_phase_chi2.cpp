@@ -51,7 +51,9 @@ TEST(PhaseChi2, HenyeyGreensteinWholeSphereObliqueWi) {
         HGPhase hg(g);
         auto r = run(hg, normalize(Vec3f(0.3f, -0.6f, 0.5f)), -1.0, 200 + uint64_t(100 * (g + 1)));
         EXPECT_TRUE(r.passed) << "g " << g << "\n" << r.report;
-        if (std::abs(g) < 0.95f) EXPECT_NEAR(r.pdf_integral, 1.0, 1e-3) << g;
+        if (std::abs(g) < 0.95f) {
+            EXPECT_NEAR(r.pdf_integral, 1.0, 1e-3) << g;
+        }
     }
 }
 

@@ -301,7 +301,9 @@ static double check_resampled(HeterogeneousMedium& m, const std::function<float(
                 const FreeFlightSample fs =
                     resampled_segment_flight(m, r.ray, r.tmax, Color3(0.3f, 1.f, 0.6f), probability, s);
                 EXPECT_TRUE(fs.weight.is_finite());
-                if (fs.scattered) EXPECT_LT(fs.t, r.tmax);
+                if (fs.scattered) {
+                    EXPECT_LT(fs.t, r.tmax);
+                }
                 for (int c = 0; c < 3; ++c) {
                     scat[c].add(fs.scattered ? fs.weight[c] : 0.0);
                     scat_t[c].add(fs.scattered ? fs.weight[c] * fs.t : 0.0);
@@ -316,9 +318,10 @@ static double check_resampled(HeterogeneousMedium& m, const std::function<float(
                 for (int k = 0; k < 3; ++k) {
                     const double z = got[k]->z(want[k], 1e-6);
                     worst = std::max(worst, z);
-                    if (expect_pass)
+                    if (expect_pass) {
                         EXPECT_LT(z, 4.0) << "ray " << ri << " majorant x" << ms << " channel " << c << " moment " << k
                                           << ": " << got[k]->mean() << " vs " << want[k];
+                    }
                 }
             }
         }
