@@ -338,8 +338,8 @@ TEST(GuidedVolPathUnbiased, GuidedVertexAnswersEachDecisionFromOneLookup) {
         const float confidence = guide.confidence(leaf, mi.coeffs.sigma_t);
         const bool trusted = leaf >= 0 && confidence >= WalkGuide::kSkipConfidence;
         const float phase_prob = !trusted && leaf >= 0 ? 1.f : 1.f - 0.5f * confidence;
-        const GuidedDirectionSampler ref(DirectionGuiding::Product, leaf >= 0 ? &guide.direction_leaf(leaf) : nullptr,
-                                         phase, mi.wi, phase_prob, guide.phase_vmm(phase));
+        const GuidedDirectionSampler ref(DirectionGuiding::Product, leaf >= 0 ? guide.direction_lobes(leaf) : LobeBlock(),
+                                         phase, *guide.phase_lobes(phase), mi.wi, phase_prob);
         const Vec3f w = warp::square_to_uniform_sphere(s.next_2d());
         for (int again = 0; again < 2; ++again) {  // a second round asks the same object again
             vertex.prepare_direction();

@@ -96,12 +96,24 @@ void GuidedVertex::prepare_direction() {
     const int index = leaf();
     const float phase_prob = phase_probability(index);
     const PhaseFunction& phase = mi_.medium->phase();
-    const GuidedDirectionSampler& s = direction_.emplace(guide_.settings().direction,
-                                                         index >= 0 ? &guide_.direction_leaf(index) : nullptr, phase,
-                                                         mi_.wi, phase_prob, guide_.phase_vmm(phase));
+    const GuidedDirectionSampler& s =
+        direction_.emplace(guide_.settings().direction, index >= 0 ? guide_.direction_lobes(index) : LobeBlock(), phase,
+                           phase_lobes(phase), mi_.wi, phase_prob);
     counts_.direction_unguided_vertices += !s.guided();
     ++counts_.vertex_mixtures;
     counts_.vertex_products += s.product() != nullptr;
+}
+
+const PhaseLobes& GuidedVertex::phase_lobes(const PhaseFunction& phase) {
+    if (&phase != lobes_phase_) {
+        lobes_phase_ = &phase;
+        lobes_ = guide_.phase_lobes(phase);
+        if (!lobes_) {  // a phase function of no medium the guide saw: prepared here, once per walk
+            own_lobes_ = prepare_phase_lobes(hg_phase_vmm(phase.mean_cosine()));
+            lobes_ = &own_lobes_;
+        }
+    }
+    return *lobes_;
 }
 
 GuidedDirectionSampler::Sample GuidedVertex::sample_direction(Point2f u, float u_strategy) const {

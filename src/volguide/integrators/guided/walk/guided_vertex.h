@@ -74,6 +74,8 @@ class GuidedVertex {
     // The direction mixture's phase probability in leaf `index` (the configured one, the learned
     // share's, damped by the leaf's confidence); 1: the phase function alone.
     float phase_probability(int index);
+    // The phase function's prepared lobes (the guide's; the last medium's kept: no map lookup per vertex).
+    const PhaseLobes& phase_lobes(const PhaseFunction& phase);
 
     const WalkGuide& guide_;
     WalkGuideStats& counts_;
@@ -86,6 +88,9 @@ class GuidedVertex {
     bool prepared_ = false;  // prepare_direction ran for this vertex
     DistanceContext distance_;  // the distance decisions' context (scratch kept between them)
     std::optional<GuidedDirectionSampler> direction_;
+    const PhaseFunction* lobes_phase_ = nullptr;
+    const PhaseLobes* lobes_ = nullptr;
+    PhaseLobes own_lobes_;
 };
 
 }  // namespace volguide
