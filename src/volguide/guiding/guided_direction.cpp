@@ -45,7 +45,7 @@ GuidedDirectionSampler::GuidedDirectionSampler(DirectionGuiding mode, const Guid
     : mode_(mode), phase_(&phase), wi_(wi) {
     LobeBlock block;
     if (mode != DirectionGuiding::Phase && leaf && leaf->valid && leaf->vmm.weight_sum() > 0.0) {
-        owned_ = std::make_unique<Owned>();
+        owned_ = std::make_shared<Owned>();
         block = write_lobe_block(leaf->vmm, owned_->block.data());
         owned_->lobes = prepare_phase_lobes(phase_vmm ? *phase_vmm : hg_phase_vmm(phase.mean_cosine()));
     }
@@ -65,11 +65,6 @@ void GuidedDirectionSampler::init(const LobeBlock& leaf, const PhaseLobes* lobes
         if (near_uniform(leaf)) return;  // the product is the phase function: phase only
         // The phase lobes sit on +-(travel direction) = +-(-wi) (phase_vmm.h).
         if (!product_.build(leaf, *lobes, -wi_)) return;  // nothing to guide with: phase only
-        product_integral_ = product_.integral();
-        if (!(product_integral_ > 0.0) || !std::isfinite(product_integral_)) {
-            product_integral_ = 0.0;
-            return;
-        }
         guide_ = Guide::Product;
     }
     alpha_ = alpha;

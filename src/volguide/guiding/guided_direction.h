@@ -79,7 +79,7 @@ class GuidedDirectionSampler {
     float phase_probability() const { return alpha_; }
     // Product mode: Z = integral of V_L V_f over the sphere, so Phi Z is the leaf's in-scattered
     // radiance estimate for this vertex (docs/theory.md §5.6); 0 otherwise.
-    double product_integral() const { return product_integral_; }
+    double product_integral() const { return guide_ == Guide::Product ? product_.integral() : product_integral_; }
     // The product guide; null unless guiding by a product (a near-isotropic phase guides by V_L itself).
     const LobeProduct* product() const { return guide_ == Guide::Product ? &product_ : nullptr; }
 
@@ -102,7 +102,7 @@ class GuidedDirectionSampler {
     LobeBlock leaf_;
     double product_integral_ = 0.0;
     LobeProduct product_;  // Guide::Product (only its used pairs are written)
-    std::unique_ptr<Owned> owned_;
+    std::shared_ptr<Owned> owned_;  // shared by copies (a split path's copies share their vertex's sampler)
 };
 
 }  // namespace volguide

@@ -30,12 +30,12 @@ bool LobeProduct::build(const LobeBlock& leaf, const PhaseLobes& phase, const Ve
     phase_ = &phase;
     d_ = d;
     pairs_ = leaf.padded * phase.count;
-    const ScaledSum s = lobe_product_pairs(leaf, phase.paired(), d, cdf_.data(), kappa_.data(), expm1_.data());
-    float running = 0.f;
-    for (int i = 0; i < pairs_; ++i) cdf_[size_t(i)] = running += cdf_[size_t(i)];
-    total_ = running;
+    // No running sums here: a vertex samples its guide at most once, and half of them never do (the
+    // phase function's share); pair_at walks the masses when it does.
+    const ScaledSum s = lobe_product_pairs(leaf, phase.paired(), d, mass_.data(), kappa_.data(), expm1_.data());
+    total_ = s.sum;
     max_exponent_ = s.max_exponent;
-    if (!(total_ > 0.f) || !std::isfinite(total_) || !(s.sum > 0.f)) {
+    if (!(total_ > 0.f) || !std::isfinite(total_)) {
         pairs_ = 0;
         total_ = 0.f;
         return false;
@@ -44,16 +44,23 @@ bool LobeProduct::build(const LobeBlock& leaf, const PhaseLobes& phase, const Ve
 }
 
 int LobeProduct::pair_at(float& u) const {
-    const float x = u * total_;
-    // The first pair whose running sum exceeds x: pairs of no mass (pad lanes) are never picked.
-    const float* end = cdf_.data() + pairs_;
-    const float* it = std::upper_bound(cdf_.data(), end, x);
-    if (it == end) it = std::lower_bound(cdf_.data(), end, total_);  // rounding at the top: the last with mass
-    const int i = int(it - cdf_.data());
-    const float below = i > 0 ? cdf_[size_t(i - 1)] : 0.f;
-    const float mass = cdf_[size_t(i)] - below;
-    u = mass > 0.f ? std::clamp((x - below) / mass, 0.f, OneMinusEpsilon) : 0.f;
-    return i;
+    float x = u * total_;
+    // The pair whose stretch of the masses holds x: pairs of no mass (pad lanes) are never picked.
+    int last = -1;
+    for (int i = 0; i < pairs_; ++i) {
+        const float m = mass_[size_t(i)];
+        if (!(m > 0.f)) continue;
+        if (x < m) {
+            u = std::clamp(x / m, 0.f, OneMinusEpsilon);
+            return i;
+        }
+        x -= m;
+        last = i;
+    }
+    // Rounding at the top (the masses summed in another order than the kernel's total): the last pair
+    // with mass.
+    u = OneMinusEpsilon;
+    return last;
 }
 
 VmfLobe LobeProduct::pair_lobe(int i) const {
@@ -97,8 +104,7 @@ VmfMixture<kVmmMaxLobes * kPhaseVmmMaxLobes> LobeProduct::mixture() const {
     for (int k = 0; k < leaf_.count; ++k)
         for (int j = 0; j < J; ++j) {
             const int i = j * leaf_.padded + k;
-            const float mass = cdf_[size_t(i)] - (i > 0 ? cdf_[size_t(i - 1)] : 0.f);
-            m.add_lobe(pairs_ ? mass / total_ : 0.f, pair_lobe(i));
+            m.add_lobe(pairs_ ? mass_[size_t(i)] / total_ : 0.f, pair_lobe(i));
         }
     if (pairs_ == 0) m.count = 0;
     return m;

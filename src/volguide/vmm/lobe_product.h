@@ -51,14 +51,15 @@ class LobeProduct {
   private:
     // Pair i's lobe: its mean direction and concentration.
     VmfLobe pair_lobe(int i) const;
-    int pair_at(float& u) const;  // the pair u picks, u rescaled to [0, 1)
+    int pair_at(float& u) const;  // the pair u picks by mass, u rescaled to [0, 1)
+    float mass(int i) const { return mass_[size_t(i)]; }
 
     LobeBlock leaf_;
     const PhaseLobes* phase_ = nullptr;
     Vec3f d_;
     int pairs_ = 0;
     float total_ = 0.f, max_exponent_ = 0.f;
-    alignas(64) std::array<float, kMaxPairs> cdf_;  // running sums of the masses
+    alignas(64) std::array<float, kMaxPairs> mass_;  // the pairs' masses, relative to e^max_exponent_
     alignas(64) std::array<float, kMaxPairs> kappa_;
     alignas(64) std::array<float, kMaxPairs> expm1_;
 };

@@ -19,6 +19,28 @@ void GuidedVertex::clear() {
     direction_.reset();
 }
 
+int GuidedVertex::keep() {
+    if (!active_) return -1;
+    leaf();
+    prepare_direction();
+    kept_.push_back(Kept{leaf_, found_, prepared_, direction_});
+    return int(kept_.size()) - 1;
+}
+
+void GuidedVertex::resume(const MediumInteraction& mi, int kept) {
+    if (kept < 0) {
+        init(mi, VertexLeaf());
+        return;
+    }
+    const Kept& k = kept_[size_t(kept)];
+    init(mi, VertexLeaf{k.leaf});
+    leaf_ = k.leaf;
+    found_ = k.found;
+    prepared_ = k.prepared;
+    direction_ = k.direction;
+    ++counts_.vertices_resumed;
+}
+
 int GuidedVertex::leaf() {
     if (!found_) {
         leaf_ = guide_.leaf_at(mi_.p, handed_ >= 0 ? handed_ : hint_, counts_.vertex_descents);

@@ -138,7 +138,9 @@ struct WalkGuideSettings {
     /* ... of which with the leaf VMM x phase product */                                                   \
     X(vertex_products, "guided_vertex_products", vertices)                                                 \
     /* ... ended by the distance-stage continuation decision (roulette) */                                \
-    X(vertex_distance_kills, "guided_vertex_distance_kills", vertices)
+    X(vertex_distance_kills, "guided_vertex_distance_kills", vertices)                                     \
+    /* ... split copies' vertices resumed with their leaf and direction decision (nothing found again) */  \
+    X(vertices_resumed, "guided_vertices_resumed", vertices)
 
 // The counters of the walks; a walk counts into its own (GuidedWalkPolicy's) and adds it to the
 // guide's once, at its end.
