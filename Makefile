@@ -10,7 +10,7 @@ JOBS ?= $(shell nproc)
 # of `make fuzz`, docs/reliability.md. Keep in sync with CMakeLists.txt.
 DEMO_PACKAGES := build-essential cmake pkg-config libembree-dev libtbb-dev libopenexr-dev \
   libpugixml-dev libtinyobjloader-dev libfmt-dev libcli11-dev nlohmann-json3-dev libstb-dev \
-  libopenvdb-dev libboost-iostreams-dev zlib1g-dev libpng-dev libjpeg62-turbo-dev
+  libopenvdb-dev libboost-iostreams-dev zlib1g-dev libpng-dev libjpeg62-turbo-dev libhwy-dev
 TEST_PACKAGES := libgtest-dev libgmock-dev libbenchmark-dev python3 python3-matplotlib chromium \
   python3-dev python3-pybind11 python3-numpy python3-pytest slurm-wlm munge \
   clang libclang-rt-14-dev

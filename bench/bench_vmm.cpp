@@ -8,6 +8,7 @@
 #include "volguide/core/sampler.h"
 #include "volguide/core/warp.h"
 #include "volguide/vmm/phase_vmm.h"
+#include "volguide/vmm/lobe_product.h"
 #include "volguide/vmm/vmm_fast_product.h"
 #include "volguide/vmm/vmm_fit.h"
 
@@ -78,22 +79,21 @@ static void BM_VmmProduct8x3(benchmark::State& state) {
 }
 BENCHMARK(BM_VmmProduct8x3);
 
-// The single-precision product the guided direction sampler builds at every medium vertex
-// (vmm_fast_product.h), radiance lobes x an HG phase VMM (3 lobes).
+// The product the guided direction sampler builds at every medium vertex (vmm/lobe_product.h):
+// radiance lobes as a lobe block x an HG phase function's prepared lobes (3 lobes), vectorised.
 static void BM_VmmProductFast(benchmark::State& state) {
     auto dirs = directions(1024);
-    Vmm m = radiance_vmm(int(state.range(0)));
-    PhaseVmm phase = hg_phase_vmm(0.7f);
-    std::vector<VmfMixture<kPhaseVmmMaxLobes>> oriented;
-    for (const Vec3f& d : dirs) oriented.push_back(phase.oriented(d));
-    VmfMixture<kVmmMaxLobes * kPhaseVmmMaxLobes> out(VmfMixture<kVmmMaxLobes * kPhaseVmmMaxLobes>::Uninitialized{});
+    const Vmm m = radiance_vmm(int(state.range(0)));
+    const PhaseLobes lobes = prepare_phase_lobes(hg_phase_vmm(0.7f));
+    alignas(64) std::array<float, kLobeArrays * kVmmMaxLobes> block;
+    const LobeBlock b = write_lobe_block(m, block.data());
+    LobeProduct out;
     size_t i = 0;
     for (auto _ : state) {
-        const double z = product_fast(m, oriented[i++ & 1023], out);
-        benchmark::DoNotOptimize(z);
+        benchmark::DoNotOptimize(out.build(b, lobes, dirs[i++ & 1023]));
         benchmark::DoNotOptimize(out);
     }
-    state.counters["product_lobes"] = double(out.count);
+    state.counters["product_lobes"] = double(b.count * lobes.count);
 }
 BENCHMARK(BM_VmmProductFast)->Arg(8)->Arg(32);
 

@@ -19,7 +19,13 @@ volguide_unity_build(volguide_guiding)
 target_include_directories(volguide_guiding PUBLIC
   $<BUILD_INTERFACE:${CMAKE_SOURCE_DIR}/src> $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
 # TBB is public: roulette_splitting.h keeps its statistics in a tbb::enumerable_thread_specific.
-target_link_libraries(volguide_guiding PUBLIC TBB::tbb)
+# Google Highway (libhwy-dev) compiles the vectorised vMF kernels (vmm/vmf_simd.cpp) for every x86
+# target and dispatches at run time; no installed header includes it, but the static library needs
+# its runtime (target detection), so it is a dependency of the package.
+find_package(hwy REQUIRED)
+target_link_libraries(volguide_guiding PUBLIC TBB::tbb hwy::hwy)
+# Highway's foreach_target.h includes the file once per target: it must be compiled alone.
+set_source_files_properties(${CMAKE_SOURCE_DIR}/src/volguide/vmm/vmf_simd.cpp PROPERTIES SKIP_UNITY_BUILD_INCLUSION ON)
 target_compile_features(volguide_guiding PUBLIC cxx_std_20)
 # Position-independent, so that a renderer can link it into a shared plugin.
 set_target_properties(volguide_guiding PROPERTIES EXPORT_NAME volguide POSITION_INDEPENDENT_CODE ON)

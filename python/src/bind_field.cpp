@@ -174,7 +174,8 @@ py::dict product_lobes(const FieldHandle& h, const FloatArray& point, const Floa
     const GuidedDirectionSampler sampler(DirectionGuiding::Product, leaf, phase, -d, 0.f, &phase_vmm);
     py::dict out;
     if (const auto* product = sampler.product()) {
-        add_lobes(out, "", std::vector<const GuidedDirectionSampler::ProductVmm*>{product});
+        const auto mixture = product->mixture();
+        add_lobes(out, "", std::vector<const decltype(mixture)*>{&mixture});
         out["integral"] = sampler.product_integral();
     } else {
         add_lobes(out, "", std::vector<const Vmm*>{leaf && leaf->valid ? &leaf->vmm : nullptr});

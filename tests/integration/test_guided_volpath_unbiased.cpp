@@ -338,8 +338,8 @@ TEST(GuidedVolPathUnbiased, GuidedVertexAnswersEachDecisionFromOneLookup) {
         const float confidence = guide.confidence(leaf, mi.coeffs.sigma_t);
         const bool trusted = leaf >= 0 && confidence >= WalkGuide::kSkipConfidence;
         const float phase_prob = !trusted && leaf >= 0 ? 1.f : 1.f - 0.5f * confidence;
-        const GuidedDirectionSampler ref(DirectionGuiding::Product, leaf >= 0 ? &guide.direction_leaf(leaf) : nullptr,
-                                         phase, mi.wi, phase_prob, guide.phase_vmm(phase));
+        const GuidedDirectionSampler ref(DirectionGuiding::Product, leaf >= 0 ? guide.direction_lobes(leaf) : LobeBlock(),
+                                         phase, *guide.phase_lobes(phase), mi.wi, phase_prob);
         const Vec3f w = warp::square_to_uniform_sphere(s.next_2d());
         for (int again = 0; again < 2; ++again) {  // a second round asks the same object again
             vertex.prepare_direction();
@@ -417,6 +417,9 @@ std::string describe(const RrsCase& c) {
 
 }  // namespace
 
+// 4096 spp: splitting's weights are heavy-tailed, and at 1024 spp the vectorised product's float stream
+// (issue 49) put incremental+product+grr at 4.2 standard errors from 1 (1.0039 ± 0.00094) while seeds 23
+// and 31 passed and 4096 and 8192 spp at seed 19 pass every case: half the standard error, a stricter test.
 TEST(GuidedVolPathUnbiased, WhiteFurnaceWithRouletteSplitting) {
     TempDir dir("guided-furnace-rrs");
     const std::string grid = write_furnace_grid(dir);
@@ -427,7 +430,7 @@ TEST(GuidedVolPathUnbiased, WhiteFurnaceWithRouletteSplitting) {
                 guided_furnace_xml(het, grid,
                             guided(c.distance, c.direction, 100000, -1.f, "",
                                    rrs_xml(c.mode, c.window))),
-                1024, 19, /*test_media=*/false);
+                4096, 19, /*test_media=*/false);
             expect_constant_image(r, 1.0);
         }
 }
@@ -568,8 +571,14 @@ TEST(GuidedVolPathUnbiased, GuidedVertexLooksUpOnceAndBuildsNothingForKilledPath
                                                                    rrs_xml("grrs"))));
         ASSERT_TRUE(s.count("guided_vertices"));
         EXPECT_GT(s.at("guided_vertices"), 1000.0);
-        EXPECT_GT(s.at("guided_vertex_descents"), 0.0);
-        EXPECT_LE(s.at("guided_vertex_descents"), 1.0);  // per vertex
+        // vsp descends once per vertex it does not inherit; the incremental bins walk the segment
+        // through the tree and hand the vertex its leaf (issue 49): no descent at all.
+        if (std::string(distance) == "vsp") {
+            EXPECT_GT(s.at("guided_vertex_descents"), 0.0);
+            EXPECT_LE(s.at("guided_vertex_descents"), 1.0);  // per vertex
+        } else {
+            EXPECT_LT(s.at("guided_vertex_descents"), 0.01);
+        }
         EXPECT_GT(s.at("guided_vertex_distance_kills"), 0.01);
         EXPECT_GT(s.at("guided_vertex_mixtures"), 0.1);
         EXPECT_LE(s.at("guided_vertex_mixtures") + s.at("guided_vertex_distance_kills"), 1.0);

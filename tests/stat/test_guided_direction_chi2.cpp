@@ -1,6 +1,6 @@
 // Chi-square of the guided directional sampler (docs/theory.md §8.2, §14.6) against its own full
 // mixture pdf, with the weight check eval = exact HG: Product and Incident guides, alpha_f = 0
-// (pure VMM part) and 0.5, one- and four-lobe leaves, HG g in {0, 0.5, 0.9, -0.6}; the phase-only
+// (pure VMM part) and 0.5, one-, four- and 13-lobe leaves (the vectorised product over two blocks of lanes), HG g in {0, 0.5, 0.9, -0.6}; the phase-only
 // fallback of an invalid leaf against the HG pdf; and a control that a wrong pdf is rejected.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -20,14 +20,14 @@ namespace {
 
 struct DirectionCase {
     DirectionGuiding mode;
-    bool multi_lobe;
+    int lobes;  // 1, 4 (multi_lobe_leaf) or 13 (spiral_leaf: two blocks of vector lanes)
     float g;
     float alpha;
 };
 
 std::string name(const DirectionCase& c) {
     return fmt::format("{}_{}lobe_g{}_alpha{}", c.mode == DirectionGuiding::Product ? "Product" : "Incident",
-                       c.multi_lobe ? 4 : 1, c.g, c.alpha);
+                       c.lobes, c.g, c.alpha);
 }
 
 void PrintTo(const DirectionCase& c, std::ostream* os) {
@@ -37,11 +37,11 @@ void PrintTo(const DirectionCase& c, std::ostream* os) {
 // Incident with alpha_f = 0 does not depend on g: one g per leaf.
 std::vector<DirectionCase> direction_cases() {
     std::vector<DirectionCase> out;
-    for (bool multi : {false, true})
+    for (int lobes : {1, 4, 13})
         for (float g : {0.f, 0.5f, 0.9f, -0.6f})
             for (float alpha : {0.f, 0.5f}) {
-                out.push_back({DirectionGuiding::Product, multi, g, alpha});
-                if (alpha > 0.f || g == 0.5f) out.push_back({DirectionGuiding::Incident, multi, g, alpha});
+                out.push_back({DirectionGuiding::Product, lobes, g, alpha});
+                if (alpha > 0.f || g == 0.5f) out.push_back({DirectionGuiding::Incident, lobes, g, alpha});
             }
     return out;
 }
@@ -73,7 +73,7 @@ class GuidedDirectionChi2 : public ::testing::TestWithParam<DirectionCase> {};
 
 TEST_P(GuidedDirectionChi2, MixtureMatchesItsPdf) {
     const DirectionCase c = GetParam();
-    const GuidingLeaf leaf = c.multi_lobe ? multi_lobe_leaf() : one_lobe_leaf();
+    const GuidingLeaf leaf = c.lobes == 1 ? one_lobe_leaf() : c.lobes == 4 ? multi_lobe_leaf() : spiral_leaf(c.lobes);
     const HGPhase phase(c.g);
     const GuidedDirectionSampler sampler(c.mode, &leaf, phase, test_wi(), c.alpha);
     ASSERT_TRUE(sampler.guided());

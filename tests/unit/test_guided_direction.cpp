@@ -101,7 +101,7 @@ TEST(GuidedDirection, ProductGuideIsNormalisedLeafTimesOrientedPhaseVmm) {
         const auto fp = fp_vmm.oriented(-wi);
         const GuidedDirectionSampler sampler(DirectionGuiding::Product, &leaf, phase, wi, 0.5f);
         ASSERT_NE(sampler.product(), nullptr);
-        ASSERT_EQ(sampler.product()->size(), leaf.vmm.size() * fp_vmm.count);
+        ASSERT_EQ(sampler.product()->mixture().size(), leaf.vmm.size() * fp_vmm.count);
         const double z =
             integrate_direction([&](const Vec3f& w) { return double(leaf.vmm.pdf(w)) * fp.pdf(w); }, wi, g);
         EXPECT_NEAR(sampler.product_integral(), z, 1e-4 * z) << "g " << g;
@@ -169,7 +169,8 @@ TEST(GuidedDirection, IsotropicProductIsTheIncidentVmm) {
         Sampler rng(4, 0, 0);
         for (int i = 0; i < 200; ++i) {
             const Vec3f w = random_unit_direction(rng);
-            ASSERT_EQ(sampler.guide_pdf(w), leaf.vmm.pdf(w));
+            // The leaf's lobes read as a block (vmm/lobe_block.h): the mixture's pdf to float rounding.
+            ASSERT_NEAR(sampler.guide_pdf(w), leaf.vmm.pdf(w), 2e-5f * leaf.vmm.pdf(w));
         }
     }
 }

@@ -15,12 +15,21 @@
 // alpha_f = 0 (pure guide) is allowed for testing; rendering should keep alpha_f > 0, so that
 // directions where a float vMF underflows to 0 still have a positive pdf.
 //
-// Cost: the product is built once at construction into fixed storage (no heap allocation);
-// sample() and pdf() evaluate the phase function and the guide's lobes once each.
+// Cost (docs/theory.md §3.7): the leaf's mixture is read as a lobe block (vmm/lobe_block.h: float
+// structure of arrays with its normalisation and sampling constant precomputed) and the phase function
+// as its prepared lobes (PhaseLobes, once per medium); the product's K x J pair masses are built once,
+// vectorised, at construction (vmm/lobe_product.h), and its density is evaluated in factorised form,
+// V_L(wo) V_f(wo) / Z. sample() evaluates the phase function once and the guide once. Where the product
+// cannot pay it is not built: a near-isotropic phase function (PhaseLobes::isotropic) guides by V_L
+// alone, a near-uniform leaf (every lobe's kappa below kUniformLeafKappa) leaves the phase function
+// alone (alpha_f = 1); the pdf is always the one sampled.
+#include <memory>
 #include <optional>
 
 #include "volguide/guiding/guiding_field.h"
 #include "volguide/media/phase.h"
+#include "volguide/vmm/lobe_block.h"
+#include "volguide/vmm/lobe_product.h"
 #include "volguide/vmm/phase_vmm.h"
 
 namespace volguide {
@@ -29,15 +38,19 @@ enum class DirectionGuiding { Phase, Incident, Product };
 
 class GuidedDirectionSampler {
   public:
-    // Radiance VMM x phase VMM: room for the largest leaf mixture times the largest phase fit.
-    using ProductVmm = VmfMixture<kVmmMaxLobes * kPhaseVmmMaxLobes>;
     static constexpr float kDefaultPhaseProbability = 0.5f;  // Open PGL's phaseFunctionProbability
+    // A leaf whose every lobe is below this concentration is near-uniform (its density varies by
+    // < 2 % over the sphere): the product would be the phase function, so the phase function samples.
+    static constexpr float kUniformLeafKappa = 0.01f;
 
-    // `phase` and `leaf` (may be null) must outlive the sampler. `phase_prob` = alpha_f, clamped
-    // to [0, 1] (NaN: 1).
-    // `phase_vmm`: the zonal VMM of `phase` (e.g. hg_phase_vmm(g), prepared once per medium by the
-    // caller); null computes hg_phase_vmm(phase.mean_cosine()) here (a table lookup and J
-    // A3-inversions). Only Product mode reads it.
+    // The render's form: `leaf` the leaf's block (empty: no usable leaf), `lobes` the phase function's
+    // prepared lobes (Product mode only); both, and `phase`, must outlive the sampler. `phase_prob` =
+    // alpha_f, clamped to [0, 1] (NaN: 1).
+    GuidedDirectionSampler(DirectionGuiding mode, const LobeBlock& leaf, const PhaseFunction& phase,
+                           const PhaseLobes& lobes, const Vec3f& wi, float phase_prob = kDefaultPhaseProbability);
+    // The library's form: a field leaf (may be null; its `vmm` guides where `valid`), copied into the
+    // sampler's own block. `phase_vmm`: the zonal VMM of `phase` (e.g. hg_phase_vmm(g)); null computes
+    // hg_phase_vmm(phase.mean_cosine()) here.
     GuidedDirectionSampler(DirectionGuiding mode, const GuidingLeaf* leaf, const PhaseFunction& phase,
                            const Vec3f& wi, float phase_prob = kDefaultPhaseProbability,
                            const PhaseVmm* phase_vmm = nullptr);
@@ -66,21 +79,30 @@ class GuidedDirectionSampler {
     float phase_probability() const { return alpha_; }
     // Product mode: Z = integral of V_L V_f over the sphere, so Phi Z is the leaf's in-scattered
     // radiance estimate for this vertex (docs/theory.md §5.6); 0 otherwise.
-    double product_integral() const { return product_integral_; }
-    // The product guide VMM; null unless guiding by a product (g = 0 guides by V_L itself).
-    const ProductVmm* product() const { return guide_ == Guide::Product ? &*product_ : nullptr; }
+    double product_integral() const { return guide_ == Guide::Product ? product_.integral() : product_integral_; }
+    // The product guide; null unless guiding by a product (a near-isotropic phase guides by V_L itself).
+    const LobeProduct* product() const { return guide_ == Guide::Product ? &product_ : nullptr; }
 
   private:
     enum class Guide { None, Leaf, Product };
+    // The library form's copies (the render's form reads the caller's).
+    struct Owned {
+        alignas(64) std::array<float, kLobeArrays * kVmmMaxLobes> block;
+        PhaseLobes lobes;
+    };
+    void init(const LobeBlock& leaf, const PhaseLobes* lobes, float phase_prob);
+    // Draws from the guide (Leaf: a lobe by weight, Product: a pair by mass).
+    Vec3f sample_guide(Point2f u) const;
 
     DirectionGuiding mode_;
     const PhaseFunction* phase_;
     Vec3f wi_;
     float alpha_ = 1.f;
     Guide guide_ = Guide::None;
-    const Vmm* leaf_vmm_ = nullptr;  // Guide::Leaf
+    LobeBlock leaf_;
     double product_integral_ = 0.0;
-    std::optional<ProductVmm> product_;  // Guide::Product (3 KB, only built when used)
+    LobeProduct product_;  // Guide::Product (only its used pairs are written)
+    std::shared_ptr<Owned> owned_;  // shared by copies (a split path's copies share their vertex's sampler)
 };
 
 }  // namespace volguide

@@ -15,7 +15,7 @@ SpatialTree::SpatialTree(const BBox3f& bounds) : bounds_(bounds) {
 }
 
 std::span<const uint32_t> SpatialTree::leaf_samples(int leaf) const {
-    if (leaf_offset_.size() != leaf_bounds_.size() + 1) return {};
+    if (leaf_offset_.size() != leaves_.size() + 1) return {};
     return {sample_index_.data() + leaf_offset_[size_t(leaf)], leaf_offset_[size_t(leaf) + 1] - leaf_offset_[size_t(leaf)]};
 }
 
@@ -123,14 +123,24 @@ SpatialTree SpatialTree::build(const BBox3f& bounds, std::span<const Point3f> po
     return tree;
 }
 
-SpatialTree::RayCursor::RayCursor(const SpatialTree& tree, const Ray& ray, float t0, float t1)
+SpatialTree::RayCursor::RayCursor(const SpatialTree& tree, const Ray& ray, float t0, float t1, int start)
     : tree_(&tree), o_(ray.o), d_(ray.d), inv_d_(1.f / ray.d.x, 1.f / ray.d.y, 1.f / ray.d.z) {
     float b0, b1;
     if (!tree.bounds_.ray_intersect(ray, b0, b1)) return;
     t_ = std::max(t0, b0);
     t_end_ = std::min(t1, b1);
     if (!(t_ < t_end_)) return;
-    leaf_ = int(tree.nodes_[descend(0u, o_ + d_ * t_)].child);
+    const Point3f p = o_ + d_ * t_;
+    if (start >= 0 && start < tree.leaf_count()) {
+        // Strictly inside: no split plane through p, so the descent (whose ties follow the ray) would
+        // end in this leaf too.
+        const BBox3f& b = tree.leaves_[size_t(start)].box;
+        if (p.x > b.lo.x && p.x < b.hi.x && p.y > b.lo.y && p.y < b.hi.y && p.z > b.lo.z && p.z < b.hi.z) {
+            leaf_ = start;
+            return;
+        }
+    }
+    leaf_ = int(tree.nodes_[descend(0u, p)].child);
 }
 
 uint32_t SpatialTree::RayCursor::descend(uint32_t node, const Point3f& p) const {
@@ -147,7 +157,8 @@ uint32_t SpatialTree::RayCursor::descend(uint32_t node, const Point3f& p) const 
 bool SpatialTree::RayCursor::next(int& leaf, float& t_enter, float& t_exit) {
     // Leaves whose interval rounds to nothing (a corner or edge crossed exactly) are passed over.
     for (int guard = 0; leaf_ >= 0 && guard < 1 << 20; ++guard) {
-        const BBox3f& box = tree_->leaf_bounds_[size_t(leaf_)];
+        const LeafRecord& record = tree_->leaves_[size_t(leaf_)];
+        const BBox3f& box = record.box;
         int axis = -1;
         float exit = Infinity;
         for (int a = 0; a < 3; ++a) {
@@ -156,7 +167,7 @@ bool SpatialTree::RayCursor::next(int& leaf, float& t_enter, float& t_exit) {
             if (t < exit) exit = t, axis = a;
         }
         const int current = leaf_;
-        const uint32_t rope = axis >= 0 ? tree_->rope(current, 2 * axis + (d_[axis] > 0.f ? 1 : 0)) : kNoRope;
+        const uint32_t rope = axis >= 0 ? record.rope[2 * axis + (d_[axis] > 0.f ? 1 : 0)] : kNoRope;
         const float t0 = t_;
         if (rope == kNoRope || !(exit < t_end_)) {
             // The last leaf: on to the end of the segment (the bounds' exit, up to rounding).
@@ -188,7 +199,7 @@ int SpatialTree::leaf_at(const Point3f& p) const {
 void SpatialTree::compute_leaf_bounds() {
     size_t leaves = 0;
     for (const Node& n : nodes_) leaves += n.is_leaf();
-    leaf_bounds_.assign(leaves, BBox3f());
+    leaves_.assign(leaves, LeafRecord{BBox3f(), {kNoRope, kNoRope, kNoRope, kNoRope, kNoRope, kNoRope}});
     int depth = 0;
     struct Item {
         uint32_t node;
@@ -202,7 +213,7 @@ void SpatialTree::compute_leaf_bounds() {
         depth = std::max(depth, it.depth);
         const Node& n = nodes_[it.node];
         if (n.is_leaf()) {
-            leaf_bounds_[n.child] = it.box;
+            leaves_[n.child].box = it.box;
             continue;
         }
         BBox3f lo = it.box, hi = it.box;
@@ -215,9 +226,8 @@ void SpatialTree::compute_leaf_bounds() {
 
     // Ropes: from the root towards the region just beyond each leaf face, as long as the face's
     // rectangle lies on one side of the splits met; stop at the first node that cuts it.
-    ropes_.assign(leaves * 6, kNoRope);
     for (size_t leaf = 0; leaf < leaves; ++leaf) {
-        const BBox3f& box = leaf_bounds_[leaf];
+        const BBox3f& box = leaves_[leaf].box;
         for (int face = 0; face < 6; ++face) {
             const int a = face / 2;
             const bool up = face % 2 == 1;
@@ -234,7 +244,7 @@ void SpatialTree::compute_leaf_bounds() {
                 if (side < 0) break;
                 node = n.child + uint32_t(side);
             }
-            ropes_[leaf * 6 + size_t(face)] = node;
+            leaves_[leaf].rope[face] = node;
         }
     }
 }

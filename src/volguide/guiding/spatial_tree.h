@@ -80,10 +80,10 @@ public:
                              const SpatialTreeSettings& settings = {}, std::span<const uint8_t> counted = {});
 
     const BBox3f& bounds() const { return bounds_; }
-    int leaf_count() const { return int(leaf_bounds_.size()); }
+    int leaf_count() const { return int(leaves_.size()); }
     int node_count() const { return int(nodes_.size()); }
     int depth() const { return depth_; }
-    const BBox3f& leaf_bounds(int leaf) const { return leaf_bounds_[size_t(leaf)]; }
+    const BBox3f& leaf_bounds(int leaf) const { return leaves_[size_t(leaf)].box; }
     // Indices of the build samples that fell into `leaf` (empty for a tree not built from samples).
     std::span<const uint32_t> leaf_samples(int leaf) const;
 
@@ -102,7 +102,7 @@ public:
     // for an invalid index and for points on the bounds' upper faces, which leaf_at still finds.
     bool holds_point(int leaf, const Point3f& p) const {
         if (leaf < 0 || leaf >= leaf_count()) return false;
-        const BBox3f& b = leaf_bounds_[size_t(leaf)];
+        const BBox3f& b = leaves_[size_t(leaf)].box;
         return p.x >= b.lo.x && p.x < b.hi.x && p.y >= b.lo.y && p.y < b.hi.y && p.z >= b.lo.z && p.z < b.hi.z;
     }
 
@@ -123,7 +123,9 @@ public:
     // --benchmark_filter=LeafWalk; measured: see bench/RESULTS.md (issue 35)).
     class RayCursor {
     public:
-        RayCursor(const SpatialTree& tree, const Ray& ray, float t0, float t1);
+        // `start` (may be -1): a guess of the leaf the segment starts in (the leaf of the vertex the ray
+        // leaves from); taken without a descent from the root when the start point is strictly inside it.
+        RayCursor(const SpatialTree& tree, const Ray& ray, float t0, float t1, int start = -1);
         // The next leaf and its interval; false after the last one.
         bool next(int& leaf, float& t_enter, float& t_exit);
 
@@ -143,7 +145,7 @@ public:
     // holds everything just beyond that face, or kNoRope on the bounds. face = 2 axis + (1 for the
     // upper face).
     static constexpr uint32_t kNoRope = 0xffffffffu;
-    uint32_t rope(int leaf, int face) const { return ropes_[size_t(leaf) * 6 + size_t(face)]; }
+    uint32_t rope(int leaf, int face) const { return leaves_[size_t(leaf)].rope[face]; }
 
     // Flat storage, for serialization.
     struct Node {
@@ -164,8 +166,13 @@ private:
 
     BBox3f bounds_;
     std::vector<Node> nodes_;
-    std::vector<BBox3f> leaf_bounds_;
-    std::vector<uint32_t> ropes_;  // 6 per leaf (compute_leaf_bounds)
+    // What the walk from leaf to leaf reads of a leaf, together (one 48-byte record: the box and its
+    // six ropes, compute_leaf_bounds).
+    struct LeafRecord {
+        BBox3f box;
+        uint32_t rope[6];
+    };
+    std::vector<LeafRecord> leaves_;
     std::vector<uint32_t> sample_index_;  // samples grouped by leaf
     std::vector<uint32_t> leaf_offset_;   // leaf i: sample_index_[leaf_offset_[i] .. leaf_offset_[i + 1])
     int depth_ = 0;

@@ -18,6 +18,10 @@ public:
     PhaseSample sample(const Vec3f& wi, Point2f u) const override;
     float eval(const Vec3f& wi, const Vec3f& wo) const override;
     float pdf(const Vec3f& wi, const Vec3f& wo) const override { return eval(wi, wo); }
+    PhaseValue eval_pdf(const Vec3f& wi, const Vec3f& wo) const override {
+        const float v = eval(wi, wo);
+        return {v, v};
+    }
     float mean_cosine() const override { return g_; }
     float g() const { return g_; }
     std::string to_string() const override;

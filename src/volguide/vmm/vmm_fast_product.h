@@ -1,6 +1,7 @@
 #pragma once
-// Products of vMF mixtures in single precision, for the sampling distributions built at every
-// path vertex (surface guide, docs/theory.md §3.4 / §3.6). The double-precision product_into (vmm.h) is
+// Products of a vMF mixture with one lobe in single precision, for the surface guide built at every
+// diffuse surface vertex (docs/theory.md §3.4 / §3.6; the medium vertices' mixture x phase product is
+// lobe_product.h's). The double-precision product_into (vmm.h) is
 // the reference; this one computes the same closed form in float with a float normalisation,
 // several times cheaper (bench/RESULTS.md (issue 35)), to about 1e-6 relative in the weights away from
 // the extremes (the test sweeps kappa in [0, 32000]). A sampling mixture only has to be a
@@ -96,31 +97,6 @@ double product_with_lobe_fast(const VmfMixture<A>& a, const VmfLobe& b, VmfMixtu
         if (out.weight[k] > 0.f) max_exponent = std::fmax(max_exponent, exponent[k]);
     }
     return normalize_product_fast(out, a.count, exponent.data(), max_exponent);
-}
-
-// out = a(w) b(w) / Z for two mixtures (K x J lobes, lobe (k, j) at k * b.count + j, the order
-// of product_into); returns Z in double (0: out is empty). Lobes of b on the axis of the lobe
-// before them (a phase VMM's) share the angle to each lobe of a.
-template <int A, int B, int C>
-double product_fast(const VmfMixture<A>& a, const VmfMixture<B>& b, VmfMixture<C>& out) {
-    static_assert(C >= A * B, "product_fast: output capacity below A x B");
-    std::array<float, A * B> exponent;
-    std::array<bool, B> same_axis;
-    for (int j = 0; j < b.count; ++j)
-        same_axis[j] = j > 0 && b.mu_x[j] == b.mu_x[j - 1] && b.mu_y[j] == b.mu_y[j - 1] && b.mu_z[j] == b.mu_z[j - 1];
-    float max_exponent = -INFINITY;
-    int n = 0;
-    for (int k = 0; k < a.count; ++k) {
-        float omc = 0.f;
-        for (int j = 0; j < b.count; ++j, ++n) {
-            const VmfLobe lb = b.lobe(j);
-            if (!same_axis[j]) omc = one_minus_cos_fast(a.mu_x[k], a.mu_y[k], a.mu_z[k], lb.mu);
-            exponent[n] = product_lobe_fast(a, k, lb, omc, out, n);
-            out.weight[n] *= b.weight[j];
-            if (out.weight[n] > 0.f) max_exponent = std::fmax(max_exponent, exponent[n]);
-        }
-    }
-    return normalize_product_fast(out, n, exponent.data(), max_exponent);
 }
 
 }  // namespace volguide

@@ -359,6 +359,8 @@ std::vector<std::pair<std::string, double>> GuidedVolPathIntegrator::statistics(
         const auto walk = guide_->stats().named();
         stats.insert(stats.end(), walk.begin(), walk.end());
         stats.emplace_back("leaf_groups", double(guide_->leaf_group_count()));
+        const auto memory = guide_->memory_named();
+        stats.insert(stats.end(), memory.begin(), memory.end());
     }
     if (rrs_) {
         const auto rr = rrs_->stats().named();

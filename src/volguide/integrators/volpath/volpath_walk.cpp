@@ -49,7 +49,7 @@ Color3 VolumeWalk::run(const Ray& camera_ray) {
 
 void VolumeWalk::resume_policy_vertex(const PendingBranch& b) {
     if (b.has_vertex)
-        policy_->begin_vertex(b.vertex.mi, VertexLeaf());
+        policy_->resume_vertex(b.vertex.mi, b.kept);
     else
         policy_->end_vertex();
 }
@@ -282,12 +282,14 @@ bool VolumeWalk::continue_copies(const Continuation& c, ContinuationStage stage,
     // The n copies share the path's allowance, so the live branches' allowances never sum to more
     // than the camera sample's budget.
     state_.split_allowance /= float(c.n);
-    // A copy's vertex is begun again when it resumes (resume_policy_vertex), without what the decision
-    // that reached it handed on: the policy keeps one vertex object per walk, not one per copy.
+    // A copy's vertex is resumed (resume_policy_vertex) with what the policy kept of it: its copies
+    // find and build nothing again.
     const bool at_vertex = vertex && stage == ContinuationStage::Distance;
+    const int kept = vertex && policy_ ? policy_->keep_vertex() : -1;
     for (int k = 1; k < c.n; ++k)
         stack_.push_back(PendingBranch{state_, rng_->fork(uint64_t(k)), at_vertex, vertex != nullptr,
-                                       vertex ? *vertex : MediumVertex(), recorder_ ? recorder_->branch_point() : 0});
+                                       vertex ? *vertex : MediumVertex(), recorder_ ? recorder_->branch_point() : 0,
+                                       kept});
     branches_ += c.n - 1;
     return true;
 }

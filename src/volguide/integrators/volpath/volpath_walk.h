@@ -65,6 +65,7 @@ class VolumeWalk {
         bool has_vertex = false;   // made at the medium vertex `vertex` (state.ray leaves from it)
         MediumVertex vertex;
         int record_point = 0;  // the recorder's branch_point() when the copy was made
+        int kept = -1;         // the policy's keep_vertex() token for `vertex` (-1: nothing kept)
     };
 
     // One branch from the current state to its end.
@@ -94,8 +95,8 @@ class VolumeWalk {
     // distance stage resume at `vertex` before its NEE and direction, the others trace the state's
     // ray (from `vertex` when not null: the policy's vertex again). False when the path ends.
     bool continue_copies(const Continuation& c, ContinuationStage stage, const Vec3f& w, const MediumVertex* vertex);
-    // A branch taken from the stack: the policy's vertex is the one it was made at (not known to the
-    // decisions before, as for any copy), or none.
+    // A branch taken from the stack: the policy's vertex is the one it was made at (with what the
+    // policy kept of it), or none.
     void resume_policy_vertex(const PendingBranch& b);
     // The policy's continuation decision after a diffuse direction wo at the surface si_ (the state
     // already leaves along wo), then continue_copies(). False when the path ends.

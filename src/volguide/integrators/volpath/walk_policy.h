@@ -96,6 +96,12 @@ class WalkPolicy {
     // The path's ray leaves from no medium vertex (the camera, a surface): the next distance decision
     // has no origin vertex.
     virtual void end_vertex() {}
+    // The walk splits the path at the current vertex: the policy may keep what it found there for the
+    // copies (a token the walk stores with them; -1: nothing kept, the default).
+    virtual int keep_vertex() { return -1; }
+    // A copy resumes from the vertex mi it was made at, with keep_vertex's token: the policy's vertex
+    // is that one again, nothing found twice. The default begins it anew.
+    virtual void resume_vertex(const MediumInteraction& mi, int kept) { begin_vertex(mi, VertexLeaf()); }
 
     // The direction decision at the current medium vertex mi (mi.medium set): prepare, then pdf and
     // sample. prepare may draw from `sampler` (Open PGL's stochastic lookup of its own regions); the

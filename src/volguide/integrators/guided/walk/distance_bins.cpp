@@ -16,7 +16,8 @@ std::vector<float> leaf_extents(const SpatialTree& tree) {
 
 BinSource::BinSource(const Ray& ray, float t_end, const Medium& medium, const GuidingField& field,
                      const LeafEstimates* estimates, std::vector<ProxySegment>& proxies, float max_tau,
-                     const std::vector<float>& leaf_extent, float leaf_tau_max, const LeafGroups* groups)
+                     const std::vector<float>& leaf_extent, float leaf_tau_max, const LeafGroups* groups,
+                     int origin_leaf)
     : leaf_extent_(leaf_extent),
       leaf_tau_max_(leaf_tau_max),
       ray_(ray),
@@ -26,7 +27,7 @@ BinSource::BinSource(const Ray& ray, float t_end, const Medium& medium, const Gu
       groups_(estimates ? groups : nullptr),
       proxies_(proxies),
       max_tau_(max_tau),
-      cursor_(groups_ ? groups_->tree() : field.tree(), ray, 0.f, t_end) {
+      cursor_(groups_ ? groups_->tree() : field.tree(), ray, 0.f, t_end, groups_ ? -1 : origin_leaf) {
     proxies_.clear();  // scratch of the previous query: nothing may be read before the first span
     if (estimates_) direction_ = estimates_->prepare(ray.d);
 }

@@ -45,10 +45,12 @@ class BinSource {
   public:
     // The ray, medium, field, estimates (null: every bin invalid), `proxies` (caller-owned scratch,
     // cleared here), `leaf_extent` and `groups` (null: the field's leaves; else built on
-    // `estimates`) must outlive the source.
+    // `estimates`) must outlive the source. `origin_leaf`: the field leaf of the vertex the ray leaves
+    // from (-1: not known), where the walk starts without a descent.
     BinSource(const Ray& ray, float t_end, const Medium& medium, const GuidingField& field,
               const LeafEstimates* estimates, std::vector<ProxySegment>& proxies, float max_tau,
-              const std::vector<float>& leaf_extent, float leaf_tau_max, const LeafGroups* groups = nullptr);
+              const std::vector<float>& leaf_extent, float leaf_tau_max, const LeafGroups* groups = nullptr,
+              int origin_leaf = -1);
 
     // The next bin; false after the last one (at t_end).
     bool operator()(DistanceBin& bin) {

@@ -73,7 +73,7 @@ class IncrementalDistance final : public DistanceSampler {
         const LeafGroups* groups = guide_.groups_for(q.medium.phase());
         BinSource source(q.ray, t_end, q.medium, guide_.field(), guide_.estimates_for(q.medium.phase()), ctx.proxies,
                          guide_.settings().max_bin_optical_depth, guide_.leaf_extents(),
-                         guide_.settings().leaf_tau_max, groups);
+                         guide_.settings().leaf_tau_max, groups, ctx.origin);
         const DistanceSample ds = sample_incremental_distance(source, sampler, settings);
         ++counts.distance_queries;
         counts.distance_steps += uint64_t(ds.steps);

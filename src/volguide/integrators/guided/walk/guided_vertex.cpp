@@ -19,6 +19,28 @@ void GuidedVertex::clear() {
     direction_.reset();
 }
 
+int GuidedVertex::keep() {
+    if (!active_) return -1;
+    leaf();
+    prepare_direction();
+    kept_.push_back(Kept{leaf_, found_, prepared_, direction_});
+    return int(kept_.size()) - 1;
+}
+
+void GuidedVertex::resume(const MediumInteraction& mi, int kept) {
+    if (kept < 0) {
+        init(mi, VertexLeaf());
+        return;
+    }
+    const Kept& k = kept_[size_t(kept)];
+    init(mi, VertexLeaf{k.leaf});
+    leaf_ = k.leaf;
+    found_ = k.found;
+    prepared_ = k.prepared;
+    direction_ = k.direction;
+    ++counts_.vertices_resumed;
+}
+
 int GuidedVertex::leaf() {
     if (!found_) {
         leaf_ = guide_.leaf_at(mi_.p, handed_ >= 0 ? handed_ : hint_, counts_.vertex_descents);
@@ -96,12 +118,24 @@ void GuidedVertex::prepare_direction() {
     const int index = leaf();
     const float phase_prob = phase_probability(index);
     const PhaseFunction& phase = mi_.medium->phase();
-    const GuidedDirectionSampler& s = direction_.emplace(guide_.settings().direction,
-                                                         index >= 0 ? &guide_.direction_leaf(index) : nullptr, phase,
-                                                         mi_.wi, phase_prob, guide_.phase_vmm(phase));
+    const GuidedDirectionSampler& s =
+        direction_.emplace(guide_.settings().direction, index >= 0 ? guide_.direction_lobes(index) : LobeBlock(), phase,
+                           phase_lobes(phase), mi_.wi, phase_prob);
     counts_.direction_unguided_vertices += !s.guided();
     ++counts_.vertex_mixtures;
     counts_.vertex_products += s.product() != nullptr;
+}
+
+const PhaseLobes& GuidedVertex::phase_lobes(const PhaseFunction& phase) {
+    if (&phase != lobes_phase_) {
+        lobes_phase_ = &phase;
+        lobes_ = guide_.phase_lobes(phase);
+        if (!lobes_) {  // a phase function of no medium the guide saw: prepared here, once per walk
+            own_lobes_ = prepare_phase_lobes(hg_phase_vmm(phase.mean_cosine()));
+            lobes_ = &own_lobes_;
+        }
+    }
+    return *lobes_;
 }
 
 GuidedDirectionSampler::Sample GuidedVertex::sample_direction(Point2f u, float u_strategy) const {

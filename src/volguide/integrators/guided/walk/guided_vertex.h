@@ -17,6 +17,7 @@
 // never builds one. Phase sampling (and no estimate) where the field has no valid leaf or the
 // direction is not guided.
 #include <optional>
+#include <vector>
 
 #include "volguide/guiding/guided_direction.h"
 #include "volguide/integrators/guided/walk/distance_sampler.h"
@@ -35,6 +36,11 @@ class GuidedVertex {
     void init(const MediumInteraction& mi, const VertexLeaf& handed);
     // No vertex (the path's ray leaves from the camera or a surface). The last leaf found stays a hint.
     void clear();
+    // The walk splits the path here: keeps the vertex's leaf and direction decision (built now if not
+    // yet: a copy made at the distance stage scatters here too) for its copies; returns their token.
+    int keep();
+    // A copy resumes at mi, the vertex keep() returned `kept` for (-1: begun anew, as init).
+    void resume(const MediumInteraction& mi, int kept);
     bool active() const { return active_; }
     const MediumInteraction& interaction() const { return mi_; }
 
@@ -74,6 +80,8 @@ class GuidedVertex {
     // The direction mixture's phase probability in leaf `index` (the configured one, the learned
     // share's, damped by the leaf's confidence); 1: the phase function alone.
     float phase_probability(int index);
+    // The phase function's prepared lobes (the guide's; the last medium's kept: no map lookup per vertex).
+    const PhaseLobes& phase_lobes(const PhaseFunction& phase);
 
     const WalkGuide& guide_;
     WalkGuideStats& counts_;
@@ -86,6 +94,16 @@ class GuidedVertex {
     bool prepared_ = false;  // prepare_direction ran for this vertex
     DistanceContext distance_;  // the distance decisions' context (scratch kept between them)
     std::optional<GuidedDirectionSampler> direction_;
+    // What keep() kept, per token (the camera sample's splits; its copies read them).
+    struct Kept {
+        int leaf = -1;
+        bool found = false, prepared = false;
+        std::optional<GuidedDirectionSampler> direction;
+    };
+    std::vector<Kept> kept_;
+    const PhaseFunction* lobes_phase_ = nullptr;
+    const PhaseLobes* lobes_ = nullptr;
+    PhaseLobes own_lobes_;
 };
 
 }  // namespace volguide

@@ -45,6 +45,8 @@ class GuidedWalkPolicy final : public WalkPolicy {
 
     void begin_vertex(const MediumInteraction& mi, const VertexLeaf& handed) override { vertex_.init(mi, handed); }
     void end_vertex() override { vertex_.clear(); }
+    int keep_vertex() override { return vertex_.keep(); }
+    void resume_vertex(const MediumInteraction& mi, int kept) override { vertex_.resume(mi, kept); }
 
     void prepare_direction(const MediumInteraction& mi, Sampler& sampler) override { vertex_.prepare_direction(); }
     float direction_pdf(const MediumInteraction& mi, const Vec3f& wo) const override { return vertex_.direction_pdf(wo); }

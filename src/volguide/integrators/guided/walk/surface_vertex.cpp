@@ -18,9 +18,9 @@ void SurfaceVertex::prepare(const SurfaceInteraction& si, const BSDF& bsdf, cons
         leaf_ = beside.leaf;
         const float share = leaf_ >= 0 ? guide_.selection().share(SelectionDecision::Surface, guide_.selection_cell(leaf_))
                                        : LearnedSelection::kDefault;
-        const GuidingLeaf* leaf = leaf_ >= 0 ? &guide_.direction_leaf(leaf_) : nullptr;
+        const Vmm* leaf = leaf_ >= 0 ? guide_.direction_vmm(leaf_) : nullptr;
         const float confidence = leaf && medium ? guide_.confidence(leaf_, medium->eval(si.p).sigma_t) : 1.f;
-        const bool guidable = leaf && leaf->valid && leaf->vmm.count > 0 && confidence >= WalkGuide::kSkipConfidence &&
+        const bool guidable = leaf && confidence >= WalkGuide::kSkipConfidence &&
                               field.leaves()[size_t(leaf_)].mostly_medium();
         if (guidable && share == 0.f) {
             ++counts_.surface_unselected;  // only vertices the configured mixture would guide
@@ -34,7 +34,7 @@ void SurfaceVertex::prepare(const SurfaceInteraction& si, const BSDF& bsdf, cons
 }
 
 const Vmm* SurfaceVertex::guide_of(int index, const Vec3f& n) {
-    const Vmm& incident = guide_.direction_leaf(index).vmm;
+    const Vmm& incident = *guide_.direction_vmm(index);
     if (guide_.settings().direction == DirectionGuiding::Incident) return &incident;
     return cosine_product(incident, n, product_) ? &product_ : nullptr;
 }

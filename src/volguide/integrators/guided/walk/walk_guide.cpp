@@ -1,5 +1,6 @@
 #include "volguide/integrators/guided/walk/walk_guide.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -9,6 +10,21 @@
 #include "volguide/render/sensor.h"
 
 namespace volguide {
+
+namespace {
+
+// The direction decisions' blocks: each leaf's indirect mixture where it is valid.
+LobeStore direction_lobe_store(const GuidingField& field) {
+    std::vector<const Vmm*> mixtures;
+    std::vector<uint8_t> valid;
+    for (const GuidingLeaf& l : field.leaves()) {
+        mixtures.push_back(&l.vmm_indirect);
+        valid.push_back(l.valid_indirect && l.vmm_indirect.weight_sum() > 0.0);
+    }
+    return LobeStore(mixtures, valid);
+}
+
+}  // namespace
 
 WalkGuideStats& WalkGuideStats::operator+=(const WalkGuideStats& o) {
 #define VOLGUIDE_WALK_GUIDE_ADD(member, name, of) member += o.member;
@@ -26,20 +42,13 @@ std::vector<std::pair<std::string, double>> WalkGuideStats::named() const {
 
 WalkGuide::WalkGuide(const Scene& scene, const GuidingField& field, const WalkGuideSettings& settings)
     : scene_(scene), field_(field), settings_(settings) {
-    direction_leaves_.resize(field.leaves().size());
-    for (size_t i = 0; i < field.leaves().size(); ++i) {
-        GuidingLeaf& d = direction_leaves_[i];
-        d.vmm = field.leaves()[i].vmm_indirect;
-        d.valid = field.leaves()[i].valid_indirect;
-        d.fluence = field.leaves()[i].fluence;
-        d.samples = field.leaves()[i].samples;
-    }
+    direction_lobes_ = direction_lobe_store(field);
     leaf_extent_ = volguide::leaf_extents(field.tree());  // before the groups, which read it
     auto add = [&](const Medium* m) {
         if (!m) return;
         const float g = m->phase().mean_cosine();
         if (!inscatter_.count(g)) inscatter_.emplace(g, InscatterCache(field, hg_phase_vmm(g)));
-        if (!phase_vmms_.count(g)) phase_vmms_.emplace(g, hg_phase_vmm(g));
+        if (!phase_lobes_.count(g)) phase_lobes_.emplace(g, prepare_phase_lobes(hg_phase_vmm(g)));
         if (!estimates_.count(g) && settings_.distance != DistanceGuiding::Standard)
             estimates_.emplace(std::piecewise_construct, std::forward_as_tuple(g),
                                std::forward_as_tuple(field, inscatter_.at(g), settings_.estimate_table));
@@ -74,9 +83,27 @@ const LeafGroups* WalkGuide::groups_for(const PhaseFunction& phase) const {
     return it == groups_.end() ? nullptr : &it->second;
 }
 
-const PhaseVmm* WalkGuide::phase_vmm(const PhaseFunction& phase) const {
-    const auto it = phase_vmms_.find(phase.mean_cosine());
-    return it == phase_vmms_.end() ? nullptr : &it->second;
+std::vector<std::pair<std::string, double>> WalkGuide::memory_named() const {
+    const double leaves = double(std::max<size_t>(field_.leaves().size(), 1));
+    size_t tables = 0;
+    for (const auto& [g, e] : estimates_) tables += e.memory_bytes();
+    const SpatialTree& tree = field_.tree();
+    const size_t tree_bytes = size_t(tree.node_count()) * sizeof(SpatialTree::Node) +
+                              size_t(tree.leaf_count()) * (sizeof(BBox3f) + 6 * sizeof(uint32_t));
+    return {{"memory_direction_lobes_bytes_per_leaf", double(direction_lobes_.bytes()) / leaves},
+            {"memory_estimate_tables_bytes_per_leaf", double(tables) / leaves},
+            {"memory_tree_bytes_per_leaf", double(tree_bytes) / leaves},
+            {"memory_field_leaf_bytes", double(sizeof(GuidingLeaf))}};
+}
+
+const PhaseLobes* WalkGuide::phase_lobes(const PhaseFunction& phase) const {
+    const auto it = phase_lobes_.find(phase.mean_cosine());
+    return it == phase_lobes_.end() ? nullptr : &it->second;
+}
+
+const Vmm* WalkGuide::direction_vmm(int leaf) const {
+    const GuidingLeaf& l = field_.leaves()[size_t(leaf)];
+    return l.valid_indirect && l.vmm_indirect.count > 0 ? &l.vmm_indirect : nullptr;
 }
 
 size_t WalkGuide::leaf_group_count() const {

@@ -26,6 +26,8 @@
 #include "volguide/integrators/guided/estimates/learned_selection.h"
 #include "volguide/integrators/guided/walk/guided_surface_sampler.h"
 #include "volguide/media/medium.h"
+#include "volguide/vmm/lobe_block.h"
+#include "volguide/vmm/lobe_product.h"
 #include "volguide/vmm/phase_vmm.h"
 
 namespace volguide {
@@ -136,7 +138,9 @@ struct WalkGuideSettings {
     /* ... of which with the leaf VMM x phase product */                                                   \
     X(vertex_products, "guided_vertex_products", vertices)                                                 \
     /* ... ended by the distance-stage continuation decision (roulette) */                                \
-    X(vertex_distance_kills, "guided_vertex_distance_kills", vertices)
+    X(vertex_distance_kills, "guided_vertex_distance_kills", vertices)                                     \
+    /* ... split copies' vertices resumed with their leaf and direction decision (nothing found again) */  \
+    X(vertices_resumed, "guided_vertices_resumed", vertices)
 
 // The counters of the walks; a walk counts into its own (GuidedWalkPolicy's) and adds it to the
 // guide's once, at its end.
@@ -179,12 +183,22 @@ class WalkGuide {
     // The estimates prepared for a phase function (null: none, e.g. no guided distance decision).
     const LeafEstimates* estimates_for(const PhaseFunction& phase) const;
     const LeafGroups* groups_for(const PhaseFunction& phase) const;
-    const PhaseVmm* phase_vmm(const PhaseFunction& phase) const;
-    // The distribution the direction decisions follow in `leaf` (a valid index): the leaf's indirect
-    // light (GuidingLeaf::vmm_indirect): NEE already samples the light that comes straight from the
-    // emitters at every vertex, so the continuation's zero-variance target is f_p times the rest
-    // (docs/theory.md §8.3).
-    const GuidingLeaf& direction_leaf(int leaf) const { return direction_leaves_[size_t(leaf)]; }
+    // The phase function's lobes, prepared once per phase mean cosine (null: a phase function of no
+    // medium of the scene).
+    const PhaseLobes* phase_lobes(const PhaseFunction& phase) const;
+    // The distribution the direction decisions follow in `leaf` (a valid index), as a lobe block
+    // (empty where the leaf has none): the leaf's indirect light (GuidingLeaf::vmm_indirect): NEE
+    // already samples the light that comes straight from the emitters at every vertex, so the
+    // continuation's zero-variance target is f_p times the rest (docs/theory.md §8.3). One copy of
+    // every leaf's mixture at its own lobe count, shared by every decision.
+    LobeBlock direction_lobes(int leaf) const { return direction_lobes_.block(leaf); }
+    // The same mixture as the field holds it (the surface guide's product reads it), null where the
+    // leaf has none.
+    const Vmm* direction_vmm(int leaf) const;
+    // Memory per leaf of what the decisions read (--stats): the direction decisions' lobe blocks, the
+    // estimate tables (every phase function's), the kd-tree (nodes and leaf records) and the field's
+    // own leaf (its mixtures at full capacity, which training fills and no decision reads).
+    std::vector<std::pair<std::string, double>> memory_named() const;
 
     // The field's estimates at the valid leaf `leaf` (guided RR and splitting, docs/theory.md §9.3;
     // the distance decisions): L~_i(x, d) for a ray along d, and L~(x, w) arriving from w. Both
@@ -222,9 +236,9 @@ class WalkGuide {
     std::map<float, InscatterCache> inscatter_;  // by phase mean cosine
     std::map<float, LeafEstimates> estimates_;   // by phase mean cosine (reads inscatter_)
     std::map<float, LeafGroups> groups_;   // by phase mean cosine (built on estimates_), if merging
-    std::map<float, PhaseVmm> phase_vmms_;
+    std::map<float, PhaseLobes> phase_lobes_;  // by phase mean cosine
     std::vector<float> leaf_extent_;  // cube root of each leaf's volume
-    std::vector<GuidingLeaf> direction_leaves_;  // per leaf: vmm/valid from vmm_indirect/valid_indirect
+    LobeStore direction_lobes_;       // per leaf: vmm_indirect where valid_indirect
     LearnedSelection selection_;
     std::unique_ptr<DistanceSampler> distance_, free_flight_;
     mutable tbb::enumerable_thread_specific<WalkGuideStats> stats_;
