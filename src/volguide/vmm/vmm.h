@@ -159,7 +159,9 @@ struct ZonalMixture {
 // (GCC 12 warns that `raw` may be read uninitialised in the 1 x 1 instantiation: it cannot see that
 // raw[i] is written for every i < out.count.)
 #pragma GCC diagnostic push
+#if !defined(__clang__)  // a GCC-only warning group: clang would warn that it does not know it
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 template <int A, int B, int C>
 double product_into(const VmfMixture<A>& a, const VmfMixture<B>& b, VmfMixture<C>& out) {
     static_assert(C >= A * B, "product_into: output capacity below A x B");
