@@ -50,6 +50,10 @@ int run_train(const TrainArgs& args) {
     // guided_volpath trains for its training_fraction of it, so train + render --field gives the
     // field a single `render --time` would train.
     if (args.time) options.time_budget = *args.time;
+    if (args.spp) {
+        if (*args.spp <= 0) throw UsageError(fmt::format("--spp must be positive, got {}", *args.spp));
+        options.spp = *args.spp;
+    }
     options.seed = args.seed;
     if (args.threads) options.threads = *args.threads;
     options.cancel = interrupt.flag();

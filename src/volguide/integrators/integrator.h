@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "volguide/core/color.h"
+#include "volguide/core/image.h"
 #include "volguide/core/object.h"
 #include "volguide/core/progress.h"
 #include "volguide/core/ray.h"
@@ -24,6 +25,12 @@ class Scene;
 struct PreprocessContext {
     uint64_t seed = 0;
     double time_budget = 0;  // seconds for the whole render job; 0 = none
+    // The render's samples per pixel (--spp, or the scene's sample_count without --time; 0: unknown, a
+    // time budget decides): what a pre-pass without a time budget scales its probes with.
+    int spp = 0;
+    // Seconds the step given this context may take (0: no limit): a pre-pass step's share of the job's
+    // budget (guided_volpath's PreprocessBudget), which the step's loops stop at.
+    double time_limit = 0;
     ProgressCallback progress;
     const std::atomic<bool>* cancel = nullptr;
     bool cancelled() const { return cancel && cancel->load(std::memory_order_relaxed); }
@@ -84,6 +91,9 @@ public:
     virtual void end_pass(const PassReport& pass) {}
     // Named counters of the last render (e.g. guided decisions), for --stats. Default: none.
     virtual std::vector<std::pair<std::string, double>> statistics() const { return {}; }
+    // Which method renders each film pixel, as an image (guided_volpath's per-tile method choice: white
+    // volpath, blue guided; `render --choice-map`). Default: empty (no choice).
+    virtual Image method_map() const { return {}; }
 
     // The pre-pass as data (`volguide train` / `render --field`, docs/distributed.md). An integrator
     // whose preprocess() computes something worth sharing (guided_volpath: the guiding field and

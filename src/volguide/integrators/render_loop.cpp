@@ -375,6 +375,7 @@ void preprocess_in(tbb::task_arena& arena, const Scene& scene, Integrator& integ
     PreprocessContext context;
     context.seed = options.seed.value_or(scene.sensor().seed());
     context.time_budget = options.time_budget;
+    context.spp = options.spp > 0 ? options.spp : (options.time_budget > 0 ? 0 : scene.sensor().sample_count());
     context.progress = options.progress;
     context.cancel = options.cancel;
     arena_execute(arena, [&] { integrator.preprocess(scene, context); });

@@ -18,8 +18,21 @@
 
 namespace volguide {
 
+namespace {
+
+VolPathSettings bounded_walk(VolPathSettings s) {
+    s.rr_rule = RouletteRule::Bounded;
+    return s;
+}
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace
+
 GuidedVolPathIntegrator::GuidedVolPathIntegrator(const Properties& props)
-    : settings_(GuidedVolPathSettings::from(props)), walk_(settings_.walk) {}
+    : settings_(GuidedVolPathSettings::from(props)), walk_(settings_.walk), bounded_(bounded_walk(settings_.walk)) {}
 
 void GuidedVolPathIntegrator::preprocess(const Scene& scene, const PreprocessContext& context) {
     training_stats_.clear();
@@ -34,14 +47,27 @@ void GuidedVolPathIntegrator::preprocess(const Scene& scene, const PreprocessCon
     time_budget_ = context.time_budget;
     progress_ = context.progress;
     cancel_ = context.cancel;
+    choice_ = ChoiceMap();
+    probe_seconds_[0] = probe_seconds_[1] = 0;
+    const PreprocessBudget budget(context.time_budget, settings_.training_fraction);
     walk_.preprocess(scene, context);
+    bounded_.preprocess(scene, context);
     if (settings_.refine.passes > 0 && given_prepass_)
         throw InputError(settings_.location, "guided_volpath: refine_passes cannot refine a given pre-pass (render "
                                              "--field): it keeps the statistics of the photons it was trained from");
     const auto training_start = std::chrono::steady_clock::now();
-    load_or_train_field(scene, context);
-    training_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - training_start).count();
-    build_from_field(scene, context, false);
+    if (chooses()) {
+        staged_training(scene, context, budget);
+        training_seconds_ = seconds_since(training_start);
+    } else {
+        PreprocessContext train = context;
+        train.time_limit = budget.limit(0.6);
+        load_or_train_field(scene, train);
+        training_seconds_ = seconds_since(training_start);
+        build_stage(scene, context, budget.limit(1.0));
+    }
+    if (given_prepass_ && !given_prepass_->choice.empty()) choice_ = ChoiceMap::deserialize(given_prepass_->choice);
+    if (budget.limited()) training_stats_.emplace_back("preprocess_limit_seconds", budget.total());
     if (refinement_)
         schedule_ = std::make_unique<RefinementSchedule>(settings_.refine, context.time_budget, training_seconds_);
     if (!settings_.save_field.empty()) {
@@ -181,7 +207,7 @@ void GuidedVolPathIntegrator::load_or_train_field(const Scene& scene, const Prep
             throw InputError(settings_.location, e.what());
         }
     } else {
-        field_ = train_by_photons(scene, context);
+        field_ = train_by_photons(scene, context, settings_.photons, context.time_limit);
         photon_fluence = true;
     }
     // Once per field, kept in its file (format v3): the photons' per-volume fluence is divided by
@@ -207,10 +233,11 @@ PhotonPassSettings GuidedVolPathIntegrator::photon_settings(double time_limit) c
     return ps;
 }
 
-GuidingField GuidedVolPathIntegrator::train_by_photons(const Scene& scene, const PreprocessContext& context) {
-    // Under a --time budget, training gets training_fraction of it (interface.md).
-    const PhotonPassSettings ps =
-        photon_settings(context.time_budget > 0 ? settings_.training_fraction * context.time_budget : 0.0);
+GuidingField GuidedVolPathIntegrator::train_by_photons(const Scene& scene, const PreprocessContext& context,
+                                                       int64_t photon_count, double time_limit) {
+    // Under a --time budget, training gets its share of the pre-pass's (PreprocessBudget).
+    PhotonPassSettings ps = photon_settings(time_limit);
+    ps.photons = photon_count;
     const PhotonPassResult photons = trace_photons(scene, ps, context);
     training_stats_ = {
         {"photons_traced", double(photons.photons_traced)},
@@ -288,7 +315,8 @@ void GuidedVolPathIntegrator::learn_selection(const Scene& scene, const Preproce
 
 std::string GuidedVolPathIntegrator::prepass_state() const {
     return serialize_guided_prepass(field_, pixel_estimate_.image(),
-                                    guide_ && !guide_->selection().empty() ? guide_->selection().serialize() : "");
+                                    guide_ && !guide_->selection().empty() ? guide_->selection().serialize() : "",
+                                    choice_.empty() ? "" : choice_.serialize());
 }
 
 void GuidedVolPathIntegrator::use_prepass_state(const std::string& bytes) {
@@ -334,6 +362,8 @@ Color3 GuidedVolPathIntegrator::render_walk(const Scene& scene, Sampler& sampler
 }
 
 Color3 GuidedVolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const CameraRay& camera) const {
+    // The tile's method, fixed before the first pass: both are unbiased, so the image is.
+    if (choice_.at(camera.film_uv) == TileMethod::Volpath) return bounded_.walk(scene, sampler, camera.ray, nullptr);
     if (estimator_) {
         const CacheQuantity q =
             settings_.estimate == FieldEstimate::Incident ? CacheQuantity::Incident : CacheQuantity::Inscattered;

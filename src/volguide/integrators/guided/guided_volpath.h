@@ -10,7 +10,13 @@
 // (incident / product) decisions, GuidedContinuation the RR/splitting decisions after them (rrs=grr,
 // grrs, ears). With refine_passes > 0 the field keeps learning from further photon passes between
 // render passes (field_refinement.h, refinement_schedule.h). `estimate` renders the field's own
-// inspection images instead. With distance=standard direction=phase rrs=standard it renders exactly
+// inspection images instead.
+// With method_choice (the default) the pre-pass is staged (issue 55): probes of volpath rr_rule=bounded,
+// then a coarse field and the guided configuration's probes on it; when every tile is volpath's
+// (estimates/method_choice.h) training stops there and the render is bounded volpath's; otherwise the full
+// field is trained, the guided probes repeated with it, and the final map decides per 16 x 16 tile which
+// method renders it (Li dispatches on the camera ray's film position). Under --time the whole pre-pass
+// keeps within training_fraction of the budget (training/preprocess_budget.h). With distance=standard direction=phase rrs=standard it renders exactly
 // what volpath renders.
 #include <tbb/enumerable_thread_specific.h>
 
@@ -23,10 +29,12 @@
 #include "volguide/guiding/roulette_splitting.h"
 #include "volguide/integrators/guided/estimates/cache_estimate.h"
 #include "volguide/integrators/guided/estimates/continuation_snapshot.h"
+#include "volguide/integrators/guided/estimates/method_choice.h"
 #include "volguide/integrators/guided/prepass/guided_prepass.h"
 #include "volguide/integrators/guided/guided_volpath_settings.h"
 #include "volguide/integrators/guided/estimates/pixel_estimate.h"
 #include "volguide/integrators/guided/training/photon_pass.h"
+#include "volguide/integrators/guided/training/preprocess_budget.h"
 #include "volguide/integrators/guided/training/refinement_schedule.h"
 #include "volguide/integrators/volpath/volpath.h"
 #include "volguide/integrators/guided/walk/walk_guide.h"
@@ -43,6 +51,7 @@ public:
     // pass to the field here, or undo the last one.
     void end_pass(const PassReport& pass) override;
     std::vector<std::pair<std::string, double>> statistics() const override;
+    Image method_map() const override { return choice_.empty() ? Image() : choice_.image(); }
     std::string to_string() const override;
     // The field and the pixel estimate (guided_prepass.h); use_prepass_state() makes preprocess()
     // take them instead of training (and of load_field).
@@ -55,10 +64,15 @@ public:
     const GuidingField& field() const { return field_; }
     // The pixel estimate of guided RR/splitting; empty with rrs=standard.
     const PixelEstimate& pixel_estimate() const { return pixel_estimate_; }
+    // The per-tile method choice of the last preprocess() (empty: every tile guided).
+    const ChoiceMap& choice_map() const { return choice_; }
 
 private:
     GuidedVolPathSettings settings_;
     VolPathIntegrator walk_;
+    VolPathIntegrator bounded_;  // volpath with rr_rule=bounded: the method choice's other method
+    ChoiceMap choice_;
+    double probe_seconds_[2] = {0, 0};  // the probes' wall time per TileMethod (statistics only)
     GuidingField field_;
     std::unique_ptr<CacheEstimator> estimator_;  // estimate != none
     std::unique_ptr<WalkGuide> guide_;           // a guided distance, direction or RR decision
@@ -82,9 +96,22 @@ private:
     // preprocess()'s steps: the field (loaded or trained) with its leaves' medium fractions, then
     // the pixel estimate I of guided RR/splitting.
     void load_or_train_field(const Scene& scene, const PreprocessContext& context);
+    // The staged pre-pass with the method choice (see the file comment); its steps.
+    bool chooses() const;
+    void staged_training(const Scene& scene, const PreprocessContext& context, const PreprocessBudget& budget);
+    void train_stage(const Scene& scene, const PreprocessContext& context, int64_t photons, double time_limit);
+    void build_stage(const Scene& scene, const PreprocessContext& context, double time_limit);
+    // `rounds` probe rounds of `method` (under a time budget: fewer, within `time_limit`); the rounds done.
+    int run_probes(const Scene& scene, const PreprocessContext& context, ChoiceProbes& probes, TileMethod method,
+                   int rounds, double time_limit);
+    int probe_rounds(const PreprocessContext& context) const;
+    ChoiceMap decide_choice(const Scene& scene, const ChoiceProbes& probes) const;
+    void record_choice_stats(int stage, const ChoiceProbes& probes, int volpath_rounds, int guided_rounds,
+                             double seconds);
     // Each leaf's medium share (medium_occupancy.h) into field_; photon_fluence: divide its fluence by it.
     void measure_medium_fractions(const Scene& scene, uint64_t seed, bool photon_fluence);
-    GuidingField train_by_photons(const Scene& scene, const PreprocessContext& context);
+    GuidingField train_by_photons(const Scene& scene, const PreprocessContext& context, int64_t photons,
+                                  double time_limit);
     void make_pixel_estimate(const Scene& scene, const PreprocessContext& context);
     void use_given_pixel_estimate();
     void learn_selection(const Scene& scene, const PreprocessContext& context);

@@ -296,6 +296,7 @@ GuidedVolPathSettings GuidedVolPathSettings::from(const Properties& props) {
         props.fail_at("refine_passes", "guided_volpath: refine_passes does not apply to estimate (no render to refine during)");
     if (props.has("save_field")) s.save_field = props.get_string("save_field");
     if (props.has("load_field")) s.load_field = resolve_field_path(props);
+    s.method_choice = props.get_bool("method_choice", s.method_choice);
     return s;
 }
 
@@ -303,12 +304,12 @@ std::string GuidedVolPathSettings::to_string() const {
     return fmt::format(
         "max_depth={}, rr_depth={}, rr_rule={}, photons={}, refine_passes={}, leaf_samples={}, lobes={}, "
         "distance={}, distance_merge={}, direction={}, surface_guiding={}, rrs={}, rrs_window={}, "
-        "rrs_branch_budget={}, selection_spp={}, equiangular={}, estimate={}",
+        "rrs_branch_budget={}, selection_spp={}, equiangular={}, estimate={}, method_choice={}",
         walk.max_depth, walk.rr_depth, roulette_rule_name(walk.rr_rule), photons, refine.passes,
         field.tree.max_samples, field.lobes, choice_name<DistanceGuiding>(kDistance, guide.distance),
         guide.distance_merge, choice_name<DirectionGuiding>(kDirection, guide.direction), guide.surface,
         choice_name<RouletteMode>(kRrs, roulette.mode), roulette.window, roulette.branch_budget, selection.pilot_spp,
-        walk.equiangular, choice_name<FieldEstimate>(kEstimate, estimate));
+        walk.equiangular, choice_name<FieldEstimate>(kEstimate, estimate), method_choice);
 }
 
 }  // namespace volguide

@@ -55,6 +55,9 @@ struct GuidedVolPathSettings {
     std::string save_pixel_estimate;  // EXR of I (RGB, before the floor), empty = none
     std::string save_field, load_field;  // resolved paths, empty = none
     FieldEstimate estimate = FieldEstimate::None;
+    // The measured per-tile method choice (estimates/method_choice.h): each 16 x 16 film tile rendered by
+    // the guided configuration or by volpath with rr_rule=bounded, decided from probes in the pre-pass.
+    bool method_choice = true;
     SourceLocation location;
 
     static GuidedVolPathSettings from(const Properties& props);
