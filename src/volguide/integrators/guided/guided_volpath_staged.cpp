@@ -2,6 +2,8 @@
 #include <algorithm>
 #include <chrono>
 
+#include <fmt/format.h>
+
 #include "volguide/integrators/guided/guided_volpath.h"
 #include "volguide/render/scene.h"
 #include "volguide/render/sensor.h"
@@ -138,6 +140,13 @@ void GuidedVolPathIntegrator::record_choice_stats(int stage, const ChoiceProbes&
                                                    {"choice_probe_samples_volpath", probes.total_samples(TileMethod::Volpath)},
                                                    {"choice_probe_samples_guided", probes.total_samples(TileMethod::Guided)},
                                                    {"choice_seconds", seconds}});
+    static constexpr const char* kCountNames[WorkCounter::kCounts] = {"segments", "medium_vertices", "surface_vertices",
+                                                                      "continuations", "branches"};
+    for (int k = 0; k < WorkCounter::kCounts; ++k)
+        for (TileMethod m : {TileMethod::Volpath, TileMethod::Guided})
+            training_stats_.emplace_back(fmt::format("choice_probe_{}_{}", kCountNames[k],
+                                                     m == TileMethod::Volpath ? "volpath" : "guided"),
+                                         probes.total_count(m, k));
 }
 
 }  // namespace volguide

@@ -45,6 +45,14 @@ double WorkCounter::cost() const {
     return c;
 }
 
+void WorkCounter::counts(double* out) const {
+    out[0] = double(segments_ + medium_);
+    out[1] = double(medium_);
+    out[2] = double(surface_);
+    out[3] = double(continuations_);
+    out[4] = double(branches_);
+}
+
 void TileEvidence::add(const TileEvidence& o) {
     pixels += o.pixels;
     var_sum += o.var_sum;
@@ -52,6 +60,18 @@ void TileEvidence::add(const TileEvidence& o) {
     samples += o.samples;
     cost_sum += o.cost_sum;
     cost_sq += o.cost_sq;
+}
+
+void TileEvidence::add_pixel(double n, double x, double x2, double c, double c2, double pooled_mean) {
+    samples += n;
+    cost_sum += c;
+    cost_sq += c2;
+    if (n < 2) return;
+    const double mean = x / n;
+    const double rel = std::max(0.0, (x2 - n * mean * mean) / (n - 1)) / (pooled_mean * pooled_mean + kRelativeEpsilon);
+    pixels += 1;
+    var_sum += rel;
+    var_sq += rel * rel;
 }
 
 double TileEvidence::variance_error2() const { return mean_error2(pixels, var_sum, var_sq); }
@@ -157,6 +177,9 @@ void ChoiceProbes::run_round(const Scene& scene, TileMethod method, uint64_t see
             s.x2 += x * x;
             s.c += c;
             s.c2 += c * c;
+            double counts[WorkCounter::kCounts];
+            counter.counts(counts);
+            for (int k = 0; k < WorkCounter::kCounts; ++k) s.counts[k] += counts[k];
         }
     });
 }
@@ -177,6 +200,12 @@ double ChoiceProbes::total_samples(TileMethod method) const {
     return n;
 }
 
+double ChoiceProbes::total_count(TileMethod method, int count) const {
+    double n = 0;
+    for (const Pixel& p : pixels_) n += p.m[int(method)].counts[count];
+    return n;
+}
+
 std::vector<TileEvidence> ChoiceProbes::evidence(TileMethod method) const {
     ChoiceMap shape{width_, height_, {}};
     std::vector<TileEvidence> tiles(size_t(shape.tiles_x()) * size_t(shape.tiles_y()));
@@ -184,18 +213,8 @@ std::vector<TileEvidence> ChoiceProbes::evidence(TileMethod method) const {
     for (const Pixel& p : pixels_) {
         TileEvidence& t = tiles[size_t(p.y / ChoiceMap::kTile) * size_t(shape.tiles_x()) + size_t(p.x / ChoiceMap::kTile)];
         const Sums& s = p.m[m];
-        t.samples += s.n;
-        t.cost_sum += s.c;
-        t.cost_sq += s.c2;
-        if (s.n < 2) continue;
         const double n_all = p.m[0].n + p.m[1].n;
-        const double mean_all = (p.m[0].x + p.m[1].x) / n_all;
-        const double mean = s.x / s.n;
-        const double var = std::max(0.0, (s.x2 - s.n * mean * mean) / (s.n - 1));
-        const double rel = var / (mean_all * mean_all + kRelativeEpsilon);
-        t.pixels += 1;
-        t.var_sum += rel;
-        t.var_sq += rel * rel;
+        t.add_pixel(s.n, s.x, s.x2, s.c, s.c2, n_all > 0 ? (p.m[0].x + p.m[1].x) / n_all : 0.0);
     }
     return tiles;
 }

@@ -42,9 +42,12 @@ public:
     static constexpr double kGuidedVertex = 700;   // a guided medium vertex: its distance and direction decisions
     static constexpr double kContinuation = 60;    // a continuation decision (guided RR/splitting)
     static constexpr double kBranch = 150;         // a split copy's set-up
+    static constexpr int kCounts = 5;  // segments, medium vertices, surface vertices, continuations, branches
     explicit WorkCounter(bool guided) : guided_(guided) {}
     void reset() { segments_ = medium_ = surface_ = continuations_ = branches_ = 0; }
     double cost() const;
+    // The counts (kCounts, in the order above), for the cost model's calibration (--stats).
+    void counts(double* out) const;
     void record_medium_hit(const MediumInteraction&) override { ++medium_; }
     void record_surface_hit(const SurfaceInteraction&) override { ++segments_; }
     void record_surface_vertex(const SurfaceInteraction&, const BSDFSample&, const Vec3f&, const Color3&) override {
@@ -65,6 +68,9 @@ struct TileEvidence {
     double pixels = 0, var_sum = 0, var_sq = 0;   // probe pixels with >= 2 samples; sums of their relative variance
     double samples = 0, cost_sum = 0, cost_sq = 0;  // probe samples; sums of their cost
     void add(const TileEvidence& o);
+    // One probe pixel's samples of this method: count n, sums of the luminance x and x^2 and of the cost c
+    // and c^2; `pooled_mean` the pixel's mean over both methods (the relative variance's normaliser).
+    void add_pixel(double n, double x, double x2, double c, double c2, double pooled_mean);
     double variance() const { return pixels > 0 ? var_sum / pixels : 0.0; }
     double cost() const { return samples > 0 ? cost_sum / samples : 0.0; }
     // Squared standard errors of variance() and cost() (sample variance over the count).
@@ -79,7 +85,7 @@ struct TileDecision {
 };
 
 // The decision rule for one tile (see the file comment); z: the standard errors the evidence needs.
-inline constexpr double kChoiceConfidence = 2.0;
+inline constexpr double kChoiceConfidence = 3.0;
 TileDecision decide_tile(const TileEvidence& guided, const TileEvidence& volpath, double z = kChoiceConfidence);
 
 // The map over the film: tile (tx, ty) covers pixels [16 tx, 16 tx + 16) x [16 ty, 16 ty + 16).
@@ -118,10 +124,12 @@ public:
     // One method's counted cost and samples over every probe pixel (statistics: the cost model's check).
     double total_cost(TileMethod method) const;
     double total_samples(TileMethod method) const;
+    double total_count(TileMethod method, int count) const;
 
 private:
     struct Sums {
         double n = 0, x = 0, x2 = 0, c = 0, c2 = 0;
+        double counts[WorkCounter::kCounts] = {};
     };
     struct Pixel {
         int x = 0, y = 0;
