@@ -122,3 +122,11 @@ TEST(Determinism, VspResampledSameImageForOneAndTwoThreads) {
                          "guided cloud, distance=vsp");
 }
 
+
+// Issue 55: guided_volpath's defaults (the staged pre-pass, the per-tile method choice from counted costs,
+// no wall clock) on the benchmark's dense sphere, where both methods get tiles.
+TEST(Determinism, MethodChoiceSameImageForOneAndTwoThreads) {
+    expect_deterministic(guided_bench_scene("densesphere", R"(<integer name="photons" value="200000"/>)",
+                                            "determinism-choice", "16"),
+                         "guided densesphere, the defaults");
+}
