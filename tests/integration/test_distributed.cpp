@@ -385,20 +385,20 @@ TEST_F(Distributed, DefaultsTrainChunksMergeEqualTheSingleProcessRender) {
     </sensor>
 </scene>)";
     write("d.xml", s);
-    ok("render d.xml --seed 7 --spp 9 --threads 2 -o single.exr --stats single.json --quiet");
+    ok("render d.xml --seed 7 --spp 64 --threads 2 -o single.exr --stats single.json --quiet");
     const std::string stats = slurp_file(dir_ / "single.json");
     const size_t share = stats.find("\"choice_volpath_share\": ");
     ASSERT_NE(share, std::string::npos) << stats;
     const double volpath_share = std::stod(stats.substr(share + std::string("\"choice_volpath_share\": ").size()));
     EXPECT_GT(volpath_share, 0.0);  // both methods render tiles: the map matters to the image
     EXPECT_LT(volpath_share, 1.0);
-    ok("train d.xml --spp 9 -o d.vgt --seed 7 --threads 1 --quiet");
-    ok("render d.xml --field d.vgt --seed 7 --samples 0:4 --threads 1 -o c0.exr --quiet");
-    ok("render d.xml --field d.vgt --seed 7 --samples 4:5 --threads 2 -o c1.exr --quiet");
+    ok("train d.xml --spp 64 -o d.vgt --seed 7 --threads 1 --quiet");
+    ok("render d.xml --field d.vgt --seed 7 --samples 0:24 --threads 1 -o c0.exr --quiet");
+    ok("render d.xml --field d.vgt --seed 7 --samples 24:40 --threads 2 -o c1.exr --quiet");
     const ChunkRun merged = run("merge c1.exr c0.exr -o merged.exr");
     ASSERT_EQ(merged.code, 0) << merged.err;
     const RenderPart m = part("merged.exr"), single = part("single.exr");
-    EXPECT_EQ(format_ranges(m.info.samples), "0:9");
+    EXPECT_EQ(format_ranges(m.info.samples), "0:64");
     EXPECT_EQ(m.info.field, single.info.field);  // the same pre-pass state, the map included
     // Not bit-identical: the chunks sum their samples in other passes (render_part.h); float32 rounding.
     const double rel = strict_relmse(m.mean, single.mean);

@@ -16,7 +16,7 @@ fail() { echo "FAIL: $*" >&2; exit 1; }
 "$PY" "$src/bench/make_references.py" --scenes thin --spp 4 --build-dir "$build" --out-dir "$tmp/refs" \
   --work-dir "$tmp/chunks" >/dev/null
 "$PY" "$src/bench/run_bench.py" --build-dir "$build" --time 0.3 --scenes thin \
-  --methods "volpath,guided_volpath direction=product,guided_volpath distance=incremental direction=product rrs=grr" \
+  --methods "guided_volpath,volpath,guided_volpath direction=product,guided_volpath distance=incremental direction=product rrs=grr" \
   --references "$tmp/refs" --out "$tmp/out"
 for f in results.csv results.json table.md index.html plots/thin.png images/thin__reference.png \
          images/thin__volpath.png images/thin__volpath__error.png; do
@@ -50,6 +50,18 @@ assert g["status"] == "ok" and int(g["spp"]) > 0, g
 assert float(g["branches_mean"]) == 1.0 and float(g["branches_max"]) == 1.0, g
 assert float(g["pixel_estimate_seconds"]) > 0.0, g
 assert "branches mean / p99.9 / max" in open(f"{tmp}/out/table.md").read()
+# Issue 55: guided_volpath with no options leads each scene's tables against the best unguided method,
+# its per-tile method choice beside the render.
+d0 = rows["guided_volpath"]
+assert d0["status"] == "ok" and int(d0["spp"]) > 0, d0
+assert 0.0 <= float(d0["choice_volpath_share"]) <= 1.0 and d0["choice_stage"] in ("1.0", "2.0"), d0
+table = open(f"{tmp}/out/table.md").read()
+first = table.index("## thin")
+assert table.index("| the defaults vs the best unguided |", first) < table.index("| method | spp |", first), table
+assert "| `guided_volpath` |" in table[first:]
+import os
+assert os.path.getsize(f"{tmp}/out/images/thin__guided-volpath__choice.png") > 0
+assert "thin__guided-volpath__choice.png" in open(f"{tmp}/out/index.html").read()
 print("results.csv agrees with volguide diff; guided methods ran, guided RR with its branch statistics")
 PY
 # Re-scoring against another reference (the same scene at other spp) reproduces volguide diff.

@@ -69,6 +69,13 @@ TEST(MethodChoice, TooLittleEvidenceStaysGuided) {
     const TileSamples t = make_tile(16, 2, [&] { return wide(rng); }, [&] { return narrow(rng); });
     const auto [g, v] = evidence(t, 1000, 1000);
     EXPECT_EQ(decide_tile(g, v).method, TileMethod::Guided);
+    // Volpath far better, but 3 samples per probe pixel: too few to rule out rare bright paths.
+    const TileSamples three = make_tile(64, 3, [&] { return 10 * wide(rng); }, [&] { return narrow(rng); });
+    const auto [g3, v3] = evidence(three, 1000, 1000);
+    EXPECT_EQ(decide_tile(g3, v3).method, TileMethod::Guided);
+    const TileSamples four = make_tile(64, 4, [&] { return 10 * wide(rng); }, [&] { return narrow(rng); });
+    const auto [g4, v4] = evidence(four, 1000, 1000);
+    EXPECT_EQ(decide_tile(g4, v4).method, TileMethod::Volpath);  // (the rule above can fail)
     // Fewer than four probe pixels: no decision at all.
     const TileSamples few = make_tile(3, 8, [&] { return 10 * wide(rng); }, [&] { return narrow(rng); });
     const auto [gf, vf] = evidence(few, 1000, 1000);

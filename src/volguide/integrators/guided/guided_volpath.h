@@ -72,7 +72,7 @@ private:
     VolPathIntegrator walk_;
     VolPathIntegrator bounded_;  // volpath with rr_rule=bounded: the method choice's other method
     ChoiceMap choice_;
-    double probe_seconds_[2] = {0, 0};  // the probes' wall time per TileMethod (statistics only)
+    double probe_seconds_[2] = {0, 0};  // the last probes' CPU time per TileMethod (statistics only)
     GuidingField field_;
     std::unique_ptr<CacheEstimator> estimator_;  // estimate != none
     std::unique_ptr<WalkGuide> guide_;           // a guided distance, direction or RR decision

@@ -1,6 +1,7 @@
 // guided_volpath's staged pre-pass with the measured per-tile method choice (issue 55; guided_volpath.h).
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 
 #include <fmt/format.h>
 
@@ -104,6 +105,7 @@ int GuidedVolPathIntegrator::run_probes(const Scene& scene, const PreprocessCont
               });
     const uint64_t stream = method == TileMethod::Volpath ? kVolpathProbeStream : kGuidedProbeStream;
     const auto start = std::chrono::steady_clock::now();
+    const std::clock_t cpu_start = std::clock();
     double last_round = 0;
     int done = 0;
     for (; done < rounds && !context.cancelled(); ++done) {
@@ -112,7 +114,9 @@ int GuidedVolPathIntegrator::run_probes(const Scene& scene, const PreprocessCont
         probes.run_round(scene, method, context.seed, stream, done, walk);
         last_round = seconds_since(start) - t;
     }
-    probe_seconds_[int(method)] = seconds_since(start);  // the last probes of the method (the statistics' samples)
+    // The last probes' CPU time (all threads; statistics only, the cost model's calibration): less
+    // sensitive to a loaded machine than their wall time.
+    probe_seconds_[int(method)] = double(std::clock() - cpu_start) / CLOCKS_PER_SEC;
     return done;
 }
 
@@ -133,8 +137,8 @@ void GuidedVolPathIntegrator::record_choice_stats(int stage, const ChoiceProbes&
                                                    {"choice_volpath_share", choice_.volpath_share()},
                                                    {"choice_probe_rounds_volpath", double(volpath_rounds)},
                                                    {"choice_probe_rounds_guided", double(guided_rounds)},
-                                                   {"choice_probe_seconds_volpath", probe_seconds_[1]},
-                                                   {"choice_probe_seconds_guided", probe_seconds_[0]},
+                                                   {"choice_probe_cpu_seconds_volpath", probe_seconds_[1]},
+                                                   {"choice_probe_cpu_seconds_guided", probe_seconds_[0]},
                                                    {"choice_probe_cost_volpath", probes.total_cost(TileMethod::Volpath)},
                                                    {"choice_probe_cost_guided", probes.total_cost(TileMethod::Guided)},
                                                    {"choice_probe_samples_volpath", probes.total_samples(TileMethod::Volpath)},

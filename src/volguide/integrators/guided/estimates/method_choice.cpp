@@ -18,6 +18,10 @@ constexpr uint32_t kChoiceFormatVersion = 1;
 constexpr double kRelativeEpsilon = 0.01;
 // Fewer probe pixels than this in a tile (or its neighbourhood): no evidence, the tile stays guided.
 constexpr double kMinPixels = 4;
+// Volpath's probes need this many samples per probe pixel before a tile may go to volpath: with fewer, its
+// rare bright paths are too likely to be unseen (at 2 samples a pixel, backlit's 1-spp volpath tiles are
+// fireflies the probes never showed; tests/scripts/test_bench_harness.sh's cross-check).
+constexpr double kMinSamplesPerPixel = 4;
 
 void put_u32(std::string& s, uint32_t v) {
     for (int i = 0; i < 4; ++i) s.push_back(char(uint8_t(v >> (8 * i))));
@@ -41,7 +45,8 @@ double WorkCounter::cost() const {
     double c = kSegment * double(segments_ + medium_) + kMediumVertex * double(medium_) +
                kSurfaceVertex * double(surface_);
     if (guided_)
-        c += kGuidedVertex * double(medium_) + kContinuation * double(continuations_) + kBranch * double(branches_);
+        c += kGuidedMediumVertex * double(medium_) + kGuidedSurfaceVertex * double(surface_) +
+             kContinuation * double(continuations_) + kBranch * double(branches_);
     return c;
 }
 
@@ -80,6 +85,7 @@ double TileEvidence::cost_error2() const { return mean_error2(samples, cost_sum,
 TileDecision decide_tile(const TileEvidence& guided, const TileEvidence& volpath, double z) {
     TileDecision d;
     if (guided.pixels < kMinPixels || volpath.pixels < kMinPixels) return d;
+    if (volpath.samples < kMinSamplesPerPixel * volpath.pixels) return d;
     const double Vg = guided.variance(), Vv = volpath.variance();
     const double Cg = std::max(guided.cost(), 1e-9), Cv = std::max(volpath.cost(), 1e-9);
     double e2 = guided.cost_error2() / (Cg * Cg) + volpath.cost_error2() / (Cv * Cv);

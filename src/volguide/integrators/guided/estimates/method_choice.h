@@ -12,8 +12,9 @@
 // efficiency ratio (V_g C_g) / (V_v C_v) must exceed z standard errors, the error from the spread of
 // the per-pixel variance estimates over the tile (so their own variance, the fourth moment, is in it)
 // and of the costs; the tile alone and pooled with its 3 x 3 neighbourhood must both say so. A volpath
-// tile whose probes saw no variance while guided's did stays guided (volpath's rare bright paths the
-// probes may not have seen must not decide a tile).
+// tile whose probes saw no variance while guided's did stays guided, and so does a tile whose volpath probes
+// have fewer than 4 samples per probe pixel (volpath's rare bright paths the probes may not have seen must
+// not decide a tile).
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -35,13 +36,17 @@ enum class TileMethod : uint8_t { Guided = 0, Volpath = 1 };
 // against measured ns (bench/RESULTS.md, "issue 55 — per-tile choice"). Deterministic by construction.
 class WorkCounter final : public PathRecorder {
 public:
-    // The weights (cost units ~ ns on the calibration machine).
-    static constexpr double kSegment = 120;        // a ray's intersection (each surface hit or escape)
-    static constexpr double kMediumVertex = 260;   // a medium scattering: NEE through media + phase sampling
-    static constexpr double kSurfaceVertex = 260;  // a surface scattering: NEE + BSDF sampling
-    static constexpr double kGuidedVertex = 700;   // a guided medium vertex: its distance and direction decisions
-    static constexpr double kContinuation = 60;    // a continuation decision (guided RR/splitting)
-    static constexpr double kBranch = 150;         // a split copy's set-up
+    // The weights, in ns of one core's CPU time on the calibration machine (a least-squares fit to the probes'
+    // CPU time on the nine benchmark scenes; bench/RESULTS.md, "issue 55 — per-tile choice"). Heterogeneous
+    // media's tracking steps and the guided distance decision's leaves are not counted: the guided/volpath
+    // cost ratio is within about 1.6x of the measured one on those scenes.
+    static constexpr double kSegment = 380;             // a ray segment (each surface hit, escape or medium scattering)
+    static constexpr double kMediumVertex = 720;        // a medium scattering: NEE through media + phase sampling
+    static constexpr double kSurfaceVertex = 150;       // a surface scattering: NEE + BSDF sampling
+    static constexpr double kGuidedMediumVertex = 400;  // a guided medium vertex's decisions, on top
+    static constexpr double kGuidedSurfaceVertex = 1160;  // a guided surface vertex's decision, on top
+    static constexpr double kContinuation = 100;        // a continuation decision (guided RR/splitting)
+    static constexpr double kBranch = 5200;             // a split copy (its set-up and the vertex it resumes)
     static constexpr int kCounts = 5;  // segments, medium vertices, surface vertices, continuations, branches
     explicit WorkCounter(bool guided) : guided_(guided) {}
     void reset() { segments_ = medium_ = surface_ = continuations_ = branches_ = 0; }
