@@ -38,8 +38,8 @@ class WorkCounter final : public PathRecorder {
 public:
     // The weights, in ns of one core's CPU time on the calibration machine (a least-squares fit to the probes'
     // CPU time on the nine benchmark scenes; bench/RESULTS.md, "issue 55 — per-tile choice"). Heterogeneous
-    // media's tracking steps and the guided distance decision's leaves are not counted: the guided/volpath
-    // cost ratio is within about 1.6x of the measured one on those scenes.
+    // media's tracking steps and the guided distance decision's leaves are not counted (RESULTS.md has how
+    // far the model's guided/volpath cost ratio is from the measured one).
     static constexpr double kSegment = 380;             // a ray segment (each surface hit, escape or medium scattering)
     static constexpr double kMediumVertex = 720;        // a medium scattering: NEE through media + phase sampling
     static constexpr double kSurfaceVertex = 150;       // a surface scattering: NEE + BSDF sampling
