@@ -108,9 +108,12 @@ int GuidedVolPathIntegrator::run_probes(const Scene& scene, const PreprocessCont
     const std::clock_t cpu_start = std::clock();
     double last_round = 0;
     int done = 0;
+    // At least the rounds the decision needs (ChoiceProbes: 2 samples per pixel for a variance, 4 of volpath's
+    // before a tile may go to it), even past the step's limit: without them every tile stays guided.
+    const int needed = std::min(rounds, method == TileMethod::Volpath ? 4 : 2);
     for (; done < rounds && !context.cancelled(); ++done) {
         const double t = seconds_since(start);
-        if (done > 0 && PreprocessBudget::over(time_limit, t, last_round)) break;
+        if (done >= needed && PreprocessBudget::over(time_limit, t, last_round)) break;
         probes.run_round(scene, method, context.seed, stream, done, walk);
         last_round = seconds_since(start) - t;
     }
