@@ -135,6 +135,28 @@ TEST(MethodChoice, ALoneVolpathTileAmongGuidedOnesStaysGuided) {
     EXPECT_EQ(all.volpath_share(), 1.0);
 }
 
+// Every pixel gets the same spp: a tile twice as efficient with volpath (2x the variance at a quarter of the
+// cost) among costly guided tiles stays guided, its saved time too small to pay for its variance.
+TEST(MethodChoice, ATileGoesToVolpathOnlyWhenTheWholeImageGains) {
+    std::mt19937_64 rng(6);
+    std::normal_distribution<double> guided(1.0, 0.4), volpath(1.0, 0.4 * std::sqrt(2.0));
+    const TileSamples t = make_tile(64, 16, [&] { return guided(rng); }, [&] { return volpath(rng); });
+    const auto [g, v] = evidence(t, 1000, 250);
+    ASSERT_EQ(decide_tile(g, v).method, TileMethod::Volpath);  // twice as efficient in itself
+    const ChoiceMap alone = decide_map(16, 16, {g}, {v});
+    EXPECT_EQ(alone.volpath_share(), 1.0);  // alone in the image: the image gains
+    // Among 8 guided tiles of the same variance, each costing 10x: the image loses, it stays guided.
+    TileEvidence costly = g;
+    costly.cost_sum *= 10;
+    costly.cost_sq *= 100;
+    std::vector<TileEvidence> gs(9, costly), vs(9, costly);
+    for (TileEvidence& e : vs) e.var_sum *= 100;  // volpath hopeless there
+    gs[4] = g;
+    vs[4] = v;
+    const ChoiceMap among = decide_map(48, 48, gs, vs);
+    EXPECT_EQ(among.volpath_share(), 0.0);
+}
+
 TEST(MethodChoice, MapLooksUpTilesAndRoundTrips) {
     ChoiceMap map{40, 20, {TileMethod::Guided, TileMethod::Volpath, TileMethod::Guided, TileMethod::Volpath,
                            TileMethod::Volpath, TileMethod::Guided}};

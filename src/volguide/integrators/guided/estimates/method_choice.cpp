@@ -225,6 +225,35 @@ std::vector<TileEvidence> ChoiceProbes::evidence(TileMethod method) const {
     return tiles;
 }
 
+namespace {
+
+// The render loop gives every pixel the same spp: the image's relative variance per sample is the sum over
+// tiles of their variance sums, its time the sum of their costs, and a render of fixed time has an error
+// proportional to their product. A tile the per-tile rule sends to volpath goes there only while that lowers
+// the product (its saved time buys samples for every tile; its own variance stays at the common spp).
+void keep_what_lowers_the_product(ChoiceMap& map, const std::vector<TileEvidence>& guided,
+                                  const std::vector<TileEvidence>& volpath) {
+    auto var = [](const TileEvidence& e) { return e.var_sum; };
+    auto cost = [](const TileEvidence& e) { return e.cost() * e.pixels; };
+    double V = 0, C = 0;
+    for (size_t i = 0; i < guided.size(); ++i) {
+        V += var(guided[i]);
+        C += cost(guided[i]);
+    }
+    for (size_t i = 0; i < map.tiles.size(); ++i) {
+        if (map.tiles[i] != TileMethod::Volpath) continue;
+        const double v = V - var(guided[i]) + var(volpath[i]), c = C - cost(guided[i]) + cost(volpath[i]);
+        if (v * c < V * C) {
+            V = v;
+            C = c;
+        } else {
+            map.tiles[i] = TileMethod::Guided;
+        }
+    }
+}
+
+}  // namespace
+
 ChoiceMap decide_map(int width, int height, const std::vector<TileEvidence>& guided,
                      const std::vector<TileEvidence>& volpath, double z) {
     ChoiceMap map{width, height, {}};
@@ -242,6 +271,7 @@ ChoiceMap decide_map(int width, int height, const std::vector<TileEvidence>& gui
                 }
             map.tiles[i] = decide_tile(g, v, z).method;
         }
+    keep_what_lowers_the_product(map, guided, volpath);
     return map;
 }
 
