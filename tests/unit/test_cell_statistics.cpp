@@ -80,11 +80,11 @@ TEST(CellStatistics, RecorderCreditsEachCopyWithItsSubtree) {
     rec.begin(1, 2.f);
     rec.record_contribution(Color3(0.2f));
     rec.record_decision(DecisionKind::Distance, unguided);
-    rec.record_continuation(kDistance, VertexLeaf{0}, Vec3f(1, 0, 0), 0.f, Color3(0.5f));
+    rec.record_continuation(kDistance, 0, Vec3f(1, 0, 0), 0.f, Color3(0.5f));
     const int copy = rec.branch_point();
     rec.record_decision(DecisionKind::Direction, DecisionRecord{true, 0, 1.f, 1.f, 1.f});
     rec.record_contribution(Color3(0.3f));
-    rec.record_continuation(kDirection, VertexLeaf{0}, Vec3f(0, 1, 0), 0.f, Color3(0.25f));
+    rec.record_continuation(kDirection, 0, Vec3f(0, 1, 0), 0.f, Color3(0.25f));
     rec.record_decision(DecisionKind::Surface, unguided);
     rec.record_contribution(Color3(0.1f));
     rec.resume_branch(copy);
@@ -117,7 +117,7 @@ TEST(CellStatistics, RecorderCreditsEachCopyWithItsSubtree) {
     EXPECT_NEAR(px.sum, 0.5, 1e-4);
     EXPECT_EQ(pixels.at(0).n, 0.0);
     rec.begin(-1, 1.f);
-    rec.record_continuation(kDistance, VertexLeaf{-1}, Vec3f(0, 0, -1), 0.f, Color3(1.f));
+    rec.record_continuation(kDistance, -1, Vec3f(0, 0, -1), 0.f, Color3(1.f));
     rec.record_contribution(Color3(1.f));
     rec.end();
     EXPECT_EQ(stats.continuation(kDistance, 2, 5).n, 1u);

@@ -39,9 +39,9 @@ void CellRecorder::record_decision(DecisionKind kind, const DecisionRecord& reco
     if (current_ >= 0) ++nodes_[size_t(current_)].cost;
 }
 
-void CellRecorder::record_continuation(ContinuationStage stage, const VertexLeaf& vertex_leaf, const Vec3f& w,
-                                       float, const Color3& throughput) {
-    push({current_, false, uint8_t(stage), cell(vertex_leaf.leaf), continuation_direction_bin(w), 0.f, 0.f, 0.f,
+void CellRecorder::record_continuation(ContinuationStage stage, int leaf, const Vec3f& w, float,
+                                       const Color3& throughput) {
+    push({current_, false, uint8_t(stage), cell(leaf), continuation_direction_bin(w), 0.f, 0.f, 0.f,
           double(throughput.average())});
 }
 

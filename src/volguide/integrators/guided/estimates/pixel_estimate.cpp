@@ -40,8 +40,10 @@ float field_irradiance_shape(const Vmm& v, const Vec3f& n) {
 // The estimated radiance along one camera ray (see pixel_estimate.h). `camera_segment`: the channel
 // average of what the first medium segment before any real surface event scatters toward the camera
 // (the march's T sigma_s L~_i over it), in .r, and 1 in .g when the ray has such a segment.
-Color3 march_camera_ray(const Scene& scene, const GuidingField& field, const CacheEstimator& estimator,
-                        const PixelEstimateSettings& settings, Ray ray, Sampler& sampler, Color3& camera_segment) {
+Color3 march_camera_ray(const CacheEstimator& estimator, const PixelEstimateSettings& settings, Ray ray,
+                        Sampler& sampler, Color3& camera_segment) {
+    const Scene& scene = estimator.scene();
+    const GuidingField& field = estimator.field();
     const BSDFContext ctx;
     Color3 T(1.f), result(0.f);
     const Medium* medium = scene.sensor().medium();
@@ -52,8 +54,9 @@ Color3 march_camera_ray(const Scene& scene, const GuidingField& field, const Cac
         const bool hit = scene.intersect(ray, si);
         if (!hit) si = miss_interaction(ray);
         const float before = result.average();
-        if (medium) estimator.march_segment(ray, 0.f, hit ? si.t : ray.tmax, *medium, CacheQuantity::Inscattered,
-                                            sampler, T, result);
+        if (medium)
+            estimator.march_segment({ray, 0.f, hit ? si.t : ray.tmax, *medium}, CacheQuantity::Inscattered, sampler, T,
+                                    result);
         if (medium && from_camera && camera_segment.g == 0.f) camera_segment = Color3(result.average() - before, 1.f, 0.f);
         if (!(T.max_value() > 1e-7f)) break;
         const bool emission_counts = !settings.volume_only && !(from_camera && settings.hide_emitters);
@@ -169,7 +172,7 @@ PixelEstimate PixelEstimate::raymarch(const Scene& scene, const GuidingField& fi
     Image image = average_camera_samples(
         scene, std::max(1, settings.rays_per_pixel), kPixelEstimateStream, context,
         [&](Sampler& sampler, const Ray& ray, Color3& camera_segment) {
-            return march_camera_ray(scene, field, estimator, settings, ray, sampler, camera_segment);
+            return march_camera_ray(estimator, settings, ray, sampler, camera_segment);
         },
         &camera_segments);
     PixelEstimate e = from_image(image, settings.floor_fraction);

@@ -40,10 +40,9 @@ class GuidedWalkPolicy final : public WalkPolicy {
     }
 
     bool guides_distance() const override { return guide_.guides_distance(); }
-    FreeFlightSample sample_distance(const Medium& medium, const Ray& ray, float tmax, const Color3& throughput,
-                                     Sampler& sampler, VertexLeaf& scattering_leaf, DecisionRecord* record) override;
+    FreeFlightSample sample_distance(const DistanceQuery& query, Sampler& sampler, DecisionRecord* record) override;
 
-    void begin_vertex(const MediumInteraction& mi, const VertexLeaf& handed) override { vertex_.init(mi, handed); }
+    void begin_vertex(const MediumInteraction& mi) override { vertex_.init(mi); }
     void end_vertex() override { vertex_.clear(); }
     int keep_vertex() override { return vertex_.keep(); }
     void resume_vertex(const MediumInteraction& mi, int kept) override { vertex_.resume(mi, kept); }
@@ -56,20 +55,16 @@ class GuidedWalkPolicy final : public WalkPolicy {
                                    Sampler& sampler) override {
         surface_.prepare(si, bsdf, medium);
     }
-    float surface_direction_pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const BSDF& bsdf,
-                                const Vec3f& wo_local) const override;
-    std::pair<BSDFSample, Color3> sample_surface_direction(const BSDFContext& ctx, const SurfaceInteraction& si,
-                                                           const BSDF& bsdf, float u1, Point2f u2, Sampler& sampler,
-                                                           DecisionRecord* record) override;
+    float surface_direction_pdf(const SurfaceQuery& at, const Vec3f& wo_local) const override;
+    std::pair<BSDFSample, Color3> sample_surface_direction(const SurfaceQuery& at, float u1, Point2f u2,
+                                                           Sampler& sampler, DecisionRecord* record) override;
 
     // At the current vertex (begin_vertex's: `mi` is its interaction).
-    Continuation continuation(ContinuationStage stage, const MediumInteraction& mi, const Vec3f& w,
-                              const Color3& throughput, int branches, float allowance, Sampler& sampler,
-                              bool report) override;
+    Continuation continuation(const ContinuationQuery& query, const MediumInteraction& mi, Sampler& sampler) override;
     bool decides_at_surfaces() const override { return continuation_.decides_at_surfaces(); }
-    Continuation surface_continuation(const SurfaceInteraction& si, const Vec3f& w, const Color3& throughput,
-                                      int branches, float allowance, Sampler& sampler) override {
-        return continuation_.decide_surface(si, w, throughput, branches, allowance, sampler, vertex_.hint());
+    Continuation surface_continuation(const SurfaceInteraction& si, const ContinuationQuery& query,
+                                      Sampler& sampler) override {
+        return continuation_.decide_surface(si, query, sampler, vertex_.hint());
     }
     float branch_budget() const override { return continuation_.branch_budget(); }
     void end_camera_sample(int branches) override { continuation_.end_camera_sample(branches); }
