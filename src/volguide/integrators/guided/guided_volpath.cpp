@@ -306,7 +306,7 @@ Color3 GuidedVolPathIntegrator::guided_walk(const Scene& scene, Sampler& sampler
                                             PathRecorder* recorder, float camera_guided) const {
     if (!guide_) return walk_.walk(scene, sampler, ray, nullptr, recorder);
     GuidedWalkPolicy policy(*guide_, rrs_.get(), pixel, ears_ ? &ears_->snapshot() : nullptr);
-    policy.set_camera_segment(ray.d, camera_guided);
+    policy.set_camera_segment(camera_guided);
     return walk_.walk(scene, sampler, ray, &policy, recorder);
 }
 

@@ -5,8 +5,8 @@ namespace volguide {
 FreeFlightSample GuidedWalkPolicy::sample_distance(const DistanceQuery& query, Sampler& sampler,
                                                    DecisionRecord* record) {
     if (!guide_.guides_distance()) return query.medium.sample_free_flight(query.ray, query.tmax, query.throughput, sampler);
-    // The camera-ray buffer's P_G for the first decision only, and only along the camera ray.
-    const float camera_guided = query.ray.d == camera_d_ ? camera_guided_ : std::numeric_limits<float>::quiet_NaN();
+    // The camera-ray buffer's P_G for the first decision only, and only before any real event.
+    const float camera_guided = query.depth == 0 ? camera_guided_ : std::numeric_limits<float>::quiet_NaN();
     camera_guided_ = std::numeric_limits<float>::quiet_NaN();
     return vertex_.sample_distance(query, camera_guided, sampler, record);
 }

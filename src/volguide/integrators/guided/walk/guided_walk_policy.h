@@ -32,12 +32,10 @@ class GuidedWalkPolicy final : public WalkPolicy {
     GuidedWalkPolicy& operator=(const GuidedWalkPolicy&) = delete;
 
     // distance=vsp's camera segment (docs/theory.md §7.10.2): the first distance decision of the
-    // camera sample along the camera ray's direction `d` (null surfaces crossed, no real event yet)
-    // takes P_G = `guided` from the pixel's buffer (NaN: none, the leaf's as elsewhere).
-    void set_camera_segment(const Vec3f& d, float guided) {
-        camera_d_ = d;
-        camera_guided_ = guided;
-    }
+    // camera sample, when the walk has no real event yet (depth 0: the camera ray, null surfaces
+    // crossed, as the pixel estimate's buffer defines it) takes P_G = `guided` from the pixel's buffer
+    // (NaN: none, the leaf's as elsewhere).
+    void set_camera_segment(float guided) { camera_guided_ = guided; }
 
     bool guides_distance() const override { return guide_.guides_distance(); }
     FreeFlightSample sample_distance(const DistanceQuery& query, Sampler& sampler, DecisionRecord* record) override;
@@ -75,7 +73,6 @@ class GuidedWalkPolicy final : public WalkPolicy {
     WalkGuideStats counts_;    // the walk's (before the vertex objects, which count into it)
     GuidedVertex vertex_;      // the medium vertex the ray leaves from (inactive: the camera, a surface)
     SurfaceVertex surface_;    // the current surface vertex's direction decision
-    Vec3f camera_d_{0.f};      // set_camera_segment's direction
     float camera_guided_ = std::numeric_limits<float>::quiet_NaN();  // until the first distance decision
 };
 
