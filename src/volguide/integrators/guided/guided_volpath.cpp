@@ -23,27 +23,22 @@ GuidedVolPathIntegrator::GuidedVolPathIntegrator(const Properties& props)
 
 void GuidedVolPathIntegrator::preprocess(const Scene& scene, const PreprocessContext& context) {
     training_stats_.clear();
-    scene_ = &scene;
-    seed_ = context.seed;
-    refinement_.reset();
-    schedule_.reset();
-    previous_field_ = GuidingField();
-    refined_ = RefinementReport{};
-    refinement_undone_ = false;
-    photon_stream_next_ = photons_traced_ = deposits_ = 0;
-    time_budget_ = context.time_budget;
-    progress_ = context.progress;
-    cancel_ = context.cancel;
+    refining_ = RefinementState{};
+    refining_.scene = &scene;
+    refining_.seed = context.seed;
+    refining_.time_budget = context.time_budget;
+    refining_.progress = context.progress;
+    refining_.cancel = context.cancel;
     walk_.preprocess(scene, context);
     if (settings_.refine.passes > 0 && given_prepass_)
         throw InputError(settings_.location, "guided_volpath: refine_passes cannot refine a given pre-pass (render "
                                              "--field): it keeps the statistics of the photons it was trained from");
     const auto training_start = std::chrono::steady_clock::now();
     load_or_train_field(scene, context);
-    training_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - training_start).count();
+    refining_.training_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - training_start).count();
     build_from_field(scene, context, false);
-    if (refinement_)
-        schedule_ = std::make_unique<RefinementSchedule>(settings_.refine, context.time_budget, training_seconds_);
+    if (refining_.refinement)
+        refining_.schedule = std::make_unique<RefinementSchedule>(settings_.refine, context.time_budget, refining_.training_seconds);
     if (!settings_.save_field.empty()) {
         try {
             save_field(settings_.save_field, field_);
@@ -104,25 +99,25 @@ void GuidedVolPathIntegrator::build_from_field(const Scene& scene, const Preproc
 
 void GuidedVolPathIntegrator::end_pass(const PassReport& pass) {
     if (ears_) ears_->end_pass();
-    if (schedule_) refine(pass);
+    if (refining_.schedule) refine(pass);
 }
 
 void GuidedVolPathIntegrator::refine(const PassReport& pass) {
-    const RefinementAction action = schedule_->on_pass(pass);
+    const RefinementAction action = refining_.schedule->on_pass(pass);
     if (action == RefinementAction::Continue) return;
     const auto start = std::chrono::steady_clock::now();
     if (action == RefinementAction::Refine)
         refine_field(pass.seconds);
     else
         undo_refinement();
-    schedule_->done(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    refining_.schedule->done(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
 }
 
 PreprocessContext GuidedVolPathIntegrator::refinement_context() const {
     PreprocessContext context;
-    context.seed = seed_;
-    context.progress = progress_;
-    context.cancel = cancel_;
+    context.seed = refining_.seed;
+    context.progress = refining_.progress;
+    context.cancel = refining_.cancel;
     return context;
 }
 
@@ -130,44 +125,44 @@ PreprocessContext GuidedVolPathIntegrator::refinement_context() const {
 // all passes before it (at most kRefineMaxDeposits), added to the field's statistics; then the
 // field's medium fractions and everything built from the field, as after the pre-pass.
 void GuidedVolPathIntegrator::refine_field(double job_seconds) {
-    const int64_t deposits = std::min(deposits_, GuidedVolPathSettings::kRefineMaxDeposits);
-    const double remaining = time_budget_ > 0 ? std::max(0.0, time_budget_ - job_seconds) : 0.0;
-    PhotonPassSettings ps = photon_settings(time_budget_ > 0 ? settings_.training_fraction * remaining : 0.0);
-    ps.first_photon = photon_stream_next_;
+    const int64_t deposits = std::min(refining_.deposits, GuidedVolPathSettings::kRefineMaxDeposits);
+    const double remaining = refining_.time_budget > 0 ? std::max(0.0, refining_.time_budget - job_seconds) : 0.0;
+    PhotonPassSettings ps = photon_settings(refining_.time_budget > 0 ? settings_.training_fraction * remaining : 0.0);
+    ps.first_photon = refining_.photon_stream_next;
     ps.max_deposits = deposits;
     // The photons the deposits need at the passes' rate so far, with a margin (the cap stops the pass).
-    ps.photons = std::max<int64_t>(1, int64_t(1.1 * double(photons_traced_) * double(deposits) /
-                                              double(std::max<int64_t>(deposits_, 1))));
+    ps.photons = std::max<int64_t>(1, int64_t(1.1 * double(refining_.photons_traced) * double(deposits) /
+                                              double(std::max<int64_t>(refining_.deposits, 1))));
     const PreprocessContext context = refinement_context();
-    PhotonPassResult photons = trace_photons(*scene_, ps, context);
-    photon_stream_next_ += ps.photons;
+    PhotonPassResult photons = trace_photons(*refining_.scene, ps, context);
+    refining_.photon_stream_next += ps.photons;
     if (photons.photons_traced == 0) return;
-    photons_traced_ += photons.photons_traced;
-    deposits_ += int64_t(photons.samples.size());
-    const RefinementReport r = refinement_->add(photons.samples, double(photons.photons_traced));
+    refining_.photons_traced += photons.photons_traced;
+    refining_.deposits += int64_t(photons.samples.size());
+    const RefinementReport r = refining_.refinement->add(photons.samples, double(photons.photons_traced));
     std::vector<RadianceSample>().swap(photons.samples);
-    previous_field_ = std::move(field_);
-    field_ = refinement_->field();
-    measure_medium_fractions(*scene_, seed_ + uint64_t(schedule_->refinements() + 1), true);
+    refining_.previous_field = std::move(field_);
+    field_ = refining_.refinement->field();
+    measure_medium_fractions(*refining_.scene, refining_.seed + uint64_t(refining_.schedule->refinements() + 1), true);
     PreprocessContext build = context;
-    build.seed = seed_ + 1000 + uint64_t(schedule_->refinements());
-    build_from_field(*scene_, build, true);
-    refined_.leaf_splits += r.leaf_splits;
-    refined_.leaf_merges += r.leaf_merges;
-    refined_.lobe_splits += r.lobe_splits;
-    refined_.lobe_merges += r.lobe_merges;
+    build.seed = refining_.seed + 1000 + uint64_t(refining_.schedule->refinements());
+    build_from_field(*refining_.scene, build, true);
+    refining_.refined.leaf_splits += r.leaf_splits;
+    refining_.refined.leaf_merges += r.leaf_merges;
+    refining_.refined.lobe_splits += r.lobe_splits;
+    refining_.refined.lobe_merges += r.lobe_merges;
 }
 
 // The last refinement made the render's noise worse (the schedule's judgement): its field goes, the
 // one before it comes back (the refinement's statistics are no longer used: refining has ended).
 void GuidedVolPathIntegrator::undo_refinement() {
-    if (previous_field_.empty()) return;
-    field_ = std::move(previous_field_);
-    previous_field_ = GuidingField();
+    if (refining_.previous_field.empty()) return;
+    field_ = std::move(refining_.previous_field);
+    refining_.previous_field = GuidingField();
     PreprocessContext build = refinement_context();
-    build.seed = seed_ + 2000;
-    build_from_field(*scene_, build, true);
-    refinement_undone_ = true;
+    build.seed = refining_.seed + 2000;
+    build_from_field(*refining_.scene, build, true);
+    refining_.undone = true;
 }
 
 void GuidedVolPathIntegrator::load_or_train_field(const Scene& scene, const PreprocessContext& context) {
@@ -221,11 +216,11 @@ GuidingField GuidedVolPathIntegrator::train_by_photons(const Scene& scene, const
         {"photon_deposit_limited", photons.deposit_limited ? 1.0 : 0.0}};
     GuidingField field = GuidingField::build(guiding_bounds(scene), photons.samples, settings_.field);
     if (settings_.refine.passes > 0 && !field.empty() && photons.photons_traced > 0) {
-        refinement_ = std::make_unique<FieldRefinement>(field, photons.samples, double(photons.photons_traced),
+        refining_.refinement = std::make_unique<FieldRefinement>(field, photons.samples, double(photons.photons_traced),
                                                         settings_.refinement);
-        photon_stream_next_ = ps.photons;
-        photons_traced_ = photons.photons_traced;
-        deposits_ = int64_t(photons.samples.size());
+        refining_.photon_stream_next = ps.photons;
+        refining_.photons_traced = photons.photons_traced;
+        refining_.deposits = int64_t(photons.samples.size());
     }
     return field;
 }
@@ -344,16 +339,16 @@ Color3 GuidedVolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const C
 
 std::vector<std::pair<std::string, double>> GuidedVolPathIntegrator::statistics() const {
     std::vector<std::pair<std::string, double>> stats = training_stats_;
-    if (schedule_) {
-        const auto named = schedule_->named();
+    if (refining_.schedule) {
+        const auto named = refining_.schedule->named();
         stats.insert(stats.end(), named.begin(), named.end());
-        stats.insert(stats.end(), {{"refine_leaf_splits", double(refined_.leaf_splits)},
-                                   {"refine_leaf_merges", double(refined_.leaf_merges)},
-                                   {"refine_lobe_splits", double(refined_.lobe_splits)},
-                                   {"refine_lobe_merges", double(refined_.lobe_merges)},
-                                   {"refine_deposits", double(deposits_)},
-                                   {"field_memory_bytes", double(refinement_->memory_bytes())}});
-        if (refinement_undone_) stats.emplace_back("refine_undone", 1.0);
+        stats.insert(stats.end(), {{"refine_leaf_splits", double(refining_.refined.leaf_splits)},
+                                   {"refine_leaf_merges", double(refining_.refined.leaf_merges)},
+                                   {"refine_lobe_splits", double(refining_.refined.lobe_splits)},
+                                   {"refine_lobe_merges", double(refining_.refined.lobe_merges)},
+                                   {"refine_deposits", double(refining_.deposits)},
+                                   {"field_memory_bytes", double(refining_.refinement->memory_bytes())}});
+        if (refining_.undone) stats.emplace_back("refine_undone", 1.0);
     }
     if (guide_) {
         const auto walk = guide_->stats().named();

@@ -47,7 +47,7 @@ class CellRecorder final : public PathRecorder {
     struct Node {
         int parent;  // -1: the camera sample's root
         bool decision;
-        uint8_t kind;  // SelectionDecision, or ContinuationStage
+        uint8_t kind;  // DecisionKind, or ContinuationStage
         size_t cell;
         int bin;                      // continuation: the direction bin
         float q, p_u, p_g;            // decision: the mixture's density and parts at the sample

@@ -49,21 +49,21 @@ struct Entry {
     bool learned = false;
     size_t chosen = 0;
 };
-using Entries = std::vector<std::array<Entry, kSelectionDecisions>>;
-using PerDecision = std::array<std::array<double, kShares>, kSelectionDecisions>;
+using Entries = std::vector<std::array<Entry, kDecisionKinds>>;
+using PerDecision = std::array<std::array<double, kShares>, kDecisionKinds>;
 
 // The pilot's moments per cell and decision, each at the default share; `pooled`: their sum over
 // the cells.
 Entries gather_entries(const CellStatistics& stats, const SelectionSettings& settings,
-                       const std::array<float, kSelectionDecisions>& default_share, PerDecision& pooled) {
-    std::array<size_t, kSelectionDecisions> default_index{};
-    for (int d = 0; d < kSelectionDecisions; ++d)
+                       const std::array<float, kDecisionKinds>& default_share, PerDecision& pooled) {
+    std::array<size_t, kDecisionKinds> default_index{};
+    for (int d = 0; d < kDecisionKinds; ++d)
         default_index[size_t(d)] = nearest_share(default_share[size_t(d)]);
     Entries entries(stats.cells());
     pooled = {};
     for (size_t r = 0; r < entries.size(); ++r)
-        for (int d = 0; d < kSelectionDecisions; ++d) {
-            const DecisionMoments& mo = stats.decision(SelectionDecision(d), r);
+        for (int d = 0; d < kDecisionKinds; ++d) {
+            const DecisionMoments& mo = stats.decision(DecisionKind(d), r);
             Entry& e = entries[r][size_t(d)];
             for (size_t k = 0; k < kShares; ++k) e.m[k] = mo.m[k].value();
             e.current = mo.current.value();
@@ -84,11 +84,11 @@ Entries gather_entries(const CellStatistics& stats, const SelectionSettings& set
 // overall verdict, many follow their own.
 void shrink_towards_pooled(Entries& entries, const PerDecision& pooled, float prior_samples) {
     const double n0 = std::max(0.f, prior_samples);
-    std::array<double, kSelectionDecisions> pooled_count{};
+    std::array<double, kDecisionKinds> pooled_count{};
     for (const auto& cell : entries)
-        for (int d = 0; d < kSelectionDecisions; ++d) pooled_count[size_t(d)] += cell[size_t(d)].count;
+        for (int d = 0; d < kDecisionKinds; ++d) pooled_count[size_t(d)] += cell[size_t(d)].count;
     for (auto& cell : entries)
-        for (int d = 0; d < kSelectionDecisions; ++d) {
+        for (int d = 0; d < kDecisionKinds; ++d) {
             Entry& e = cell[size_t(d)];
             if (!(pooled_count[size_t(d)] > 0.0) || !(e.count > 0.0)) continue;
             for (size_t k = 0; k < kShares; ++k) {
@@ -111,13 +111,13 @@ void choose_with_cost(Entries& entries, const CellStatistics& stats, const Selec
         const double V = stats.camera_moment();
         double T = double(stats.unrecorded_decisions());
         for (const auto& cell : entries)
-            for (int d = 0; d < kSelectionDecisions; ++d) {
+            for (int d = 0; d < kDecisionKinds; ++d) {
                 const Entry& e = cell[size_t(d)];
                 T += e.count + cost_of(d, e.chosen, e.count);
             }
         if (!(V > 0.0) || !(T > 0.0)) break;
         for (auto& cell : entries)
-            for (int d = 0; d < kSelectionDecisions; ++d) {
+            for (int d = 0; d < kDecisionKinds; ++d) {
                 Entry& e = cell[size_t(d)];
                 if (!e.learned) continue;
                 double best = std::numeric_limits<double>::infinity();
@@ -133,9 +133,9 @@ void choose_with_cost(Entries& entries, const CellStatistics& stats, const Selec
 }
 
 // Cell r's learned shares.
-LearnedSelection::Cell fitted_cell(const std::array<Entry, kSelectionDecisions>& entries) {
+LearnedSelection::Cell fitted_cell(const std::array<Entry, kDecisionKinds>& entries) {
     LearnedSelection::Cell cell;
-    for (int d = 0; d < kSelectionDecisions; ++d) {
+    for (int d = 0; d < kDecisionKinds; ++d) {
         const Entry& e = entries[size_t(d)];
         if (e.learned) cell.share[size_t(d)] = kSelectionShares[e.chosen];
     }
@@ -145,7 +145,7 @@ LearnedSelection::Cell fitted_cell(const std::array<Entry, kSelectionDecisions>&
 }  // namespace
 
 LearnedSelection LearnedSelection::fit(const CellStatistics& stats, const SelectionSettings& settings,
-                                       const std::array<float, kSelectionDecisions>& default_share) {
+                                       const std::array<float, kDecisionKinds>& default_share) {
     PerDecision pooled;  // sum over cells of M(share k)
     Entries entries = gather_entries(stats, settings, default_share, pooled);
     shrink_towards_pooled(entries, pooled, settings.prior_samples);
@@ -160,14 +160,14 @@ LearnedSelection LearnedSelection::fit(const CellStatistics& stats, const Select
 void LearnedSelection::update_learned() {
     learned_ = {};
     for (const Cell& r : cells_)
-        for (int d = 0; d < kSelectionDecisions; ++d)
+        for (int d = 0; d < kDecisionKinds; ++d)
             if (r.share[size_t(d)] != kDefault) learned_[size_t(d)] = true;
 }
 
 LearnedSelection::Summary LearnedSelection::summary() const {
     Summary s;
     for (const Cell& r : cells_) {
-        for (int d = 0; d < kSelectionDecisions; ++d) {
+        for (int d = 0; d < kDecisionKinds; ++d) {
             if (r.share[size_t(d)] == kDefault) continue;
             s.mean_share[size_t(d)] += r.share[size_t(d)];
             if (r.share[size_t(d)] > 0.f)
@@ -176,7 +176,7 @@ LearnedSelection::Summary LearnedSelection::summary() const {
                 ++s.unguided[size_t(d)];
         }
     }
-    for (int d = 0; d < kSelectionDecisions; ++d) {
+    for (int d = 0; d < kDecisionKinds; ++d) {
         const uint64_t n = s.guided[size_t(d)] + s.unguided[size_t(d)];
         if (n > 0) s.mean_share[size_t(d)] /= double(n);
     }
@@ -202,7 +202,7 @@ LearnedSelection LearnedSelection::deserialize(const std::string& bytes) {
         throw std::runtime_error(fmt::format("learned selection: version {} (this volguide reads version {}: train again)",
                                              version, kVersion));
     const uint64_t n = get<uint64_t>(bytes, at);
-    const size_t cell_bytes = kSelectionDecisions * sizeof(float);
+    const size_t cell_bytes = kDecisionKinds * sizeof(float);
     if (n > (bytes.size() - at) / cell_bytes) throw std::runtime_error("learned selection: truncated");
     LearnedSelection out;
     out.cells_.resize(size_t(n));

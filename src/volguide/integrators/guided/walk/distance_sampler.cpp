@@ -21,7 +21,7 @@ class FreeFlightDistance final : public DistanceSampler {
   public:
     using DistanceSampler::DistanceSampler;
     FreeFlightSample sample(const DistanceQuery& q, const DistanceInput& in, DistanceScratch&, Sampler& sampler,
-                            DistanceOutcome& out, WalkGuideStats&) const override {
+                            DistanceOutcome& out) const override {
         FreeFlightSample fs = q.medium.sample_free_flight(q.ray, q.tmax, q.throughput, sampler);
         if (in.origin >= 0 && fs.scattered && guide_.field().tree().holds_point(in.origin, fs.mi.p))
             out.scattering = in.origin;
@@ -36,34 +36,31 @@ class IncrementalDistance final : public DistanceSampler {
   public:
     using DistanceSampler::DistanceSampler;
     FreeFlightSample sample(const DistanceQuery& q, const DistanceInput& in, DistanceScratch& scratch, Sampler& sampler,
-                            DistanceOutcome& out, WalkGuideStats& counts) const override {
+                            DistanceOutcome& out) const override {
         const GuidingField& field = guide_.field();
         float b0, b1;
         const bool crosses = !field.empty() && field.tree().bounds().ray_intersect(q.ray, b0, b1) && b1 > 0.f;
         const float t_end = crosses ? std::min(q.tmax, b1) : 0.f;
         if (!(t_end > 0.f) || !std::isfinite(t_end)) {
-            ++counts.distance_outside_field;
+            out.report.method = DistanceReport::Method::OutsideField;
             return q.medium.sample_free_flight(q.ray, q.tmax, q.throughput, sampler);
         }
         const float c_T = 1.f - in.share.undamped;  // the bins damp by their own leaves' confidence
-        if (q.medium.tracks_null_collisions()) return tracked(q, c_T, t_end, sampler, counts);
+        if (q.medium.tracks_null_collisions()) return tracked(q, c_T, t_end, sampler, out.report);
         const Segment segment{q, in, t_end, c_T};
-        return binned(segment, scratch, sampler, out, counts);
+        return binned(segment, scratch, sampler, out);
     }
 
   private:
     // Guided null-collision tracking over the whole segment: beyond the field the tracking falls back
     // to the unguided probability.
     FreeFlightSample tracked(const DistanceQuery& q, float c_T, float t_end, Sampler& sampler,
-                             WalkGuideStats& counts) const {
+                             DistanceReport& report) const {
         GuidedCollisionProbability probability(guide_.field(), guide_.estimates_for(q.medium.phase()), q.ray, t_end,
                                                c_T);
         FreeFlightSample fs = guided_tracking(q.medium, q.ray, q.tmax, q.throughput, sampler, probability);
-        ++counts.distance_queries;
-        ++counts.guided_tracking;
-        counts.distance_steps += probability.collisions();
-        counts.invalid_bins += probability.unguided_collisions();
-        counts.nan_fallbacks += probability.nan_fallbacks();
+        report = {DistanceReport::Method::Tracking, uint64_t(probability.collisions()),
+                  uint64_t(probability.unguided_collisions()), 0, uint64_t(probability.nan_fallbacks())};
         return fs;
     }
 
@@ -74,8 +71,8 @@ class IncrementalDistance final : public DistanceSampler {
         float t_end, c_T;
     };
 
-    FreeFlightSample binned(const Segment& segment, DistanceScratch& scratch, Sampler& sampler, DistanceOutcome& out,
-                            WalkGuideStats& counts) const {
+    FreeFlightSample binned(const Segment& segment, DistanceScratch& scratch, Sampler& sampler,
+                            DistanceOutcome& out) const {
         const DistanceQuery& q = segment.q;
         const float t_end = segment.t_end;
         GuidedDistanceSettings settings = guide_.settings().distance_settings;
@@ -86,12 +83,8 @@ class IncrementalDistance final : public DistanceSampler {
                             guide_.settings().max_bin_optical_depth, guide_.settings().leaf_tau_max};
         BinSource source(q.ray, t_end, q.medium, bins, scratch.proxies, segment.in.origin);
         const DistanceSample ds = sample_incremental_distance(source, sampler, settings);
-        ++counts.distance_queries;
-        counts.distance_steps += uint64_t(ds.steps);
-        counts.guided_strategy += ds.strategy == DistanceStrategy::Guided;
-        counts.invalid_bins += source.invalid();
-        counts.damped_bins += source.damped();
-        counts.nan_fallbacks += uint64_t(ds.nan_fallbacks);
+        out.report = {DistanceReport::Method::Bins, uint64_t(ds.steps), source.invalid(), source.damped(),
+                      uint64_t(ds.nan_fallbacks), ds.strategy == DistanceStrategy::Guided};
         if (ds.event == DistanceEvent::Medium && ds.pdf > 0.f)
             out.scattering = groups && source.leaf() >= 0 ? groups->fine_leaf(source.leaf(), q.ray(ds.t)) : source.leaf();
         if (ds.pdf > 0.f && ds.pdf_transmittance >= 0.f && ds.pdf_guided >= 0.f)
@@ -141,12 +134,10 @@ class VspDistance final : public DistanceSampler {
   public:
     using DistanceSampler::DistanceSampler;
     FreeFlightSample sample(const DistanceQuery& q, const DistanceInput& in, DistanceScratch&, Sampler& sampler,
-                            DistanceOutcome& out, WalkGuideStats& counts) const override {
-        ++counts.distance_queries;
-        ++counts.vsp_queries;
-        counts.vsp_camera += in.camera();
-        return q.medium.is_homogeneous() ? closed_form(q, in, sampler, out, counts)
-                                         : resampled(q, in, sampler, out, counts);
+                            DistanceOutcome& out) const override {
+        out.report.method = DistanceReport::Method::Vsp;
+        out.report.camera = in.camera();
+        return q.medium.is_homogeneous() ? closed_form(q, in, sampler, out) : resampled(q, in, sampler, out);
     }
 
   private:
@@ -159,7 +150,7 @@ class VspDistance final : public DistanceSampler {
     static float unguided_share(const DistanceInput& in) { return std::max(1.f - in.share.share, kMinUnguided); }
 
     FreeFlightSample closed_form(const DistanceQuery& q, const DistanceInput& in, Sampler& sampler,
-                                 DistanceOutcome& out, WalkGuideStats& counts) const {
+                                 DistanceOutcome& out) const {
         const Medium& medium = q.medium;
         const MediumCoefficients at_origin = medium.eval(q.ray.o);
         const HomogeneousVsp vsp(at_origin.sigma_t, q.tmax, channel_probabilities(q.throughput));
@@ -169,7 +160,7 @@ class VspDistance final : public DistanceSampler {
                                          : guide_.scatter_probability(in.origin, medium.phase(), q.ray.d, albedo,
                                                                       vsp.unguided());
         if (std::isnan(guided)) {
-            ++counts.vsp_unguided;
+            out.report.unguided = true;
             return medium.sample_free_flight(q.ray, q.tmax, q.throughput, sampler);  // the same decision, unguided
         }
         const float P = vsp.probability(guided, unguided_share(in));
@@ -181,12 +172,12 @@ class VspDistance final : public DistanceSampler {
             toward_light = vsp_equiangular_toward_light(guide_.scene(), q.ray, q.tmax, sampler);
         const VspEquiangular equi{toward_light ? &*toward_light : nullptr, share};
         const HomogeneousVsp::Sample vs = vsp.sample(P, u_decide, u_channel, u_t, equi);
-        counts.vsp_equiangular += vs.scattered && equi.active();
+        out.report.equiangular = vs.scattered && equi.active();
+        out.report.scattered = vs.scattered;
         FreeFlightSample fs;
         fs.t = vs.t;
         fs.weight = fs.flight_weight = vs.flight_weight;
         if (vs.scattered) {
-            ++counts.vsp_scattered;
             const Point3f p = q.ray(vs.t);
             fs.scatter_at(q.ray, vs.t, p, &medium, medium.eval(p));
             fs.weight = fs.flight_weight * fs.mi.coeffs.sigma_s;
@@ -202,16 +193,16 @@ class VspDistance final : public DistanceSampler {
     }
 
     FreeFlightSample resampled(const DistanceQuery& q, const DistanceInput& in, Sampler& sampler,
-                               DistanceOutcome& out, WalkGuideStats& counts) const {
+                               DistanceOutcome& out) const {
         const Medium& medium = q.medium;
         // The albedo field at the origin (the extinction there may be 0 on the medium's boundary).
         const float albedo = medium.albedo(q.ray.o).average();  // shapes P_G only
         const PhaseFunction& phase = medium.phase();
         if (!in.camera() && std::isnan(guide_.scatter_probability(in.origin, phase, q.ray.d, albedo, 1.f))) {
-            ++counts.vsp_unguided;
+            out.report.unguided = true;
             return medium.sample_free_flight(q.ray, q.tmax, q.throughput, sampler);
         }
-        ++counts.vsp_resampled;
+        out.report.resampled = true;
         const float c = unguided_share(in);
         auto probability = [&](float unguided) {
             if (in.camera()) return c * unguided + (1.f - c) * in.camera_guided;
@@ -219,8 +210,8 @@ class VspDistance final : public DistanceSampler {
             return std::isnan(guided) ? unguided : c * unguided + (1.f - c) * guided;
         };
         FreeFlightSample fs = resampled_segment_flight(medium, q.ray, q.tmax, q.throughput, probability, sampler);
+        out.report.scattered = fs.scattered;
         if (fs.scattered) {
-            ++counts.vsp_scattered;
             if (guide_.field().tree().holds_point(in.origin, fs.mi.p)) out.scattering = in.origin;
         }
         return fs;
@@ -228,6 +219,24 @@ class VspDistance final : public DistanceSampler {
 };
 
 }  // namespace
+
+void count_distance(const DistanceReport& r, WalkGuideStats& counts) {
+    using Method = DistanceReport::Method;
+    counts.distance_outside_field += r.method == Method::OutsideField;
+    counts.distance_queries += r.method == Method::Tracking || r.method == Method::Bins || r.method == Method::Vsp;
+    counts.guided_tracking += r.method == Method::Tracking;
+    counts.distance_steps += r.steps;
+    counts.invalid_bins += r.invalid;
+    counts.damped_bins += r.damped;
+    counts.nan_fallbacks += r.nan_fallbacks;
+    counts.guided_strategy += r.guided;
+    counts.vsp_queries += r.method == Method::Vsp;
+    counts.vsp_camera += r.camera;
+    counts.vsp_unguided += r.unguided;
+    counts.vsp_resampled += r.resampled;
+    counts.vsp_scattered += r.scattered;
+    counts.vsp_equiangular += r.equiangular;
+}
 
 std::unique_ptr<DistanceSampler> make_distance_sampler(DistanceGuiding method, const WalkGuide& guide) {
     switch (method) {

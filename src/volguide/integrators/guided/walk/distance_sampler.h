@@ -42,10 +42,29 @@ struct DistanceInput {
     bool camera() const { return !std::isnan(camera_guided); }
 };
 
+// What a distance decision did, for the walk's counters (WalkGuideStats), which count_distance adds
+// in one place: the decisions themselves only say what happened.
+struct DistanceReport {
+    enum class Method : uint8_t { FreeFlight, OutsideField, Tracking, Bins, Vsp };
+    Method method = Method::FreeFlight;
+    uint64_t steps = 0;          // bins stepped through (tracking: tentative collisions)
+    uint64_t invalid = 0;        // ... of them without a valid leaf
+    uint64_t damped = 0;         // ... of them whose leaf's confidence is below 1
+    uint64_t nan_fallbacks = 0;  // ... of them whose guided probability was not finite
+    bool guided = false;         // the bins' decision followed the guided probabilities
+    // vsp: a camera segment (the pixel buffer's P_G); made with the unguided probability (no leaf or
+    // estimate); by resampling (heterogeneous); scattered inside the segment; from the equiangular share.
+    bool camera = false, unguided = false, resampled = false, scattered = false, equiangular = false;
+};
+
+// Adds what the decision reported to the walk's counters.
+void count_distance(const DistanceReport& report, WalkGuideStats& counts);
+
 // What a distance decision hands back besides its sample.
 struct DistanceOutcome {
     int scattering = -1;    // the scattering vertex's leaf, where the decision knows it
     DecisionRecord record;  // the mixture's parts (for the recorders), of the origin's cell
+    DistanceReport report;  // what it did (the counters)
 };
 
 // The bins' scratch, kept between a walk's decisions for its storage.
@@ -58,9 +77,9 @@ class DistanceSampler {
     explicit DistanceSampler(const WalkGuide& guide) : guide_(guide) {}
     virtual ~DistanceSampler() = default;
     // The decision for `query` from the vertex's `in`, its outcome in `out` (out.record.leaf set by the
-    // caller); counts into `counts`.
+    // caller).
     virtual FreeFlightSample sample(const DistanceQuery& query, const DistanceInput& in, DistanceScratch& scratch,
-                                    Sampler& sampler, DistanceOutcome& out, WalkGuideStats& counts) const = 0;
+                                    Sampler& sampler, DistanceOutcome& out) const = 0;
 
   protected:
     const WalkGuide& guide_;

@@ -67,7 +67,7 @@ DistanceInput GuidedVertex::distance_input(const DistanceQuery& query, bool sele
     at.leaf = in.camera() ? -1 : in.origin;  // the camera buffer's P_G has no leaf to damp
     if (at.leaf >= 0) at.sigma_t = query.medium.eval(query.ray.o).sigma_t;
     // The learned selection's share of the origin's cell (the pilot records every cell's decisions).
-    if (select) at.learned = guide_.selection().share(SelectionDecision::Distance, guide_.selection_cell(in.origin));
+    if (select) at.learned = guide_.selection().share(DecisionKind::Distance, guide_.selection_cell(in.origin));
     at.vertex = active_;
     in.share = guide_.guided_share(at);
     return in;
@@ -75,7 +75,7 @@ DistanceInput GuidedVertex::distance_input(const DistanceQuery& query, bool sele
 
 FreeFlightSample GuidedVertex::sample_distance(const DistanceQuery& query, float camera_guided, Sampler& sampler,
                                                DecisionRecord* record) {
-    const bool select = guide_.selection().learned(SelectionDecision::Distance) || record;
+    const bool select = guide_.selection().learned(DecisionKind::Distance) || record;
     const DistanceInput in = distance_input(query, select, camera_guided);
     // Skipped: the guided share would be small and the guided walk (a leaf lookup per bin) costs more
     // than it can return. Unselected: volpath's decision, nothing guided is paid for.
@@ -84,7 +84,8 @@ FreeFlightSample GuidedVertex::sample_distance(const DistanceQuery& query, float
     const DistanceSampler& method = in.share.guided() ? guide_.distance() : guide_.free_flight();
     DistanceOutcome out;
     out.record.leaf = in.origin;  // the decision's cell, mixture or not
-    const FreeFlightSample fs = method.sample(query, in, scratch_, sampler, out, counts_);
+    const FreeFlightSample fs = method.sample(query, in, scratch_, sampler, out);
+    count_distance(out.report, counts_);
     reached_ = out.scattering;
     if (record) *record = out.record;
     return fs;
@@ -92,7 +93,7 @@ FreeFlightSample GuidedVertex::sample_distance(const DistanceQuery& query, float
 
 float GuidedVertex::phase_probability(int index) {
     TrustPoint at{DecisionKind::Direction, index, mi_.coeffs.sigma_t};
-    if (index >= 0) at.learned = guide_.selection().share(SelectionDecision::Direction, guide_.selection_cell(index));
+    if (index >= 0) at.learned = guide_.selection().share(DecisionKind::Direction, guide_.selection_cell(index));
     const GuidedShare g = guide_.guided_share(at);
     // Learned shares are damped by the confidence as configured ones are (a short pilot does not see
     // the heavy tails long walks in a dense medium get from a large guided share: densesphere read low

@@ -22,7 +22,7 @@ void SurfaceVertex::prepare(const SurfaceInteraction& si, const BSDF& bsdf, cons
             at.leaf = leaf_;
             at.sigma_t = medium->eval(si.p).sigma_t;
         }
-        if (leaf_ >= 0) at.learned = guide_.selection().share(SelectionDecision::Surface, guide_.selection_cell(leaf_));
+        if (leaf_ >= 0) at.learned = guide_.selection().share(DecisionKind::Surface, guide_.selection_cell(leaf_));
         const GuidedShare g = guide_.guided_share(at);
         const bool guidable =
             leaf && g.source != ShareSource::Skipped && field.leaves()[size_t(leaf_)].mostly_medium();

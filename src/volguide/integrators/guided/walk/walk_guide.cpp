@@ -140,7 +140,7 @@ int WalkGuide::leaf_at(const Point3f& x, int hint, uint64_t& descents) const {
     return field_.tree().leaf_at(x);
 }
 
-std::array<float, kSelectionDecisions> WalkGuide::configured_shares() const {
+std::array<float, kDecisionKinds> WalkGuide::configured_shares() const {
     return {1.f - settings_.distance_settings.c_T, 1.f - settings_.phase_prob, 1.f - settings_.bsdf_prob};
 }
 

@@ -229,7 +229,7 @@ class WalkGuide {
     size_t selection_cell(int leaf) const { return leaf >= 0 ? size_t(leaf) : field_.leaves().size(); }
     size_t selection_cells() const { return field_.leaves().size() + 1; }
     // The guided shares the configuration sets (what the pilot samples with): distance, direction, surface.
-    std::array<float, kSelectionDecisions> configured_shares() const;
+    std::array<float, kDecisionKinds> configured_shares() const;
 
     // A walk's counters, added at its end (any thread).
     void add_stats(const WalkGuideStats& walk) const { stats_.local() += walk; }
