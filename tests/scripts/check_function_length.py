@@ -82,27 +82,30 @@ def functions(path):
     return found
 
 
+def sources(root):
+    """Every C++ source and header below root, in a stable order."""
+    for folder, _, files in sorted(os.walk(root)):
+        for name in sorted(files):
+            if name.endswith((".h", ".cpp")):
+                yield os.path.join(folder, name)
+
+
+def verdict(offenders, failed, passed):
+    """Prints the offenders and `failed`, or `passed`; the exit status."""
+    print("\n".join(offenders + [failed]) if offenders else passed)
+    return 1 if offenders else 0
+
+
 def main():
     if len(sys.argv) not in (2, 3):
         print(__doc__.strip().splitlines()[-2].strip())
         return 2
     limit = int(sys.argv[2]) if len(sys.argv) == 3 else LIMIT
-    root = os.path.join(sys.argv[1], "src")
-    offenders, count = [], 0
-    for folder, _, files in sorted(os.walk(root)):
-        for name in sorted(files):
-            if not name.endswith((".h", ".cpp")):
-                continue
-            path = os.path.join(folder, name)
-            for start, length, signature in functions(path):
-                count += 1
-                if length > limit:
-                    offenders.append(f"{path}:{start}: {length} lines (limit {limit}): {signature[:100]}")
-    if offenders:
-        print("\n".join(offenders + [f"{len(offenders)} function(s) over {limit} lines"]))
-        return 1
-    print(f"{count} functions, none over {limit} lines")
-    return 0
+    found = [(path, f) for path in sources(os.path.join(sys.argv[1], "src")) for f in functions(path)]
+    offenders = [f"{path}:{start}: {length} lines (limit {limit}): {signature[:100]}"
+                 for path, (start, length, signature) in found if length > limit]
+    return verdict(offenders, f"{len(offenders)} function(s) over {limit} lines",
+                   f"{len(found)} functions, none over {limit} lines")
 
 
 if __name__ == "__main__":

@@ -17,7 +17,7 @@ import re
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from check_function_length import blank  # noqa: E402
+from check_function_length import blank, sources, verdict  # noqa: E402
 
 LIMIT = 6
 FOLDER = os.path.join("src", "volguide", "integrators")
@@ -106,22 +106,11 @@ def main():
         print(__doc__.strip().splitlines()[-2].strip())
         return 2
     limit = int(sys.argv[2]) if len(sys.argv) == 3 else LIMIT
-    root = os.path.join(sys.argv[1], FOLDER)
-    offenders, count = [], 0
-    for folder, _, files in sorted(os.walk(root)):
-        for name in sorted(files):
-            if not name.endswith((".h", ".cpp")):
-                continue
-            path = os.path.join(folder, name)
-            for line, function, n in declarations(path):
-                count += 1
-                if n > limit:
-                    offenders.append(f"{path}:{line}: {function}: {n} parameters (limit {limit})")
-    if offenders:
-        print("\n".join(offenders + [f"{len(offenders)} declaration(s) over {limit} parameters"]))
-        return 1
-    print(f"{count} parameter lists, none over {limit} parameters")
-    return 0
+    found = [(path, d) for path in sources(os.path.join(sys.argv[1], FOLDER)) for d in declarations(path)]
+    offenders = [f"{path}:{line}: {function}: {n} parameters (limit {limit})"
+                 for path, (line, function, n) in found if n > limit]
+    return verdict(offenders, f"{len(offenders)} declaration(s) over {limit} parameters",
+                   f"{len(found)} parameter lists, none over {limit} parameters")
 
 
 if __name__ == "__main__":
