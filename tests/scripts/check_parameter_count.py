@@ -17,7 +17,7 @@ import re
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from check_function_length import blank, sources, verdict  # noqa: E402
+from check_function_length import blank, check  # noqa: E402
 
 LIMIT = 6
 FOLDER = os.path.join("src", "volguide", "integrators")
@@ -102,15 +102,9 @@ def declarations(path):
 
 
 def main():
-    if len(sys.argv) not in (2, 3):
-        print(__doc__.strip().splitlines()[-2].strip())
-        return 2
-    limit = int(sys.argv[2]) if len(sys.argv) == 3 else LIMIT
-    found = [(path, d) for path in sources(os.path.join(sys.argv[1], FOLDER)) for d in declarations(path)]
-    offenders = [f"{path}:{line}: {function}: {n} parameters (limit {limit})"
-                 for path, (line, function, n) in found if n > limit]
-    return verdict(offenders, f"{len(offenders)} declaration(s) over {limit} parameters",
-                   f"{len(found)} parameter lists, none over {limit} parameters")
+    return check(__doc__.strip().splitlines()[-2].strip(), FOLDER, LIMIT, declarations, lambda d: d[2],
+                 lambda path, d, limit: f"{path}:{d[0]}: {d[1]}: {d[2]} parameters (limit {limit})",
+                 ("declaration(s)", "parameter lists", "parameters"))
 
 
 if __name__ == "__main__":
