@@ -6,18 +6,21 @@
 #   distance    distance=incremental direction=phase   (surface_guiding off)
 #   direction   distance=standard    direction=product
 #   both        distance=incremental direction=product
+#   none        distance=standard    direction=phase (surface_guiding off): guided_volpath deciding nothing
 # all guided ones with rrs=standard rr_rule=bounded selection_spp=0 (no guided RR/splitting, no learned
 # selection). relMSE (eps 1e-2) against bench/references/<scene>.exr at 160x120 (the references' size).
 #   bench/decision_ablation.sh [BUILD_DIR] [WORK_DIR]
 # Environment: SCENES (default "densesphere backlit thin sss aniso shafts cloud"), SPP (64), SEEDS
 # ("1 2 3 4"), VARIANTS ("volpath distance direction both"), EXTRA (XML added to every guided
-# variant's integrator, e.g. a candidate fix's parameter). Appends CSV rows to WORK_DIR/ablation.csv
+# variant's integrator, e.g. a candidate fix's parameter), TRAIN_XML (XML added to the training
+# integrator, e.g. leaf_samples), TAG (the CSV's variant name instead of the variant's). Appends CSV rows to WORK_DIR/ablation.csv
 # (scene,variant,seed,spp,relmse,render_seconds); bench/ablation_summary.py turns them into the table.
 set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 BUILD=${1:-$ROOT/build}
 WORK=${2:-$ROOT/bench/results/decision-ablation}
 mkdir -p "$WORK"
+WORK=$(cd "$WORK" && pwd)  # absolute: the integrator files are included from the scenes
 VG="$BUILD/volguide"
 SIZE=(-D width=160 -D height=120)
 CSV="$WORK/ablation.csv"
@@ -31,7 +34,7 @@ train() {  # scene: the saved field (trained once, seed 1, guided_volpath's defa
     local field="$WORK/$1.field"
     [ -f "$field" ] && return
     xml "$WORK/train_$1.xml" "<integrator type=\"guided_volpath\"><integer name=\"max_depth\" value=\"\$max_depth\"/>
-        <string name=\"save_field\" value=\"$field\"/></integrator>"
+        <string name=\"save_field\" value=\"$field\"/>${TRAIN_XML:-}</integrator>"
     "$VG" render "$ROOT/bench/scenes/$1.xml" "${SIZE[@]}" -D integrator_xml="$WORK/train_$1.xml" --spp 1 \
         --seed 1 -o "$WORK/train_$1.exr" --quiet >/dev/null
 }
@@ -44,6 +47,8 @@ variant_xml() {  # scene variant -> prints the integrator file
         distance) d='<string name="distance" value="incremental"/><string name="direction" value="phase"/>
         <boolean name="surface_guiding" value="false"/>' ;;
         direction) d='<string name="distance" value="standard"/><string name="direction" value="product"/>' ;;
+        none) d='<string name="distance" value="standard"/><string name="direction" value="phase"/>
+        <boolean name="surface_guiding" value="false"/>' ;;
         both) d='<string name="distance" value="incremental"/><string name="direction" value="product"/>' ;;
         *) echo "unknown variant $2" >&2; exit 2 ;;
     esac

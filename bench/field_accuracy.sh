@@ -11,6 +11,7 @@ ROOT=$(cd "$(dirname "$0")/.." && pwd)
 BUILD=${1:-$ROOT/build}
 WORK=${2:-$ROOT/bench/results/field-accuracy}
 mkdir -p "$WORK"
+WORK=$(cd "$WORK" && pwd)  # absolute: the integrator files are included from the scenes
 
 line() {  # scene -> the probe line's options: from the camera's or the light's side into the medium
     case $1 in
