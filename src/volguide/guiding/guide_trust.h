@@ -3,19 +3,18 @@
 // leaf, from what the leaf itself knows, so that the decision falls back to volpath's by itself where
 // the field cannot predict or has nothing to predict.
 //
-// What tools/field_accuracy measured (bench/RESULTS.md, issue 56) sets its two factors:
+// Its two factors are what tools/field_accuracy measured (bench/RESULTS.md, issue 56):
 //  - optical size: the leaf holds one fluence; across a leaf of optical size tau (sigma_t x the cube
 //    root of its volume) the true fluence varies by about e^(tau / l), l its e-folding length in mean
-//    free paths, so the leaf's fluence misses the local one by up to 2x once tau exceeds a few mfp
-//    (densesphere's and sss's boundary leaves). Factor min(1, tau_max / tau): the rule leaf_tau_max
-//    already applies (distance_bins.h: leaf_confidence).
+//    free paths, so an optically large leaf at a medium's boundary misses the local fluence. Factor
+//    min(1, tau_max / tau): the rule leaf_tau_max already applies (distance_bins.h: leaf_confidence).
 //  - directional contrast: chi2 = 4 pi ∫ V(w)^2 dw - 1, the chi-square divergence of the leaf's
 //    normalised VMM from the uniform density — the relative variance of the radiance over directions,
 //    i.e. the most a direction decision can gain over an isotropic one. Where the light is nearly
-//    isotropic (deep in a diffusive medium: sss, the middle of densesphere) the guide's shape is right
-//    but there is nothing to gain, and the mixture's own cost and the field's noise make each sample
-//    slightly worse. Factor clamp((chi2 - c) / c, 0, 1): no trust below c, full trust from 2c.
-// Pure: no scene, no field; inputs are the leaf's statistics.
+//    isotropic (deep in a diffusive medium) the guide's shape is right but there is nothing to gain.
+//    Factor clamp((chi2 - c) / c, 0, 1): no trust below c, full trust from 2c.
+// Pure: no scene, no field; inputs are the leaf's statistics. Not yet wired into the decisions: measured
+// harmless where guiding wins but not enough to fix a dense back-lit medium (bench/RESULTS.md, issue 56).
 #include "volguide/vmm/vmm.h"
 
 namespace volguide {
