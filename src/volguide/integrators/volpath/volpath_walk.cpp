@@ -21,9 +21,9 @@ VolumeWalk::VolumeWalk(const Scene& scene, const VolPathSettings& settings, Samp
       guide_distance_(policy && policy->guides_distance()),
       rng_(&sampler) {}
 
-Color3 VolumeWalk::run(const Ray& camera_ray) {
+Color3 VolumeWalk::run(const Ray& camera_ray, const Medium* medium, bool from_sensor) {
     state_.ray = camera_ray;
-    state_.medium = scene_.sensor().medium();
+    state_.medium = from_sensor ? scene_.sensor().medium() : medium;
     if (policy_) {
         state_.split_allowance = policy_->branch_budget();
         policy_->end_vertex();  // the camera ray leaves from no medium vertex
