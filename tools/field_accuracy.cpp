@@ -15,7 +15,7 @@
 // Output: one CSV row per point (stdout or --out). Options: --depths a,b,... (mfp; default
 // 0.25,0.5,1,2,3,4,6,8,12,16,24,32), --dirs 64, --inscatter-dirs 16, --spp 256, --seed 1, --max-depth 64,
 // --rr-rule bounded, --scene-name NAME (the CSV's first column). The last columns are the leaf's
-// directional contrast (guide_trust.h; of its VMM and of its indirect VMM) and guide_trust's default trust.
+// directional contrast (vmm_contrast.h; of its VMM and of its indirect VMM).
 #include <fmt/format.h>
 
 #include <cmath>
@@ -28,7 +28,7 @@
 
 #include "volguide/core/parallel.h"
 #include "volguide/guiding/field_io.h"
-#include "volguide/guiding/guide_trust.h"
+#include "volguide/vmm/vmm_contrast.h"
 #include "volguide/integrators/volpath/radiance_probe.h"
 #include "volguide/render/scene.h"
 #include "volguide/scene/loader.h"
@@ -176,7 +176,7 @@ void header(std::ostream& os) {
     os << "scene,depth_mfp,x,y,z,leaf,leaf_valid,leaf_samples,leaf_tau,fluence_ref,fluence_field,"
           "incident_relmse,incident_shape_relmse,incident_iso_shape_relmse,inscatter_mean_ref,"
           "inscatter_mean_field,inscatter_relmse,inscatter_shape_relmse,inscatter_iso_shape_relmse,ref_rel_noise,"
-          "leaf_contrast,leaf_contrast_indirect,trust\n";
+          "leaf_contrast,leaf_contrast_indirect\n";
 }
 
 std::vector<double> field_values(const std::vector<Vec3f>& dirs, const auto& f) {
@@ -211,12 +211,12 @@ void probe_point(std::ostream& os, const Scene& scene, const GuidingField& field
     const double contrast = leaf ? directional_contrast(leaf->vmm) : 0.0;
     const double contrast_indirect = leaf && leaf->valid_indirect ? directional_contrast(leaf->vmm_indirect) : 0.0;
     os << fmt::format("{},{},{},{},{},{},{},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.4g},"
-                      "{:.4g},{:.4g},{:.4g}\n",
+                      "{:.4g},{:.4g}\n",
                       a.name, p.depth, p.x.x, p.x.y, p.x.z, li, leaf && leaf->valid ? 1 : 0, leaf ? leaf->samples : 0,
                       tau, 4.0 * M_PI * mean_of(inc.mean), leaf ? leaf->fluence.average() : 0.f,
                       relmse(f_inc, inc, false), relmse(f_inc, inc, true), relmse(iso_inc, inc, true), mean_of(ins.mean),
                       mean_of(f_ins), relmse(f_ins, ins, false), relmse(f_ins, ins, true), relmse(iso_ins, ins, true),
-                      noise, contrast, contrast_indirect, guide_trust(tau, contrast_indirect));
+                      noise, contrast, contrast_indirect);
     os.flush();
 }
 

@@ -1,4 +1,4 @@
-#include "volguide/guiding/guide_trust.h"
+#include "volguide/vmm/vmm_contrast.h"
 
 #include <algorithm>
 #include <cmath>
@@ -16,16 +16,6 @@ double directional_contrast(const Vmm& vmm) {
                         vmf_convolution_exact(a.kappa, b.kappa, one_minus_cos(a.mu, b.mu));
         }
     return std::max(0.0, 4.0 * M_PI * integral - 1.0);
-}
-
-float guide_trust(float optical_size, double contrast, const GuideTrustSettings& settings) {
-    float trust = 1.f;
-    if (settings.tau_max > 0.f && optical_size > settings.tau_max) trust = settings.tau_max / optical_size;
-    if (settings.contrast_min > 0.f) {
-        const double c = settings.contrast_min;
-        trust *= float(std::clamp((contrast - c) / c, 0.0, 1.0));
-    }
-    return trust;
 }
 
 }  // namespace volguide
