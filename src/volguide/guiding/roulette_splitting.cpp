@@ -64,7 +64,8 @@ std::vector<std::pair<std::string, double>> RouletteSplittingStats::named() cons
             {"rrs_branches_max", double(max_branches)},
             // camera samples that reached the cap (the histogram's last bin)
             {"rrs_cap_hits", branch_histogram.empty() ? 0.0 : double(branch_histogram.back())},
-            {"rrs_pixel_estimate_seconds", pixel_estimate_seconds}};
+            {"rrs_pixel_estimate_seconds", pixel_estimate_seconds},
+            {"rrs_branch_budget", double(branch_budget)}};
 }
 
 RouletteSplitting::RouletteSplitting(const RouletteSplittingSettings& settings) : settings_(settings) {}
@@ -85,6 +86,12 @@ float RouletteSplitting::bound(float q, int branches, float allowance) const {
     RouletteSplittingStats& st = stats_.local();
     ++st.decisions;
     return bounded(q, branches, allowance, st);
+}
+
+void RouletteSplitting::set_cost_ratio(float ratio) {
+    adaptive_budget_ = ratio > 0.f && std::isfinite(ratio)
+                           ? std::clamp(std::floor(kBudgetFactor * ratio), kMinBudget, float(settings_.max_branches))
+                           : kDefaultBudget;
 }
 
 void RouletteSplitting::count_unlearned() const { ++stats_.local().unlearned; }
@@ -127,6 +134,7 @@ RouletteSplittingStats RouletteSplitting::stats() const {
     RouletteSplittingStats total;
     for (const RouletteSplittingStats& s : stats_) total += s;
     total.pixel_estimate_seconds = pixel_estimate_seconds_;
+    total.branch_budget = initial_allowance();
     return total;
 }
 

@@ -13,7 +13,7 @@ namespace volguide {
 namespace {
 
 constexpr uint32_t kSelectionMagic = 0x4c534756;  // "VGSL"
-constexpr uint32_t kVersion = 3;  // 1, 2: with the retired continuation gate and distance method bytes
+constexpr uint32_t kVersion = 4;  // 1, 2: with the retired continuation gate and distance method bytes; 3: no cost ratio
 
 size_t nearest_share(float share) {
     size_t best = 0;
@@ -46,9 +46,25 @@ struct Entry {
     std::array<double, kShares> m{};
     double current = 0.0;
     double count = 0.0;
+    double error = 0.0;  // the standard error of the sums m (of the sum at the sampled share)
     bool learned = false;
-    size_t chosen = 0;
+    size_t chosen = 0, configured = 0;
 };
+
+// The standard error of a sum of `count` terms with the given sum and sum of squares: sqrt(n var).
+double sum_error(double sum, double sum_sq, double count) {
+    return count > 1.0 ? std::sqrt(std::max(0.0, sum_sq - sum * sum / count) * count / (count - 1.0)) : 0.0;
+}
+
+// e.chosen: the share of least `value` unless its gain over the configured share is within
+// kSignificance x `error` (the noise of the compared values): then the configured share.
+template <class Value>
+void choose_significant(Entry& e, const Value& value, double error) {
+    size_t best = e.configured;
+    for (size_t k = 0; k < kShares; ++k)
+        if (value(k) < value(best)) best = k;
+    e.chosen = value(e.configured) - value(best) > LearnedSelection::kSignificance * error ? best : e.configured;
+}
 using Entries = std::vector<std::array<Entry, kSelectionDecisions>>;
 using PerDecision = std::array<std::array<double, kShares>, kSelectionDecisions>;
 
@@ -68,8 +84,9 @@ Entries gather_entries(const CellStatistics& stats, const SelectionSettings& set
             for (size_t k = 0; k < kShares; ++k) e.m[k] = mo.m[k].value();
             e.current = mo.current.value();
             e.count = double(mo.count);
+            e.error = sum_error(e.current, mo.current_sq.value(), e.count);
             e.learned = mo.count >= uint64_t(std::max(1, settings.min_samples));
-            e.chosen = default_index[size_t(d)];
+            e.chosen = e.configured = default_index[size_t(d)];
             for (size_t k = 0; k < kShares; ++k) pooled[size_t(d)][k] += e.m[k];
         }
     return entries;
@@ -95,10 +112,11 @@ void shrink_towards_pooled(Entries& entries, const PerDecision& pooled, float pr
                 const double prior = pooled[size_t(d)][k] / pooled_count[size_t(d)];
                 e.m[k] = e.count * (e.m[k] + n0 * prior) / (e.count + n0);
             }
+            e.error *= e.count / (e.count + n0);  // the cell's own sums carry that weight
         }
     for (auto& cell : entries)
         for (Entry& e : cell)
-            if (e.learned) e.chosen = size_t(std::min_element(e.m.begin(), e.m.end()) - e.m.begin());
+            if (e.learned) choose_significant(e, [&](size_t k) { return e.m[k]; }, e.error);
 }
 
 // Each learned entry takes argmin_a M_r(a) / V + n_r kappa [a > 0] / T (selection.h); T, the cost in
@@ -120,16 +138,23 @@ void choose_with_cost(Entries& entries, const CellStatistics& stats, const Selec
             for (int d = 0; d < kSelectionDecisions; ++d) {
                 Entry& e = cell[size_t(d)];
                 if (!e.learned) continue;
-                double best = std::numeric_limits<double>::infinity();
-                for (size_t k = 0; k < kShares; ++k) {
-                    const double value = e.m[k] / V + cost_of(d, k, e.count) / T;
-                    if (value < best) {
-                        best = value;
-                        e.chosen = k;
-                    }
-                }
+                choose_significant(e, [&](size_t k) { return e.m[k] / V + cost_of(d, k, e.count) / T; }, e.error / V);
             }
     }
+}
+
+// C_0 / c: a camera sample's decisions over the mean decisions after a continuation point (0: none).
+float cost_ratio(const CellStatistics& stats) {
+    uint64_t points = 0, after = 0;
+    for (int stage = 0; stage < kContinuationStages; ++stage)
+        for (size_t cell = 0; cell < stats.cells(); ++cell)
+            for (int bin = 0; bin < kContinuationDirectionBins; ++bin) {
+                const ContinuationMoments& m = stats.continuation(ContinuationStage(stage), cell, bin);
+                points += m.n;
+                after += m.cost;
+            }
+    if (points == 0 || after == 0 || stats.camera_samples() == 0) return 0.f;
+    return float((double(stats.cost()) / double(stats.camera_samples())) / (double(after) / double(points)));
 }
 
 // Cell r's learned shares.
@@ -154,6 +179,7 @@ LearnedSelection LearnedSelection::fit(const CellStatistics& stats, const Select
     out.cells_.resize(entries.size());
     for (size_t r = 0; r < entries.size(); ++r) out.cells_[r] = fitted_cell(entries[r]);
     out.update_learned();
+    out.cost_ratio_ = cost_ratio(stats);
     return out;
 }
 
@@ -191,6 +217,7 @@ std::string LearnedSelection::serialize() const {
     for (const Cell& r : cells_) {
         for (float s : r.share) put(out, s);
     }
+    put(out, cost_ratio_);
     return out;
 }
 
@@ -201,10 +228,10 @@ LearnedSelection LearnedSelection::deserialize(const std::string& bytes) {
     if (version != kVersion)
         throw std::runtime_error(fmt::format("learned selection: version {} (this volguide reads version {}: train again)",
                                              version, kVersion));
+    LearnedSelection out;
     const uint64_t n = get<uint64_t>(bytes, at);
     const size_t cell_bytes = kSelectionDecisions * sizeof(float);
     if (n > (bytes.size() - at) / cell_bytes) throw std::runtime_error("learned selection: truncated");
-    LearnedSelection out;
     out.cells_.resize(size_t(n));
     for (Cell& r : out.cells_) {
         for (float& s : r.share) {
@@ -213,6 +240,9 @@ LearnedSelection LearnedSelection::deserialize(const std::string& bytes) {
                 throw std::runtime_error("learned selection: share out of range");
         }
     }
+    out.cost_ratio_ = get<float>(bytes, at);
+    if (!(out.cost_ratio_ >= 0.f) || !std::isfinite(out.cost_ratio_))
+        throw std::runtime_error("learned selection: cost ratio out of range");
     if (at != bytes.size()) throw std::runtime_error("learned selection: trailing bytes");
     out.update_learned();
     return out;

@@ -15,8 +15,9 @@ Continuation GuidedContinuation::decide(ContinuationStage stage, GuidedVertex& v
         const bool usable = estimate.max_value() > 0.f;
         if (report && usable) c.estimate = estimate.average();
         if (rrs_) {
-            c.guided = usable;
-            c.q = rrs_->factor(throughput, estimate, pixel_, branches, allowance);
+            c.q = bounded_roulette(rrs_->factor(throughput, estimate, pixel_, branches, allowance), throughput);
+            // Inside the weight window (q = 1) the walk's own throughput roulette plays.
+            c.guided = usable && c.q != 1.f;
             draw(c, sampler);
         }
         c.leaf = vertex.leaf();
@@ -63,12 +64,17 @@ Continuation GuidedContinuation::ears_outcome(float q, const Color3& throughput,
         return c;
     }
     c.guided = true;
-    // Roulette never harder than the bounded throughput rule's survival min(1, max beta): the learned
-    // M2 of a heavy-tailed continuation is underestimated from few samples, and ears' roulette alone
-    // made paths of weight > 1 that raised the variance per sample 3-4x (docs/theory.md §9.8).
-    c.q = rrs_->bound(std::max(q, std::min(1.f, throughput.max_value())), branches, allowance);
+    c.q = rrs_->bound(bounded_roulette(q, throughput), branches, allowance);
     draw(c, sampler);
     return c;
+}
+
+// Roulette never harder than the bounded throughput rule's survival min(1, max beta): ears' learned M2 of
+// a heavy-tailed continuation is underestimated from few samples, and its roulette alone made paths of
+// weight > 1 that raised the variance per sample 3-4x (docs/theory.md §9.8); grrs' pixel estimate and
+// field estimate, too dark deep in dense media, did the same (issue 55). Only q changes: unbiased.
+float GuidedContinuation::bounded_roulette(float q, const Color3& throughput) {
+    return q < 1.f ? std::max(q, std::min(1.f, throughput.max_value())) : q;
 }
 
 void GuidedContinuation::draw(Continuation& c, Sampler& sampler) const {

@@ -62,6 +62,8 @@ class GuidedContinuation {
     // The decision from ears' factor q (< 0: too few statistics, no decision) for a path of weight
     // `throughput`: bounded, then drawn.
     Continuation ears_outcome(float q, const Color3& throughput, int branches, float allowance, Sampler& sampler) const;
+    // A roulette factor q < 1 raised to the bounded throughput rule's survival (splitting unchanged).
+    static float bounded_roulette(float q, const Color3& throughput);
     // Draws n from c.q (q != 1) and counts the outcome.
     void draw(Continuation& c, Sampler& sampler) const;
     const WalkGuide& guide_;
