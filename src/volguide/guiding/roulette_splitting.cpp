@@ -134,7 +134,8 @@ RouletteSplittingStats RouletteSplitting::stats() const {
     RouletteSplittingStats total;
     for (const RouletteSplittingStats& s : stats_) total += s;
     total.pixel_estimate_seconds = pixel_estimate_seconds_;
-    total.branch_budget = initial_allowance();
+    // ears decides with its own budget (continuation_snapshot.h: ears_branch_budget).
+    total.branch_budget = settings_.mode == RouletteMode::Ears ? 0.f : initial_allowance();
     return total;
 }
 

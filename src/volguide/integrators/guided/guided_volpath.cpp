@@ -251,6 +251,8 @@ void GuidedVolPathIntegrator::make_pixel_estimate(const Scene& scene, const Prep
         }
     }
     pixel_estimate_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::erase_if(training_stats_, [](const auto& s) { return s.first == "pixel_estimate_rays"; });
+    training_stats_.emplace_back("pixel_estimate_rays", double(pixel_estimate_.rays()));
 }
 
 // The learned selection's pilot (selection_pilot.h) with the configured mixtures, then its fit.
