@@ -77,12 +77,13 @@ TEST(RouletteSplitting, FactorClampsAndGuards) {
     EXPECT_EQ(st.invalid_estimates, 3u);
     EXPECT_EQ(st.cap_limited, 2u);
 
-    // The branch budget: q <= floor(allowance), RR untouched; off (+inf) when branch_budget = 0.
+    // The branch budget: q <= floor(allowance), RR untouched; adaptive when branch_budget = 0 (issue 55:
+    // kDefaultBudget until the pilot has measured the costs; AdaptiveBudgetWithinTheCeiling).
     EXPECT_FLOAT_EQ(grrs.factor(Color3(1.f), Color3(10.f), 1.f, 1, 3.7f), 3.f);
     EXPECT_FLOAT_EQ(grrs.factor(Color3(1.f), Color3(10.f), 1.f, 1, 1.5f), 1.f);
     EXPECT_FLOAT_EQ(grrs.factor(Color3(1.f), Color3(0.5f), 1.f, 1, 1.f), 0.5f);
     EXPECT_EQ(grrs.stats().budget_limited, 2u);
-    EXPECT_TRUE(std::isinf(grrs.initial_allowance()));
+    EXPECT_EQ(grrs.initial_allowance(), RouletteSplitting::kDefaultBudget);
     RouletteSplittingSettings budgeted = s;
     budgeted.branch_budget = 16.f;
     EXPECT_FLOAT_EQ(RouletteSplitting(budgeted).initial_allowance(), 16.f);
