@@ -24,7 +24,7 @@
 using namespace volguide;
 using namespace volguide::test;
 
-namespace {
+namespace bounded_continuation_test {
 
 // guided_volpath's defaults but for a small training (the tests' scenes are small).
 const char* kDefaults = R"(<integrator type="guided_volpath"><integer name="photons" value="100000"/>
@@ -79,18 +79,20 @@ StatsRender render_with_stats(const std::string& xml, int spp, uint64_t seed, in
     return out;
 }
 
-}  // namespace
+}  // namespace bounded_continuation_test
+
+namespace bc = bounded_continuation_test;
 
 TEST(BoundedContinuation, DefaultsKeepTheWhiteFurnaceAtOne) {
-    const StatsRender r = render_with_stats(furnace_xml(kDefaults), 4096, 29);
+    const bc::StatsRender r = bc::render_with_stats(bc::furnace_xml(bc::kDefaults), 4096, 29);
     expect_constant_image({r.result.mean, r.result.variance, r.result.spp}, 1.0);
     EXPECT_GT(r.stats.at("rrs_decisions"), 0.0);  // guided RR/splitting decided
 }
 
 TEST(BoundedContinuation, DefaultsMatchVolpathInADenseSphere) {
-    const Rendered ref = render_scene_xml(dense_sphere_xml(R"(<integrator type="volpath"><integer name="max_depth"
+    const Rendered ref = render_scene_xml(bc::dense_sphere_xml(R"(<integrator type="volpath"><integer name="max_depth"
         value="64"/></integrator>)"), 1024, 7, false);
-    const StatsRender g = render_with_stats(dense_sphere_xml(kDefaults), 512, 8);
+    const bc::StatsRender g = bc::render_with_stats(bc::dense_sphere_xml(bc::kDefaults), 512, 8);
     expect_same_means({g.result.mean, g.result.variance, g.result.spp}, ref);
     EXPECT_GT(g.stats.at("rrs_splits"), 0.0);
     EXPECT_GT(g.stats.at("rrs_kills"), 0.0);
@@ -104,7 +106,7 @@ TEST(BoundedContinuation, BranchesNeverExceedTheBudgetOnADenseSphere) {
         SCOPED_TRACE(extra);
         const std::string integrator = std::string(R"(<integrator type="guided_volpath"><integer name="photons"
             value="100000"/><integer name="max_depth" value="64"/>)") + extra + "</integrator>";
-        const StatsRender r = render_with_stats(dense_sphere_xml(integrator, 24, 16), 128, 5);
+        const bc::StatsRender r = bc::render_with_stats(bc::dense_sphere_xml(integrator, 24, 16), 128, 5);
         const double budget = r.stats.at("rrs_branch_budget");
         EXPECT_GE(budget, 2.0);
         EXPECT_LE(budget, 16.0);
@@ -119,8 +121,8 @@ TEST(BoundedContinuation, BranchesNeverExceedTheBudgetOnADenseSphere) {
 // Counted work, not wall-clock: the same seed and spp give the same budget and the same image for 1 and
 // 2 threads.
 TEST(BoundedContinuation, BudgetAndImageAreTheSameForOneAndTwoThreads) {
-    const StatsRender one = render_with_stats(dense_sphere_xml(kDefaults), 8, 11, 1);
-    const StatsRender two = render_with_stats(dense_sphere_xml(kDefaults), 8, 11, 2);
+    const bc::StatsRender one = bc::render_with_stats(bc::dense_sphere_xml(bc::kDefaults), 8, 11, 1);
+    const bc::StatsRender two = bc::render_with_stats(bc::dense_sphere_xml(bc::kDefaults), 8, 11, 2);
     EXPECT_EQ(one.stats.at("rrs_branch_budget"), two.stats.at("rrs_branch_budget"));
     EXPECT_EQ(one.stats.at("selection_cost_ratio"), two.stats.at("selection_cost_ratio"));
     EXPECT_EQ(one.stats.at("rrs_extra_branches"), two.stats.at("rrs_extra_branches"));
@@ -142,7 +144,7 @@ TEST(BoundedContinuation, PilotAndPixelEstimateCostsAreBounded) {
     EXPECT_EQ(small.height, 120);
     EXPECT_EQ(large.width, 256);
     EXPECT_EQ(large.height, 256);
-    const StatsRender r = render_with_stats(dense_sphere_xml(kDefaults, 400, 300), 1, 3);
+    const bc::StatsRender r = bc::render_with_stats(bc::dense_sphere_xml(bc::kDefaults, 400, 300), 1, 3);
     EXPECT_EQ(r.stats.at("selection_pilot_paths"), double(selection_pilot_paths(400, 300, 2)));
     EXPECT_LE(r.stats.at("selection_pilot_paths"), double(2 * kPilotPixels));
     EXPECT_LE(r.stats.at("pixel_estimate_rays"), double(4 * 256 * 256));
