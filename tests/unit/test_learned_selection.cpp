@@ -193,38 +193,6 @@ TEST(Selection, PrepassStateCarriesTheSelection) {
     EXPECT_THROW(deserialize_guided_prepass(corrupt), FieldFormatError);
 }
 
-// Issue 55: a cell departs from the configured share only where the evidence is significant. Both
-// cells see the guide miss (p_g = 0 where the sampled contribution lives, so share 0 halves M there):
-// in the noisy cell one contribution among 40 decisions says so — within two standard errors of
-// nothing, so it keeps the configured share; in the other, 100 among 4000 say it consistently and it
-// switches guiding off. With the test, a pilot's rare large contribution no longer decides a cell.
-TEST(Selection, NoisyCellsKeepTheConfiguredShare) {
-    CellStatistics stats(3);
-    auto add_cell = [&](size_t cell, int decisions, int hits) {
-        for (int i = 0; i < decisions; ++i) {
-            const bool hit = i % (decisions / hits) == 0 && i / (decisions / hits) < hits;
-            stats.add_decision(SelectionDecision::Direction, cell, hit ? 100.0 : 0.0, 0.5f, 1.f, hit ? 0.f : 2.f);
-        }
-    };
-    add_cell(0, 40, 1);
-    add_cell(1, 4000, 100);
-    for (int i = 0; i < 4000; ++i) stats.add_camera_sample(1.0, 1, 0, 1);
-    SelectionSettings settings = plain_settings();
-    settings.kappa = {0.f, 0.f, 0.f};  // the moments alone decide
-    const LearnedSelection sel = LearnedSelection::fit(stats, settings, {0.5f, 0.5f, 0.5f});
-    EXPECT_FLOAT_EQ(sel.share(SelectionDecision::Direction, 0), 0.5f);  // noisy: the configured share
-    EXPECT_FLOAT_EQ(sel.share(SelectionDecision::Direction, 1), 0.f);   // significant: off
-    // The noisy cell's own estimate did prefer share 0: twenty times its evidence (the same per-decision
-    // moments from 800 decisions) switches it off too.
-    CellStatistics more(2);
-    for (int k = 0; k < 20; ++k)
-        for (int i = 0; i < 40; ++i)
-            more.add_decision(SelectionDecision::Direction, 0, i == 0 ? 100.0 : 0.0, 0.5f, 1.f, i == 0 ? 0.f : 2.f);
-    for (int i = 0; i < 800; ++i) more.add_camera_sample(1.0, 1, 0, 1);
-    EXPECT_FLOAT_EQ(LearnedSelection::fit(more, settings, {0.5f, 0.5f, 0.5f}).share(SelectionDecision::Direction, 0),
-                    0.f);
-}
-
 // The pilot's counted costs: C_0 (decisions per camera sample) over c (mean decisions after a
 // continuation point), carried by the table's bytes.
 TEST(Selection, ContinuationCostRatio) {

@@ -98,18 +98,20 @@ void RouletteSplitting::count_unlearned() const { ++stats_.local().unlearned; }
 
 float RouletteSplitting::bounded(float q, int branches, float allowance, RouletteSplittingStats& st) const {
     q = std::clamp(q, settings_.q_min, splits() ? settings_.q_max : 1.f);
+    // n = floor(q + xi) <= ceil(q) <= floor(allowance): every copy keeps an allowance >= 1. First: every
+    // other branch made so far held an allowance >= 1 of the same budget B <= max_branches, so after it
+    // the cap below never binds (cap_limited counts only what the budget left to the cap).
+    const float budget = std::max(1.f, std::floor(allowance));
+    if (q > budget) {
+        q = budget;
+        ++st.budget_limited;
+    }
     // The continuations may not take the camera sample past its branch cap: n <= floor(q) + 1 and
     // this branch is one of them, so q <= max_branches - branches + 1 bounds n.
     const float allowed = float(std::max(1, settings_.max_branches - branches + 1));
     if (q > allowed) {
         q = allowed;
         ++st.cap_limited;
-    }
-    // n = floor(q + xi) <= ceil(q) <= floor(allowance): every copy keeps an allowance >= 1.
-    const float budget = std::max(1.f, std::floor(allowance));
-    if (q > budget) {
-        q = budget;
-        ++st.budget_limited;
     }
     return q;
 }

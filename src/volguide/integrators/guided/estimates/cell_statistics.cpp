@@ -43,7 +43,6 @@ double ExactSum::value() const { return (double(hi_) * kTwo64 + double(lo_)) / k
 DecisionMoments& DecisionMoments::operator+=(const DecisionMoments& o) {
     for (size_t k = 0; k < m.size(); ++k) m[k] += o.m[k];
     current += o.current;
-    current_sq += o.current_sq;
     count += o.count;
     return *this;
 }
@@ -67,7 +66,6 @@ void CellStatistics::add_decision(SelectionDecision d, size_t cell, double s2, f
     ++m.count;
     if (!(s2 > 0.0)) return;
     m.current.add(s2);
-    m.current_sq.add(s2 * s2);
     for (size_t k = 0; k < kSelectionShares.size(); ++k) {
         const double a = kSelectionShares[k];
         const double q = (1.0 - a) * double(p_u) + a * double(p_g);

@@ -54,11 +54,10 @@ class ExactSum {
 };
 
 // One cell's decisions of one kind: for each share a, the sum of (S / I)^2 q_cur / q_a (S what followed
-// the decision, q_a the mixture density at share a); the sum at the share sampled with and the sum of
-// its squares (the estimate's standard error, learned_selection.cpp); their count.
+// the decision, q_a the mixture density at share a); the sum at the share sampled with; their count.
 struct DecisionMoments {
     std::array<ExactSum, kSelectionShares.size()> m;
-    ExactSum current, current_sq;
+    ExactSum current;
     uint64_t count = 0;
     DecisionMoments& operator+=(const DecisionMoments& o);
 };

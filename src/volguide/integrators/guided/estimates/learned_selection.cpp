@@ -46,25 +46,9 @@ struct Entry {
     std::array<double, kShares> m{};
     double current = 0.0;
     double count = 0.0;
-    double error = 0.0;  // the standard error of the sums m (of the sum at the sampled share)
     bool learned = false;
-    size_t chosen = 0, configured = 0;
+    size_t chosen = 0;
 };
-
-// The standard error of a sum of `count` terms with the given sum and sum of squares: sqrt(n var).
-double sum_error(double sum, double sum_sq, double count) {
-    return count > 1.0 ? std::sqrt(std::max(0.0, sum_sq - sum * sum / count) * count / (count - 1.0)) : 0.0;
-}
-
-// e.chosen: the share of least `value` unless its gain over the configured share is within
-// kSignificance x `error` (the noise of the compared values): then the configured share.
-template <class Value>
-void choose_significant(Entry& e, const Value& value, double error) {
-    size_t best = e.configured;
-    for (size_t k = 0; k < kShares; ++k)
-        if (value(k) < value(best)) best = k;
-    e.chosen = value(e.configured) - value(best) > LearnedSelection::kSignificance * error ? best : e.configured;
-}
 using Entries = std::vector<std::array<Entry, kSelectionDecisions>>;
 using PerDecision = std::array<std::array<double, kShares>, kSelectionDecisions>;
 
@@ -84,9 +68,8 @@ Entries gather_entries(const CellStatistics& stats, const SelectionSettings& set
             for (size_t k = 0; k < kShares; ++k) e.m[k] = mo.m[k].value();
             e.current = mo.current.value();
             e.count = double(mo.count);
-            e.error = sum_error(e.current, mo.current_sq.value(), e.count);
             e.learned = mo.count >= uint64_t(std::max(1, settings.min_samples));
-            e.chosen = e.configured = default_index[size_t(d)];
+            e.chosen = default_index[size_t(d)];
             for (size_t k = 0; k < kShares; ++k) pooled[size_t(d)][k] += e.m[k];
         }
     return entries;
@@ -112,11 +95,10 @@ void shrink_towards_pooled(Entries& entries, const PerDecision& pooled, float pr
                 const double prior = pooled[size_t(d)][k] / pooled_count[size_t(d)];
                 e.m[k] = e.count * (e.m[k] + n0 * prior) / (e.count + n0);
             }
-            e.error *= e.count / (e.count + n0);  // the cell's own sums carry that weight
         }
     for (auto& cell : entries)
         for (Entry& e : cell)
-            if (e.learned) choose_significant(e, [&](size_t k) { return e.m[k]; }, e.error);
+            if (e.learned) e.chosen = size_t(std::min_element(e.m.begin(), e.m.end()) - e.m.begin());
 }
 
 // Each learned entry takes argmin_a M_r(a) / V + n_r kappa [a > 0] / T (selection.h); T, the cost in
@@ -138,7 +120,14 @@ void choose_with_cost(Entries& entries, const CellStatistics& stats, const Selec
             for (int d = 0; d < kSelectionDecisions; ++d) {
                 Entry& e = cell[size_t(d)];
                 if (!e.learned) continue;
-                choose_significant(e, [&](size_t k) { return e.m[k] / V + cost_of(d, k, e.count) / T; }, e.error / V);
+                double best = std::numeric_limits<double>::infinity();
+                for (size_t k = 0; k < kShares; ++k) {
+                    const double value = e.m[k] / V + cost_of(d, k, e.count) / T;
+                    if (value < best) {
+                        best = value;
+                        e.chosen = k;
+                    }
+                }
             }
     }
 }

@@ -29,13 +29,6 @@
 // arrive in, hence of the thread count. Cells with fewer than min_samples pilot decisions keep the
 // configured mixture (kDefault).
 //
-// A cell departs from the configured share only where the evidence is significant: the gain of its best
-// share over the configured one must exceed kSignificance standard errors of the cell's estimated second
-// moment (from the pilot's sum of squared terms). A 2 spp pilot's per-cell moments are dominated by a few
-// rare large contributions, and without this test the fit followed them: shafts' mean direction share
-// was 0.20 with one seed and 0.71 with another (bench/RESULTS.md, issue 55). The cost terms are not
-// estimated (counted decisions), so a cost that outweighs the gain still switches guiding off.
-//
 // The pilot's unsplit walks also measure what a split would cost: C_0, the decisions of a camera
 // sample, over c, the mean decisions that followed a continuation point (what one more branch made
 // there costs). Their ratio, continuation_cost_ratio(), sets guided splitting's branch budget
@@ -65,7 +58,6 @@ struct SelectionSettings {
 class LearnedSelection {
   public:
     static constexpr float kDefault = -1.f;  // share: keep the configured mixture
-    static constexpr double kSignificance = 2.0;  // standard errors a departure from the default needs
     LearnedSelection() = default;
     // Learns from the pilot's statistics; `default_share[d]`: the configured guided share of each
     // decision (what the pilot sampled with, where nothing is learned).
