@@ -489,11 +489,15 @@ TEST(GuidedVolPathUnbiased, RouletteSplittingStatistics) {
     EXPECT_GT(rr.at("rrs_kills"), 0.0);
     EXPECT_EQ(rr.at("rrs_splits"), 0.0);
     EXPECT_EQ(rr.at("rrs_branches_max"), 1.0);
-    // A cap of 2 branches per camera sample holds, by lowering q.
+    // A cap of 2 branches per camera sample holds, by lowering q: the cap bounds the camera sample's
+    // allowance (issue 55), so the allowance lowers q before the cap would (budget_limited, never
+    // cap_limited).
     const auto cap = guide_stats(
         lit_fog_xml(false, grid, guided("incremental", "product", 200000, -1.f, "", rrs_xml("grrs", 1.f, 2))));
     EXPECT_LE(cap.at("rrs_branches_max"), 2.0);
-    EXPECT_GT(cap.at("rrs_cap_limited"), 0.0);
+    EXPECT_EQ(cap.at("rrs_branch_budget"), 2.0);
+    EXPECT_GT(cap.at("rrs_budget_limited"), 0.0);
+    EXPECT_EQ(cap.at("rrs_cap_limited"), 0.0);
     // The branch budget (issue 21): 3 branches per camera sample by construction, from a window that
     // splits freely; the cap (64) is not what limits it.
     const auto budget = guide_stats(lit_fog_xml(
