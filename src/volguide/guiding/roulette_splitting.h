@@ -22,8 +22,8 @@
 // there costs), both counted by the learned selection's pilot (learned_selection.h) — counted work, so
 // B is the same for any thread count, and stored with the selection, so chunks rendered from a training
 // file use the same B. Within [kMinBudget, max_branches]; kDefaultBudget without a pilot. Before, the
-// splitting was bounded only by the cap (64): 3-8 branches per camera sample and millions of cap hits on
-// dense scenes for at most 1.4x per sample (issue 55).
+// splitting was bounded only by the cap (64), which dense scenes reached for little gain per sample
+// (bench/RESULTS.md, issue 55).
 //
 // Statistics (kills, splits, branches per camera sample with its distribution) are counted per
 // thread and summed on request.

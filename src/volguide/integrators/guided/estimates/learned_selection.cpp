@@ -13,7 +13,8 @@ namespace volguide {
 namespace {
 
 constexpr uint32_t kSelectionMagic = 0x4c534756;  // "VGSL"
-constexpr uint32_t kVersion = 4;  // 1, 2: with the retired continuation gate and distance method bytes; 3: no cost ratio
+// 1, 2: with the retired continuation gate and distance method bytes; 3: without the cost ratio.
+constexpr uint32_t kVersion = 4;
 
 size_t nearest_share(float share) {
     size_t best = 0;

@@ -18,7 +18,7 @@ Continuation GuidedContinuation::decide(ContinuationStage stage, GuidedVertex& v
             c.q = bounded_roulette(rrs_->factor(throughput, estimate, pixel_, branches, allowance), throughput);
             // A usable estimate replaces the walk's throughput roulette at this depth, inside the weight
             // window (q = 1) too: on backlit the throughput roulette there killed the guided paths toward
-            // the light (small weight, large estimate) and raised the variance per sample 3.6x (issue 55).
+            // the light (small weight, large estimate; bench/RESULTS.md, issue 55).
             c.guided = usable;
             draw(c, sampler);
         }
@@ -73,8 +73,8 @@ Continuation GuidedContinuation::ears_outcome(float q, const Color3& throughput,
 
 // Roulette never harder than the bounded throughput rule's survival min(1, max beta): ears' learned M2 of
 // a heavy-tailed continuation is underestimated from few samples, and its roulette alone made paths of
-// weight > 1 that raised the variance per sample 3-4x (docs/theory.md §9.8); grrs' pixel estimate and
-// field estimate, too dark deep in dense media, did the same (issue 55). Only q changes: unbiased.
+// weight > 1 that raised the variance per sample (docs/theory.md §9.8); for grrs the same bound keeps a
+// survivor's weight beta / q at most 1 wherever beta <= 1, whatever the estimates say. Only q changes: unbiased.
 float GuidedContinuation::bounded_roulette(float q, const Color3& throughput) {
     return q < 1.f ? std::max(q, std::min(1.f, throughput.max_value())) : q;
 }
