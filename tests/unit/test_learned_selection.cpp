@@ -192,3 +192,16 @@ TEST(Selection, PrepassStateCarriesTheSelection) {
     corrupt[bytes.size() - sel.size()] ^= 1;  // the selection's magic
     EXPECT_THROW(deserialize_guided_prepass(corrupt), FieldFormatError);
 }
+
+// The pilot's counted costs: C_0 (decisions per camera sample) over c (mean decisions after a
+// continuation point), carried by the table's bytes.
+TEST(Selection, ContinuationCostRatio) {
+    CellStatistics stats(2);
+    add_toy(stats, 0, 0.f, 100);
+    EXPECT_EQ(LearnedSelection::fit(stats, plain_settings(), {0.5f, 0.5f, 0.5f}).continuation_cost_ratio(), 0.f);
+    for (int i = 0; i < 10; ++i) stats.add_camera_sample(1.0, 20, 0, 1);
+    for (int i = 0; i < 40; ++i) stats.add_continuation(ContinuationStage::Direction, 1, 0, 1.0, 5);
+    const LearnedSelection sel = LearnedSelection::fit(stats, plain_settings(), {0.5f, 0.5f, 0.5f});
+    EXPECT_FLOAT_EQ(sel.continuation_cost_ratio(), 4.f);
+    EXPECT_FLOAT_EQ(LearnedSelection::deserialize(sel.serialize()).continuation_cost_ratio(), 4.f);
+}

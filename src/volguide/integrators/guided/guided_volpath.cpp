@@ -94,6 +94,8 @@ void GuidedVolPathIntegrator::build_from_field(const Scene& scene, const Preproc
             guide_->set_selection(LearnedSelection::deserialize(given_prepass_->selection));
         else
             learn_selection(scene, context);
+        // The pilot's counted costs bound guided splitting (roulette_splitting.h's adaptive budget).
+        if (rrs_) rrs_->set_cost_ratio(guide_->selection().continuation_cost_ratio());
     }
 }
 
@@ -244,6 +246,8 @@ void GuidedVolPathIntegrator::make_pixel_estimate(const Scene& scene, const Prep
         }
     }
     pixel_estimate_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::erase_if(training_stats_, [](const auto& s) { return s.first == "pixel_estimate_rays"; });
+    training_stats_.emplace_back("pixel_estimate_rays", double(pixel_estimate_.rays()));
 }
 
 // The learned selection's pilot (selection_pilot.h) with the configured mixtures, then its fit.
@@ -256,8 +260,9 @@ void GuidedVolPathIntegrator::learn_selection(const Scene& scene, const Preproce
     }
     const Film& film = scene.sensor().film();
     Learner learner(guide_->selection_cells(), film.width(), film.height());
-    run_selection_pilot(
-        scene, settings_.selection.pilot_spp, [&](Point2f film_uv) { return pixel_estimate_.at(film_uv); },
+    const uint64_t paths = run_selection_pilot(
+        scene, SelectionPilotBudget{settings_.selection.pilot_spp, 0.0},
+        [&](Point2f film_uv) { return pixel_estimate_.at(film_uv); },
         [&](Sampler& sampler, const Ray& ray, CellRecorder& recorder) {
             GuidedWalkPolicy policy(*guide_, nullptr, 0.f);
             return walk_.walk(scene, sampler, ray, &policy, &recorder);
@@ -270,6 +275,8 @@ void GuidedVolPathIntegrator::learn_selection(const Scene& scene, const Preproce
     std::erase_if(training_stats_, [](const auto& s) { return s.first.rfind("selection_", 0) == 0; });
     training_stats_.insert(training_stats_.end(),
                            {{"selection_seconds", seconds},
+                            {"selection_pilot_paths", double(paths)},
+                            {"selection_cost_ratio", double(guide_->selection().continuation_cost_ratio())},
                             {"selection_distance_cells_guided", double(sum.guided[0])},
                             {"selection_distance_cells_unguided", double(sum.unguided[0])},
                             {"selection_direction_cells_guided", double(sum.guided[1])},

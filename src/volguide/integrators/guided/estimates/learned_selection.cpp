@@ -13,7 +13,8 @@ namespace volguide {
 namespace {
 
 constexpr uint32_t kSelectionMagic = 0x4c534756;  // "VGSL"
-constexpr uint32_t kVersion = 3;  // 1, 2: with the retired continuation gate and distance method bytes
+// 1, 2: with the retired continuation gate and distance method bytes; 3: without the cost ratio.
+constexpr uint32_t kVersion = 4;
 
 size_t nearest_share(float share) {
     size_t best = 0;
@@ -132,6 +133,20 @@ void choose_with_cost(Entries& entries, const CellStatistics& stats, const Selec
     }
 }
 
+// C_0 / c: a camera sample's decisions over the mean decisions after a continuation point (0: none).
+float cost_ratio(const CellStatistics& stats) {
+    uint64_t points = 0, after = 0;
+    for (int stage = 0; stage < kContinuationStages; ++stage)
+        for (size_t cell = 0; cell < stats.cells(); ++cell)
+            for (int bin = 0; bin < kContinuationDirectionBins; ++bin) {
+                const ContinuationMoments& m = stats.continuation(ContinuationStage(stage), cell, bin);
+                points += m.n;
+                after += m.cost;
+            }
+    if (points == 0 || after == 0 || stats.camera_samples() == 0) return 0.f;
+    return float((double(stats.cost()) / double(stats.camera_samples())) / (double(after) / double(points)));
+}
+
 // Cell r's learned shares.
 LearnedSelection::Cell fitted_cell(const std::array<Entry, kDecisionKinds>& entries) {
     LearnedSelection::Cell cell;
@@ -154,6 +169,7 @@ LearnedSelection LearnedSelection::fit(const CellStatistics& stats, const Select
     out.cells_.resize(entries.size());
     for (size_t r = 0; r < entries.size(); ++r) out.cells_[r] = fitted_cell(entries[r]);
     out.update_learned();
+    out.cost_ratio_ = cost_ratio(stats);
     return out;
 }
 
@@ -191,6 +207,7 @@ std::string LearnedSelection::serialize() const {
     for (const Cell& r : cells_) {
         for (float s : r.share) put(out, s);
     }
+    put(out, cost_ratio_);
     return out;
 }
 
@@ -201,10 +218,10 @@ LearnedSelection LearnedSelection::deserialize(const std::string& bytes) {
     if (version != kVersion)
         throw std::runtime_error(fmt::format("learned selection: version {} (this volguide reads version {}: train again)",
                                              version, kVersion));
+    LearnedSelection out;
     const uint64_t n = get<uint64_t>(bytes, at);
     const size_t cell_bytes = kDecisionKinds * sizeof(float);
     if (n > (bytes.size() - at) / cell_bytes) throw std::runtime_error("learned selection: truncated");
-    LearnedSelection out;
     out.cells_.resize(size_t(n));
     for (Cell& r : out.cells_) {
         for (float& s : r.share) {
@@ -213,6 +230,9 @@ LearnedSelection LearnedSelection::deserialize(const std::string& bytes) {
                 throw std::runtime_error("learned selection: share out of range");
         }
     }
+    out.cost_ratio_ = get<float>(bytes, at);
+    if (!(out.cost_ratio_ >= 0.f) || !std::isfinite(out.cost_ratio_))
+        throw std::runtime_error("learned selection: cost ratio out of range");
     if (at != bytes.size()) throw std::runtime_error("learned selection: trailing bytes");
     out.update_learned();
     return out;

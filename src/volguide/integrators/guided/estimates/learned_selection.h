@@ -28,6 +28,11 @@
 // (fixed point, 128-bit integers), so the result is independent of the order the pilot's samples
 // arrive in, hence of the thread count. Cells with fewer than min_samples pilot decisions keep the
 // configured mixture (kDefault).
+//
+// The pilot's unsplit walks also measure what a split would cost: C_0, the decisions of a camera
+// sample, over c, the mean decisions that followed a continuation point (what one more branch made
+// there costs). Their ratio, continuation_cost_ratio(), sets guided splitting's branch budget
+// (roulette_splitting.h).
 #include <array>
 #include <cstdint>
 #include <string>
@@ -84,11 +89,14 @@ class LearnedSelection {
         std::array<float, kDecisionKinds> share{kDefault, kDefault, kDefault};
     };
     const std::vector<Cell>& table() const { return cells_; }
+    // C_0 / c of the pilot (see above); 0: not measured (no camera samples or continuation points).
+    float continuation_cost_ratio() const { return cost_ratio_; }
 
   private:
     void update_learned();
     std::vector<Cell> cells_;
     std::array<bool, kDecisionKinds> learned_{};
+    float cost_ratio_ = 0.f;
 };
 
 }  // namespace volguide

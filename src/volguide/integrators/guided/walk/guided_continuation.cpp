@@ -13,8 +13,12 @@ Continuation GuidedContinuation::decide(const ContinuationQuery& query, GuidedVe
         const bool usable = estimate.max_value() > 0.f;
         if (query.report && usable) c.estimate = estimate.average();
         if (rrs_) {
+            c.q = bounded_roulette(rrs_->factor(query.throughput, estimate, pixel_, query.branches, query.allowance),
+                                   query.throughput);
+            // A usable estimate replaces the walk's throughput roulette at this depth, inside the weight
+            // window (q = 1) too: on backlit the throughput roulette there killed the guided paths toward
+            // the light (small weight, large estimate; bench/RESULTS.md, issue 55).
             c.guided = usable;
-            c.q = rrs_->factor(query.throughput, estimate, pixel_, query.branches, query.allowance);
             draw(c, sampler);
         }
         c.leaf = vertex.leaf();
@@ -59,12 +63,17 @@ Continuation GuidedContinuation::ears_outcome(float q, const ContinuationQuery& 
         return c;
     }
     c.guided = true;
-    // Roulette never harder than the bounded throughput rule's survival min(1, max beta): the learned
-    // M2 of a heavy-tailed continuation is underestimated from few samples, and ears' roulette alone
-    // made paths of weight > 1 that raised the variance per sample 3-4x (docs/theory.md §9.8).
-    c.q = rrs_->bound(std::max(q, std::min(1.f, query.throughput.max_value())), query.branches, query.allowance);
+    c.q = rrs_->bound(bounded_roulette(q, query.throughput), query.branches, query.allowance);
     draw(c, sampler);
     return c;
+}
+
+// Roulette never harder than the bounded throughput rule's survival min(1, max beta): ears' learned M2 of
+// a heavy-tailed continuation is underestimated from few samples, and its roulette alone made paths of
+// weight > 1 that raised the variance per sample (docs/theory.md §9.8); for grrs the same bound keeps a
+// survivor's weight beta / q at most 1 wherever beta <= 1, whatever the estimates say. Only q changes: unbiased.
+float GuidedContinuation::bounded_roulette(float q, const Color3& throughput) {
+    return q < 1.f ? std::max(q, std::min(1.f, throughput.max_value())) : q;
 }
 
 void GuidedContinuation::draw(Continuation& c, Sampler& sampler) const {

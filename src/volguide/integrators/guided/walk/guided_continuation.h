@@ -60,6 +60,8 @@ class GuidedContinuation {
     // The decision of `query` from ears' factor q (< 0: too few statistics, no decision): bounded, then
     // drawn.
     Continuation ears_outcome(float q, const ContinuationQuery& query, Sampler& sampler) const;
+    // A roulette factor q < 1 raised to the bounded throughput rule's survival (splitting unchanged).
+    static float bounded_roulette(float q, const Color3& throughput);
     // Draws n from c.q (q != 1) and counts the outcome.
     void draw(Continuation& c, Sampler& sampler) const;
     const WalkGuide& guide_;
