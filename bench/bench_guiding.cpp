@@ -48,6 +48,7 @@
 //    (init, descent, leaf VMM x phase product, one sample; `descents` per vertex). SizedLeafAt/L: the
 //    descent alone. Counters `depth`, `valid` (fraction of fitted leaves), `lobes` (per valid leaf).
 //   cmake --build build --target bench_guiding && build/bench_guiding
+#include <limits>
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -78,6 +79,9 @@
 using namespace volguide;
 
 namespace {
+
+// A distance decision that is not a camera segment's (no pixel buffer P_G).
+constexpr float kNoCameraBuffer = std::numeric_limits<float>::quiet_NaN();
 
 constexpr int64_t kPhotons = 1000000;
 
@@ -323,8 +327,8 @@ void BM_DistanceQuery(benchmark::State& state) {
     for (auto _ : state) {
         const size_t k = i & 4095;
         Sampler rng(3, 0, i++);
-        BinSource source(rays[k], ends[k], medium, field, &estimates, proxies, 20.f, extents, 1.f,
-                         groups ? &*groups : nullptr);
+        BinSource source(rays[k], ends[k], medium,
+                         BinField{field, &estimates, groups ? &*groups : nullptr, extents, 20.f, 1.f}, proxies);
         const DistanceSample d = sample_incremental_distance(source, rng, settings);
         bins += uint64_t(d.steps);
         benchmark::DoNotOptimize(d);
@@ -406,13 +410,12 @@ void BM_SegmentDecision(benchmark::State& state) {
     uint64_t i = 0, scattered = 0;
     for (auto _ : state) {
         const Query& q = queries[i & 4095];
-        VertexLeaf vertex_leaf;
-        if (state.range(0) != 0) origin.init(vertices[i & 4095], VertexLeaf{q.leaf});
+        if (state.range(0) != 0) origin.init(vertices[i & 4095], q.leaf);
         Sampler rng(3, 0, i++);
         const FreeFlightSample f =
             state.range(0) == 0
                 ? medium->sample_free_flight(q.ray, q.end, Color3(1.f), rng)
-                : origin.sample_distance(DistanceQuery{*medium, q.ray, q.end, Color3(1.f)}, rng, vertex_leaf, nullptr);
+                : origin.sample_distance(DistanceQuery{*medium, q.ray, q.end, Color3(1.f)}, kNoCameraBuffer, rng, nullptr);
         scattered += f.scattered;
         benchmark::DoNotOptimize(f);
     }
@@ -469,13 +472,12 @@ void BM_SegmentDecisionEquiangular(benchmark::State& state) {
         const auto& [ray, leaf] = queries[i & 4095];
         float t0, t1;
         b.ray_intersect(ray, t0, t1);
-        VertexLeaf vertex_leaf;
-        if (state.range(0) != 0) origin.init(vertices[i & 4095], VertexLeaf{leaf});
+        if (state.range(0) != 0) origin.init(vertices[i & 4095], leaf);
         Sampler rng(3, 0, i++);
         const FreeFlightSample f =
             state.range(0) == 0 ? medium->sample_free_flight(ray, t1, Color3(1.f), rng)
-                                : origin.sample_distance(DistanceQuery{*medium, ray, t1, Color3(1.f)}, rng, vertex_leaf,
-                                                         nullptr);
+                                : origin.sample_distance(DistanceQuery{*medium, ray, t1, Color3(1.f)},
+                                                         kNoCameraBuffer, rng, nullptr);
         scattered += f.scattered;
         benchmark::DoNotOptimize(f);
     }
@@ -514,7 +516,7 @@ void BM_RouletteEstimate(benchmark::State& state) {
     size_t i = 0;
     for (auto _ : state) {
         const auto& [mi, d] = queries[i++ & 4095];
-        vertex.init(mi, VertexLeaf());  // not known: a descent, as after an unguided distance decision
+        vertex.init(mi);  // not known: a descent, as after an unguided distance decision
         benchmark::DoNotOptimize(vertex.estimate(ContinuationStage::Distance, d));
     }
 }
@@ -555,7 +557,7 @@ void BM_GuidedVertex(benchmark::State& state) {
     size_t i = 0;
     for (auto _ : state) {
         const Query& q = queries[i++ & 4095];
-        vertex.init(q.mi, VertexLeaf());
+        vertex.init(q.mi);
         benchmark::DoNotOptimize(vertex.estimate(ContinuationStage::Distance, -q.mi.wi));
         if (direction) vertex.prepare_direction();
         benchmark::DoNotOptimize(guide.scatter_probability(vertex.leaf(), q.mi.medium->phase(), q.w, 0.9f, 0.5f));
@@ -690,11 +692,10 @@ void BM_SizedDistance(benchmark::State& state) {
     for (auto _ : state) {
         const SizedQuery& q = queries[i & (kSizedQueries - 1)];
         const Ray ray(q.p, q.d);
-        origin.init(bench_vertex_at(ray, *medium), VertexLeaf{q.leaf});
+        origin.init(bench_vertex_at(ray, *medium), q.leaf);
         Sampler rng(3, 0, i++);
-        VertexLeaf vertex_leaf;
         const FreeFlightSample f =
-            origin.sample_distance(DistanceQuery{*medium, ray, q.end, Color3(1.f)}, rng, vertex_leaf, nullptr);
+            origin.sample_distance(DistanceQuery{*medium, ray, q.end, Color3(1.f)}, kNoCameraBuffer, rng, nullptr);
         scattered += f.scattered;
         benchmark::DoNotOptimize(f);
     }
@@ -724,7 +725,7 @@ void BM_SizedDirection(benchmark::State& state) {
     uint64_t i = 0, guided = 0;
     for (auto _ : state) {
         const SizedQuery& q = queries[i & (kSizedQueries - 1)];
-        vertex.init(bench_vertex_at(Ray(q.p, q.d), *medium), VertexLeaf());
+        vertex.init(bench_vertex_at(Ray(q.p, q.d), *medium));
         Sampler rng(4, 0, i++);
         vertex.prepare_direction();
         guided += vertex.guided();

@@ -54,6 +54,11 @@ REFERENCES = {
     # densesphere (the strong unguided method in dense high-albedo media); 32 x 1024 spp is ~16x what
     # that method renders in the benchmark's 60 s (so about 1/16 of its relMSE).
     "glassfog": (["integrator=volpath", "rr_rule=bounded"], 1024, 32),
+    # Issue 55's held-out scenes (not tuned on): a rough dielectric globe of dense medium under an analytic
+    # sky, and a Cornell box with a sphere of moderate fog; volpath with the bounded roulette. Sized as
+    # glassfog (32 chunks); the run that made them is recorded in bench/references/README.md.
+    "skyglobe": (["integrator=volpath", "rr_rule=bounded"], 512, 32),
+    "fogcornell": (["integrator=volpath", "rr_rule=bounded"], 1024, 32),
 }
 
 # Issue 22: where the full guided system made the best relMSE at 60 s so small that the volpath

@@ -91,8 +91,9 @@ py::dict distance_pdf(const FieldHandle& h, const FloatArray& origin, const Floa
     // distance_merge > 0: the walk steps leaf groups (guiding/leaf_groups.h), as the renderer does.
     std::optional<LeafGroups> groups;
     if (distance_merge > 0.f) groups.emplace(h.field->tree(), estimates, extents, distance_merge);
-    BinSource source(ray, t_end, *medium, *h.field, &estimates, proxies, defaults.max_bin_optical_depth, extents,
-                     defaults.leaf_tau_max, groups ? &*groups : nullptr);
+    const BinField field{*h.field, &estimates, groups ? &*groups : nullptr, extents, defaults.max_bin_optical_depth,
+                         defaults.leaf_tau_max};
+    BinSource source(ray, t_end, *medium, field, proxies);
     DistanceBin bin;
     while (source(bin)) bins.push_back(bin);
 

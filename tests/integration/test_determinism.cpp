@@ -127,7 +127,7 @@ TEST(Determinism, VspResampledSameImageForOneAndTwoThreads) {
 // no wall clock) on the benchmark's dense sphere, where both methods get tiles (64 spp: 4 probe rounds, the
 // fewest that let a tile go to volpath).
 TEST(Determinism, MethodChoiceSameImageForOneAndTwoThreads) {
-    expect_deterministic(guided_bench_scene("densesphere", R"(<integer name="photons" value="200000"/>)",
+    expect_deterministic(guided_bench_scene("densesphere", R"(<boolean name="method_choice" value="true"/><integer name="photons" value="200000"/>)",
                                             "determinism-choice", "64"),
-                         "guided densesphere, the defaults");
+                         "guided densesphere, the per-tile method choice");
 }

@@ -359,14 +359,14 @@ TEST_F(Distributed, UsageErrors) {
 }  // namespace
 }  // namespace volguide
 
-// Issue 55: with guided_volpath's defaults (the staged pre-pass and the per-tile method choice; only
-// fewer photons, for the test's time), `train --spp N` + chunks + `merge` equal the single-process
+// Issue 55: with the staged pre-pass and the per-tile method choice (method_choice=true; fewer photons, for
+// the test's time), `train --spp N` + chunks + `merge` equal the single-process
 // `render --spp N` (no --field): the map and the field are decided once in the training, from the seed and
 // the frame's sample count only (no wall clock), and stored in the training file.
-TEST_F(Distributed, DefaultsTrainChunksMergeEqualTheSingleProcessRender) {
+TEST_F(Distributed, MethodChoiceTrainChunksMergeEqualTheSingleProcessRender) {
     // A dense sphere lit from behind: both methods get tiles (checked below through --stats).
     const std::string s = R"(<scene version="3.0.0">
-    <integrator type="moment"><integrator type="guided_volpath"><integer name="photons" value="20000"/></integrator></integrator>
+    <integrator type="moment"><integrator type="guided_volpath"><boolean name="method_choice" value="true"/><integer name="photons" value="20000"/></integrator></integrator>
     <medium type="homogeneous" id="m">
         <rgb name="sigma_t" value="8, 6, 10"/><rgb name="albedo" value="0.95, 0.9, 0.85"/>
         <phase type="hg"><float name="g" value="0.3"/></phase>

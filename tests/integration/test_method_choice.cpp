@@ -24,7 +24,7 @@ using namespace volguide::test;
 namespace {
 
 const char* kGuidedDefaults =
-    R"(<integrator type="guided_volpath"><integer name="photons" value="100000"/><integer name="leaf_samples" value="400"/></integrator>)";
+    R"(<integrator type="guided_volpath"><boolean name="method_choice" value="true"/><integer name="photons" value="100000"/><integer name="leaf_samples" value="400"/></integrator>)";
 const char* kVolpath = R"(<integrator type="volpath"/>)";
 
 // A sphere of dense, bright medium (sigma_t 8, albedo 0.95) lit by an area light from behind and the side:

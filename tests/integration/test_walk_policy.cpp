@@ -42,7 +42,7 @@ class CountingRecorder final : public PathRecorder {
         EXPECT_FALSE(record.mixture);  // the default policy samples no mixture
         ++decisions;
     }
-    void record_continuation(ContinuationStage, const VertexLeaf&, const Vec3f&, float estimate,
+    void record_continuation(ContinuationStage, int, const Vec3f&, float estimate,
                              const Color3&) override {
         ++continuations;
         if (estimate > 0.f) ++estimated;

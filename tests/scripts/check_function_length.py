@@ -82,27 +82,39 @@ def functions(path):
     return found
 
 
-def main():
-    if len(sys.argv) not in (2, 3):
-        print(__doc__.strip().splitlines()[-2].strip())
-        return 2
-    limit = int(sys.argv[2]) if len(sys.argv) == 3 else LIMIT
-    root = os.path.join(sys.argv[1], "src")
-    offenders, count = [], 0
+def sources(root):
+    """Every C++ source and header below root, in a stable order."""
     for folder, _, files in sorted(os.walk(root)):
         for name in sorted(files):
-            if not name.endswith((".h", ".cpp")):
-                continue
-            path = os.path.join(folder, name)
-            for start, length, signature in functions(path):
-                count += 1
-                if length > limit:
-                    offenders.append(f"{path}:{start}: {length} lines (limit {limit}): {signature[:100]}")
-    if offenders:
-        print("\n".join(offenders + [f"{len(offenders)} function(s) over {limit} lines"]))
-        return 1
-    print(f"{count} functions, none over {limit} lines")
-    return 0
+            if name.endswith((".h", ".cpp")):
+                yield os.path.join(folder, name)
+
+
+def verdict(offenders, failed, passed):
+    """Prints the offenders and `failed`, or `passed`; the exit status."""
+    print("\n".join(offenders + [failed]) if offenders else passed)
+    return 1 if offenders else 0
+
+
+def check(usage, folder, default_limit, items_of, size, describe, nouns):
+    """The source checks' main: `SOURCE_DIR [LIMIT]` from argv; every item (items_of(path)) of every
+    source below SOURCE_DIR/folder whose size(item) exceeds the limit is an offender, described by
+    describe(path, item, limit); nouns: (offenders, items, unit) for the summary line."""
+    if len(sys.argv) not in (2, 3):
+        print(usage)
+        return 2
+    limit = int(sys.argv[2]) if len(sys.argv) == 3 else default_limit
+    found = [(path, item) for path in sources(os.path.join(sys.argv[1], folder)) for item in items_of(path)]
+    offenders = [describe(path, item, limit) for path, item in found if size(item) > limit]
+    many, items, unit = nouns
+    return verdict(offenders, f"{len(offenders)} {many} over {limit} {unit}",
+                   f"{len(found)} {items}, none over {limit} {unit}")
+
+
+def main():
+    return check(__doc__.strip().splitlines()[-2].strip(), "src", LIMIT, functions, lambda f: f[1],
+                 lambda path, f, limit: f"{path}:{f[0]}: {f[1]} lines (limit {limit}): {f[2][:100]}",
+                 ("function(s)", "functions", "lines"))
 
 
 if __name__ == "__main__":

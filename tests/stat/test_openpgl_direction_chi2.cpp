@@ -98,7 +98,7 @@ struct MediumVertex {
         mi.medium = &medium;
         policy = std::make_unique<OpenPglWalkPolicy>(settings, ts, field());
         Sampler s(3, 0, 0);
-        policy->begin_vertex(mi, VertexLeaf());
+        policy->begin_vertex(mi);
         policy->prepare_direction(mi, s);
     }
     TestHomogeneousMedium medium;
@@ -165,10 +165,10 @@ TEST(OpenPglSurfaceChi2, MixtureWithDiffuseMatchesItsPdf) {
             [&](Sampler& s) {
                 const float u1 = s.next_1d();
                 const Point2f u2 = s.next_2d();
-                const auto [bs, weight] = policy.sample_surface_direction(ctx, si, *bsdf, u1, u2, s, nullptr);
+                const auto [bs, weight] = policy.sample_surface_direction(SurfaceQuery{ctx, si, *bsdf}, u1, u2, s, nullptr);
                 return ChiSquareSample{bs.wo, weight, bs.pdf > 0.f};
             },
-            [&](const Vec3f& wo) { return double(policy.surface_direction_pdf(ctx, si, *bsdf, wo)); },
+            [&](const Vec3f& wo) { return double(policy.surface_direction_pdf(SurfaceQuery{ctx, si, *bsdf}, wo)); },
             openpgl_options(seed++), [&](const Vec3f& wo) { return bsdf->eval(ctx, si, wo); });
         EXPECT_TRUE(r.passed) << r.report;
     }

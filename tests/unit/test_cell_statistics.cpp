@@ -80,11 +80,11 @@ TEST(CellStatistics, RecorderCreditsEachCopyWithItsSubtree) {
     rec.begin(1, 2.f);
     rec.record_contribution(Color3(0.2f));
     rec.record_decision(DecisionKind::Distance, unguided);
-    rec.record_continuation(kDistance, VertexLeaf{0}, Vec3f(1, 0, 0), 0.f, Color3(0.5f));
+    rec.record_continuation(kDistance, 0, Vec3f(1, 0, 0), 0.f, Color3(0.5f));
     const int copy = rec.branch_point();
     rec.record_decision(DecisionKind::Direction, DecisionRecord{true, 0, 1.f, 1.f, 1.f});
     rec.record_contribution(Color3(0.3f));
-    rec.record_continuation(kDirection, VertexLeaf{0}, Vec3f(0, 1, 0), 0.f, Color3(0.25f));
+    rec.record_continuation(kDirection, 0, Vec3f(0, 1, 0), 0.f, Color3(0.25f));
     rec.record_decision(DecisionKind::Surface, unguided);
     rec.record_contribution(Color3(0.1f));
     rec.resume_branch(copy);
@@ -103,7 +103,7 @@ TEST(CellStatistics, RecorderCreditsEachCopyWithItsSubtree) {
     EXPECT_NEAR(w.sum.value(), 0.4, 1e-6);
     EXPECT_EQ(w.cost, 1u);
     // The guided direction decision: S = 0.3 + 0.1 over I = 2, at the share it was sampled with.
-    const DecisionMoments& m = stats.decision(SelectionDecision::Direction, 0);
+    const DecisionMoments& m = stats.decision(DecisionKind::Direction, 0);
     ASSERT_EQ(m.count, 1u);
     EXPECT_NEAR(m.current.value(), 0.04, 1e-6);
     EXPECT_EQ(stats.camera_samples(), 1u);
@@ -117,7 +117,7 @@ TEST(CellStatistics, RecorderCreditsEachCopyWithItsSubtree) {
     EXPECT_NEAR(px.sum, 0.5, 1e-4);
     EXPECT_EQ(pixels.at(0).n, 0.0);
     rec.begin(-1, 1.f);
-    rec.record_continuation(kDistance, VertexLeaf{-1}, Vec3f(0, 0, -1), 0.f, Color3(1.f));
+    rec.record_continuation(kDistance, -1, Vec3f(0, 0, -1), 0.f, Color3(1.f));
     rec.record_contribution(Color3(1.f));
     rec.end();
     EXPECT_EQ(stats.continuation(kDistance, 2, 5).n, 1u);
@@ -135,8 +135,8 @@ TEST(CellStatistics, DecisionsOfAChainSeeWhatFollowed) {
     rec.record_decision(DecisionKind::Direction, DecisionRecord{true, 1, 1.f, 1.f, 1.f});
     rec.record_contribution(Color3(0.25f));
     rec.end();
-    const DecisionMoments& first = stats.decision(SelectionDecision::Distance, 0);
-    const DecisionMoments& second = stats.decision(SelectionDecision::Direction, 1);
+    const DecisionMoments& first = stats.decision(DecisionKind::Distance, 0);
+    const DecisionMoments& second = stats.decision(DecisionKind::Direction, 1);
     EXPECT_NEAR(first.current.value(), 0.75 * 0.75, 1e-6);
     EXPECT_NEAR(second.current.value(), 0.25 * 0.25, 1e-6);
     // Share 0 (the unguided density alone): s2 q_cur / p_u; share 0.5: s2 q_cur / ((p_u + p_g) / 2).

@@ -37,7 +37,7 @@ void add_toy(CellStatistics& stats, size_t cell, float lo, int n, int first = 0,
         const float p_u = 1.f, p_g = x < 0.5f ? 2.f : 0.f, q = 0.5f * (p_u + p_g);
         const float f = (x >= lo && x < lo + 0.5f) ? 2.f : 0.f;
         const double S = double(f) / double(q);
-        stats.add_decision(SelectionDecision::Direction, cell, S * S, q, p_u, p_g);
+        stats.add_decision(DecisionKind::Direction, cell, S * S, q, p_u, p_g);
     }
 }
 
@@ -55,8 +55,8 @@ TEST(Selection, SecondMomentsMatchTheIntegrals) {
     const int n = 20000;
     add_toy(stats, 0, 0.f, n);
     add_toy(stats, 1, 0.5f, n);
-    const auto& right = stats.decision(SelectionDecision::Direction, 0);
-    const auto& wrong = stats.decision(SelectionDecision::Direction, 1);
+    const auto& right = stats.decision(DecisionKind::Direction, 0);
+    const auto& wrong = stats.decision(DecisionKind::Direction, 1);
     EXPECT_EQ(right.count, uint64_t(n));
     for (size_t k = 0; k < kShareCount; ++k) {
         const double a = kSelectionShares[k];
@@ -75,15 +75,15 @@ TEST(Selection, FitFollowsTheGuideWhereItIsRightAndDropsItWhereItIsWrong) {
     for (int i = 0; i < 4000; ++i) stats.add_camera_sample(1.0, 1, 0, 1);
     const LearnedSelection sel = LearnedSelection::fit(stats, plain_settings(), {0.5f, 0.5f, 0.5f});
     ASSERT_EQ(sel.cells(), 4u);
-    EXPECT_FLOAT_EQ(sel.share(SelectionDecision::Direction, 0), kSelectionShares.back());
-    EXPECT_FLOAT_EQ(sel.share(SelectionDecision::Direction, 1), 0.f);
-    EXPECT_EQ(sel.share(SelectionDecision::Direction, 2), LearnedSelection::kDefault);
-    EXPECT_EQ(sel.share(SelectionDecision::Direction, 3), LearnedSelection::kDefault);
-    EXPECT_EQ(sel.share(SelectionDecision::Distance, 0), LearnedSelection::kDefault);  // no distance samples
-    EXPECT_FALSE(sel.learned(SelectionDecision::Distance));
-    EXPECT_TRUE(sel.learned(SelectionDecision::Direction));
-    EXPECT_TRUE(LearnedSelection::deserialize(sel.serialize()).learned(SelectionDecision::Direction));
-    EXPECT_EQ(sel.share(SelectionDecision::Direction, 99), LearnedSelection::kDefault);  // beyond the table
+    EXPECT_FLOAT_EQ(sel.share(DecisionKind::Direction, 0), kSelectionShares.back());
+    EXPECT_FLOAT_EQ(sel.share(DecisionKind::Direction, 1), 0.f);
+    EXPECT_EQ(sel.share(DecisionKind::Direction, 2), LearnedSelection::kDefault);
+    EXPECT_EQ(sel.share(DecisionKind::Direction, 3), LearnedSelection::kDefault);
+    EXPECT_EQ(sel.share(DecisionKind::Distance, 0), LearnedSelection::kDefault);  // no distance samples
+    EXPECT_FALSE(sel.learned(DecisionKind::Distance));
+    EXPECT_TRUE(sel.learned(DecisionKind::Direction));
+    EXPECT_TRUE(LearnedSelection::deserialize(sel.serialize()).learned(DecisionKind::Direction));
+    EXPECT_EQ(sel.share(DecisionKind::Direction, 99), LearnedSelection::kDefault);  // beyond the table
     const LearnedSelection::Summary sum = sel.summary();
     EXPECT_EQ(sum.guided[1], 1u);
     EXPECT_EQ(sum.unguided[1], 1u);
@@ -92,16 +92,16 @@ TEST(Selection, FitFollowsTheGuideWhereItIsRightAndDropsItWhereItIsWrong) {
     SelectionSettings shrunk = plain_settings();
     shrunk.prior_samples = 64.f;
     const LearnedSelection s2 = LearnedSelection::fit(stats, shrunk, {0.5f, 0.5f, 0.5f});
-    EXPECT_GT(s2.share(SelectionDecision::Direction, 0), 0.5f);
-    EXPECT_FLOAT_EQ(s2.share(SelectionDecision::Direction, 1), 0.f);
+    EXPECT_GT(s2.share(DecisionKind::Direction, 0), 0.5f);
+    EXPECT_FLOAT_EQ(s2.share(DecisionKind::Direction, 1), 0.f);
 
     // A guided decision that costs far more than it saves is switched off everywhere learned.
     SelectionSettings costly = plain_settings();
     costly.kappa = {1e6f, 1e6f, 1e6f};
     const LearnedSelection s3 = LearnedSelection::fit(stats, costly, {0.5f, 0.5f, 0.5f});
-    EXPECT_FLOAT_EQ(s3.share(SelectionDecision::Direction, 0), 0.f);
-    EXPECT_FLOAT_EQ(s3.share(SelectionDecision::Direction, 1), 0.f);
-    EXPECT_EQ(s3.share(SelectionDecision::Direction, 2), LearnedSelection::kDefault);
+    EXPECT_FLOAT_EQ(s3.share(DecisionKind::Direction, 0), 0.f);
+    EXPECT_FLOAT_EQ(s3.share(DecisionKind::Direction, 1), 0.f);
+    EXPECT_EQ(s3.share(DecisionKind::Direction, 2), LearnedSelection::kDefault);
 }
 
 TEST(Selection, SumsAreExactInAnyOrder) {
@@ -121,9 +121,9 @@ TEST(Selection, SumsAreExactInAnyOrder) {
     merged += odd;
     merged += even;
     for (size_t k = 0; k < kShareCount; ++k)
-        EXPECT_EQ(merged.decision(SelectionDecision::Direction, 0).m[k].value(),
-                  one.decision(SelectionDecision::Direction, 0).m[k].value());
-    EXPECT_EQ(merged.decision(SelectionDecision::Direction, 0).count, 1000u);
+        EXPECT_EQ(merged.decision(DecisionKind::Direction, 0).m[k].value(),
+                  one.decision(DecisionKind::Direction, 0).m[k].value());
+    EXPECT_EQ(merged.decision(DecisionKind::Direction, 0).count, 1000u);
     EXPECT_THROW(merged += CellStatistics(3), std::logic_error);  // a bug, not a user error
 }
 
@@ -135,10 +135,10 @@ TEST(Selection, BytesRoundTripAndMalformedOnesAreRejected) {
     const std::string bytes = sel.serialize();
     const LearnedSelection back = LearnedSelection::deserialize(bytes);
     ASSERT_EQ(back.cells(), sel.cells());
-    EXPECT_TRUE(sel.learned(SelectionDecision::Direction));
+    EXPECT_TRUE(sel.learned(DecisionKind::Direction));
     for (size_t r = 0; r < sel.cells(); ++r)
-        for (int d = 0; d < kSelectionDecisions; ++d)
-            EXPECT_EQ(back.share(SelectionDecision(d), r), sel.share(SelectionDecision(d), r));
+        for (int d = 0; d < kDecisionKinds; ++d)
+            EXPECT_EQ(back.share(DecisionKind(d), r), sel.share(DecisionKind(d), r));
     EXPECT_THROW(LearnedSelection::deserialize(bytes.substr(0, bytes.size() - 1)), std::runtime_error);
     EXPECT_THROW(LearnedSelection::deserialize(bytes + "x"), std::runtime_error);
     EXPECT_THROW(LearnedSelection::deserialize(""), std::runtime_error);
@@ -191,4 +191,17 @@ TEST(Selection, PrepassStateCarriesTheSelection) {
     std::string corrupt = bytes;
     corrupt[bytes.size() - sel.size()] ^= 1;  // the selection's magic
     EXPECT_THROW(deserialize_guided_prepass(corrupt), FieldFormatError);
+}
+
+// The pilot's counted costs: C_0 (decisions per camera sample) over c (mean decisions after a
+// continuation point), carried by the table's bytes.
+TEST(Selection, ContinuationCostRatio) {
+    CellStatistics stats(2);
+    add_toy(stats, 0, 0.f, 100);
+    EXPECT_EQ(LearnedSelection::fit(stats, plain_settings(), {0.5f, 0.5f, 0.5f}).continuation_cost_ratio(), 0.f);
+    for (int i = 0; i < 10; ++i) stats.add_camera_sample(1.0, 20, 0, 1);
+    for (int i = 0; i < 40; ++i) stats.add_continuation(ContinuationStage::Direction, 1, 0, 1.0, 5);
+    const LearnedSelection sel = LearnedSelection::fit(stats, plain_settings(), {0.5f, 0.5f, 0.5f});
+    EXPECT_FLOAT_EQ(sel.continuation_cost_ratio(), 4.f);
+    EXPECT_FLOAT_EQ(LearnedSelection::deserialize(sel.serialize()).continuation_cost_ratio(), 4.f);
 }

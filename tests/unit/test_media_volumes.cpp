@@ -3,8 +3,14 @@
 // along +x), constvolume, and file:line errors for unreadable, truncated, wrong-magic or invalid files.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
 #include "support/vol_writer.h"
 #include "media_loading_util.h"
+#include "volguide/core/log.h"
 #include "volguide/media/heterogeneous.h"
 #include "volguide/media/volume.h"
 
@@ -13,6 +19,18 @@ using namespace volguide::test;
 
 namespace {
 
+// Warnings raised while alive (the log handler's messages).
+class CapturedWarnings {
+  public:
+    CapturedWarnings() {
+        previous_ = set_warning_handler([this](const SourceLocation&, const std::string& m) { list.push_back(m); });
+    }
+    ~CapturedWarnings() { set_warning_handler(previous_); }
+    std::vector<std::string> list;
+
+  private:
+    WarningHandler previous_;
+};
 
 }  // namespace
 
@@ -181,4 +199,39 @@ TEST(MediaVolumes, WrittenVolFilesReadBackExactly) {
     EXPECT_EQ(back.bbox.hi, g.bbox.hi);
     g.values.pop_back();
     EXPECT_THROW(write_vol_file(path, g), std::runtime_error);
+}
+
+// Some tools write -0 and negative denormals (-1e-45) for empty voxels; Mitsuba 0.6 renders them as 0.
+// They read as 0 with one warning for the file (through the log handler); a clearly negative density
+// stays an error.
+TEST(MediaVolumes, NegativeZerosAndDenormalsReadAsZeroWithOneWarning) {
+    ScratchDir dir;
+    VolGrid g = make_vol_grid(2, 2, 2, 1, [](float, float, float, int) { return 1.f; });
+    g.values[1] = -0.f;
+    g.values[2] = -1e-45f;
+    g.values[5] = -1e-40f;
+    write_vol_file(dir.path("zeros.vol"), g);
+    CapturedWarnings warnings;
+    auto v = load_volume(dir, R"(<volume type="gridvolume"><string name="filename" value="zeros.vol"/>
+    <string name="filter_type" value="nearest"/></volume>
+)");
+    ASSERT_TRUE(v);
+    ASSERT_EQ(warnings.list.size(), 1u);
+    EXPECT_NE(warnings.list[0].find("zeros.vol"), std::string::npos) << warnings.list[0];
+    EXPECT_NE(warnings.list[0].find("3 negative zero"), std::string::npos) << warnings.list[0];
+    // Voxel 1 is (1, 0, 0), voxel 2 (0, 1, 0), voxel 5 (1, 0, 1): 0, not negative; the others keep 1.
+    for (const Point3f& p : {Point3f(0.75f, 0.25f, 0.25f), Point3f(0.25f, 0.75f, 0.25f), Point3f(0.75f, 0.25f, 0.75f)}) {
+        const Color3 c = v->eval(p);
+        EXPECT_EQ(c.r, 0.f);
+        EXPECT_FALSE(std::signbit(c.r));
+    }
+    EXPECT_EQ(v->eval(Point3f(0.25f, 0.25f, 0.25f)).r, 1.f);
+
+    // The smallest normal negative value is a density, not a zero: an error naming the file.
+    VolGrid negative = g;
+    negative.values[3] = -std::numeric_limits<float>::min();
+    write_vol_file(dir.path("negative.vol"), negative);
+    const std::string xml = dir.write("e.xml", scene("<volume type=\"gridvolume\">\n<string name=\"filename\" "
+                                                     "value=\"negative.vol\"/>\n</volume>\n"));
+    expect_input_error([&] { load_scene_properties(xml); }, xml, 3, "invalid value");
 }

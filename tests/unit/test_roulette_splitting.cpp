@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <map>
 #include <string>
 
@@ -76,12 +77,13 @@ TEST(RouletteSplitting, FactorClampsAndGuards) {
     EXPECT_EQ(st.invalid_estimates, 3u);
     EXPECT_EQ(st.cap_limited, 2u);
 
-    // The branch budget: q <= floor(allowance), RR untouched; off (+inf) when branch_budget = 0.
+    // The branch budget: q <= floor(allowance), RR untouched; adaptive when branch_budget = 0 (issue 55:
+    // kDefaultBudget until the pilot has measured the costs; AdaptiveBudgetWithinTheCeiling).
     EXPECT_FLOAT_EQ(grrs.factor(Color3(1.f), Color3(10.f), 1.f, 1, 3.7f), 3.f);
     EXPECT_FLOAT_EQ(grrs.factor(Color3(1.f), Color3(10.f), 1.f, 1, 1.5f), 1.f);
     EXPECT_FLOAT_EQ(grrs.factor(Color3(1.f), Color3(0.5f), 1.f, 1, 1.f), 0.5f);
     EXPECT_EQ(grrs.stats().budget_limited, 2u);
-    EXPECT_TRUE(std::isinf(grrs.initial_allowance()));
+    EXPECT_EQ(grrs.initial_allowance(), RouletteSplitting::kDefaultBudget);
     RouletteSplittingSettings budgeted = s;
     budgeted.branch_budget = 16.f;
     EXPECT_FLOAT_EQ(RouletteSplitting(budgeted).initial_allowance(), 16.f);
@@ -117,4 +119,36 @@ TEST(RouletteSplitting, BranchStatistics) {
     for (const auto& [k, v] : st.named()) named[k] = v;
     EXPECT_NEAR(named.at("rrs_branches_per_camera_sample"), (997.0 + 3 + 16) / 1000.0, 1e-12);
     EXPECT_EQ(named.at("rrs_branches_max"), 8.0);
+}
+
+// Issue 55: a camera sample's branches are bounded by its cost. The ceiling is 16 whatever the budget;
+// the adaptive budget is kBudgetFactor x C_0 / c (the pilot's counted costs), within [kMinBudget, 16],
+// kDefaultBudget before it is measured; a fixed rrs_branch_budget replaces it, below the ceiling.
+TEST(RouletteSplitting, AdaptiveBudgetWithinTheCeiling) {
+    RouletteSplittingSettings s;
+    s.mode = RouletteMode::GuidedSplitting;
+    EXPECT_EQ(s.max_branches, 16);
+    RouletteSplitting rs(s);
+    EXPECT_EQ(rs.initial_allowance(), RouletteSplitting::kDefaultBudget);
+    rs.set_cost_ratio(1.6f);  // floor(2 x 1.6)
+    EXPECT_EQ(rs.initial_allowance(), 3.f);
+    rs.set_cost_ratio(0.3f);  // long heavy-tailed paths: at least two branches
+    EXPECT_EQ(rs.initial_allowance(), RouletteSplitting::kMinBudget);
+    rs.set_cost_ratio(40.f);  // never above the ceiling
+    EXPECT_EQ(rs.initial_allowance(), 16.f);
+    rs.set_cost_ratio(0.f);  // not measured
+    EXPECT_EQ(rs.initial_allowance(), RouletteSplitting::kDefaultBudget);
+    rs.set_cost_ratio(std::numeric_limits<float>::quiet_NaN());
+    EXPECT_EQ(rs.initial_allowance(), RouletteSplitting::kDefaultBudget);
+    s.branch_budget = 100.f;  // a fixed budget stays under the ceiling
+    EXPECT_EQ(RouletteSplitting(s).initial_allowance(), 16.f);
+    s.branch_budget = 5.f;
+    RouletteSplitting fixed(s);
+    fixed.set_cost_ratio(1.f);
+    EXPECT_EQ(fixed.initial_allowance(), 5.f);
+    // A split never makes more copies than the allowance: q <= floor(allowance).
+    EXPECT_LE(fixed.bound(50.f, 1, fixed.initial_allowance()), 5.f);
+    std::map<std::string, double> named;
+    for (const auto& [k, v] : fixed.stats().named()) named[k] = v;
+    EXPECT_EQ(named.at("rrs_branch_budget"), 5.0);
 }

@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "test_loader_util.h"
+#include "volguide/core/log.h"
 #include "volguide/scene/cie1931.h"
 
 using namespace volguide;
@@ -134,4 +135,21 @@ TEST(LoaderSpectrum, SpdFile) {
                                               std::vector<double>{0, 1, 0}, {true, false})
                           .rgb;
     EXPECT_EQ(c, expected);
+}
+
+// The out-of-gamut warning goes through core/log's handler (not straight to stderr), at the
+// <spectrum>'s line.
+TEST(SpectrumToRgb, OutOfGamutWarningGoesThroughTheLogHandler) {
+    ScratchDir dir;
+    const std::string path = dir.write(
+        "s.xml", scene("<bsdf type=\"diffuse\">\n<spectrum name=\"reflectance\" value=\"400:3, 700:3\"/>\n</bsdf>\n"));
+    std::vector<std::pair<int, std::string>> warnings;
+    const WarningHandler previous = set_warning_handler(
+        [&](const SourceLocation& loc, const std::string& m) { warnings.emplace_back(loc.line, m); });
+    load_fake(path);
+    set_warning_handler(previous);
+    ASSERT_EQ(warnings.size(), 1u);
+    EXPECT_EQ(warnings[0].first, 3);
+    EXPECT_NE(warnings[0].second.find("out of the sRGB gamut"), std::string::npos) << warnings[0].second;
+    EXPECT_NE(warnings[0].second.find("reflectance"), std::string::npos) << warnings[0].second;
 }

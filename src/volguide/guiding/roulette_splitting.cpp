@@ -64,7 +64,8 @@ std::vector<std::pair<std::string, double>> RouletteSplittingStats::named() cons
             {"rrs_branches_max", double(max_branches)},
             // camera samples that reached the cap (the histogram's last bin)
             {"rrs_cap_hits", branch_histogram.empty() ? 0.0 : double(branch_histogram.back())},
-            {"rrs_pixel_estimate_seconds", pixel_estimate_seconds}};
+            {"rrs_pixel_estimate_seconds", pixel_estimate_seconds},
+            {"rrs_branch_budget", double(branch_budget)}};
 }
 
 RouletteSplitting::RouletteSplitting(const RouletteSplittingSettings& settings) : settings_(settings) {}
@@ -87,22 +88,30 @@ float RouletteSplitting::bound(float q, int branches, float allowance) const {
     return bounded(q, branches, allowance, st);
 }
 
+void RouletteSplitting::set_cost_ratio(float ratio) {
+    adaptive_budget_ = ratio > 0.f && std::isfinite(ratio)
+                           ? std::clamp(std::floor(kBudgetFactor * ratio), kMinBudget, float(settings_.max_branches))
+                           : kDefaultBudget;
+}
+
 void RouletteSplitting::count_unlearned() const { ++stats_.local().unlearned; }
 
 float RouletteSplitting::bounded(float q, int branches, float allowance, RouletteSplittingStats& st) const {
     q = std::clamp(q, settings_.q_min, splits() ? settings_.q_max : 1.f);
+    // n = floor(q + xi) <= ceil(q) <= floor(allowance): every copy keeps an allowance >= 1. First: every
+    // other branch made so far held an allowance >= 1 of the same budget B <= max_branches, so after it
+    // the cap below never binds (cap_limited counts only what the budget left to the cap).
+    const float budget = std::max(1.f, std::floor(allowance));
+    if (q > budget) {
+        q = budget;
+        ++st.budget_limited;
+    }
     // The continuations may not take the camera sample past its branch cap: n <= floor(q) + 1 and
     // this branch is one of them, so q <= max_branches - branches + 1 bounds n.
     const float allowed = float(std::max(1, settings_.max_branches - branches + 1));
     if (q > allowed) {
         q = allowed;
         ++st.cap_limited;
-    }
-    // n = floor(q + xi) <= ceil(q) <= floor(allowance): every copy keeps an allowance >= 1.
-    const float budget = std::max(1.f, std::floor(allowance));
-    if (q > budget) {
-        q = budget;
-        ++st.budget_limited;
     }
     return q;
 }
@@ -127,6 +136,8 @@ RouletteSplittingStats RouletteSplitting::stats() const {
     RouletteSplittingStats total;
     for (const RouletteSplittingStats& s : stats_) total += s;
     total.pixel_estimate_seconds = pixel_estimate_seconds_;
+    // ears decides with its own budget (continuation_snapshot.h: ears_branch_budget).
+    total.branch_budget = settings_.mode == RouletteMode::Ears ? 0.f : initial_allowance();
     return total;
 }
 

@@ -8,7 +8,7 @@
 // continuations is n = floor(q + xi) (E[n] = q) and each carries the weight 1/q, so any q gives an
 // unbiased estimator (§9.4, §9.6). Only grr: q <= 1 (no splitting).
 //
-// Branch budget (issue 21, off by default): the camera sample starts with an allowance of B
+// Branch budget (issue 21; by default adaptive, issue 55): the camera sample starts with an allowance of B
 // branches; a decision may split into at most floor(allowance) copies (q <= floor(allowance)), and
 // the n copies of a split share their path's allowance, a / n each (the walk divides it). The
 // allowances of the live branches always sum to at most B and each is >= 1, so a camera sample can
@@ -16,10 +16,20 @@
 // spread over the path tree, instead of the first branches spending the cap. Only q is limited:
 // every decision stays unbiased.
 //
+// The adaptive budget (branch_budget = 0, the default) bounds a camera sample by its cost: it may cost
+// about kBudgetFactor x what an unsplit one costs, B = kBudgetFactor x C_0 / c with C_0 the decisions of an
+// unsplit camera sample and c the mean decisions after a continuation point (what one more branch made
+// there costs), both counted by the learned selection's pilot (learned_selection.h) — counted work, so
+// B is the same for any thread count, and stored with the selection, so chunks rendered from a training
+// file use the same B. Within [kMinBudget, max_branches]; kDefaultBudget without a pilot. Before, the
+// splitting was bounded only by the cap (64), which dense scenes reached for little gain per sample
+// (bench/RESULTS.md, issue 55).
+//
 // Statistics (kills, splits, branches per camera sample with its distribution) are counted per
 // thread and summed on request.
 #include <tbb/enumerable_thread_specific.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -41,8 +51,9 @@ struct RouletteSplittingSettings {
     // reached it; measured: see bench/RESULTS.md (issue 35)).
     float window = 5.f;
     float q_min = 0.1f, q_max = 20.f;
-    int max_branches = 64;  // path branches per camera sample, the original included
-    float branch_budget = 0.f;  // B >= 1: the allowance of a camera sample; 0: off
+    // Path branches per camera sample, the original included: the fixed ceiling whatever the budget.
+    int max_branches = 16;
+    float branch_budget = 0.f;  // B >= 1: the allowance of a camera sample; 0: adaptive (see above)
 };
 
 // The weight-window factor q(r) of eq. 9.1 before clamping (r >= 0).
@@ -64,6 +75,7 @@ struct RouletteSplittingStats {
     // branch_histogram[k]: camera samples that made k branches (k = 0 unused; the last bin is the cap)
     std::vector<uint64_t> branch_histogram;
     double pixel_estimate_seconds = 0;
+    float branch_budget = 0.f;  // a camera sample's allowance (initial_allowance())
     RouletteSplittingStats& operator+=(const RouletteSplittingStats& o);
     // Smallest k such that at least `fraction` of the camera samples made <= k branches.
     int branches_quantile(double fraction) const;
@@ -89,10 +101,14 @@ class RouletteSplitting {
     float bound(float q, int branches, float allowance = std::numeric_limits<float>::infinity()) const;
     // Counts a continuation point where the factor's statistics were too few (ears).
     void count_unlearned() const;
-    // A camera sample's allowance (the branch budget B, or +inf when off).
+    static constexpr float kBudgetFactor = 2.f, kMinBudget = 2.f, kDefaultBudget = 4.f;
+    // A camera sample's allowance: the branch budget B (fixed, or adaptive; within max_branches).
     float initial_allowance() const {
-        return settings_.branch_budget >= 1.f ? settings_.branch_budget : std::numeric_limits<float>::infinity();
+        return std::min(settings_.branch_budget >= 1.f ? settings_.branch_budget : adaptive_budget_,
+                        float(settings_.max_branches));
     }
+    // The adaptive budget from the pilot's C_0 / c (learned_selection.h; <= 0: not measured, the default).
+    void set_cost_ratio(float ratio);
     // Counts a decision's outcome: n continuations.
     void count_outcome(int n) const;
     // Counts a finished camera sample that made `branches` branches.
@@ -104,6 +120,7 @@ class RouletteSplitting {
   private:
     float bounded(float q, int branches, float allowance, RouletteSplittingStats& st) const;
     RouletteSplittingSettings settings_;
+    float adaptive_budget_ = kDefaultBudget;
     double pixel_estimate_seconds_ = 0;
     mutable tbb::enumerable_thread_specific<RouletteSplittingStats> stats_;
 };

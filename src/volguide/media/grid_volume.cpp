@@ -1,8 +1,10 @@
 // The `gridvolume` plugin: Mitsuba .vol files (and, as volguide's extension, OpenVDB files
 // selected by the .vdb extension with the `grid` parameter naming the grid, default "density").
 #include <cmath>
+#include <limits>
 #include <filesystem>
 
+#include "volguide/core/log.h"
 #include "volguide/media/grid_data.h"
 #include "volguide/media/volume.h"
 
@@ -73,6 +75,17 @@ std::shared_ptr<Volume> make_grid_volume(const Properties& props) {
         props.fail_at("filename", "gridvolume \"{}\": empty grid ({}x{}x{})", path, data.nx, data.ny, data.nz);
     if (data.values.size() != size_t(data.nx) * data.ny * data.nz * data.channels)
         props.fail_at("filename", "gridvolume \"{}\": wrong number of values", path);
+    // Some tools write negative zeros and negative denormals (-1e-45) for empty voxels; Mitsuba 0.6
+    // renders them as 0. Read so, with one warning for the file; a clearly negative value stays an error.
+    size_t negative_zeros = 0;
+    for (float& v : data.values)
+        if (std::signbit(v) && v > -std::numeric_limits<float>::min()) {  // -0 or a negative denormal
+            v = 0.f;
+            ++negative_zeros;
+        }
+    if (negative_zeros > 0)
+        warn(props.location_of("filename"), "gridvolume \"{}\": {} negative zero or denormal value(s) read as 0", path,
+             negative_zeros);
     for (size_t i = 0; i < data.values.size(); ++i) {
         const float v = data.values[i];
         if (!std::isfinite(v) || v < 0.f) {

@@ -1,13 +1,12 @@
 #include "volguide/scene/xml_properties.h"
 
-#include <fmt/core.h>
-
 #include <array>
 #include <cmath>
 #include <stdexcept>
 #include <vector>
 
 #include "volguide/core/frame.h"
+#include "volguide/core/log.h"
 #include "volguide/scene/cie1931.h"
 #include "volguide/scene/xml_values.h"
 
@@ -163,9 +162,8 @@ Color3 spectrum_value(const XmlElement& el, const std::string& name, const Prope
     SpectrumToRgbMode mode{ctx.within_emitter, is_unbounded_spectrum_name(name)};
     SpectrumToRgbResult r = spectrum_to_linear_srgb(wl, val, mode);
     if (r.clamped)
-        fmt::print(stderr,
-                   "volguide: warning: {}: spectrum '{}' is out of the sRGB gamut; clamped to ({}, {}, {})\n",
-                   el.loc().str(), name, r.rgb.r, r.rgb.g, r.rgb.b);
+        warn(el.loc(), "spectrum '{}' is out of the sRGB gamut; clamped to ({}, {}, {})", name, r.rgb.r, r.rgb.g,
+             r.rgb.b);
     return r.rgb;
 }
 

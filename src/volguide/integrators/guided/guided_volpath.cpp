@@ -20,6 +20,9 @@ namespace volguide {
 
 namespace {
 
+// The pixel estimate's share of the build stage's time limit (the selection pilot gets the rest).
+constexpr double kPixelEstimateShare = 0.4;
+
 VolPathSettings bounded_walk(VolPathSettings s) {
     s.rr_rule = RouletteRule::Bounded;
     return s;
@@ -36,17 +39,12 @@ GuidedVolPathIntegrator::GuidedVolPathIntegrator(const Properties& props)
 
 void GuidedVolPathIntegrator::preprocess(const Scene& scene, const PreprocessContext& context) {
     training_stats_.clear();
-    scene_ = &scene;
-    seed_ = context.seed;
-    refinement_.reset();
-    schedule_.reset();
-    previous_field_ = GuidingField();
-    refined_ = RefinementReport{};
-    refinement_undone_ = false;
-    photon_stream_next_ = photons_traced_ = deposits_ = 0;
-    time_budget_ = context.time_budget;
-    progress_ = context.progress;
-    cancel_ = context.cancel;
+    refining_ = RefinementState{};
+    refining_.scene = &scene;
+    refining_.seed = context.seed;
+    refining_.time_budget = context.time_budget;
+    refining_.progress = context.progress;
+    refining_.cancel = context.cancel;
     choice_ = ChoiceMap();
     probe_seconds_[0] = probe_seconds_[1] = 0;
     const PreprocessBudget budget(context.time_budget, settings_.training_fraction);
@@ -58,18 +56,19 @@ void GuidedVolPathIntegrator::preprocess(const Scene& scene, const PreprocessCon
     const auto training_start = std::chrono::steady_clock::now();
     if (chooses()) {
         staged_training(scene, context, budget);
-        training_seconds_ = seconds_since(training_start);
+        refining_.training_seconds = seconds_since(training_start);
     } else {
         PreprocessContext train = context;
         train.time_limit = budget.limit(0.6);
         load_or_train_field(scene, train);
-        training_seconds_ = seconds_since(training_start);
+        refining_.training_seconds = seconds_since(training_start);
         build_stage(scene, context, budget.limit(1.0));
     }
     if (given_prepass_ && !given_prepass_->choice.empty()) choice_ = ChoiceMap::deserialize(given_prepass_->choice);
     if (budget.limited()) training_stats_.emplace_back("preprocess_limit_seconds", budget.total());
-    if (refinement_)
-        schedule_ = std::make_unique<RefinementSchedule>(settings_.refine, context.time_budget, training_seconds_);
+    if (refining_.refinement)
+        refining_.schedule = std::make_unique<RefinementSchedule>(settings_.refine, context.time_budget,
+                                                                  refining_.training_seconds);
     if (!settings_.save_field.empty()) {
         try {
             save_field(settings_.save_field, field_);
@@ -125,30 +124,32 @@ void GuidedVolPathIntegrator::build_from_field(const Scene& scene, const Preproc
             guide_->set_selection(LearnedSelection::deserialize(given_prepass_->selection));
         else
             learn_selection(scene, context);
+        // The pilot's counted costs bound guided splitting (roulette_splitting.h's adaptive budget).
+        if (rrs_) rrs_->set_cost_ratio(guide_->selection().continuation_cost_ratio());
     }
 }
 
 void GuidedVolPathIntegrator::end_pass(const PassReport& pass) {
     if (ears_) ears_->end_pass();
-    if (schedule_) refine(pass);
+    if (refining_.schedule) refine(pass);
 }
 
 void GuidedVolPathIntegrator::refine(const PassReport& pass) {
-    const RefinementAction action = schedule_->on_pass(pass);
+    const RefinementAction action = refining_.schedule->on_pass(pass);
     if (action == RefinementAction::Continue) return;
     const auto start = std::chrono::steady_clock::now();
     if (action == RefinementAction::Refine)
         refine_field(pass.seconds);
     else
         undo_refinement();
-    schedule_->done(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    refining_.schedule->done(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
 }
 
 PreprocessContext GuidedVolPathIntegrator::refinement_context() const {
     PreprocessContext context;
-    context.seed = seed_;
-    context.progress = progress_;
-    context.cancel = cancel_;
+    context.seed = refining_.seed;
+    context.progress = refining_.progress;
+    context.cancel = refining_.cancel;
     return context;
 }
 
@@ -156,44 +157,44 @@ PreprocessContext GuidedVolPathIntegrator::refinement_context() const {
 // all passes before it (at most kRefineMaxDeposits), added to the field's statistics; then the
 // field's medium fractions and everything built from the field, as after the pre-pass.
 void GuidedVolPathIntegrator::refine_field(double job_seconds) {
-    const int64_t deposits = std::min(deposits_, GuidedVolPathSettings::kRefineMaxDeposits);
-    const double remaining = time_budget_ > 0 ? std::max(0.0, time_budget_ - job_seconds) : 0.0;
-    PhotonPassSettings ps = photon_settings(time_budget_ > 0 ? settings_.training_fraction * remaining : 0.0);
-    ps.first_photon = photon_stream_next_;
+    const int64_t deposits = std::min(refining_.deposits, GuidedVolPathSettings::kRefineMaxDeposits);
+    const double remaining = refining_.time_budget > 0 ? std::max(0.0, refining_.time_budget - job_seconds) : 0.0;
+    PhotonPassSettings ps = photon_settings(refining_.time_budget > 0 ? settings_.training_fraction * remaining : 0.0);
+    ps.first_photon = refining_.photon_stream_next;
     ps.max_deposits = deposits;
     // The photons the deposits need at the passes' rate so far, with a margin (the cap stops the pass).
-    ps.photons = std::max<int64_t>(1, int64_t(1.1 * double(photons_traced_) * double(deposits) /
-                                              double(std::max<int64_t>(deposits_, 1))));
+    ps.photons = std::max<int64_t>(1, int64_t(1.1 * double(refining_.photons_traced) * double(deposits) /
+                                              double(std::max<int64_t>(refining_.deposits, 1))));
     const PreprocessContext context = refinement_context();
-    PhotonPassResult photons = trace_photons(*scene_, ps, context);
-    photon_stream_next_ += ps.photons;
+    PhotonPassResult photons = trace_photons(*refining_.scene, ps, context);
+    refining_.photon_stream_next += ps.photons;
     if (photons.photons_traced == 0) return;
-    photons_traced_ += photons.photons_traced;
-    deposits_ += int64_t(photons.samples.size());
-    const RefinementReport r = refinement_->add(photons.samples, double(photons.photons_traced));
+    refining_.photons_traced += photons.photons_traced;
+    refining_.deposits += int64_t(photons.samples.size());
+    const RefinementReport r = refining_.refinement->add(photons.samples, double(photons.photons_traced));
     std::vector<RadianceSample>().swap(photons.samples);
-    previous_field_ = std::move(field_);
-    field_ = refinement_->field();
-    measure_medium_fractions(*scene_, seed_ + uint64_t(schedule_->refinements() + 1), true);
+    refining_.previous_field = std::move(field_);
+    field_ = refining_.refinement->field();
+    measure_medium_fractions(*refining_.scene, refining_.seed + uint64_t(refining_.schedule->refinements() + 1), true);
     PreprocessContext build = context;
-    build.seed = seed_ + 1000 + uint64_t(schedule_->refinements());
-    build_from_field(*scene_, build, true);
-    refined_.leaf_splits += r.leaf_splits;
-    refined_.leaf_merges += r.leaf_merges;
-    refined_.lobe_splits += r.lobe_splits;
-    refined_.lobe_merges += r.lobe_merges;
+    build.seed = refining_.seed + 1000 + uint64_t(refining_.schedule->refinements());
+    build_from_field(*refining_.scene, build, true);
+    refining_.refined.leaf_splits += r.leaf_splits;
+    refining_.refined.leaf_merges += r.leaf_merges;
+    refining_.refined.lobe_splits += r.lobe_splits;
+    refining_.refined.lobe_merges += r.lobe_merges;
 }
 
 // The last refinement made the render's noise worse (the schedule's judgement): its field goes, the
 // one before it comes back (the refinement's statistics are no longer used: refining has ended).
 void GuidedVolPathIntegrator::undo_refinement() {
-    if (previous_field_.empty()) return;
-    field_ = std::move(previous_field_);
-    previous_field_ = GuidingField();
+    if (refining_.previous_field.empty()) return;
+    field_ = std::move(refining_.previous_field);
+    refining_.previous_field = GuidingField();
     PreprocessContext build = refinement_context();
-    build.seed = seed_ + 2000;
-    build_from_field(*scene_, build, true);
-    refinement_undone_ = true;
+    build.seed = refining_.seed + 2000;
+    build_from_field(*refining_.scene, build, true);
+    refining_.undone = true;
 }
 
 void GuidedVolPathIntegrator::load_or_train_field(const Scene& scene, const PreprocessContext& context) {
@@ -248,11 +249,11 @@ GuidingField GuidedVolPathIntegrator::train_by_photons(const Scene& scene, const
         {"photon_deposit_limited", photons.deposit_limited ? 1.0 : 0.0}};
     GuidingField field = GuidingField::build(guiding_bounds(scene), photons.samples, settings_.field);
     if (settings_.refine.passes > 0 && !field.empty() && photons.photons_traced > 0) {
-        refinement_ = std::make_unique<FieldRefinement>(field, photons.samples, double(photons.photons_traced),
+        refining_.refinement = std::make_unique<FieldRefinement>(field, photons.samples, double(photons.photons_traced),
                                                         settings_.refinement);
-        photon_stream_next_ = ps.photons;
-        photons_traced_ = photons.photons_traced;
-        deposits_ = int64_t(photons.samples.size());
+        refining_.photon_stream_next = ps.photons;
+        refining_.photons_traced = photons.photons_traced;
+        refining_.deposits = int64_t(photons.samples.size());
     }
     return field;
 }
@@ -266,7 +267,10 @@ void GuidedVolPathIntegrator::make_pixel_estimate(const Scene& scene, const Prep
         context.progress(p);
     }
     const CacheEstimator marcher(scene, field_);
-    pixel_estimate_ = PixelEstimate::raymarch(scene, field_, marcher, settings_.pixel, context);
+    // Under a pre-pass deadline the estimate takes a share of the build stage's time, the pilot the rest.
+    PixelEstimateSettings pixel = settings_.pixel;
+    pixel.seconds = context.time_limit > 0 ? kPixelEstimateShare * context.time_limit : 0.0;
+    pixel_estimate_ = PixelEstimate::raymarch(scene, field_, marcher, pixel, context);
     if (!settings_.save_pixel_estimate.empty()) {
         try {
             write_exr(settings_.save_pixel_estimate, pixel_estimate_.image());
@@ -276,6 +280,14 @@ void GuidedVolPathIntegrator::make_pixel_estimate(const Scene& scene, const Prep
         }
     }
     pixel_estimate_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::erase_if(training_stats_, [](const auto& s) { return s.first == "pixel_estimate_rays"; });
+    training_stats_.emplace_back("pixel_estimate_rays", double(pixel_estimate_.rays()));
+}
+
+// What the build stage's limit leaves the pilot after the pixel estimate (0: no limit).
+double GuidedVolPathIntegrator::pilot_seconds(const PreprocessContext& context) const {
+    if (!(context.time_limit > 0)) return 0.0;
+    return std::max(1e-3, context.time_limit - pixel_estimate_seconds_);
 }
 
 // The learned selection's pilot (selection_pilot.h) with the configured mixtures, then its fit.
@@ -288,8 +300,9 @@ void GuidedVolPathIntegrator::learn_selection(const Scene& scene, const Preproce
     }
     const Film& film = scene.sensor().film();
     Learner learner(guide_->selection_cells(), film.width(), film.height());
-    run_selection_pilot(
-        scene, settings_.selection.pilot_spp, [&](Point2f film_uv) { return pixel_estimate_.at(film_uv); },
+    const uint64_t paths = run_selection_pilot(
+        scene, SelectionPilotBudget{settings_.selection.pilot_spp, pilot_seconds(context)},
+        [&](Point2f film_uv) { return pixel_estimate_.at(film_uv); },
         [&](Sampler& sampler, const Ray& ray, CellRecorder& recorder) {
             GuidedWalkPolicy policy(*guide_, nullptr, 0.f);
             return walk_.walk(scene, sampler, ray, &policy, &recorder);
@@ -302,6 +315,8 @@ void GuidedVolPathIntegrator::learn_selection(const Scene& scene, const Preproce
     std::erase_if(training_stats_, [](const auto& s) { return s.first.rfind("selection_", 0) == 0; });
     training_stats_.insert(training_stats_.end(),
                            {{"selection_seconds", seconds},
+                            {"selection_pilot_paths", double(paths)},
+                            {"selection_cost_ratio", double(guide_->selection().continuation_cost_ratio())},
                             {"selection_distance_cells_guided", double(sum.guided[0])},
                             {"selection_distance_cells_unguided", double(sum.unguided[0])},
                             {"selection_direction_cells_guided", double(sum.guided[1])},
@@ -334,7 +349,7 @@ Color3 GuidedVolPathIntegrator::guided_walk(const Scene& scene, Sampler& sampler
                                             PathRecorder* recorder, float camera_guided) const {
     if (!guide_) return walk_.walk(scene, sampler, ray, nullptr, recorder);
     GuidedWalkPolicy policy(*guide_, rrs_.get(), pixel, ears_ ? &ears_->snapshot() : nullptr);
-    policy.set_camera_segment(ray.d, camera_guided);
+    policy.set_camera_segment(camera_guided);
     return walk_.walk(scene, sampler, ray, &policy, recorder);
 }
 
@@ -374,16 +389,16 @@ Color3 GuidedVolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const C
 
 std::vector<std::pair<std::string, double>> GuidedVolPathIntegrator::statistics() const {
     std::vector<std::pair<std::string, double>> stats = training_stats_;
-    if (schedule_) {
-        const auto named = schedule_->named();
+    if (refining_.schedule) {
+        const auto named = refining_.schedule->named();
         stats.insert(stats.end(), named.begin(), named.end());
-        stats.insert(stats.end(), {{"refine_leaf_splits", double(refined_.leaf_splits)},
-                                   {"refine_leaf_merges", double(refined_.leaf_merges)},
-                                   {"refine_lobe_splits", double(refined_.lobe_splits)},
-                                   {"refine_lobe_merges", double(refined_.lobe_merges)},
-                                   {"refine_deposits", double(deposits_)},
-                                   {"field_memory_bytes", double(refinement_->memory_bytes())}});
-        if (refinement_undone_) stats.emplace_back("refine_undone", 1.0);
+        stats.insert(stats.end(), {{"refine_leaf_splits", double(refining_.refined.leaf_splits)},
+                                   {"refine_leaf_merges", double(refining_.refined.leaf_merges)},
+                                   {"refine_lobe_splits", double(refining_.refined.lobe_splits)},
+                                   {"refine_lobe_merges", double(refining_.refined.lobe_merges)},
+                                   {"refine_deposits", double(refining_.deposits)},
+                                   {"field_memory_bytes", double(refining_.refinement->memory_bytes())}});
+        if (refining_.undone) stats.emplace_back("refine_undone", 1.0);
     }
     if (guide_) {
         const auto walk = guide_->stats().named();

@@ -35,7 +35,7 @@
 #include "volguide/integrators/guided/estimates/pixel_estimate.h"
 #include "volguide/integrators/guided/training/photon_pass.h"
 #include "volguide/integrators/guided/training/preprocess_budget.h"
-#include "volguide/integrators/guided/training/refinement_schedule.h"
+#include "volguide/integrators/guided/training/refinement_state.h"
 #include "volguide/integrators/volpath/volpath.h"
 #include "volguide/integrators/guided/walk/walk_guide.h"
 
@@ -115,6 +115,7 @@ private:
     void make_pixel_estimate(const Scene& scene, const PreprocessContext& context);
     void use_given_pixel_estimate();
     void learn_selection(const Scene& scene, const PreprocessContext& context);
+    double pilot_seconds(const PreprocessContext& context) const;
     // The guide, the pixel estimate, RR/splitting and the learned selection of field_ (preprocess(),
     // and every refinement, `update` true: the RR/splitting statistics carry on).
     void build_from_field(const Scene& scene, const PreprocessContext& context, bool update);
@@ -126,21 +127,9 @@ private:
     void undo_refinement();
     PhotonPassSettings photon_settings(double time_limit) const;
     PreprocessContext refinement_context() const;
-    std::unique_ptr<FieldRefinement> refinement_;
-    std::unique_ptr<RefinementSchedule> schedule_;
-    GuidingField previous_field_;  // the field before the last refinement
-    int64_t photon_stream_next_ = 0;  // the first photon index a further pass draws from
-    int64_t photons_traced_ = 0, deposits_ = 0;
-    double training_seconds_ = 0;  // the pre-pass's field: photons and fit
-    double time_budget_ = 0;
-    ProgressCallback progress_;
-    const std::atomic<bool>* cancel_ = nullptr;
-    RefinementReport refined_;  // the refinements' splits and merges, summed
-    bool refinement_undone_ = false;
+    RefinementState refining_;  // refine_passes > 0
     double pixel_estimate_seconds_ = 0;
     std::vector<std::pair<std::string, double>> training_stats_;  // of the last preprocess()
-    const Scene* scene_ = nullptr;  // of the last preprocess(), for the refinements
-    uint64_t seed_ = 0;
 };
 
 }  // namespace volguide

@@ -205,7 +205,8 @@ void read_roulette(const Properties& props, RouletteSplittingSettings& r) {
     r.max_branches = int_in(props, "rrs_max_branches", r.max_branches, 1, 4096);
     r.branch_budget = props.get_float("rrs_branch_budget", r.branch_budget);
     if (!(r.branch_budget == 0.f || (r.branch_budget >= 1.f && std::isfinite(r.branch_budget))))
-        props.fail_at("rrs_branch_budget", "guided_volpath: rrs_branch_budget must be 0 (off) or a finite value >= 1, got {}",
+        props.fail_at("rrs_branch_budget",
+                      "guided_volpath: rrs_branch_budget must be 0 (adaptive) or a finite value >= 1, got {}",
                       r.branch_budget);
     if (r.mode == RouletteMode::Ears && props.has("rrs_window"))
         props.fail_at("rrs_window", "guided_volpath: rrs_window does not apply to rrs=ears (no weight window)");
@@ -215,6 +216,10 @@ void read_roulette(const Properties& props, RouletteSplittingSettings& r) {
 // walk's throughput roulette, ears' fallback, is rr_rule=bounded unless rr_rule is given; the branch
 // budget is adaptive unless rrs_branch_budget is given.
 void read_ears(const Properties& props, GuidedVolPathSettings& s) {
+    // grrs too: where the field has no usable estimate the walk's roulette plays, by the bounded rule
+    // (issue 55).
+    if (s.roulette.mode == RouletteMode::GuidedSplitting && !props.has("rr_rule"))
+        s.walk.rr_rule = RouletteRule::Bounded;
     if (s.roulette.mode != RouletteMode::Ears) {
         for (const char* name : {"ears_min_samples", "ears_budget_factor"})
             if (props.has(name)) props.fail_at(name, "guided_volpath: {} only applies to rrs=ears", name);

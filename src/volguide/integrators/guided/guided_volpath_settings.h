@@ -30,7 +30,7 @@ struct GuidedVolPathSettings {
     int64_t photons = 1000000;  // the paper uses ~50 M; 1 M trains in seconds on two cores
     // Photon collisions kept at most (0: no cap): dense media deposit tens per photon, and the
     // field's build and fit time grows with them. Fewer deposits also make fewer, larger leaves
-    // (leaf_samples per leaf), so shorter distance walks (bench/RESULTS.md, 2026-11-25 afternoon).
+    // (leaf_samples per leaf), so shorter distance walks (measured: bench/RESULTS.md, `max_deposits`).
     int64_t max_deposits = 2000000;
     // Focused photon emission (emission_focus.h): a pilot finds where each emitter lights a medium.
     bool photon_focus = true;
@@ -57,7 +57,7 @@ struct GuidedVolPathSettings {
     FieldEstimate estimate = FieldEstimate::None;
     // The measured per-tile method choice (estimates/method_choice.h): each 16 x 16 film tile rendered by
     // the guided configuration or by volpath with rr_rule=bounded, decided from probes in the pre-pass.
-    bool method_choice = true;
+    bool method_choice = false;
     SourceLocation location;
 
     static GuidedVolPathSettings from(const Properties& props);

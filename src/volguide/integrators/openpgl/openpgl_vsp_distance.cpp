@@ -8,9 +8,10 @@ namespace volguide {
 namespace {
 
 // Homogeneous media: the closed-form decision (HomogeneousVsp), three random numbers per segment.
-FreeFlightSample openpgl_vsp_homogeneous(const Medium& medium, const Ray& ray, float tmax,
-                                         const Color3& throughput, float vsp, float c, Sampler& sampler) {
-    const HomogeneousVsp segment(medium.eval(ray.o).sigma_t, tmax, channel_probabilities(throughput));
+FreeFlightSample openpgl_vsp_homogeneous(const DistanceQuery& query, float vsp, float c, Sampler& sampler) {
+    const Medium& medium = query.medium;
+    const Ray& ray = query.ray;
+    const HomogeneousVsp segment(medium.eval(ray.o).sigma_t, query.tmax, channel_probabilities(query.throughput));
     const float P = segment.probability(vsp, c);
     const float u_decide = sampler.next_1d(), u_channel = sampler.next_1d(), u_t = sampler.next_1d();
     const HomogeneousVsp::Sample vs = segment.sample(P, u_decide, u_channel, u_t);
@@ -27,12 +28,11 @@ FreeFlightSample openpgl_vsp_homogeneous(const Medium& medium, const Ray& ray, f
 
 }  // namespace
 
-FreeFlightSample openpgl_vsp_flight(const Medium& medium, const Ray& ray, float tmax, const Color3& throughput,
-                                    float vsp, float c, Sampler& sampler) {
-    if (medium.is_homogeneous()) return openpgl_vsp_homogeneous(medium, ray, tmax, throughput, vsp, c, sampler);
+FreeFlightSample openpgl_vsp_flight(const DistanceQuery& query, float vsp, float c, Sampler& sampler) {
+    if (query.medium.is_homogeneous()) return openpgl_vsp_homogeneous(query, vsp, c, sampler);
     // Any other medium: the unguided probability is the resampling's estimate of it.
     auto probability = [vsp, c](float unguided) { return c * unguided + (1.f - c) * vsp; };
-    return resampled_segment_flight(medium, ray, tmax, throughput, probability, sampler);
+    return resampled_segment_flight(query.medium, query.ray, query.tmax, query.throughput, probability, sampler);
 }
 
 }  // namespace volguide

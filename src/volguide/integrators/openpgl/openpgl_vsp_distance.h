@@ -14,12 +14,13 @@
 #include "volguide/core/color.h"
 #include "volguide/core/ray.h"
 #include "volguide/core/sampler.h"
+#include "volguide/integrators/volpath/walk_policy.h"
 #include "volguide/media/medium.h"
 
 namespace volguide {
 
-// vsp in [0, 1] (the caller falls back to free flight where Open PGL gives none); c in (0, 1].
-FreeFlightSample openpgl_vsp_flight(const Medium& medium, const Ray& ray, float tmax, const Color3& throughput,
-                                    float vsp, float c, Sampler& sampler);
+// The decision for `query`: vsp in [0, 1] (the caller falls back to free flight where Open PGL gives
+// none); c in (0, 1].
+FreeFlightSample openpgl_vsp_flight(const DistanceQuery& query, float vsp, float c, Sampler& sampler);
 
 }  // namespace volguide

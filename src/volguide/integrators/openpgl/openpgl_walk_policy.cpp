@@ -18,15 +18,13 @@ constexpr float kMaxGuidedMeanCosine = 0.99f;
 OpenPglWalkPolicy::OpenPglWalkPolicy(const OpenPglSettings& settings, OpenPglThreadState& ts, OpenPglField& field)
     : settings_(settings), ts_(ts), field_(field) {}
 
-FreeFlightSample OpenPglWalkPolicy::sample_distance(const Medium& medium, const Ray& ray, float tmax,
-                                                   const Color3& throughput, Sampler& sampler, VertexLeaf&,
-                                                   DecisionRecord*) {
+FreeFlightSample OpenPglWalkPolicy::sample_distance(const DistanceQuery& query, Sampler& sampler, DecisionRecord*) {
     const float vsp = segment_vsp_;
     segment_vsp_ = std::numeric_limits<float>::quiet_NaN();  // one decision per segment
     ++ts_.distance_decisions;
-    if (std::isnan(vsp)) return medium.sample_free_flight(ray, tmax, throughput, sampler);
+    if (std::isnan(vsp)) return query.medium.sample_free_flight(query.ray, query.tmax, query.throughput, sampler);
     ++ts_.vsp_decisions;
-    FreeFlightSample fs = openpgl_vsp_flight(medium, ray, tmax, throughput, vsp, settings_.vsp_unguided_prob, sampler);
+    FreeFlightSample fs = openpgl_vsp_flight(query, vsp, settings_.vsp_unguided_prob, sampler);
     if (fs.scattered) ++ts_.vsp_scattered;
     return fs;
 }
@@ -87,18 +85,16 @@ void OpenPglWalkPolicy::prepare_surface_direction(const SurfaceInteraction& si, 
     ++ts_.guided_surface;
 }
 
-float OpenPglWalkPolicy::surface_direction_pdf(const BSDFContext& ctx, const SurfaceInteraction& si,
-                                               const BSDF& bsdf, const Vec3f& wo_local) const {
-    const float p_bsdf = bsdf.pdf(ctx, si, wo_local);
+float OpenPglWalkPolicy::surface_direction_pdf(const SurfaceQuery& at, const Vec3f& wo_local) const {
+    const float p_bsdf = at.bsdf.pdf(at.ctx, at.si, wo_local);
     if (!surface_ready_) return p_bsdf;
     const float b = settings_.bsdf_prob;
-    return b * p_bsdf + (1.f - b) * ts_.surface.PDF(pgl_vec(si.to_world(wo_local)));
+    return b * p_bsdf + (1.f - b) * ts_.surface.PDF(pgl_vec(at.si.to_world(wo_local)));
 }
 
-std::pair<BSDFSample, Color3> OpenPglWalkPolicy::sample_surface_direction(const BSDFContext& ctx,
-                                                                          const SurfaceInteraction& si,
-                                                                          const BSDF& bsdf, float u1, Point2f u2,
+std::pair<BSDFSample, Color3> OpenPglWalkPolicy::sample_surface_direction(const SurfaceQuery& at, float u1, Point2f u2,
                                                                           Sampler& sampler, DecisionRecord*) {
+    const auto& [ctx, si, bsdf] = at;
     if (!surface_ready_) return bsdf.sample(ctx, si, u1, u2);
     const float u_strategy = sampler.next_1d();
     BSDFSample bs;
@@ -109,7 +105,7 @@ std::pair<BSDFSample, Color3> OpenPglWalkPolicy::sample_surface_direction(const 
     } else {
         bs.wo = si.to_local(normalize(from_pgl(ts_.surface.Sample(openpgl::cpp::Point2(u2.x, u2.y)))));
     }
-    bs.pdf = surface_direction_pdf(ctx, si, bsdf, bs.wo);
+    bs.pdf = surface_direction_pdf(at, bs.wo);
     bs.eta = 1.f;
     bs.sampled_flags = bsdf_flags::DiffuseReflection;  // the only guided BSDF kind
     if (!(bs.pdf > 0.f) || !std::isfinite(bs.pdf)) return {BSDFSample{}, Color3(0.f)};

@@ -45,8 +45,7 @@ class OpenPglWalkPolicy final : public WalkPolicy {
     OpenPglWalkPolicy(const OpenPglSettings& settings, OpenPglThreadState& ts, OpenPglField& field);
 
     bool guides_distance() const override { return settings_.vsp; }
-    FreeFlightSample sample_distance(const Medium& medium, const Ray& ray, float tmax, const Color3& throughput,
-                                     Sampler& sampler, VertexLeaf& scattering_leaf, DecisionRecord* record) override;
+    FreeFlightSample sample_distance(const DistanceQuery& query, Sampler& sampler, DecisionRecord* record) override;
 
     void prepare_direction(const MediumInteraction& mi, Sampler& sampler) override;
     float direction_pdf(const MediumInteraction& mi, const Vec3f& wo) const override;
@@ -54,10 +53,8 @@ class OpenPglWalkPolicy final : public WalkPolicy {
 
     void prepare_surface_direction(const SurfaceInteraction& si, const BSDF& bsdf, const Medium* medium,
                                    Sampler& sampler) override;
-    float surface_direction_pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const BSDF& bsdf,
-                                const Vec3f& wo_local) const override;
-    std::pair<BSDFSample, Color3> sample_surface_direction(const BSDFContext& ctx, const SurfaceInteraction& si,
-                                                           const BSDF& bsdf, float u1, Point2f u2,
+    float surface_direction_pdf(const SurfaceQuery& at, const Vec3f& wo_local) const override;
+    std::pair<BSDFSample, Color3> sample_surface_direction(const SurfaceQuery& at, float u1, Point2f u2,
                                                            Sampler& sampler, DecisionRecord* record) override;
 
   private:

@@ -39,13 +39,14 @@ class PathRecorder {
     virtual bool records_decisions() const { return false; }
     // A distance or direction decision the policy made (`record`: what it sampled from).
     virtual void record_decision(DecisionKind kind, const DecisionRecord& record) {}
-    // A continuation point of `stage` at the vertex of `vertex_leaf` (w: see ContinuationStage), after
+    // A continuation point of `stage` at the vertex in the guiding structure's leaf `leaf` (-1: not
+    // known; w: see ContinuationStage), after
     // its decision, when the path goes on: the field's estimate of what the path collects from there per
     // unit weight (channel average; 0 when the policy did not report one, records_decisions()) and the
     // path weight (its 1/q included). Reported at every continuation point of a walk with a policy,
     // before the decision's copies are made (branch_point). Surface-stage points report no estimate (0).
-    virtual void record_continuation(ContinuationStage stage, const VertexLeaf& vertex_leaf, const Vec3f& w,
-                                     float estimate, const Color3& throughput) {}
+    virtual void record_continuation(ContinuationStage stage, int leaf, const Vec3f& w, float estimate,
+                                     const Color3& throughput) {}
 
     // A copy of the path made by a continuation decision waits and is walked after the current
     // branch ended: branch_point() is called when it is made, resume_branch(its value) before it is

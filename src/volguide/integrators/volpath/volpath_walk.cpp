@@ -21,9 +21,9 @@ VolumeWalk::VolumeWalk(const Scene& scene, const VolPathSettings& settings, Samp
       guide_distance_(policy && policy->guides_distance()),
       rng_(&sampler) {}
 
-Color3 VolumeWalk::run(const Ray& camera_ray) {
+Color3 VolumeWalk::run(const Ray& camera_ray, const Medium* medium, bool from_sensor) {
     state_.ray = camera_ray;
-    state_.medium = scene_.sensor().medium();
+    state_.medium = from_sensor ? scene_.sensor().medium() : medium;
     if (policy_) {
         state_.split_allowance = policy_->branch_budget();
         policy_->end_vertex();  // the camera ray leaves from no medium vertex
@@ -91,10 +91,10 @@ VolumeWalk::Step VolumeWalk::medium_step(MediumVertex& v) {
     if (settings_.equiangular && !guide_distance_ && medium.is_homogeneous() && medium.sample_emitters())
         return equiangular_step(medium, tmax, v);
     DecisionRecord record;
-    VertexLeaf leaf;  // the scattering vertex's, handed to the policy's vertex
-    const FreeFlightSample ff = policy_ ? policy_->sample_distance(medium, state_.ray, tmax, state_.throughput, *rng_,
-                                                                  leaf, decision_record(record))
-                                        : medium.sample_free_flight(state_.ray, tmax, state_.throughput, *rng_);
+    const FreeFlightSample ff =
+        policy_ ? policy_->sample_distance(DistanceQuery{medium, state_.ray, tmax, state_.throughput, state_.depth},
+                                           *rng_, decision_record(record))
+                : medium.sample_free_flight(state_.ray, tmax, state_.throughput, *rng_);
     report_decision(DecisionKind::Distance, record);
     state_.throughput *= ff.weight;
     if (state_.throughput.is_black()) return Step::End;
@@ -103,7 +103,7 @@ VolumeWalk::Step VolumeWalk::medium_step(MediumVertex& v) {
     if (!v.mi.medium) v.mi.medium = &medium;
     ++state_.depth;
     if (!depth_ok(state_.depth)) return Step::End;
-    if (policy_) policy_->begin_vertex(v.mi, leaf);
+    if (policy_) policy_->begin_vertex(v.mi);
     return Step::Scatter;
 }
 
@@ -121,7 +121,7 @@ VolumeWalk::Step VolumeWalk::equiangular_step(const Medium& medium, float tmax, 
     v.mi = ff.mi;
     ++state_.depth;
     if (!depth_ok(state_.depth)) return Step::End;
-    if (policy_) policy_->begin_vertex(v.mi, VertexLeaf());  // the new vertex's leaf is not known
+    if (policy_) policy_->begin_vertex(v.mi);  // reached by no distance decision of the policy's
     return Step::Scatter;
 }
 
@@ -204,7 +204,7 @@ bool VolumeWalk::surface_step() {
     const Point2f u2 = rng_->next_2d();
     DecisionRecord record;
     const auto [bs, bsdf_weight] =
-        policy_ ? policy_->sample_surface_direction(ctx_, si_, bsdf, u1, u2, *rng_, decision_record(record))
+        policy_ ? policy_->sample_surface_direction(SurfaceQuery{ctx_, si_, bsdf}, u1, u2, *rng_, decision_record(record))
                 : bsdf.sample(ctx_, si_, u1, u2);
     report_decision(DecisionKind::Surface, record);
     s.throughput *= bsdf_weight;
@@ -231,8 +231,8 @@ bool VolumeWalk::surface_step() {
 }
 
 bool VolumeWalk::continue_at_surface(const Vec3f& wo) {
-    const Continuation c =
-        policy_->surface_continuation(si_, wo, state_.throughput, branches_, state_.split_allowance, *rng_);
+    const ContinuationQuery query{ContinuationStage::Surface, wo, state_.throughput, branches_, state_.split_allowance};
+    const Continuation c = policy_->surface_continuation(si_, query, *rng_);
     return continue_copies(c, ContinuationStage::Surface, wo, nullptr);
 }
 
@@ -260,14 +260,14 @@ void VolumeWalk::sample_nee_surface(const BSDF& bsdf) {
     const Color3 f = bsdf.eval(ctx_, si_, wo);
     const float bsdf_pdf =
         es.ds.delta ? 0.f
-                    : (policy_ ? policy_->surface_direction_pdf(ctx_, si_, bsdf, wo) : bsdf.pdf(ctx_, si_, wo));
+                    : (policy_ ? policy_->surface_direction_pdf(SurfaceQuery{ctx_, si_, bsdf}, wo) : bsdf.pdf(ctx_, si_, wo));
     const float w = es.ds.delta ? 1.f : mis_power_heuristic(es.ds.pdf, bsdf_pdf);
     add(state_.throughput * f * es.weight * w);
 }
 
 bool VolumeWalk::continue_path(ContinuationStage stage, const MediumVertex& v, const Vec3f& w) {
-    const Continuation c = policy_->continuation(stage, v.mi, w, state_.throughput, branches_, state_.split_allowance,
-                                                 *rng_, records_decisions_);
+    const ContinuationQuery query{stage, w, state_.throughput, branches_, state_.split_allowance, records_decisions_};
+    const Continuation c = policy_->continuation(query, v.mi, *rng_);
     return continue_copies(c, stage, w, &v);
 }
 
@@ -277,7 +277,7 @@ bool VolumeWalk::continue_copies(const Continuation& c, ContinuationStage stage,
     if (c.n == 0 && c.q != 1.f) return false;
     if (c.q != 1.f) state_.throughput *= 1.f / c.q;
     // The point is reported with its weight after the decision, before its copies (branch_point).
-    if (recorder_) recorder_->record_continuation(stage, VertexLeaf{c.leaf}, w, c.estimate, state_.throughput);
+    if (recorder_) recorder_->record_continuation(stage, c.leaf, w, c.estimate, state_.throughput);
     if (c.q == 1.f || c.n <= 1) return true;
     // The n copies share the path's allowance, so the live branches' allowances never sum to more
     // than the camera sample's budget.

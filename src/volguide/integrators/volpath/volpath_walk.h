@@ -53,9 +53,13 @@ class VolumeWalk {
     VolumeWalk(const Scene& scene, const VolPathSettings& settings, Sampler& sampler, WalkPolicy* policy,
                PathRecorder* recorder = nullptr);
     // The camera sample's estimate along camera_ray: every branch's contributions.
-    Color3 run(const Ray& camera_ray);
+    Color3 run(const Ray& camera_ray) { return run(camera_ray, nullptr, true); }
+    // The same walk from a ray that starts inside `medium` (null: in vacuum) rather than at the
+    // sensor: the radiance probes of radiance_probe.h.
+    Color3 run_from(const Ray& ray, const Medium* medium) { return run(ray, medium, false); }
 
   private:
+    Color3 run(const Ray& ray, const Medium* medium, bool from_sensor);
     // One branch of the camera sample waiting on the stack: its state, its own random stream,
     // and, for a copy made at a medium vertex, that vertex.
     struct PendingBranch {

@@ -22,9 +22,8 @@
 // and before every decision at it) and when the path's ray no longer leaves from one (end_vertex: the
 // camera, a surface); the policy keeps one object for it that the distance-stage continuation, the
 // direction decision, the direction-stage continuation and the next segment's distance decision
-// read. What the distance decision hands on to that object (the vertex leaf: the guiding structure's
-// leaf around the scattering vertex when the decision found it) travels from sample_distance to
-// begin_vertex in a VertexLeaf (the walk keeps it in no state).
+// read. What a distance decision found of the vertex it reached (the guiding structure's leaf) stays
+// with the policy: the walk keeps no state of the policy's.
 #include <cstdint>
 #include <limits>
 #include <utility>
@@ -35,12 +34,6 @@
 #include "volguide/render/bsdf.h"
 
 namespace volguide {
-
-// The vertex leaf: the leaf of the guiding structure the path's current vertex lies in (for the
-// guiding field: its kd leaf), -1 when not known. Opaque to the walk: the policy fills and reads it.
-struct VertexLeaf {
-    int leaf = -1;
-};
 
 enum class ContinuationStage {
     Distance,   // after the distance decision: the vertex collects L_i(x, w) from here on (w: the ray's direction)
@@ -60,8 +53,41 @@ struct Continuation {
     int leaf = -1;
 };
 
-// The sampling decisions, in the order of the learned selection's SelectionDecision.
+// The sampling decisions (also the learned selection's: its tables are indexed by them).
 enum class DecisionKind : uint8_t { Distance = 0, Direction = 1, Surface = 2 };
+
+// What a distance decision is asked: the segment (0, tmax) of `ray` in `medium` (the contract of
+// Medium::sample_free_flight), the path weight (its channel shares split the decision over the colour
+// channels, docs/theory.md §2.6) and the walk's depth: the real scattering events before the segment
+// (0: the camera ray's, null surfaces crossed).
+struct DistanceQuery {
+    const Medium& medium;
+    const Ray& ray;
+    float tmax;
+    Color3 throughput;
+    int depth = 0;
+};
+
+// What a continuation decision is asked (see WalkPolicy::continuation): the stage, the direction w
+// the continuation collects along (see ContinuationStage), the path weight, the camera sample's
+// branches so far and this branch's allowance (n must not exceed floor(allowance), see branch_budget),
+// and whether to report the estimate (Continuation::estimate) also where no decision is made.
+struct ContinuationQuery {
+    ContinuationStage stage = ContinuationStage::Distance;
+    Vec3f w;
+    Color3 throughput;
+    int branches = 1;
+    float allowance = std::numeric_limits<float>::infinity();
+    bool report = false;
+};
+
+// The surface vertex a surface direction decision is made at: the BSDF context, the interaction and
+// its BSDF.
+struct SurfaceQuery {
+    const BSDFContext& ctx;
+    const SurfaceInteraction& si;
+    const BSDF& bsdf;
+};
 
 // What a sampling decision drew from, when the walk asks for it (for the recorders): a one-sample
 // mixture of an unguided and a guided density whose parts are known, in the guiding structure's
@@ -78,21 +104,19 @@ class WalkPolicy {
 
     // Whether sample_distance departs from free flight (the walk's equiangular sampling, which
     // needs the distance density, is not combined with such a policy). The ray leaves from the
-    // policy's current vertex (begin_vertex; none after end_vertex). `scattering_leaf` (out): the
-    // scattering vertex's leaf when the decision knows it (-1: not known), for begin_vertex. The
-    // sampling decisions fill `record` when it is not null (the defaults leave it a decision without
-    // a mixture).
+    // policy's current vertex (begin_vertex; none after end_vertex). The sampling decisions fill
+    // `record` when it is not null (the defaults leave it a decision without a mixture).
     virtual bool guides_distance() const { return false; }
-    virtual FreeFlightSample sample_distance(const Medium& medium, const Ray& ray, float tmax,
-                                             const Color3& throughput, Sampler& sampler, VertexLeaf& scattering_leaf,
-                                             DecisionRecord* record) {
-        return medium.sample_free_flight(ray, tmax, throughput, sampler);
+    virtual FreeFlightSample sample_distance(const DistanceQuery& query, Sampler& sampler, DecisionRecord* record) {
+        return query.medium.sample_free_flight(query.ray, query.tmax, query.throughput, sampler);
     }
 
     // A real scattering event at mi (mi.medium set): the decisions that follow, up to and including
-    // the distance decision of the segment leaving it, are this vertex's. `handed`: what the distance
-    // decision that reached it handed on (a split copy's vertex: not known). The default keeps nothing.
-    virtual void begin_vertex(const MediumInteraction& mi, const VertexLeaf& handed) {}
+    // the distance decision of the segment leaving it, are this vertex's. When the last distance
+    // decision reached it, what that decision found of it is the policy's own (the walk hands nothing
+    // on); a vertex the walk reached otherwise (equiangular sampling) follows no distance decision of
+    // the policy's. The default keeps nothing.
+    virtual void begin_vertex(const MediumInteraction& mi) {}
     // The path's ray leaves from no medium vertex (the camera, a surface): the next distance decision
     // has no origin vertex.
     virtual void end_vertex() {}
@@ -101,7 +125,7 @@ class WalkPolicy {
     virtual int keep_vertex() { return -1; }
     // A copy resumes from the vertex mi it was made at, with keep_vertex's token: the policy's vertex
     // is that one again, nothing found twice. The default begins it anew.
-    virtual void resume_vertex(const MediumInteraction& mi, int kept) { begin_vertex(mi, VertexLeaf()); }
+    virtual void resume_vertex(const MediumInteraction& mi, int kept) { begin_vertex(mi); }
 
     // The direction decision at the current medium vertex mi (mi.medium set): prepare, then pdf and
     // sample. prepare may draw from `sampler` (Open PGL's stochastic lookup of its own regions); the
@@ -118,30 +142,24 @@ class WalkPolicy {
     // prepare, then pdf (of a local direction) and sample (u1, u2 drawn by the walk).
     virtual void prepare_surface_direction(const SurfaceInteraction& si, const BSDF& bsdf, const Medium* medium,
                                            Sampler& sampler) {}
-    virtual float surface_direction_pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const BSDF& bsdf,
-                                        const Vec3f& wo_local) const {
-        return bsdf.pdf(ctx, si, wo_local);
+    virtual float surface_direction_pdf(const SurfaceQuery& at, const Vec3f& wo_local) const {
+        return at.bsdf.pdf(at.ctx, at.si, wo_local);
     }
-    virtual std::pair<BSDFSample, Color3> sample_surface_direction(const BSDFContext& ctx, const SurfaceInteraction& si,
-                                                                   const BSDF& bsdf, float u1, Point2f u2,
+    virtual std::pair<BSDFSample, Color3> sample_surface_direction(const SurfaceQuery& at, float u1, Point2f u2,
                                                                    Sampler& sampler, DecisionRecord* record) {
-        return bsdf.sample(ctx, si, u1, u2);
+        return at.bsdf.sample(at.ctx, at.si, u1, u2);
     }
 
-    // The continuation decision at the current medium vertex mi of a path of weight `throughput` (w:
-    // see ContinuationStage), when the camera sample has `branches` branches so far and this branch
-    // the allowance `allowance` (see branch_budget): n must not exceed floor(allowance).
-    // `report`: also read and return the estimate (Continuation::estimate) where no decision is made.
-    virtual Continuation continuation(ContinuationStage stage, const MediumInteraction& mi, const Vec3f& w,
-                                      const Color3& throughput, int branches, float allowance, Sampler& sampler,
-                                      bool report) {
+    // The continuation decision of `query` at the current medium vertex mi.
+    virtual Continuation continuation(const ContinuationQuery& query, const MediumInteraction& mi, Sampler& sampler) {
         return {};
     }
     // The continuation decision at the surface vertex si after its BSDF sampled the diffuse direction
-    // w (asked only when decides_at_surfaces()); the leaf the decision used in Continuation::leaf.
+    // query.w (stage Surface; asked only when decides_at_surfaces()); the leaf the decision used in
+    // Continuation::leaf.
     virtual bool decides_at_surfaces() const { return false; }
-    virtual Continuation surface_continuation(const SurfaceInteraction& si, const Vec3f& w, const Color3& throughput,
-                                              int branches, float allowance, Sampler& sampler) {
+    virtual Continuation surface_continuation(const SurfaceInteraction& si, const ContinuationQuery& query,
+                                              Sampler& sampler) {
         return {};
     }
     // A camera sample's branch allowance: the walk gives each of a split's n copies 1/n of their

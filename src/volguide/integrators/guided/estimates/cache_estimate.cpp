@@ -43,8 +43,11 @@ Color3 CacheEstimator::leaf_value(int leaf, const Vec3f& d, const Medium& medium
     return it == inscatter_.end() ? Color3(0.f) : it->second.inscattered(leaf, d);
 }
 
-void CacheEstimator::march_segment(const Ray& ray, float t0, float t1, const Medium& medium,
-                                   CacheQuantity quantity, Sampler& sampler, Color3& T, Color3& result) const {
+void CacheEstimator::march_segment(const Segment& segment, CacheQuantity quantity, Sampler& sampler, Color3& T,
+                                   Color3& result) const {
+    const Ray& ray = segment.ray;
+    const Medium& medium = segment.medium;
+    float t0 = segment.t0, t1 = segment.t1;
     const bool homogeneous = medium.is_homogeneous();
     if (!homogeneous) {  // nothing scatters or attenuates outside the grid's bounds
         float b0 = 0.f, b1 = 0.f;
@@ -88,7 +91,7 @@ Color3 CacheEstimator::estimate(const Ray& camera_ray, const Medium* medium, Cac
         SurfaceInteraction si;
         const bool hit = scene_.intersect(ray, si);
         const float tmax = hit ? si.t : ray.tmax;
-        if (medium) march_segment(ray, 0.f, tmax, *medium, quantity, sampler, T, result);
+        if (medium) march_segment({ray, 0.f, tmax, *medium}, quantity, sampler, T, result);
         // The estimate covers the media up to the first real surface (eq. 9.2 without its surface term).
         if (!hit || !si.shape->bsdf()->is_null() || !(T.max_value() > 1e-7f)) break;
         medium = medium_after(si, ray.d, medium);

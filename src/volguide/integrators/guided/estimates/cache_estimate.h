@@ -38,10 +38,18 @@ public:
 
     Color3 estimate(const Ray& camera_ray, const Medium* camera_medium, CacheQuantity quantity,
                     Sampler& sampler) const;
-    // Adds the integral over ray(t), t in (t0, t1) inside `medium`, to `result` and attenuates the
-    // transmittance T along it (the pixel estimate marches its own paths with it).
-    void march_segment(const Ray& ray, float t0, float t1, const Medium& medium, CacheQuantity quantity,
-                       Sampler& sampler, Color3& transmittance, Color3& result) const;
+    // A stretch of a ray inside one medium: ray(t), t in (t0, t1).
+    struct Segment {
+        const Ray& ray;
+        float t0, t1;
+        const Medium& medium;
+    };
+    // Adds the integral over `segment` to `result` and attenuates the transmittance T along it (the
+    // pixel estimate marches its own paths with it).
+    void march_segment(const Segment& segment, CacheQuantity quantity, Sampler& sampler, Color3& transmittance,
+                       Color3& result) const;
+    const Scene& scene() const { return scene_; }
+    const GuidingField& field() const { return field_; }
 
     int steps_per_diagonal = 128;
     int max_null_crossings = 64;

@@ -4,10 +4,6 @@
 
 namespace volguide {
 
-static_assert(int(DecisionKind::Distance) == int(SelectionDecision::Distance) &&
-              int(DecisionKind::Direction) == int(SelectionDecision::Direction) &&
-              int(DecisionKind::Surface) == int(SelectionDecision::Surface));
-
 void CellRecorder::begin(long pixel, float estimate) {
     pixel_ = pixel;
     estimate_ = estimate > 0.f ? estimate : 1.f;
@@ -39,9 +35,9 @@ void CellRecorder::record_decision(DecisionKind kind, const DecisionRecord& reco
     if (current_ >= 0) ++nodes_[size_t(current_)].cost;
 }
 
-void CellRecorder::record_continuation(ContinuationStage stage, const VertexLeaf& vertex_leaf, const Vec3f& w,
-                                       float, const Color3& throughput) {
-    push({current_, false, uint8_t(stage), cell(vertex_leaf.leaf), continuation_direction_bin(w), 0.f, 0.f, 0.f,
+void CellRecorder::record_continuation(ContinuationStage stage, int leaf, const Vec3f& w, float,
+                                       const Color3& throughput) {
+    push({current_, false, uint8_t(stage), cell(leaf), continuation_direction_bin(w), 0.f, 0.f, 0.f,
           double(throughput.average())});
 }
 
@@ -74,7 +70,7 @@ void CellRecorder::end() {
     for (const Node& n : nodes_) {
         if (n.decision) {
             const double s = std::max(0.0, n.collected) / I;  // clamped: float rounding of a sum of terms >= 0
-            stats_.add_decision(SelectionDecision(n.kind), n.cell, s * s, n.q, n.p_u, n.p_g);
+            stats_.add_decision(DecisionKind(n.kind), n.cell, s * s, n.q, n.p_u, n.p_g);
         } else if (n.beta > 0.0) {
             stats_.add_continuation(ContinuationStage(n.kind), n.cell, n.bin, n.collected / n.beta, n.cost);
         }

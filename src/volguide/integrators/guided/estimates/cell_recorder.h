@@ -37,7 +37,7 @@ class CellRecorder final : public PathRecorder {
     // A decision in the cell of record.leaf sampled with density record.pdf from the mixture of the
     // unguided and guided densities p_u, p_g; one without a guided mixture only costs.
     void record_decision(DecisionKind kind, const DecisionRecord& record) override;
-    void record_continuation(ContinuationStage stage, const VertexLeaf& vertex_leaf, const Vec3f& w, float estimate,
+    void record_continuation(ContinuationStage stage, int leaf, const Vec3f& w, float estimate,
                              const Color3& throughput) override;
     int branch_point() override;
     void resume_branch(int point) override;
@@ -47,7 +47,7 @@ class CellRecorder final : public PathRecorder {
     struct Node {
         int parent;  // -1: the camera sample's root
         bool decision;
-        uint8_t kind;  // SelectionDecision, or ContinuationStage
+        uint8_t kind;  // DecisionKind, or ContinuationStage
         size_t cell;
         int bin;                      // continuation: the direction bin
         float q, p_u, p_g;            // decision: the mixture's density and parts at the sample

@@ -57,12 +57,12 @@ ContinuationMoments& ContinuationMoments::operator+=(const ContinuationMoments& 
 
 CellStatistics::CellStatistics(size_t cells)
     : cells_(cells),
-      decisions_(cells * size_t(kSelectionDecisions)),
+      decisions_(cells * size_t(kDecisionKinds)),
       continuations_(size_t(kContinuationStages) * cells * size_t(kContinuationDirectionBins)) {}
 
-void CellStatistics::add_decision(SelectionDecision d, size_t cell, double s2, float q_cur, float p_u, float p_g) {
+void CellStatistics::add_decision(DecisionKind d, size_t cell, double s2, float q_cur, float p_u, float p_g) {
     if (cell >= cells_ || !(q_cur > 0.f) || !std::isfinite(s2)) return;
-    DecisionMoments& m = decisions_[cell * size_t(kSelectionDecisions) + size_t(d)];
+    DecisionMoments& m = decisions_[cell * size_t(kDecisionKinds) + size_t(d)];
     ++m.count;
     if (!(s2 > 0.0)) return;
     m.current.add(s2);

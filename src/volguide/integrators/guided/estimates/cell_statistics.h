@@ -27,9 +27,8 @@
 
 namespace volguide {
 
-// The sampling decisions, in walk_policy.h's DecisionKind order.
-enum class SelectionDecision : uint8_t { Distance = 0, Direction = 1, Surface = 2 };
-inline constexpr int kSelectionDecisions = 3;
+// The sampling decisions the selection learns a share for (walk_policy.h's DecisionKind).
+inline constexpr int kDecisionKinds = 3;
 // The guided shares whose second moments every decision adds to.
 inline constexpr std::array<float, 6> kSelectionShares = {0.f, 0.1f, 0.25f, 0.5f, 0.75f, 0.9f};
 
@@ -80,7 +79,7 @@ class CellStatistics {
 
     // One decision in `cell` sampled with density q_cur, whose unguided and guided densities at the
     // sample are p_u and p_g; s2 = (S / I)^2 of what followed it.
-    void add_decision(SelectionDecision d, size_t cell, double s2, float q_cur, float p_u, float p_g);
+    void add_decision(DecisionKind d, size_t cell, double s2, float q_cur, float p_u, float p_g);
     // A continuation of `stage` in `cell` and direction bin `bin` collected y per unit weight and cost
     // `cost` decisions.
     void add_continuation(ContinuationStage stage, size_t cell, int bin, double y, uint64_t cost);
@@ -88,8 +87,8 @@ class CellStatistics {
     // them without a guided mixture, in `branches` branches.
     void add_camera_sample(double s2, uint64_t cost, uint64_t unrecorded, int branches);
 
-    const DecisionMoments& decision(SelectionDecision d, size_t cell) const {
-        return decisions_[cell * size_t(kSelectionDecisions) + size_t(d)];
+    const DecisionMoments& decision(DecisionKind d, size_t cell) const {
+        return decisions_[cell * size_t(kDecisionKinds) + size_t(d)];
     }
     const ContinuationMoments& continuation(ContinuationStage stage, size_t cell, int bin) const {
         return continuations_[index(stage, cell, bin)];

@@ -27,7 +27,7 @@ struct EarsSettings {
     // cost (the first pass, made before any statistics), in branches B = budget_factor x C_0 / c, c the
     // measured cost per branch; within [min_budget, max_branches]. fixed_budget >= 1 replaces it.
     float budget_factor = 2.f, min_budget = 2.f, fixed_budget = 0.f;
-    int max_branches = 64;
+    int max_branches = 16;
     // The prior samples k of the learned pixel estimate (ContinuationSnapshot::pixel_estimate).
     double pixel_prior = 4.0;
 };

@@ -13,7 +13,8 @@ namespace volguide {
 namespace {
 
 constexpr uint32_t kSelectionMagic = 0x4c534756;  // "VGSL"
-constexpr uint32_t kVersion = 3;  // 1, 2: with the retired continuation gate and distance method bytes
+// 1, 2: with the retired continuation gate and distance method bytes; 3: without the cost ratio.
+constexpr uint32_t kVersion = 4;
 
 size_t nearest_share(float share) {
     size_t best = 0;
@@ -49,21 +50,21 @@ struct Entry {
     bool learned = false;
     size_t chosen = 0;
 };
-using Entries = std::vector<std::array<Entry, kSelectionDecisions>>;
-using PerDecision = std::array<std::array<double, kShares>, kSelectionDecisions>;
+using Entries = std::vector<std::array<Entry, kDecisionKinds>>;
+using PerDecision = std::array<std::array<double, kShares>, kDecisionKinds>;
 
 // The pilot's moments per cell and decision, each at the default share; `pooled`: their sum over
 // the cells.
 Entries gather_entries(const CellStatistics& stats, const SelectionSettings& settings,
-                       const std::array<float, kSelectionDecisions>& default_share, PerDecision& pooled) {
-    std::array<size_t, kSelectionDecisions> default_index{};
-    for (int d = 0; d < kSelectionDecisions; ++d)
+                       const std::array<float, kDecisionKinds>& default_share, PerDecision& pooled) {
+    std::array<size_t, kDecisionKinds> default_index{};
+    for (int d = 0; d < kDecisionKinds; ++d)
         default_index[size_t(d)] = nearest_share(default_share[size_t(d)]);
     Entries entries(stats.cells());
     pooled = {};
     for (size_t r = 0; r < entries.size(); ++r)
-        for (int d = 0; d < kSelectionDecisions; ++d) {
-            const DecisionMoments& mo = stats.decision(SelectionDecision(d), r);
+        for (int d = 0; d < kDecisionKinds; ++d) {
+            const DecisionMoments& mo = stats.decision(DecisionKind(d), r);
             Entry& e = entries[r][size_t(d)];
             for (size_t k = 0; k < kShares; ++k) e.m[k] = mo.m[k].value();
             e.current = mo.current.value();
@@ -84,11 +85,11 @@ Entries gather_entries(const CellStatistics& stats, const SelectionSettings& set
 // overall verdict, many follow their own.
 void shrink_towards_pooled(Entries& entries, const PerDecision& pooled, float prior_samples) {
     const double n0 = std::max(0.f, prior_samples);
-    std::array<double, kSelectionDecisions> pooled_count{};
+    std::array<double, kDecisionKinds> pooled_count{};
     for (const auto& cell : entries)
-        for (int d = 0; d < kSelectionDecisions; ++d) pooled_count[size_t(d)] += cell[size_t(d)].count;
+        for (int d = 0; d < kDecisionKinds; ++d) pooled_count[size_t(d)] += cell[size_t(d)].count;
     for (auto& cell : entries)
-        for (int d = 0; d < kSelectionDecisions; ++d) {
+        for (int d = 0; d < kDecisionKinds; ++d) {
             Entry& e = cell[size_t(d)];
             if (!(pooled_count[size_t(d)] > 0.0) || !(e.count > 0.0)) continue;
             for (size_t k = 0; k < kShares; ++k) {
@@ -111,13 +112,13 @@ void choose_with_cost(Entries& entries, const CellStatistics& stats, const Selec
         const double V = stats.camera_moment();
         double T = double(stats.unrecorded_decisions());
         for (const auto& cell : entries)
-            for (int d = 0; d < kSelectionDecisions; ++d) {
+            for (int d = 0; d < kDecisionKinds; ++d) {
                 const Entry& e = cell[size_t(d)];
                 T += e.count + cost_of(d, e.chosen, e.count);
             }
         if (!(V > 0.0) || !(T > 0.0)) break;
         for (auto& cell : entries)
-            for (int d = 0; d < kSelectionDecisions; ++d) {
+            for (int d = 0; d < kDecisionKinds; ++d) {
                 Entry& e = cell[size_t(d)];
                 if (!e.learned) continue;
                 double best = std::numeric_limits<double>::infinity();
@@ -132,10 +133,24 @@ void choose_with_cost(Entries& entries, const CellStatistics& stats, const Selec
     }
 }
 
+// C_0 / c: a camera sample's decisions over the mean decisions after a continuation point (0: none).
+float cost_ratio(const CellStatistics& stats) {
+    uint64_t points = 0, after = 0;
+    for (int stage = 0; stage < kContinuationStages; ++stage)
+        for (size_t cell = 0; cell < stats.cells(); ++cell)
+            for (int bin = 0; bin < kContinuationDirectionBins; ++bin) {
+                const ContinuationMoments& m = stats.continuation(ContinuationStage(stage), cell, bin);
+                points += m.n;
+                after += m.cost;
+            }
+    if (points == 0 || after == 0 || stats.camera_samples() == 0) return 0.f;
+    return float((double(stats.cost()) / double(stats.camera_samples())) / (double(after) / double(points)));
+}
+
 // Cell r's learned shares.
-LearnedSelection::Cell fitted_cell(const std::array<Entry, kSelectionDecisions>& entries) {
+LearnedSelection::Cell fitted_cell(const std::array<Entry, kDecisionKinds>& entries) {
     LearnedSelection::Cell cell;
-    for (int d = 0; d < kSelectionDecisions; ++d) {
+    for (int d = 0; d < kDecisionKinds; ++d) {
         const Entry& e = entries[size_t(d)];
         if (e.learned) cell.share[size_t(d)] = kSelectionShares[e.chosen];
     }
@@ -145,7 +160,7 @@ LearnedSelection::Cell fitted_cell(const std::array<Entry, kSelectionDecisions>&
 }  // namespace
 
 LearnedSelection LearnedSelection::fit(const CellStatistics& stats, const SelectionSettings& settings,
-                                       const std::array<float, kSelectionDecisions>& default_share) {
+                                       const std::array<float, kDecisionKinds>& default_share) {
     PerDecision pooled;  // sum over cells of M(share k)
     Entries entries = gather_entries(stats, settings, default_share, pooled);
     shrink_towards_pooled(entries, pooled, settings.prior_samples);
@@ -154,20 +169,21 @@ LearnedSelection LearnedSelection::fit(const CellStatistics& stats, const Select
     out.cells_.resize(entries.size());
     for (size_t r = 0; r < entries.size(); ++r) out.cells_[r] = fitted_cell(entries[r]);
     out.update_learned();
+    out.cost_ratio_ = cost_ratio(stats);
     return out;
 }
 
 void LearnedSelection::update_learned() {
     learned_ = {};
     for (const Cell& r : cells_)
-        for (int d = 0; d < kSelectionDecisions; ++d)
+        for (int d = 0; d < kDecisionKinds; ++d)
             if (r.share[size_t(d)] != kDefault) learned_[size_t(d)] = true;
 }
 
 LearnedSelection::Summary LearnedSelection::summary() const {
     Summary s;
     for (const Cell& r : cells_) {
-        for (int d = 0; d < kSelectionDecisions; ++d) {
+        for (int d = 0; d < kDecisionKinds; ++d) {
             if (r.share[size_t(d)] == kDefault) continue;
             s.mean_share[size_t(d)] += r.share[size_t(d)];
             if (r.share[size_t(d)] > 0.f)
@@ -176,7 +192,7 @@ LearnedSelection::Summary LearnedSelection::summary() const {
                 ++s.unguided[size_t(d)];
         }
     }
-    for (int d = 0; d < kSelectionDecisions; ++d) {
+    for (int d = 0; d < kDecisionKinds; ++d) {
         const uint64_t n = s.guided[size_t(d)] + s.unguided[size_t(d)];
         if (n > 0) s.mean_share[size_t(d)] /= double(n);
     }
@@ -191,6 +207,7 @@ std::string LearnedSelection::serialize() const {
     for (const Cell& r : cells_) {
         for (float s : r.share) put(out, s);
     }
+    put(out, cost_ratio_);
     return out;
 }
 
@@ -201,10 +218,10 @@ LearnedSelection LearnedSelection::deserialize(const std::string& bytes) {
     if (version != kVersion)
         throw std::runtime_error(fmt::format("learned selection: version {} (this volguide reads version {}: train again)",
                                              version, kVersion));
-    const uint64_t n = get<uint64_t>(bytes, at);
-    const size_t cell_bytes = kSelectionDecisions * sizeof(float);
-    if (n > (bytes.size() - at) / cell_bytes) throw std::runtime_error("learned selection: truncated");
     LearnedSelection out;
+    const uint64_t n = get<uint64_t>(bytes, at);
+    const size_t cell_bytes = kDecisionKinds * sizeof(float);
+    if (n > (bytes.size() - at) / cell_bytes) throw std::runtime_error("learned selection: truncated");
     out.cells_.resize(size_t(n));
     for (Cell& r : out.cells_) {
         for (float& s : r.share) {
@@ -213,6 +230,9 @@ LearnedSelection LearnedSelection::deserialize(const std::string& bytes) {
                 throw std::runtime_error("learned selection: share out of range");
         }
     }
+    out.cost_ratio_ = get<float>(bytes, at);
+    if (!(out.cost_ratio_ >= 0.f) || !std::isfinite(out.cost_ratio_))
+        throw std::runtime_error("learned selection: cost ratio out of range");
     if (at != bytes.size()) throw std::runtime_error("learned selection: trailing bytes");
     out.update_learned();
     return out;

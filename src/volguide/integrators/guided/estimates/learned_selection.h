@@ -28,6 +28,11 @@
 // (fixed point, 128-bit integers), so the result is independent of the order the pilot's samples
 // arrive in, hence of the thread count. Cells with fewer than min_samples pilot decisions keep the
 // configured mixture (kDefault).
+//
+// The pilot's unsplit walks also measure what a split would cost: C_0, the decisions of a camera
+// sample, over c, the mean decisions that followed a continuation point (what one more branch made
+// there costs). Their ratio, continuation_cost_ratio(), sets guided splitting's branch budget
+// (roulette_splitting.h).
 #include <array>
 #include <cstdint>
 #include <string>
@@ -47,7 +52,7 @@ struct SelectionSettings {
     // guided distance decisions switched off almost everywhere in thin fog saved a quarter of the
     // render time at equal spp, which these units reproduce (bench/RESULTS.md (issue 35)). Without the
     // shrinkage of fit() a short pilot's per-cell moments are too noisy to weigh against a cost.
-    std::array<float, kSelectionDecisions> kappa = {1.f, 0.25f, 0.25f};
+    std::array<float, kDecisionKinds> kappa = {1.f, 0.25f, 0.25f};
 };
 
 class LearnedSelection {
@@ -57,21 +62,21 @@ class LearnedSelection {
     // Learns from the pilot's statistics; `default_share[d]`: the configured guided share of each
     // decision (what the pilot sampled with, where nothing is learned).
     static LearnedSelection fit(const CellStatistics& stats, const SelectionSettings& settings,
-                                const std::array<float, kSelectionDecisions>& default_share);
+                                const std::array<float, kDecisionKinds>& default_share);
 
     bool empty() const { return cells_.empty(); }
     // Whether any cell has a learned share for decision d (else every share is kDefault).
-    bool learned(SelectionDecision d) const { return learned_[size_t(d)]; }
+    bool learned(DecisionKind d) const { return learned_[size_t(d)]; }
     size_t cells() const { return cells_.size(); }
     // The learned guided share in `cell` (kDefault: not learned; cell beyond the table: kDefault).
-    float share(SelectionDecision d, size_t cell) const {
+    float share(DecisionKind d, size_t cell) const {
         return cell < cells_.size() ? cells_[cell].share[size_t(d)] : kDefault;
     }
 
     // Cells per decision with a learned share of 0 / > 0.
     struct Summary {
-        std::array<uint64_t, kSelectionDecisions> unguided{}, guided{};
-        std::array<double, kSelectionDecisions> mean_share{};  // over the learned cells
+        std::array<uint64_t, kDecisionKinds> unguided{}, guided{};
+        std::array<double, kDecisionKinds> mean_share{};  // over the learned cells
     };
     Summary summary() const;
 
@@ -81,14 +86,17 @@ class LearnedSelection {
     static LearnedSelection deserialize(const std::string& bytes);
 
     struct Cell {
-        std::array<float, kSelectionDecisions> share{kDefault, kDefault, kDefault};
+        std::array<float, kDecisionKinds> share{kDefault, kDefault, kDefault};
     };
     const std::vector<Cell>& table() const { return cells_; }
+    // C_0 / c of the pilot (see above); 0: not measured (no camera samples or continuation points).
+    float continuation_cost_ratio() const { return cost_ratio_; }
 
   private:
     void update_learned();
     std::vector<Cell> cells_;
-    std::array<bool, kSelectionDecisions> learned_{};
+    std::array<bool, kDecisionKinds> learned_{};
+    float cost_ratio_ = 0.f;
 };
 
 }  // namespace volguide

@@ -1,5 +1,6 @@
 #include "volguide/integrators/guided/estimates/pixel_estimate.h"
 
+#include <chrono>
 #include <cmath>
 #include <limits>
 
@@ -40,8 +41,10 @@ float field_irradiance_shape(const Vmm& v, const Vec3f& n) {
 // The estimated radiance along one camera ray (see pixel_estimate.h). `camera_segment`: the channel
 // average of what the first medium segment before any real surface event scatters toward the camera
 // (the march's T sigma_s L~_i over it), in .r, and 1 in .g when the ray has such a segment.
-Color3 march_camera_ray(const Scene& scene, const GuidingField& field, const CacheEstimator& estimator,
-                        const PixelEstimateSettings& settings, Ray ray, Sampler& sampler, Color3& camera_segment) {
+Color3 march_camera_ray(const CacheEstimator& estimator, const PixelEstimateSettings& settings, Ray ray,
+                        Sampler& sampler, Color3& camera_segment) {
+    const Scene& scene = estimator.scene();
+    const GuidingField& field = estimator.field();
     const BSDFContext ctx;
     Color3 T(1.f), result(0.f);
     const Medium* medium = scene.sensor().medium();
@@ -52,8 +55,9 @@ Color3 march_camera_ray(const Scene& scene, const GuidingField& field, const Cac
         const bool hit = scene.intersect(ray, si);
         if (!hit) si = miss_interaction(ray);
         const float before = result.average();
-        if (medium) estimator.march_segment(ray, 0.f, hit ? si.t : ray.tmax, *medium, CacheQuantity::Inscattered,
-                                            sampler, T, result);
+        if (medium)
+            estimator.march_segment({ray, 0.f, hit ? si.t : ray.tmax, *medium}, CacheQuantity::Inscattered, sampler, T,
+                                    result);
         if (medium && from_camera && camera_segment.g == 0.f) camera_segment = Color3(result.average() - before, 1.f, 0.f);
         if (!(T.max_value() > 1e-7f)) break;
         const bool emission_counts = !settings.volume_only && !(from_camera && settings.hide_emitters);
@@ -109,10 +113,10 @@ Color3 march_camera_ray(const Scene& scene, const GuidingField& field, const Cac
 // `radiance` may also return a second value per sample in its last argument (0 on entry), averaged
 // over the same samples into `aux` when given.
 using CameraSampleValue = std::function<Color3(Sampler&, const Ray&, Color3&)>;
-Image average_camera_samples(const Scene& scene, int count, uint64_t stream, const PreprocessContext& context,
-                             const CameraSampleValue& radiance, Image* aux = nullptr) {
+Image average_camera_samples(const Scene& scene, EstimateGrid grid, int count, uint64_t stream,
+                             const PreprocessContext& context, const CameraSampleValue& radiance, Image* aux = nullptr) {
     const Sensor& sensor = scene.sensor();
-    const int W = sensor.film().width(), H = sensor.film().height();
+    const int W = grid.width, H = grid.height;
     const int strata = std::max(1, int(std::sqrt(float(count))));
     Image image(W, H);
     if (aux) *aux = Image(W, H);
@@ -163,17 +167,42 @@ PixelEstimate PixelEstimate::from_image(Image image, float floor_fraction) {
     return e;
 }
 
+EstimateGrid estimate_grid(int W, int H, long max_pixels) {
+    if (long(W) * long(H) <= std::max(1L, max_pixels)) return {W, H};
+    const double s = std::sqrt(double(W) * double(H) / double(std::max(1L, max_pixels)));
+    return {std::max(1, int(double(W) / s)), std::max(1, int(double(H) / s))};
+}
+
 PixelEstimate PixelEstimate::raymarch(const Scene& scene, const GuidingField& field, const CacheEstimator& estimator,
                                       const PixelEstimateSettings& settings, const PreprocessContext& context) {
-    Image camera_segments;
-    Image image = average_camera_samples(
-        scene, std::max(1, settings.rays_per_pixel), kPixelEstimateStream, context,
-        [&](Sampler& sampler, const Ray& ray, Color3& camera_segment) {
-            return march_camera_ray(scene, field, estimator, settings, ray, sampler, camera_segment);
-        },
-        &camera_segments);
-    PixelEstimate e = from_image(image, settings.floor_fraction);
-    e.set_camera_scatter_probability(image, camera_segments);
+    const int rays = std::max(1, settings.rays_per_pixel);
+    const Film& film = scene.sensor().film();
+    EstimateGrid grid = estimate_grid(film.width(), film.height(), settings.max_pixels);
+    auto march = [&](EstimateGrid g) {
+        Image camera_segments;
+        Image image = average_camera_samples(
+            scene, g, rays, kPixelEstimateStream, context,
+            [&](Sampler& sampler, const Ray& ray, Color3& camera_segment) {
+                return march_camera_ray(estimator, settings, ray, sampler, camera_segment);
+            },
+            &camera_segments);
+        PixelEstimate e = from_image(image, settings.floor_fraction);
+        e.set_camera_scatter_probability(image, camera_segments);
+        e.rays_ = uint64_t(g.width) * uint64_t(g.height) * uint64_t(rays);
+        return e;
+    };
+    const long pixels = long(grid.width) * long(grid.height);
+    if (!(settings.seconds > 0.0) || pixels <= kProbePixels) return march(grid);
+    // Time limit: a coarse probe measures the time per ray; the final grid fits the rest of the time.
+    const auto start = std::chrono::steady_clock::now();
+    PixelEstimate probe = march(estimate_grid(grid.width, grid.height, kProbePixels));
+    const double spent = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double per_pixel = spent / double(std::max<uint64_t>(1, probe.rays_ / uint64_t(rays)));
+    const long affordable = per_pixel > 0.0 ? long(std::min(1e12, (settings.seconds - spent) / per_pixel)) : pixels;
+    if (affordable <= kProbePixels) return probe;
+    const uint64_t probe_rays = probe.rays_;
+    PixelEstimate e = march(estimate_grid(grid.width, grid.height, std::min(pixels, affordable)));
+    e.rays_ += probe_rays;
     return e;
 }
 

@@ -17,6 +17,12 @@
 //
 // raymarch also fills distance="vsp"'s camera-ray buffer (camera_scatter_probability).
 //
+// Its cost is bounded (issue 55): at most max_pixels estimate pixels, a regular grid over the film coarser
+// than the film's pixels where the film has more (at() reads it by film position), and within `seconds`
+// when given: a first grid of at most kProbePixels measures the time per ray, and the final grid is
+// the largest that fits the rest of the time (the probe's grid if none does). Without a time limit the
+// grid depends only on the film's size: deterministic.
+//
 // The estimate is stored per pixel as the channel average and floored at `floor_fraction` of the
 // image mean, so that a pixel the field thinks black cannot make every path through it split to
 // the cap (docs/theory.md §13.13).
@@ -45,7 +51,16 @@ struct PixelEstimateSettings {
     bool volume_only = false;
     bool hide_emitters = false;
     int max_specular_events = 16;
+    int max_pixels = 256 * 256;  // the estimate's resolution at most (a 1024 x 1024 film: a 4 x 4 block each)
+    double seconds = 0.0;        // time limit (0: none)
 };
+
+// The estimate's grid for a film of W x H pixels: the film's own, or a coarser one of the same aspect
+// with at most max_pixels pixels.
+struct EstimateGrid {
+    int width = 0, height = 0;
+};
+EstimateGrid estimate_grid(int W, int H, long max_pixels);
 
 class PixelEstimate {
   public:
@@ -73,6 +88,9 @@ class PixelEstimate {
         const int y = std::clamp(int(film_uv.y * float(image_.height)), 0, image_.height - 1);
         return camera_vsp_[size_t(y) * size_t(image_.width) + size_t(x)];
     }
+    // The rays the raymarch traced (its cost; 0 for from_image).
+    uint64_t rays() const { return rays_; }
+    static constexpr long kProbePixels = 64 * 64;
     // The RGB estimate before flooring (for inspection and the comparison with references).
     const Image& image() const { return image_; }
     float floor() const { return floor_; }
@@ -85,6 +103,7 @@ class PixelEstimate {
     std::vector<float> value_;  // floored channel averages, row-major
     std::vector<float> camera_vsp_;  // camera_scatter_probability per pixel, row-major (empty: none)
     float floor_ = 0.f;
+    uint64_t rays_ = 0;
 };
 
 }  // namespace volguide

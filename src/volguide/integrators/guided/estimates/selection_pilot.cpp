@@ -1,5 +1,10 @@
 #include "volguide/integrators/guided/estimates/selection_pilot.h"
 
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+
 #include "volguide/core/parallel.h"
 #include "volguide/integrators/camera_sample.h"
 #include "volguide/integrators/integrator.h"
@@ -10,19 +15,51 @@ namespace volguide {
 
 namespace {
 constexpr uint64_t kSelectionPilotStream = 0x5E1EC7ull;
+
+// The pilot pixels: blocks of b x b film pixels (b = 1: every pixel), one pixel drawn in each.
+struct PilotBlocks {
+    int b = 1, columns = 0, rows = 0;
+};
+PilotBlocks pilot_blocks(int W, int H) {
+    PilotBlocks p;
+    if (long(W) * long(H) > kPilotPixels)
+        p.b = int(std::ceil(std::sqrt(double(W) * double(H) / double(kPilotPixels))));
+    p.columns = (W + p.b - 1) / p.b;
+    p.rows = (H + p.b - 1) / p.b;
+    return p;
+}
+}  // namespace
+
+uint64_t selection_pilot_paths(int W, int H, int spp) {
+    const PilotBlocks p = pilot_blocks(W, H);
+    return uint64_t(p.columns) * uint64_t(p.rows) * uint64_t(std::max(0, spp));
 }
 
-void run_selection_pilot(const Scene& scene, int spp, const std::function<float(Point2f)>& pixel,
-                         const std::function<Color3(Sampler&, const Ray&, CellRecorder&)>& walk,
-                         const PreprocessContext& context, Learner& learner) {
+uint64_t run_selection_pilot(const Scene& scene, const SelectionPilotBudget& budget,
+                             const std::function<float(Point2f)>& pixel,
+                             const std::function<Color3(Sampler&, const Ray&, CellRecorder&)>& walk,
+                             const PreprocessContext& context, Learner& learner) {
     const Sensor& sensor = scene.sensor();
     const int W = sensor.film().width(), H = sensor.film().height();
-    parallel_for(tbb::blocked_range<int>(0, H), [&](const tbb::blocked_range<int>& rows) {
+    const PilotBlocks blocks = pilot_blocks(W, H);
+    const auto start = std::chrono::steady_clock::now();
+    auto out_of_time = [&] {
+        return budget.seconds > 0.0 &&
+               std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > budget.seconds;
+    };
+    std::atomic<uint64_t> paths{0};
+    parallel_for(tbb::blocked_range<int>(0, blocks.rows), [&](const tbb::blocked_range<int>& rows) {
         CellRecorder& recorder = learner.recorder();
-        for (int y = rows.begin(); y != rows.end(); ++y) {
-            if (context.cancelled()) return;
-            for (int x = 0; x < W; ++x)
-                for (int k = 0; k < spp; ++k) {
+        for (int by = rows.begin(); by != rows.end(); ++by) {
+            if (context.cancelled() || out_of_time()) return;
+            for (int bx = 0; bx < blocks.columns; ++bx) {
+                const uint64_t block = uint64_t(by) * uint64_t(blocks.columns) + uint64_t(bx);
+                // The block's pixel (the pixel itself when b = 1), from the block's own stream.
+                Sampler pick(context.seed, block, 0, kSelectionPilotStream + 1);
+                const Vec2f u = pick.next_2d();
+                const int x = std::min(W - 1, bx * blocks.b + std::min(blocks.b - 1, int(u.x * float(blocks.b))));
+                const int y = std::min(H - 1, by * blocks.b + std::min(blocks.b - 1, int(u.y * float(blocks.b))));
+                for (int k = 0; k < budget.spp; ++k) {
                     Sampler sampler(context.seed, uint64_t(y) * uint64_t(W) + uint64_t(x), uint64_t(k),
                                     kSelectionPilotStream);
                     const Point2f pos = film_position(x, y, sampler.next_2d());
@@ -32,9 +69,12 @@ void run_selection_pilot(const Scene& scene, int spp, const std::function<float(
                                         [&](const CameraRay& camera) { return walk(sampler, camera.ray, recorder); });
                     recorder.end();
                 }
+            }
+            paths += uint64_t(blocks.columns) * uint64_t(std::max(0, budget.spp));
         }
     });
     learner.end_pass();
+    return paths.load();
 }
 
 }  // namespace volguide

@@ -83,11 +83,19 @@ private:
     std::vector<Start> starts_;
 };
 
+// An emitted photon: its ray, the medium it starts in and its flux.
+struct Photon {
+    Ray ray;
+    const Medium* medium;
+    Color3 flux;
+};
+
 // Carries one emitted photon through the scene, depositing its medium collisions in `out`.
-void transport(const Scene& scene, const PhotonPassSettings& s, const Medium* start, const RaySample& rs,
-               const Color3& flux, Sampler& sampler, BatchResult& out) {
-    Ray ray = rs.ray;
-    const Medium* medium = start;
+void transport(const Scene& scene, const PhotonPassSettings& s, const Photon& photon, Sampler& sampler,
+               BatchResult& out) {
+    Ray ray = photon.ray;
+    const Medium* medium = photon.medium;
+    const Color3& flux = photon.flux;
     Color3 throughput(1.f);
     const BSDFContext ctx{TransportMode::Importance};
     int depth = 0, null_crossings = 0;
@@ -144,10 +152,17 @@ void transport(const Scene& scene, const PhotonPassSettings& s, const Medium* st
     }
 }
 
-// One photon: an emitter by power, its emission sample (focused when `focus` is active), then
+// Where photons start: the emitters' media and the emission focus.
+struct Emission {
+    const StartMedia& media;
+    const EmissionFocus& focus;
+};
+
+// One photon: an emitter by power, its emission sample (focused when the focus is active), then
 // transport. With `pilot`, the emission sample is recorded with whether the photon deposited.
-void trace_one(const Scene& scene, const PhotonPassSettings& s, const StartMedia& media, const EmissionFocus& focus,
-               Sampler& sampler, BatchResult& out, EmissionPilot* pilot) {
+void trace_one(const Scene& scene, const PhotonPassSettings& s, const Emission& emission, Sampler& sampler,
+               BatchResult& out, EmissionPilot* pilot) {
+    const EmissionFocus& focus = emission.focus;
     auto [index, p_emitter] = scene.sample_emitter_index_for_emission(sampler.next_1d());
     if (!(p_emitter > 0.f)) return;
     const Emitter& emitter = *scene.emitters()[index];
@@ -158,8 +173,8 @@ void trace_one(const Scene& scene, const PhotonPassSettings& s, const StartMedia
     const size_t deposits_before = out.samples.size();
     const RaySample rs = emitter.sample_ray(u_pos, u_dir);
     if (!rs.weight.is_black() && rs.weight.is_finite())
-        transport(scene, s, media.at(scene, index, emitter, rs), rs, rs.weight * (focus_weight / p_emitter), sampler,
-                  out);
+        transport(scene, s, Photon{rs.ray, emission.media.at(scene, index, emitter, rs), rs.weight * (focus_weight / p_emitter)},
+                  sampler, out);
     const bool deposited = out.samples.size() > deposits_before;
     out.depositing += deposited;
     if (pilot) pilot->record(index, u_focused, deposited);
@@ -179,7 +194,7 @@ EmissionFocus focus_emission(const Scene& scene, const PhotonPassSettings& s, co
         BatchResult scratch;
         for (int64_t i = b * kBatch; i < std::min(pilot_photons, (b + 1) * kBatch); ++i) {
             Sampler sampler(context.seed, kPilotStream, uint64_t(i));
-            trace_one(scene, s, media, uniform, sampler, scratch, &pilot);
+            trace_one(scene, s, Emission{media, uniform}, sampler, scratch, &pilot);
             scratch.samples.clear();
         }
     });
@@ -226,7 +241,7 @@ PhotonPassResult trace_photons(const Scene& scene, const PhotonPassSettings& set
             BatchResult& out = per_batch[size_t(b)];
             for (int64_t i = first; i < last; ++i) {
                 Sampler sampler(context.seed, kPhotonStream, uint64_t(settings.first_photon + i));
-                trace_one(scene, settings, media, focus, sampler, out, nullptr);
+                trace_one(scene, settings, Emission{media, focus}, sampler, out, nullptr);
             }
             done[size_t(b)] = 1;
             const int64_t n = ++finished;

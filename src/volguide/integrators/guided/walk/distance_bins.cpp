@@ -14,20 +14,18 @@ std::vector<float> leaf_extents(const SpatialTree& tree) {
     return extent;
 }
 
-BinSource::BinSource(const Ray& ray, float t_end, const Medium& medium, const GuidingField& field,
-                     const LeafEstimates* estimates, std::vector<ProxySegment>& proxies, float max_tau,
-                     const std::vector<float>& leaf_extent, float leaf_tau_max, const LeafGroups* groups,
-                     int origin_leaf)
-    : leaf_extent_(leaf_extent),
-      leaf_tau_max_(leaf_tau_max),
+BinSource::BinSource(const Ray& ray, float t_end, const Medium& medium, const BinField& bins,
+                     std::vector<ProxySegment>& proxies, int origin_leaf)
+    : leaf_extent_(bins.leaf_extent),
+      leaf_tau_max_(bins.leaf_tau_max),
       ray_(ray),
       t_end_(t_end),
       medium_(medium),
-      estimates_(estimates),
-      groups_(estimates ? groups : nullptr),
+      estimates_(bins.estimates),
+      groups_(bins.estimates ? bins.groups : nullptr),
       proxies_(proxies),
-      max_tau_(max_tau),
-      cursor_(groups_ ? groups_->tree() : field.tree(), ray, 0.f, t_end, groups_ ? -1 : origin_leaf) {
+      max_tau_(bins.max_tau),
+      cursor_(groups_ ? groups_->tree() : bins.field.tree(), ray, 0.f, t_end, groups_ ? -1 : origin_leaf) {
     proxies_.clear();  // scratch of the previous query: nothing may be read before the first span
     if (estimates_) direction_ = estimates_->prepare(ray.d);
 }

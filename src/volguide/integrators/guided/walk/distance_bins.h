@@ -4,13 +4,14 @@
 // stretch before the field's bounds is a leafless span), cut at the medium's proxy segments
 // (majorant cells of a heterogeneous medium) and split so that no bin is optically thicker than
 // `max_tau`. Each bin carries its proxy coefficients and its leaf's L~_i and L~ looking along the
-// ray (channel averages, §7.8), and its leaf's confidence (leaf_confidence below) at the bin's
-// proxy extinction. With `groups` (leaf_groups.h, built on
-// the same estimates) the bins are the groups the ray crosses instead of the leaves.
+// ray (channel averages, §7.8), and its leaf's confidence (trust.h's leaf_confidence) at the bin's
+// proxy extinction. With `groups` (leaf_groups.h, built on the same estimates) the bins are the groups
+// the ray crosses instead of the leaves.
 //
 // A source pulls the bins lazily (the incremental sampler stops at the collision): field values,
 // the expensive part, are read once per leaf, on entering it. Usage:
-//   BinSource source(ray, t_end, medium, field, estimates, proxies, max_tau, leaf_extents(tree), 0.f);
+//   const std::vector<float> extents = leaf_extents(field.tree());
+//   BinSource source(ray, t_end, medium, BinField{field, estimates, nullptr, extents, max_tau, 0.f}, proxies);
 //   DistanceBin bin;
 //   while (source(bin)) bins.push_back(bin);  // or sample_incremental_distance(source, ...)
 #include <algorithm>
@@ -25,6 +26,7 @@
 #include "volguide/guiding/guiding_field.h"
 #include "volguide/guiding/leaf_estimates.h"
 #include "volguide/guiding/spatial_tree.h"
+#include "volguide/integrators/guided/walk/trust.h"
 #include "volguide/media/medium.h"
 
 namespace volguide {
@@ -32,25 +34,25 @@ namespace volguide {
 // The cube root of each leaf's volume: the length that sets a leaf's optical size.
 std::vector<float> leaf_extents(const SpatialTree& tree);
 
-// The guiding confidence of a leaf (or group) of `extent` in a medium of extinction sigma_t:
-// min(1, tau_max / tau_leaf), tau_leaf = extent x sigma_t's channel average; 1 when tau_max is 0
-// (off). Why the guided decisions scale their guided share by it: WalkGuideSettings::leaf_tau_max.
-inline float leaf_confidence(float extent, const Color3& sigma_t, float tau_max) {
-    if (!(tau_max > 0.f)) return 1.f;
-    const float tau = extent * sigma_t.average();
-    return tau > tau_max ? tau_max / tau : 1.f;
-}
+// What the bins are cut from: the field, its estimates (null: every bin invalid), its leaf groups
+// (null: the field's leaves; else built on `estimates`), each leaf's extent (leaf_extents), the
+// largest optical depth of a bin and the confidence's tau_max (trust.h).
+struct BinField {
+    const GuidingField& field;
+    const LeafEstimates* estimates;
+    const LeafGroups* groups;
+    const std::vector<float>& leaf_extent;
+    float max_tau;
+    float leaf_tau_max;
+};
 
 class BinSource {
   public:
-    // The ray, medium, field, estimates (null: every bin invalid), `proxies` (caller-owned scratch,
-    // cleared here), `leaf_extent` and `groups` (null: the field's leaves; else built on
-    // `estimates`) must outlive the source. `origin_leaf`: the field leaf of the vertex the ray leaves
-    // from (-1: not known), where the walk starts without a descent.
-    BinSource(const Ray& ray, float t_end, const Medium& medium, const GuidingField& field,
-              const LeafEstimates* estimates, std::vector<ProxySegment>& proxies, float max_tau,
-              const std::vector<float>& leaf_extent, float leaf_tau_max, const LeafGroups* groups = nullptr,
-              int origin_leaf = -1);
+    // The ray, medium, what `bins` refers to and `proxies` (caller-owned scratch, cleared here) must
+    // outlive the source. `origin_leaf`: the field leaf of the vertex the ray leaves from (-1: not
+    // known), where the walk starts without a descent.
+    BinSource(const Ray& ray, float t_end, const Medium& medium, const BinField& bins,
+              std::vector<ProxySegment>& proxies, int origin_leaf = -1);
 
     // The next bin; false after the last one (at t_end).
     bool operator()(DistanceBin& bin) {

@@ -20,11 +20,11 @@ namespace {
 class FreeFlightDistance final : public DistanceSampler {
   public:
     using DistanceSampler::DistanceSampler;
-    FreeFlightSample sample(const DistanceQuery& q, DistanceContext& ctx, Sampler& sampler,
-                            WalkGuideStats&) const override {
+    FreeFlightSample sample(const DistanceQuery& q, const DistanceInput& in, DistanceScratch&, Sampler& sampler,
+                            DistanceOutcome& out) const override {
         FreeFlightSample fs = q.medium.sample_free_flight(q.ray, q.tmax, q.throughput, sampler);
-        if (ctx.origin >= 0 && fs.scattered && guide_.field().tree().holds_point(ctx.origin, fs.mi.p))
-            ctx.scattering = ctx.origin;
+        if (in.origin >= 0 && fs.scattered && guide_.field().tree().holds_point(in.origin, fs.mi.p))
+            out.scattering = in.origin;
         return fs;
     }
 };
@@ -35,56 +35,60 @@ class FreeFlightDistance final : public DistanceSampler {
 class IncrementalDistance final : public DistanceSampler {
   public:
     using DistanceSampler::DistanceSampler;
-    FreeFlightSample sample(const DistanceQuery& q, DistanceContext& ctx, Sampler& sampler,
-                            WalkGuideStats& counts) const override {
+    FreeFlightSample sample(const DistanceQuery& q, const DistanceInput& in, DistanceScratch& scratch, Sampler& sampler,
+                            DistanceOutcome& out) const override {
         const GuidingField& field = guide_.field();
         float b0, b1;
         const bool crosses = !field.empty() && field.tree().bounds().ray_intersect(q.ray, b0, b1) && b1 > 0.f;
         const float t_end = crosses ? std::min(q.tmax, b1) : 0.f;
         if (!(t_end > 0.f) || !std::isfinite(t_end)) {
-            ++counts.distance_outside_field;
+            out.report.method = DistanceReport::Method::OutsideField;
             return q.medium.sample_free_flight(q.ray, q.tmax, q.throughput, sampler);
         }
-        if (q.medium.tracks_null_collisions()) return tracked(q, ctx, t_end, sampler, counts);
-        return binned(q, ctx, t_end, sampler, counts);
+        const float c_T = 1.f - in.share.undamped;  // the bins damp by their own leaves' confidence
+        if (q.medium.tracks_null_collisions()) return tracked(q, c_T, t_end, sampler, out.report);
+        const Segment segment{q, in, t_end, c_T};
+        return binned(segment, scratch, sampler, out);
     }
 
   private:
     // Guided null-collision tracking over the whole segment: beyond the field the tracking falls back
     // to the unguided probability.
-    FreeFlightSample tracked(const DistanceQuery& q, DistanceContext& ctx, float t_end, Sampler& sampler,
-                             WalkGuideStats& counts) const {
+    FreeFlightSample tracked(const DistanceQuery& q, float c_T, float t_end, Sampler& sampler,
+                             DistanceReport& report) const {
         GuidedCollisionProbability probability(guide_.field(), guide_.estimates_for(q.medium.phase()), q.ray, t_end,
-                                               ctx.unguided);
+                                               c_T);
         FreeFlightSample fs = guided_tracking(q.medium, q.ray, q.tmax, q.throughput, sampler, probability);
-        ++counts.distance_queries;
-        ++counts.guided_tracking;
-        counts.distance_steps += probability.collisions();
-        counts.invalid_bins += probability.unguided_collisions();
-        counts.nan_fallbacks += probability.nan_fallbacks();
+        report = {DistanceReport::Method::Tracking, uint64_t(probability.collisions()),
+                  uint64_t(probability.unguided_collisions()), 0, uint64_t(probability.nan_fallbacks())};
         return fs;
     }
 
-    FreeFlightSample binned(const DistanceQuery& q, DistanceContext& ctx, float t_end, Sampler& sampler,
-                            WalkGuideStats& counts) const {
+    // The bins' segment: the query up to t_end, with the decision's unguided share c_T.
+    struct Segment {
+        const DistanceQuery& q;
+        const DistanceInput& in;
+        float t_end, c_T;
+    };
+
+    FreeFlightSample binned(const Segment& segment, DistanceScratch& scratch, Sampler& sampler,
+                            DistanceOutcome& out) const {
+        const DistanceQuery& q = segment.q;
+        const float t_end = segment.t_end;
         GuidedDistanceSettings settings = guide_.settings().distance_settings;
-        settings.c_T = ctx.unguided;
+        settings.c_T = segment.c_T;
         settings.channel_split = channel_probabilities(q.throughput);  // spectral MIS (§2.6)
         const LeafGroups* groups = guide_.groups_for(q.medium.phase());
-        BinSource source(q.ray, t_end, q.medium, guide_.field(), guide_.estimates_for(q.medium.phase()), ctx.proxies,
-                         guide_.settings().max_bin_optical_depth, guide_.leaf_extents(),
-                         guide_.settings().leaf_tau_max, groups, ctx.origin);
+        const BinField bins{guide_.field(), guide_.estimates_for(q.medium.phase()), groups, guide_.leaf_extents(),
+                            guide_.settings().max_bin_optical_depth, guide_.settings().leaf_tau_max};
+        BinSource source(q.ray, t_end, q.medium, bins, scratch.proxies, segment.in.origin);
         const DistanceSample ds = sample_incremental_distance(source, sampler, settings);
-        ++counts.distance_queries;
-        counts.distance_steps += uint64_t(ds.steps);
-        counts.guided_strategy += ds.strategy == DistanceStrategy::Guided;
-        counts.invalid_bins += source.invalid();
-        counts.damped_bins += source.damped();
-        counts.nan_fallbacks += uint64_t(ds.nan_fallbacks);
+        out.report = {DistanceReport::Method::Bins, uint64_t(ds.steps), source.invalid(), source.damped(),
+                      uint64_t(ds.nan_fallbacks), ds.strategy == DistanceStrategy::Guided};
         if (ds.event == DistanceEvent::Medium && ds.pdf > 0.f)
-            ctx.scattering = groups && source.leaf() >= 0 ? groups->fine_leaf(source.leaf(), q.ray(ds.t)) : source.leaf();
+            out.scattering = groups && source.leaf() >= 0 ? groups->fine_leaf(source.leaf(), q.ray(ds.t)) : source.leaf();
         if (ds.pdf > 0.f && ds.pdf_transmittance >= 0.f && ds.pdf_guided >= 0.f)
-            ctx.record = {true, ctx.origin, ds.pdf, ds.pdf_transmittance, ds.pdf_guided};
+            out.record = {true, segment.in.origin, ds.pdf, ds.pdf_transmittance, ds.pdf_guided};
         return weighted(q, t_end, ds, sampler);
     }
 
@@ -129,12 +133,11 @@ class IncrementalDistance final : public DistanceSampler {
 class VspDistance final : public DistanceSampler {
   public:
     using DistanceSampler::DistanceSampler;
-    FreeFlightSample sample(const DistanceQuery& q, DistanceContext& ctx, Sampler& sampler,
-                            WalkGuideStats& counts) const override {
-        ++counts.distance_queries;
-        ++counts.vsp_queries;
-        counts.vsp_camera += camera(q);
-        return q.medium.is_homogeneous() ? closed_form(q, ctx, sampler, counts) : resampled(q, ctx, sampler, counts);
+    FreeFlightSample sample(const DistanceQuery& q, const DistanceInput& in, DistanceScratch&, Sampler& sampler,
+                            DistanceOutcome& out) const override {
+        out.report.method = DistanceReport::Method::Vsp;
+        out.report.camera = in.camera();
+        return q.medium.is_homogeneous() ? closed_form(q, in, sampler, out) : resampled(q, in, sampler, out);
     }
 
   private:
@@ -142,30 +145,25 @@ class VspDistance final : public DistanceSampler {
     // says nothing scatters (a leaf's estimate is one value for a whole segment).
     static constexpr float kMinUnguided = 0.1f;
 
-    static bool camera(const DistanceQuery& q) { return !std::isnan(q.camera_guided); }
+    // The defensive unguided share of the mixture (§7.10): at least kMinUnguided, 1 - the guided share
+    // (damped by the origin leaf's confidence; the camera buffer's P_G has no leaf).
+    static float unguided_share(const DistanceInput& in) { return std::max(1.f - in.share.share, kMinUnguided); }
 
-    // The defensive unguided share of the mixture (§7.10): at least kMinUnguided, raised by a leaf of
-    // low confidence as the bins' guided share is lowered; the camera buffer's P_G has no leaf.
-    float unguided_share(const DistanceQuery& q, const DistanceContext& ctx, const Color3& sigma_t) const {
-        const float confidence = camera(q) ? 1.f : guide_.confidence(ctx.origin, sigma_t);
-        return std::max(1.f - (1.f - ctx.unguided) * confidence, kMinUnguided);
-    }
-
-    FreeFlightSample closed_form(const DistanceQuery& q, DistanceContext& ctx, Sampler& sampler,
-                                 WalkGuideStats& counts) const {
+    FreeFlightSample closed_form(const DistanceQuery& q, const DistanceInput& in, Sampler& sampler,
+                                 DistanceOutcome& out) const {
         const Medium& medium = q.medium;
         const MediumCoefficients at_origin = medium.eval(q.ray.o);
         const HomogeneousVsp vsp(at_origin.sigma_t, q.tmax, channel_probabilities(q.throughput));
         const float st = at_origin.sigma_t.average();
         const float albedo = st > 0.f ? at_origin.sigma_s.average() / st : 0.f;  // shapes P_G only
-        const float guided = camera(q) ? q.camera_guided
-                                       : guide_.scatter_probability(ctx.origin, medium.phase(), q.ray.d, albedo,
-                                                                    vsp.unguided());
+        const float guided = in.camera() ? in.camera_guided
+                                         : guide_.scatter_probability(in.origin, medium.phase(), q.ray.d, albedo,
+                                                                      vsp.unguided());
         if (std::isnan(guided)) {
-            ++counts.vsp_unguided;
+            out.report.unguided = true;
             return medium.sample_free_flight(q.ray, q.tmax, q.throughput, sampler);  // the same decision, unguided
         }
-        const float P = vsp.probability(guided, unguided_share(q, ctx, at_origin.sigma_t));
+        const float P = vsp.probability(guided, unguided_share(in));
         const float u_decide = sampler.next_1d(), u_channel = sampler.next_1d(), u_t = sampler.next_1d();
         // The equiangular share (§7.10.1): a light point drawn only for a scatter (2 numbers).
         const float share = guide_.settings().vsp_equiangular;
@@ -174,53 +172,71 @@ class VspDistance final : public DistanceSampler {
             toward_light = vsp_equiangular_toward_light(guide_.scene(), q.ray, q.tmax, sampler);
         const VspEquiangular equi{toward_light ? &*toward_light : nullptr, share};
         const HomogeneousVsp::Sample vs = vsp.sample(P, u_decide, u_channel, u_t, equi);
-        counts.vsp_equiangular += vs.scattered && equi.active();
+        out.report.equiangular = vs.scattered && equi.active();
+        out.report.scattered = vs.scattered;
         FreeFlightSample fs;
         fs.t = vs.t;
         fs.weight = fs.flight_weight = vs.flight_weight;
         if (vs.scattered) {
-            ++counts.vsp_scattered;
             const Point3f p = q.ray(vs.t);
             fs.scatter_at(q.ray, vs.t, p, &medium, medium.eval(p));
             fs.weight = fs.flight_weight * fs.mi.coeffs.sigma_s;
-            if (guide_.field().tree().holds_point(ctx.origin, p)) ctx.scattering = ctx.origin;
+            if (guide_.field().tree().holds_point(in.origin, p)) out.scattering = in.origin;
         }
         // The mixture's parts for the selection pilot: the density (or probability) of the outcome
         // under the unguided and the guided decision.
         const float cond = vs.scattered ? vsp.conditional_pdf(vs.t, equi) : 1.f;
         const float pu = vs.scattered ? vsp.unguided() * cond : 1.f - vsp.unguided();
         const float pg = vs.scattered ? guided * cond : 1.f - guided;
-        if (vs.pdf > 0.f && P < 1.f) ctx.record = {true, ctx.origin, vs.pdf, pu, pg};
+        if (vs.pdf > 0.f && P < 1.f) out.record = {true, in.origin, vs.pdf, pu, pg};
         return fs;
     }
 
-    FreeFlightSample resampled(const DistanceQuery& q, DistanceContext& ctx, Sampler& sampler,
-                               WalkGuideStats& counts) const {
+    FreeFlightSample resampled(const DistanceQuery& q, const DistanceInput& in, Sampler& sampler,
+                               DistanceOutcome& out) const {
         const Medium& medium = q.medium;
         // The albedo field at the origin (the extinction there may be 0 on the medium's boundary).
         const float albedo = medium.albedo(q.ray.o).average();  // shapes P_G only
         const PhaseFunction& phase = medium.phase();
-        if (!camera(q) && std::isnan(guide_.scatter_probability(ctx.origin, phase, q.ray.d, albedo, 1.f))) {
-            ++counts.vsp_unguided;
+        if (!in.camera() && std::isnan(guide_.scatter_probability(in.origin, phase, q.ray.d, albedo, 1.f))) {
+            out.report.unguided = true;
             return medium.sample_free_flight(q.ray, q.tmax, q.throughput, sampler);
         }
-        ++counts.vsp_resampled;
-        const float c = unguided_share(q, ctx, medium.eval(q.ray.o).sigma_t);
+        out.report.resampled = true;
+        const float c = unguided_share(in);
         auto probability = [&](float unguided) {
-            if (camera(q)) return c * unguided + (1.f - c) * q.camera_guided;
-            const float guided = guide_.scatter_probability(ctx.origin, phase, q.ray.d, albedo, unguided);
+            if (in.camera()) return c * unguided + (1.f - c) * in.camera_guided;
+            const float guided = guide_.scatter_probability(in.origin, phase, q.ray.d, albedo, unguided);
             return std::isnan(guided) ? unguided : c * unguided + (1.f - c) * guided;
         };
         FreeFlightSample fs = resampled_segment_flight(medium, q.ray, q.tmax, q.throughput, probability, sampler);
+        out.report.scattered = fs.scattered;
         if (fs.scattered) {
-            ++counts.vsp_scattered;
-            if (guide_.field().tree().holds_point(ctx.origin, fs.mi.p)) ctx.scattering = ctx.origin;
+            if (guide_.field().tree().holds_point(in.origin, fs.mi.p)) out.scattering = in.origin;
         }
         return fs;
     }
 };
 
 }  // namespace
+
+void count_distance(const DistanceReport& r, WalkGuideStats& counts) {
+    using Method = DistanceReport::Method;
+    counts.distance_outside_field += r.method == Method::OutsideField;
+    counts.distance_queries += r.method == Method::Tracking || r.method == Method::Bins || r.method == Method::Vsp;
+    counts.guided_tracking += r.method == Method::Tracking;
+    counts.distance_steps += r.steps;
+    counts.invalid_bins += r.invalid;
+    counts.damped_bins += r.damped;
+    counts.nan_fallbacks += r.nan_fallbacks;
+    counts.guided_strategy += r.guided;
+    counts.vsp_queries += r.method == Method::Vsp;
+    counts.vsp_camera += r.camera;
+    counts.vsp_unguided += r.unguided;
+    counts.vsp_resampled += r.resampled;
+    counts.vsp_scattered += r.scattered;
+    counts.vsp_equiangular += r.equiangular;
+}
 
 std::unique_ptr<DistanceSampler> make_distance_sampler(DistanceGuiding method, const WalkGuide& guide) {
     switch (method) {

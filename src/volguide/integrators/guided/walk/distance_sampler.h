@@ -15,11 +15,13 @@
 // answers camera and surface segments), never by the walk directly: the vertex knows its leaf and
 // the learned selection's share, and hands the scattering vertex's leaf on.
 // Every member's weights use the true coefficients: unbiased whatever the field says.
+#include <cmath>
 #include <limits>
 #include <memory>
 #include <vector>
 
 #include "volguide/core/sampler.h"
+#include "volguide/integrators/guided/walk/trust.h"
 #include "volguide/integrators/volpath/walk_policy.h"
 #include "volguide/media/medium.h"
 
@@ -29,33 +31,55 @@ class WalkGuide;
 struct WalkGuideStats;
 enum class DistanceGuiding;
 
-// What a distance decision is asked: the segment (0, tmax) of `ray` in `medium`, the path weight
-// (its channel shares split the decision over the colour channels, docs/theory.md §2.6) and, for a
-// camera segment, P_G from the pixel estimate's per-pixel buffer (§7.10.2; NaN: none).
-struct DistanceQuery {
-    const Medium& medium;
-    const Ray& ray;
-    float tmax;
-    Color3 throughput;
+// What the vertex hands a distance decision besides the query (walk_policy.h's DistanceQuery).
+struct DistanceInput {
+    int origin = -1;  // the origin's leaf (-1: none known, or outside the field): the decision's cell
+    // The guided share of the decision at the origin (WalkGuide::guided_share): vsp's segment
+    // probability reads share, the incremental sampler's bins 1 - undamped (each bin damped by its leaf).
+    GuidedShare share;
+    // A camera segment's P_G from the pixel estimate's per-pixel buffer (§7.10.2; NaN: none).
     float camera_guided = std::numeric_limits<float>::quiet_NaN();
+    bool camera() const { return !std::isnan(camera_guided); }
 };
 
-// What the vertex hands a decision and what the decision hands back.
-struct DistanceContext {
-    int origin = -1;        // in: the origin's leaf (-1: none known, or outside the field)
-    float unguided = 0.5f;  // in: c_T, the unguided share of the decision's mixture
-    int scattering = -1;    // out: the scattering vertex's leaf, where the decision knows it
-    DecisionRecord record;  // in: its leaf (the origin's, the decision's cell); out: the mixture's parts
-    std::vector<ProxySegment> proxies;  // scratch of the bins, kept between decisions for its storage
+// What a distance decision did, for the walk's counters (WalkGuideStats), which count_distance adds
+// in one place: the decisions themselves only say what happened.
+struct DistanceReport {
+    enum class Method : uint8_t { FreeFlight, OutsideField, Tracking, Bins, Vsp };
+    Method method = Method::FreeFlight;
+    uint64_t steps = 0;          // bins stepped through (tracking: tentative collisions)
+    uint64_t invalid = 0;        // ... of them without a valid leaf
+    uint64_t damped = 0;         // ... of them whose leaf's confidence is below 1
+    uint64_t nan_fallbacks = 0;  // ... of them whose guided probability was not finite
+    bool guided = false;         // the bins' decision followed the guided probabilities
+    // vsp: a camera segment (the pixel buffer's P_G); made with the unguided probability (no leaf or
+    // estimate); by resampling (heterogeneous); scattered inside the segment; from the equiangular share.
+    bool camera = false, unguided = false, resampled = false, scattered = false, equiangular = false;
+};
+
+// Adds what the decision reported to the walk's counters.
+void count_distance(const DistanceReport& report, WalkGuideStats& counts);
+
+// What a distance decision hands back besides its sample.
+struct DistanceOutcome {
+    int scattering = -1;    // the scattering vertex's leaf, where the decision knows it
+    DecisionRecord record;  // the mixture's parts (for the recorders), of the origin's cell
+    DistanceReport report;  // what it did (the counters)
+};
+
+// The bins' scratch, kept between a walk's decisions for its storage.
+struct DistanceScratch {
+    std::vector<ProxySegment> proxies;
 };
 
 class DistanceSampler {
   public:
     explicit DistanceSampler(const WalkGuide& guide) : guide_(guide) {}
     virtual ~DistanceSampler() = default;
-    // The decision for `query` (ctx's inputs set by the caller); counts into `counts`.
-    virtual FreeFlightSample sample(const DistanceQuery& query, DistanceContext& ctx, Sampler& sampler,
-                                    WalkGuideStats& counts) const = 0;
+    // The decision for `query` from the vertex's `in`, its outcome in `out` (out.record.leaf set by the
+    // caller).
+    virtual FreeFlightSample sample(const DistanceQuery& query, const DistanceInput& in, DistanceScratch& scratch,
+                                    Sampler& sampler, DistanceOutcome& out) const = 0;
 
   protected:
     const WalkGuide& guide_;

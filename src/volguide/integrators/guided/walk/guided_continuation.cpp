@@ -5,18 +5,20 @@
 
 namespace volguide {
 
-Continuation GuidedContinuation::decide(ContinuationStage stage, GuidedVertex& vertex, const Vec3f& w,
-                                        const Color3& throughput, int branches, float allowance, Sampler& sampler,
-                                        bool report) const {
-    if (ears_ && rrs_) return decide_ears(stage, vertex, w, throughput, branches, allowance, sampler, report);
+Continuation GuidedContinuation::decide(const ContinuationQuery& query, GuidedVertex& vertex, Sampler& sampler) const {
+    if (ears_ && rrs_) return decide_ears(query, vertex, sampler);
     Continuation c;
-    if (rrs_ || report) {
-        const Color3 estimate = vertex.estimate(stage, w);
+    if (rrs_ || query.report) {
+        const Color3 estimate = vertex.estimate(query.stage, query.w);
         const bool usable = estimate.max_value() > 0.f;
-        if (report && usable) c.estimate = estimate.average();
+        if (query.report && usable) c.estimate = estimate.average();
         if (rrs_) {
+            c.q = bounded_roulette(rrs_->factor(query.throughput, estimate, pixel_, query.branches, query.allowance),
+                                   query.throughput);
+            // A usable estimate replaces the walk's throughput roulette at this depth, inside the weight
+            // window (q = 1) too: on backlit the throughput roulette there killed the guided paths toward
+            // the light (small weight, large estimate; bench/RESULTS.md, issue 55).
             c.guided = usable;
-            c.q = rrs_->factor(throughput, estimate, pixel_, branches, allowance);
             draw(c, sampler);
         }
         c.leaf = vertex.leaf();
@@ -24,51 +26,54 @@ Continuation GuidedContinuation::decide(ContinuationStage stage, GuidedVertex& v
     return c;
 }
 
-Continuation GuidedContinuation::decide_ears(ContinuationStage stage, GuidedVertex& vertex, const Vec3f& w,
-                                             const Color3& throughput, int branches, float allowance,
-                                             Sampler& sampler, bool report) const {
+Continuation GuidedContinuation::decide_ears(const ContinuationQuery& query, GuidedVertex& vertex,
+                                             Sampler& sampler) const {
     // The field's estimate only for a recorder that reads it; either way the vertex leaf is found
     // (trusted or not: the statistics are the cell's, not the field's estimate).
     float estimate = 0.f;
-    if (report) {
-        const Color3 e = vertex.estimate(stage, w);
+    if (query.report) {
+        const Color3 e = vertex.estimate(query.stage, query.w);
         if (e.max_value() > 0.f) estimate = e.average();
     }
     const int leaf = vertex.leaf();
-    const float q =
-        ears_->factor(stage, guide_.selection_cell(leaf), continuation_direction_bin(w), throughput.average() / pixel_);
-    Continuation c = ears_outcome(q, throughput, branches, allowance, sampler);
+    const float q = ears_->factor(query.stage, guide_.selection_cell(leaf), continuation_direction_bin(query.w),
+                                  query.throughput.average() / pixel_);
+    Continuation c = ears_outcome(q, query, sampler);
     c.estimate = estimate;
     c.leaf = leaf;
     return c;
 }
 
-Continuation GuidedContinuation::decide_surface(const SurfaceInteraction& si, const Vec3f& w, const Color3& throughput,
-                                                int branches, float allowance, Sampler& sampler, int hint) const {
+Continuation GuidedContinuation::decide_surface(const SurfaceInteraction& si, const ContinuationQuery& query,
+                                                Sampler& sampler, int hint) const {
     if (!decides_at_surfaces()) return {};
     uint64_t descents = 0;  // a surface's lookup, not a vertex's descent
     const int leaf = guide_.leaf_at(si.p, hint, descents);
     const float q = ears_->factor(ContinuationStage::Surface, guide_.selection_cell(leaf),
-                                  continuation_direction_bin(w), throughput.average() / pixel_);
-    Continuation c = ears_outcome(q, throughput, branches, allowance, sampler);
+                                  continuation_direction_bin(query.w), query.throughput.average() / pixel_);
+    Continuation c = ears_outcome(q, query, sampler);
     c.leaf = leaf;
     return c;
 }
 
-Continuation GuidedContinuation::ears_outcome(float q, const Color3& throughput, int branches, float allowance,
-                                              Sampler& sampler) const {
+Continuation GuidedContinuation::ears_outcome(float q, const ContinuationQuery& query, Sampler& sampler) const {
     Continuation c;
     if (q < 0.f) {
         rrs_->count_unlearned();
         return c;
     }
     c.guided = true;
-    // Roulette never harder than the bounded throughput rule's survival min(1, max beta): the learned
-    // M2 of a heavy-tailed continuation is underestimated from few samples, and ears' roulette alone
-    // made paths of weight > 1 that raised the variance per sample 3-4x (docs/theory.md §9.8).
-    c.q = rrs_->bound(std::max(q, std::min(1.f, throughput.max_value())), branches, allowance);
+    c.q = rrs_->bound(bounded_roulette(q, query.throughput), query.branches, query.allowance);
     draw(c, sampler);
     return c;
+}
+
+// Roulette never harder than the bounded throughput rule's survival min(1, max beta): ears' learned M2 of
+// a heavy-tailed continuation is underestimated from few samples, and its roulette alone made paths of
+// weight > 1 that raised the variance per sample (docs/theory.md §9.8); for grrs the same bound keeps a
+// survivor's weight beta / q at most 1 wherever beta <= 1, whatever the estimates say. Only q changes: unbiased.
+float GuidedContinuation::bounded_roulette(float q, const Color3& throughput) {
+    return q < 1.f ? std::max(q, std::min(1.f, throughput.max_value())) : q;
 }
 
 void GuidedContinuation::draw(Continuation& c, Sampler& sampler) const {

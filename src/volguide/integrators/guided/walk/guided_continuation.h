@@ -39,16 +39,15 @@ class GuidedContinuation {
                        const ContinuationSnapshot* ears = nullptr)
         : guide_(guide), rrs_(rrs), pixel_(pixel), ears_(ears) {}
 
-    // WalkPolicy::continuation's decision at `vertex` (its other arguments there). Without rrs it
-    // decides nothing; `report` still reads the estimate and returns it in Continuation::estimate.
+    // WalkPolicy::continuation's decision of `query` at `vertex`. Without rrs it decides nothing;
+    // query.report still reads the estimate and returns it in Continuation::estimate.
     // Continuation::leaf: the vertex's leaf where the decision read it (-1 otherwise).
-    Continuation decide(ContinuationStage stage, GuidedVertex& vertex, const Vec3f& w, const Color3& throughput,
-                        int branches, float allowance, Sampler& sampler, bool report) const;
-    // rrs=ears's decision after the BSDF sampled the diffuse direction w at the surface vertex si, from
-    // the statistics of the surface's leaf (found with the guess `hint`, returned in Continuation::leaf);
-    // no decision (q = 1) without ears.
-    Continuation decide_surface(const SurfaceInteraction& si, const Vec3f& w, const Color3& throughput, int branches,
-                                float allowance, Sampler& sampler, int hint) const;
+    Continuation decide(const ContinuationQuery& query, GuidedVertex& vertex, Sampler& sampler) const;
+    // rrs=ears's decision after the BSDF sampled the diffuse direction query.w at the surface vertex si,
+    // from the statistics of the surface's leaf (found with the guess `hint`, returned in
+    // Continuation::leaf); no decision (q = 1) without ears.
+    Continuation decide_surface(const SurfaceInteraction& si, const ContinuationQuery& query, Sampler& sampler,
+                                int hint) const;
     bool decides_at_surfaces() const { return ears_ && rrs_; }
     // The camera sample's branch allowance (+inf without a budget or without rrs).
     float branch_budget() const;
@@ -57,11 +56,12 @@ class GuidedContinuation {
 
   private:
     // rrs=ears's decision (decide()'s arguments).
-    Continuation decide_ears(ContinuationStage stage, GuidedVertex& vertex, const Vec3f& w, const Color3& throughput,
-                             int branches, float allowance, Sampler& sampler, bool report) const;
-    // The decision from ears' factor q (< 0: too few statistics, no decision) for a path of weight
-    // `throughput`: bounded, then drawn.
-    Continuation ears_outcome(float q, const Color3& throughput, int branches, float allowance, Sampler& sampler) const;
+    Continuation decide_ears(const ContinuationQuery& query, GuidedVertex& vertex, Sampler& sampler) const;
+    // The decision of `query` from ears' factor q (< 0: too few statistics, no decision): bounded, then
+    // drawn.
+    Continuation ears_outcome(float q, const ContinuationQuery& query, Sampler& sampler) const;
+    // A roulette factor q < 1 raised to the bounded throughput rule's survival (splitting unchanged).
+    static float bounded_roulette(float q, const Color3& throughput);
     // Draws n from c.q (q != 1) and counts the outcome.
     void draw(Continuation& c, Sampler& sampler) const;
     const WalkGuide& guide_;

@@ -2,17 +2,19 @@
 
 namespace volguide {
 
-void GuidedVertex::init(const MediumInteraction& mi, const VertexLeaf& handed) {
+void GuidedVertex::init(const MediumInteraction& mi, int known_leaf) {
+    const int reached = known_leaf >= 0 ? known_leaf : reached_;
     clear();
     mi_ = mi;
     active_ = true;
-    handed_ = handed.leaf;
+    handed_ = reached;
     ++counts_.vertices;
 }
 
 void GuidedVertex::clear() {
     if (found_ && leaf_ >= 0) hint_ = leaf_;
     active_ = false;
+    reached_ = -1;  // a vertex not reached by the next distance decision is in no known leaf
     handed_ = -1;
     found_ = false;
     prepared_ = false;
@@ -28,12 +30,13 @@ int GuidedVertex::keep() {
 }
 
 void GuidedVertex::resume(const MediumInteraction& mi, int kept) {
+    reached_ = -1;  // the copy's vertex was not reached by the last distance decision
     if (kept < 0) {
-        init(mi, VertexLeaf());
+        init(mi);
         return;
     }
     const Kept& k = kept_[size_t(kept)];
-    init(mi, VertexLeaf{k.leaf});
+    init(mi, k.leaf);
     leaf_ = k.leaf;
     found_ = k.found;
     prepared_ = k.prepared;
@@ -56,59 +59,49 @@ int GuidedVertex::origin_leaf(const DistanceQuery& query, bool needed) {
     return guide_.leaf_at(query.ray.o, -1, descents);
 }
 
-FreeFlightSample GuidedVertex::sample_distance(const DistanceQuery& query, Sampler& sampler, VertexLeaf& scattering,
-                                               DecisionRecord* record) {
-    DistanceContext& ctx = distance_;
-    ctx.scattering = -1;
-    ctx.record = DecisionRecord();
-    ctx.unguided = guide_.settings().distance_settings.c_T;
-    const DistanceSampler* method = &guide_.distance();
+DistanceInput GuidedVertex::distance_input(const DistanceQuery& query, bool select, float camera_guided) {
+    DistanceInput in;
+    in.camera_guided = camera_guided;
+    in.origin = origin_leaf(query, select || guide_.settings().distance == DistanceGuiding::Vsp);
+    TrustPoint at{DecisionKind::Distance};
+    at.leaf = in.camera() ? -1 : in.origin;  // the camera buffer's P_G has no leaf to damp
+    if (at.leaf >= 0) at.sigma_t = query.medium.eval(query.ray.o).sigma_t;
     // The learned selection's share of the origin's cell (the pilot records every cell's decisions).
-    const bool select = guide_.selection().learned(SelectionDecision::Distance) || record;
-    ctx.origin = origin_leaf(query, select || guide_.settings().distance == DistanceGuiding::Vsp);
-    if (active_ && ctx.origin >= 0 &&
-        guide_.confidence(ctx.origin, query.medium.eval(query.ray.o).sigma_t) < WalkGuide::kSkipConfidence) {
-        // The guided share would be small and the guided walk (a leaf lookup per bin) costs more than
-        // it can return: free flight.
-        ++counts_.distance_skipped;
-        method = &guide_.free_flight();
-    } else if (select) {
-        const float share = guide_.selection().share(SelectionDecision::Distance, guide_.selection_cell(ctx.origin));
-        if (share == 0.f) {  // volpath's decision: nothing guided is paid for
-            ++counts_.distance_unselected;
-            method = &guide_.free_flight();
-        } else if (share != LearnedSelection::kDefault) {
-            ctx.unguided = 1.f - share;
-        }
-    }
-    ctx.record.leaf = ctx.origin;  // the decision's cell, mixture or not
-    const FreeFlightSample fs = method->sample(query, ctx, sampler, counts_);
-    scattering.leaf = ctx.scattering;
-    if (record) *record = ctx.record;
+    if (select) at.learned = guide_.selection().share(DecisionKind::Distance, guide_.selection_cell(in.origin));
+    at.vertex = active_;
+    in.share = guide_.guided_share(at);
+    return in;
+}
+
+FreeFlightSample GuidedVertex::sample_distance(const DistanceQuery& query, float camera_guided, Sampler& sampler,
+                                               DecisionRecord* record) {
+    const bool select = guide_.selection().learned(DecisionKind::Distance) || record;
+    const DistanceInput in = distance_input(query, select, camera_guided);
+    // Skipped: the guided share would be small and the guided walk (a leaf lookup per bin) costs more
+    // than it can return. Unselected: volpath's decision, nothing guided is paid for.
+    counts_.distance_skipped += in.share.source == ShareSource::Skipped;
+    counts_.distance_unselected += in.share.source == ShareSource::Unselected;
+    const DistanceSampler& method = in.share.guided() ? guide_.distance() : guide_.free_flight();
+    DistanceOutcome out;
+    out.record.leaf = in.origin;  // the decision's cell, mixture or not
+    const FreeFlightSample fs = method.sample(query, in, scratch_, sampler, out);
+    count_distance(out.report, counts_);
+    reached_ = out.scattering;
+    if (record) *record = out.record;
     return fs;
 }
 
 float GuidedVertex::phase_probability(int index) {
-    const float configured = guide_.settings().phase_prob;
-    if (index < 0) return configured;
-    const float confidence = guide_.confidence(index, mi_.coeffs.sigma_t);
-    const float share = guide_.selection().share(SelectionDecision::Direction, guide_.selection_cell(index));
-    if (confidence < WalkGuide::kSkipConfidence) {  // the product is not worth building: the phase function alone
-        ++counts_.direction_damped_vertices;
-        return 1.f;
-    }
-    if (share != LearnedSelection::kDefault) {
-        // Learned: the share replaces the configured one, damped by the confidence as that is (a
-        // short pilot does not see the heavy tails long walks in a dense medium get from a large
-        // guided share: densesphere read low undamped; bench/RESULTS.md (issue 35)).
-        if (share == 0.f) ++counts_.direction_unselected;
-        return 1.f - share * confidence;
-    }
-    if (confidence < 1.f) {
-        ++counts_.direction_damped_vertices;
-        return 1.f - (1.f - configured) * confidence;
-    }
-    return configured;
+    TrustPoint at{DecisionKind::Direction, index, mi_.coeffs.sigma_t};
+    if (index >= 0) at.learned = guide_.selection().share(DecisionKind::Direction, guide_.selection_cell(index));
+    const GuidedShare g = guide_.guided_share(at);
+    // Learned shares are damped by the confidence as configured ones are (a short pilot does not see
+    // the heavy tails long walks in a dense medium get from a large guided share: densesphere read low
+    // undamped; bench/RESULTS.md (issue 35)).
+    counts_.direction_damped_vertices +=
+        g.source == ShareSource::Skipped || (g.source == ShareSource::Configured && g.confidence < 1.f);
+    counts_.direction_unselected += g.source == ShareSource::Unselected;
+    return 1.f - g.share;
 }
 
 void GuidedVertex::prepare_direction() {
@@ -156,7 +149,7 @@ float GuidedVertex::direction_pdf(const Vec3f& wo) const {
 
 Color3 GuidedVertex::estimate(ContinuationStage stage, const Vec3f& w) {
     const int index = leaf();
-    if (index < 0 || guide_.confidence(index, mi_.coeffs.sigma_t) < WalkGuide::kSkipConfidence) return Color3(0.f);
+    if (!guide_.trusted(index, mi_.coeffs.sigma_t)) return Color3(0.f);
     const PhaseFunction& phase = mi_.medium->phase();
     // After the direction decision the full L~, although NEE took the direct light at x: the
     // continuation still collects the emitter hits MIS gives it (a sky), and the indirect part

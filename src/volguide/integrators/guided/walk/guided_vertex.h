@@ -10,9 +10,10 @@
 //  - the direction decision: prepare_direction, then sample_direction / direction_pdf (the one-sample
 //    mixture of the phase function and the guide, guiding/guided_direction.h);
 //  - estimate(stage, w): the field's estimate the continuation decision reads (guided_continuation.h).
-// Lazy: init keeps the vertex and the leaf the distance decision that reached it handed on and looks
-// nothing up; the vertex's leaf (leaf()) is found on the first question that needs it (at most one
-// descent, none when the handed leaf or the last vertex's leaf holds the point); the direction mixture
+// Lazy: init keeps the vertex and the leaf the distance decision that reached it found (this object's
+// own last decision) and looks nothing up; the vertex's leaf (leaf()) is found on the first question
+// that needs it (at most one descent, none when that leaf or the last vertex's leaf holds the point);
+// how much every decision follows the guide is WalkGuide::guided_share's (trust.h); the direction mixture
 // is built on the first direction call, so a vertex whose path the distance-stage continuation ends
 // never builds one. Phase sampling (and no estimate) where the field has no valid leaf or the
 // direction is not guided.
@@ -31,9 +32,10 @@ class GuidedVertex {
     // The guide must outlive the object, `counts` (the walk's counters) too.
     GuidedVertex(const WalkGuide& guide, WalkGuideStats& counts) : guide_(guide), counts_(counts) {}
 
-    // Begins the vertex mi (mi.medium set); `handed`: the leaf the distance decision that reached it
-    // handed on (-1: not known). Looks nothing up.
-    void init(const MediumInteraction& mi, const VertexLeaf& handed);
+    // Begins the vertex mi (mi.medium set), reached by this object's last distance decision (whose
+    // scattering leaf it keeps), or, with `known_leaf` >= 0, in that leaf (a leaf holding mi.p: tests and
+    // benches that place vertices themselves). Looks nothing up.
+    void init(const MediumInteraction& mi, int known_leaf = -1);
     // No vertex (the path's ray leaves from the camera or a surface). The last leaf found stays a hint.
     void clear();
     // The walk splits the path here: keeps the vertex's leaf and direction decision (built now if not
@@ -50,9 +52,10 @@ class GuidedVertex {
     int hint() const { return hint_; }
 
     // The distance decision of `query`, whose ray leaves from this point (the vertex, or the camera
-    // or a surface when not active); `scattering` (out): the scattering vertex's leaf where the
-    // decision knows it; `record` (may be null): what the decision sampled from, for the recorders.
-    FreeFlightSample sample_distance(const DistanceQuery& query, Sampler& sampler, VertexLeaf& scattering,
+    // or a surface when not active); `camera_guided`: the camera segment's P_G from the pixel buffer
+    // (NaN: not a camera segment, or none); `record` (may be null): what the decision sampled from, for
+    // the recorders. The scattering vertex's leaf, where the decision knows it, is kept for init.
+    FreeFlightSample sample_distance(const DistanceQuery& query, float camera_guided, Sampler& sampler,
                                      DecisionRecord* record);
 
     // Builds the direction mixture on the first call (nothing when directions are not guided).
@@ -70,16 +73,18 @@ class GuidedVertex {
     float guide_pdf(const Vec3f& wo) const { return direction_ ? direction_->guide_pdf(wo) : 0.f; }
 
     // The continuation's estimate for `stage` along w (guided_continuation.h) from the vertex's leaf
-    // where its confidence is at least WalkGuide::kSkipConfidence; 0 otherwise.
+    // where the guide trusts it (WalkGuide::trusted); 0 otherwise.
     Color3 estimate(ContinuationStage stage, const Vec3f& w);
 
   private:
     // The leaf a distance decision of a ray leaving from this point reads: the vertex's, or where
     // there is no vertex and `needed`, the leaf at the ray's origin (-1: none).
     int origin_leaf(const DistanceQuery& query, bool needed);
-    // The direction mixture's phase probability in leaf `index` (the configured one, the learned
-    // share's, damped by the leaf's confidence); 1: the phase function alone.
+    // The direction mixture's phase probability in leaf `index`: 1 - the guided share
+    // (WalkGuide::guided_share); 1: the phase function alone.
     float phase_probability(int index);
+    // The distance decision's inputs at its origin (`select`: the learned selection's share is read).
+    DistanceInput distance_input(const DistanceQuery& query, bool select, float camera_guided);
     // The phase function's prepared lobes (the guide's; the last medium's kept: no map lookup per vertex).
     const PhaseLobes& phase_lobes(const PhaseFunction& phase);
 
@@ -87,12 +92,13 @@ class GuidedVertex {
     WalkGuideStats& counts_;
     MediumInteraction mi_;  // a copy: the walk's vertex may move before the decisions are made
     bool active_ = false;
-    int handed_ = -1;       // the leaf handed on by the decision that reached the vertex
+    int reached_ = -1;      // the scattering leaf the last distance decision found (-1: none), for init
+    int handed_ = -1;       // the current vertex's: reached_ when it began
     int leaf_ = -1;         // leaf(), when found_
     bool found_ = false;
     int hint_ = -1;
     bool prepared_ = false;  // prepare_direction ran for this vertex
-    DistanceContext distance_;  // the distance decisions' context (scratch kept between them)
+    DistanceScratch scratch_;  // the distance decisions' (kept for its storage)
     std::optional<GuidedDirectionSampler> direction_;
     // What keep() kept, per token (the camera sample's splits; its copies read them).
     struct Kept {

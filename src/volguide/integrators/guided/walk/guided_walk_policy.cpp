@@ -2,25 +2,19 @@
 
 namespace volguide {
 
-FreeFlightSample GuidedWalkPolicy::sample_distance(const Medium& medium, const Ray& ray, float tmax,
-                                                   const Color3& throughput, Sampler& sampler,
-                                                   VertexLeaf& scattering_leaf, DecisionRecord* record) {
-    if (!guide_.guides_distance()) {
-        scattering_leaf = VertexLeaf();  // the scattering vertex's is not known
-        return medium.sample_free_flight(ray, tmax, throughput, sampler);
-    }
-    // The camera-ray buffer's P_G for the first decision only, and only along the camera ray.
-    DistanceQuery query{medium, ray, tmax, throughput};
-    if (ray.d == camera_d_) query.camera_guided = camera_guided_;
+FreeFlightSample GuidedWalkPolicy::sample_distance(const DistanceQuery& query, Sampler& sampler,
+                                                   DecisionRecord* record) {
+    if (!guide_.guides_distance()) return query.medium.sample_free_flight(query.ray, query.tmax, query.throughput, sampler);
+    // The camera-ray buffer's P_G for the first decision only, and only before any real event.
+    const float camera_guided = query.depth == 0 ? camera_guided_ : std::numeric_limits<float>::quiet_NaN();
     camera_guided_ = std::numeric_limits<float>::quiet_NaN();
-    return vertex_.sample_distance(query, sampler, scattering_leaf, record);
+    return vertex_.sample_distance(query, camera_guided, sampler, record);
 }
 
-Continuation GuidedWalkPolicy::continuation(ContinuationStage stage, const MediumInteraction&, const Vec3f& w,
-                                            const Color3& throughput, int branches, float allowance, Sampler& sampler,
-                                            bool report) {
-    const Continuation c = continuation_.decide(stage, vertex_, w, throughput, branches, allowance, sampler, report);
-    if (stage == ContinuationStage::Distance && c.n == 0 && c.q != 1.f) ++counts_.vertex_distance_kills;
+Continuation GuidedWalkPolicy::continuation(const ContinuationQuery& query, const MediumInteraction&,
+                                            Sampler& sampler) {
+    const Continuation c = continuation_.decide(query, vertex_, sampler);
+    if (query.stage == ContinuationStage::Distance && c.n == 0 && c.q != 1.f) ++counts_.vertex_distance_kills;
     return c;
 }
 
@@ -40,15 +34,13 @@ PhaseSample GuidedWalkPolicy::sample_direction(const MediumInteraction& mi, Samp
     return ps;
 }
 
-float GuidedWalkPolicy::surface_direction_pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const BSDF& bsdf,
-                                              const Vec3f& wo_local) const {
-    return surface_.sampler() ? surface_.sampler()->pdf(ctx, wo_local) : bsdf.pdf(ctx, si, wo_local);
+float GuidedWalkPolicy::surface_direction_pdf(const SurfaceQuery& at, const Vec3f& wo_local) const {
+    return surface_.sampler() ? surface_.sampler()->pdf(at.ctx, wo_local) : at.bsdf.pdf(at.ctx, at.si, wo_local);
 }
 
-std::pair<BSDFSample, Color3> GuidedWalkPolicy::sample_surface_direction(const BSDFContext& ctx,
-                                                                         const SurfaceInteraction& si,
-                                                                         const BSDF& bsdf, float u1, Point2f u2,
+std::pair<BSDFSample, Color3> GuidedWalkPolicy::sample_surface_direction(const SurfaceQuery& at, float u1, Point2f u2,
                                                                          Sampler& sampler, DecisionRecord* record) {
+    const auto& [ctx, si, bsdf] = at;
     const auto& s = surface_.sampler();
     if (!s || !s->guided()) return bsdf.sample(ctx, si, u1, u2);
     const GuidedSurfaceSampler::Sample g = s->sample(ctx, sampler.next_1d(), u1, u2);

@@ -32,18 +32,15 @@ class GuidedWalkPolicy final : public WalkPolicy {
     GuidedWalkPolicy& operator=(const GuidedWalkPolicy&) = delete;
 
     // distance=vsp's camera segment (docs/theory.md §7.10.2): the first distance decision of the
-    // camera sample along the camera ray's direction `d` (null surfaces crossed, no real event yet)
-    // takes P_G = `guided` from the pixel's buffer (NaN: none, the leaf's as elsewhere).
-    void set_camera_segment(const Vec3f& d, float guided) {
-        camera_d_ = d;
-        camera_guided_ = guided;
-    }
+    // camera sample, when the walk has no real event yet (depth 0: the camera ray, null surfaces
+    // crossed, as the pixel estimate's buffer defines it) takes P_G = `guided` from the pixel's buffer
+    // (NaN: none, the leaf's as elsewhere).
+    void set_camera_segment(float guided) { camera_guided_ = guided; }
 
     bool guides_distance() const override { return guide_.guides_distance(); }
-    FreeFlightSample sample_distance(const Medium& medium, const Ray& ray, float tmax, const Color3& throughput,
-                                     Sampler& sampler, VertexLeaf& scattering_leaf, DecisionRecord* record) override;
+    FreeFlightSample sample_distance(const DistanceQuery& query, Sampler& sampler, DecisionRecord* record) override;
 
-    void begin_vertex(const MediumInteraction& mi, const VertexLeaf& handed) override { vertex_.init(mi, handed); }
+    void begin_vertex(const MediumInteraction& mi) override { vertex_.init(mi); }
     void end_vertex() override { vertex_.clear(); }
     int keep_vertex() override { return vertex_.keep(); }
     void resume_vertex(const MediumInteraction& mi, int kept) override { vertex_.resume(mi, kept); }
@@ -56,20 +53,16 @@ class GuidedWalkPolicy final : public WalkPolicy {
                                    Sampler& sampler) override {
         surface_.prepare(si, bsdf, medium);
     }
-    float surface_direction_pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const BSDF& bsdf,
-                                const Vec3f& wo_local) const override;
-    std::pair<BSDFSample, Color3> sample_surface_direction(const BSDFContext& ctx, const SurfaceInteraction& si,
-                                                           const BSDF& bsdf, float u1, Point2f u2, Sampler& sampler,
-                                                           DecisionRecord* record) override;
+    float surface_direction_pdf(const SurfaceQuery& at, const Vec3f& wo_local) const override;
+    std::pair<BSDFSample, Color3> sample_surface_direction(const SurfaceQuery& at, float u1, Point2f u2,
+                                                           Sampler& sampler, DecisionRecord* record) override;
 
     // At the current vertex (begin_vertex's: `mi` is its interaction).
-    Continuation continuation(ContinuationStage stage, const MediumInteraction& mi, const Vec3f& w,
-                              const Color3& throughput, int branches, float allowance, Sampler& sampler,
-                              bool report) override;
+    Continuation continuation(const ContinuationQuery& query, const MediumInteraction& mi, Sampler& sampler) override;
     bool decides_at_surfaces() const override { return continuation_.decides_at_surfaces(); }
-    Continuation surface_continuation(const SurfaceInteraction& si, const Vec3f& w, const Color3& throughput,
-                                      int branches, float allowance, Sampler& sampler) override {
-        return continuation_.decide_surface(si, w, throughput, branches, allowance, sampler, vertex_.hint());
+    Continuation surface_continuation(const SurfaceInteraction& si, const ContinuationQuery& query,
+                                      Sampler& sampler) override {
+        return continuation_.decide_surface(si, query, sampler, vertex_.hint());
     }
     float branch_budget() const override { return continuation_.branch_budget(); }
     void end_camera_sample(int branches) override { continuation_.end_camera_sample(branches); }
@@ -80,7 +73,6 @@ class GuidedWalkPolicy final : public WalkPolicy {
     WalkGuideStats counts_;    // the walk's (before the vertex objects, which count into it)
     GuidedVertex vertex_;      // the medium vertex the ray leaves from (inactive: the camera, a surface)
     SurfaceVertex surface_;    // the current surface vertex's direction decision
-    Vec3f camera_d_{0.f};      // set_camera_segment's direction
     float camera_guided_ = std::numeric_limits<float>::quiet_NaN();  // until the first distance decision
 };
 

@@ -16,16 +16,20 @@ void SurfaceVertex::prepare(const SurfaceInteraction& si, const BSDF& bsdf, cons
         ++counts_.surface_vertices;
         const SurfaceLeaf beside = surface_leaf(field, si);
         leaf_ = beside.leaf;
-        const float share = leaf_ >= 0 ? guide_.selection().share(SelectionDecision::Surface, guide_.selection_cell(leaf_))
-                                       : LearnedSelection::kDefault;
         const Vmm* leaf = leaf_ >= 0 ? guide_.direction_vmm(leaf_) : nullptr;
-        const float confidence = leaf && medium ? guide_.confidence(leaf_, medium->eval(si.p).sigma_t) : 1.f;
-        const bool guidable = leaf && confidence >= WalkGuide::kSkipConfidence &&
-                              field.leaves()[size_t(leaf_)].mostly_medium();
-        if (guidable && share == 0.f) {
+        TrustPoint at{DecisionKind::Surface};
+        if (leaf && medium) {  // the leaf's confidence as in the medium the path arrived through
+            at.leaf = leaf_;
+            at.sigma_t = medium->eval(si.p).sigma_t;
+        }
+        if (leaf_ >= 0) at.learned = guide_.selection().share(DecisionKind::Surface, guide_.selection_cell(leaf_));
+        const GuidedShare g = guide_.guided_share(at);
+        const bool guidable =
+            leaf && g.source != ShareSource::Skipped && field.leaves()[size_t(leaf_)].mostly_medium();
+        if (guidable && g.source == ShareSource::Unselected) {
             ++counts_.surface_unselected;  // only vertices the configured mixture would guide
         } else if (guidable) {
-            bsdf_prob = 1.f - (share != LearnedSelection::kDefault ? share : 1.f - bsdf_prob) * confidence;
+            bsdf_prob = 1.f - g.share;
             guide = guide_of(leaf_, beside.n);
         }
     }

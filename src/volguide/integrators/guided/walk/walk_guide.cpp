@@ -73,6 +73,27 @@ float WalkGuide::confidence(int leaf, const Color3& sigma_t) const {
     return leaf_confidence(leaf_extent_[size_t(leaf)], sigma_t, settings_.leaf_tau_max);
 }
 
+GuidedShare WalkGuide::guided_share(const TrustPoint& point) const {
+    GuidedShare g;
+    g.confidence = confidence(point.leaf, point.sigma_t);
+    if (point.vertex && g.confidence < kSkipConfidence) {
+        g.source = ShareSource::Skipped;
+        return g;
+    }
+    if (point.learned == 0.f) {
+        g.source = ShareSource::Unselected;
+        return g;
+    }
+    const bool learned = point.learned != LearnedSelection::kDefault;
+    g.source = learned ? ShareSource::Learned : ShareSource::Configured;
+    if (point.kind == DecisionKind::Distance)
+        g.undamped = 1.f - (learned ? 1.f - point.learned : settings_.distance_settings.c_T);
+    else
+        g.undamped = learned ? point.learned : configured_shares()[size_t(point.kind)];
+    g.share = g.undamped * g.confidence;
+    return g;
+}
+
 const LeafEstimates* WalkGuide::estimates_for(const PhaseFunction& phase) const {
     const auto it = estimates_.find(phase.mean_cosine());
     return it == estimates_.end() ? nullptr : &it->second;
@@ -119,7 +140,7 @@ int WalkGuide::leaf_at(const Point3f& x, int hint, uint64_t& descents) const {
     return field_.tree().leaf_at(x);
 }
 
-std::array<float, kSelectionDecisions> WalkGuide::configured_shares() const {
+std::array<float, kDecisionKinds> WalkGuide::configured_shares() const {
     return {1.f - settings_.distance_settings.c_T, 1.f - settings_.phase_prob, 1.f - settings_.bsdf_prob};
 }
 

@@ -25,6 +25,7 @@
 #include "volguide/guiding/leaf_groups.h"
 #include "volguide/integrators/guided/estimates/learned_selection.h"
 #include "volguide/integrators/guided/walk/guided_surface_sampler.h"
+#include "volguide/integrators/guided/walk/trust.h"
 #include "volguide/media/medium.h"
 #include "volguide/vmm/lobe_block.h"
 #include "volguide/vmm/lobe_product.h"
@@ -59,12 +60,8 @@ struct WalkGuideSettings {
     // comparison on bench/scenes/foglamp.xml (bench/RESULTS.md, issue 37); no parameter.
     float vsp_equiangular = 0.5f;
     // Guiding confidence of a leaf: min(1, leaf_tau_max / tau_leaf), tau_leaf = sigma_t (channel
-    // average, at the vertex / of the bin's proxy) x the cube root of the leaf's volume. A leaf many
-    // mean free paths across holds one estimate for radiance that varies on the scale of a free path
-    // (deep in a dense medium it is near-isotropic while the leaf's VMM carries the light at its
-    // boundary); following it at every one of hundreds of events compounds its error into the path
-    // weights. The guided distance probability and the direction mixture's guided share are scaled
-    // by the confidence toward free flight and the phase function. 0: off (confidence 1).
+    // average, at the point / of the bin's proxy) x the cube root of the leaf's volume; why and how the
+    // decisions read it: trust.h. 0: off (confidence 1).
     float leaf_tau_max = 1.f;
     // Diffuse surface vertices guided by the leaf around them (guiding/surface_guide.h), whenever
     // directions are guided: the leaf's VMM (direction=incident) or its product with the cosine lobe
@@ -113,7 +110,7 @@ struct WalkGuideSettings {
     X(direction_unguided_vertices, "direction_unguided_vertex_fraction", direction_samples)                \
     /* bins whose leaf is optically larger than leaf_tau_max */                                            \
     X(damped_bins, "distance_damped_bin_fraction", distance_steps)                                         \
-    /* queries from a vertex in a leaf of confidence < kSkipConfidence */                                  \
+    /* queries from a vertex in a leaf of confidence < kSkipConfidence (trust.h) */                                  \
     X(distance_skipped, "distance_skipped", 1)                                                             \
     /* vertices whose leaf is optically larger than leaf_tau_max */                                        \
     X(direction_damped_vertices, "direction_damped_vertex_fraction", direction_samples)                    \
@@ -173,11 +170,22 @@ class WalkGuide {
     // The leaf at x (-1 outside the field), without a descent when `hint` (a guess: a nearby
     // vertex's leaf) holds x; `descents` counts the descent made.
     int leaf_at(const Point3f& x, int hint, uint64_t& descents) const;
-    // The confidence of `leaf` at extinction sigma_t (WalkGuideSettings::leaf_tau_max); 1 for -1.
+    // The confidence of `leaf` at extinction sigma_t (trust.h's leaf_confidence); 1 for -1.
     float confidence(int leaf, const Color3& sigma_t) const;
-    // Below this confidence a vertex neither builds the direction product nor walks the guided
-    // bins from it: phase sampling and free flight (the guided share would be under a quarter).
-    static constexpr float kSkipConfidence = 0.25f;
+    // The guided share of the decision at `point` (trust.h), the one rule for how much a decision
+    // follows the guide: s = s_0 x the confidence of point.leaf at point.sigma_t, s_0 the learned share
+    // point.learned where one was learned, else the configured one (1 - c_T, 1 - phase_prob,
+    // 1 - bsdf_prob for the distance, direction and surface decisions); s = 0 where the learned share
+    // is 0 (Unselected) and at a medium vertex whose leaf's confidence is below kSkipConfidence
+    // (Skipped). The distance family keeps its mixture as the unguided share c_T (GuidedDistanceSettings),
+    // so its s_0 is 1 - c_T with c_T = 1 - the learned share. Every decision's mixture takes 1 - s (the
+    // incremental distance decision 1 - undamped, its bins damped by their own leaves).
+    GuidedShare guided_share(const TrustPoint& point) const;
+    // Whether the field's estimate at `leaf` may be read at extinction sigma_t (the continuation's
+    // estimate): a leaf whose confidence is at least kSkipConfidence.
+    bool trusted(int leaf, const Color3& sigma_t) const {
+        return leaf >= 0 && confidence(leaf, sigma_t) >= kSkipConfidence;
+    }
     const std::vector<float>& leaf_extents() const { return leaf_extent_; }
 
     // The estimates prepared for a phase function (null: none, e.g. no guided distance decision).
@@ -221,7 +229,7 @@ class WalkGuide {
     size_t selection_cell(int leaf) const { return leaf >= 0 ? size_t(leaf) : field_.leaves().size(); }
     size_t selection_cells() const { return field_.leaves().size() + 1; }
     // The guided shares the configuration sets (what the pilot samples with): distance, direction, surface.
-    std::array<float, kSelectionDecisions> configured_shares() const;
+    std::array<float, kDecisionKinds> configured_shares() const;
 
     // A walk's counters, added at its end (any thread).
     void add_stats(const WalkGuideStats& walk) const { stats_.local() += walk; }
