@@ -231,8 +231,8 @@ def run_method(volguide, scene, method, spec, args, out):
             f.write(guided_integrator_xml(spec.get("guided", {}), defaults=spec.get("guided_defaults", False)))
         cmd += ["-D", f"integrator_xml={xml}"]
         # The per-tile method choice beside the render in the report (white: bounded volpath's tiles).
-        choice_png = os.path.join(out, "images", name + "__choice.png")
-        cmd += ["--choice-map", choice_png]
+        if spec.get("guided", {}).get("method_choice"):
+            cmd += ["--choice-map", os.path.join(out, "images", name + "__choice.png")]
     if "openpgl" in spec:
         xml = os.path.join(out, "integrators", slug(method) + ".xml")
         with open(xml, "w") as f:
