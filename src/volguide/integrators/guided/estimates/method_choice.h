@@ -58,7 +58,7 @@ public:
     void record_surface_vertex(const SurfaceInteraction&, const BSDFSample&, const Vec3f&, const Color3&) override {
         ++surface_;
     }
-    void record_continuation(ContinuationStage, const VertexLeaf&, const Vec3f&, float, const Color3&) override {
+    void record_continuation(ContinuationStage, int, const Vec3f&, float, const Color3&) override {
         ++continuations_;
     }
     void end_camera_sample(int branches) override { branches_ += branches > 1 ? branches - 1 : 0; }
