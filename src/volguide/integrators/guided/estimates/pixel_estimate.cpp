@@ -113,8 +113,17 @@ Color3 march_camera_ray(const CacheEstimator& estimator, const PixelEstimateSett
 // `radiance` may also return a second value per sample in its last argument (0 on entry), averaged
 // over the same samples into `aux` when given.
 using CameraSampleValue = std::function<Color3(Sampler&, const Ray&, Color3&)>;
-Image average_camera_samples(const Scene& scene, EstimateGrid grid, int count, uint64_t stream,
-                             const PreprocessContext& context, const CameraSampleValue& radiance, Image* aux = nullptr) {
+// Which samples: `count` per pixel of `grid`, on random stream `stream`.
+struct CameraSamples {
+    EstimateGrid grid;
+    int count = 1;
+    uint64_t stream = 0;
+};
+Image average_camera_samples(const Scene& scene, const CameraSamples& samples, const PreprocessContext& context,
+                             const CameraSampleValue& radiance, Image* aux = nullptr) {
+    const EstimateGrid grid = samples.grid;
+    const int count = samples.count;
+    const uint64_t stream = samples.stream;
     const Sensor& sensor = scene.sensor();
     const int W = grid.width, H = grid.height;
     const int strata = std::max(1, int(std::sqrt(float(count))));
@@ -181,7 +190,7 @@ PixelEstimate PixelEstimate::raymarch(const Scene& scene, const GuidingField& fi
     auto march = [&](EstimateGrid g) {
         Image camera_segments;
         Image image = average_camera_samples(
-            scene, g, rays, kPixelEstimateStream, context,
+            scene, CameraSamples{g, rays, kPixelEstimateStream}, context,
             [&](Sampler& sampler, const Ray& ray, Color3& camera_segment) {
                 return march_camera_ray(estimator, settings, ray, sampler, camera_segment);
             },
