@@ -64,8 +64,10 @@ first = table.index("## thin")
 assert table.index("| the defaults vs the best unguided |", first) < table.index("| method | spp |", first), table
 assert "| `guided_volpath` |" in table[first:]
 import os
-assert os.path.getsize(f"{tmp}/out/images/thin__guided-volpath__choice.png") > 0
-assert "thin__guided-volpath__choice.png" in open(f"{tmp}/out/index.html").read()
+assert not os.path.exists(f"{tmp}/out/images/thin__guided-volpath__choice.png")
+choice_png = "thin__guided-volpath-method-choice-true__choice.png"
+assert os.path.getsize(f"{tmp}/out/images/{choice_png}") > 0
+assert choice_png in open(f"{tmp}/out/index.html").read()
 print("results.csv agrees with volguide diff; guided methods ran, guided RR with its branch statistics")
 PY
 # Re-scoring against another reference (the same scene at other spp) reproduces volguide diff.
