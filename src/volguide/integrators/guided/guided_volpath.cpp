@@ -39,6 +39,7 @@ GuidedVolPathIntegrator::GuidedVolPathIntegrator(const Properties& props)
 
 void GuidedVolPathIntegrator::preprocess(const Scene& scene, const PreprocessContext& context) {
     training_stats_.clear();
+    work_.clear();
     refining_ = RefinementState{};
     refining_.scene = &scene;
     refining_.seed = context.seed;
@@ -347,10 +348,10 @@ void GuidedVolPathIntegrator::use_given_pixel_estimate() {
 
 Color3 GuidedVolPathIntegrator::guided_walk(const Scene& scene, Sampler& sampler, const Ray& ray, float pixel,
                                             PathRecorder* recorder, float camera_guided) const {
-    if (!guide_) return walk_.walk(scene, sampler, ray, nullptr, recorder);
+    if (!guide_) return walk_.walk(scene, sampler, ray, nullptr, recorder, &work_.local());
     GuidedWalkPolicy policy(*guide_, rrs_.get(), pixel, ears_ ? &ears_->snapshot() : nullptr);
     policy.set_camera_segment(camera_guided);
-    return walk_.walk(scene, sampler, ray, &policy, recorder);
+    return walk_.walk(scene, sampler, ray, &policy, recorder, &work_.local());
 }
 
 bool GuidedVolPathIntegrator::wants_camera_buffer() const {
@@ -389,6 +390,10 @@ Color3 GuidedVolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const C
 
 std::vector<std::pair<std::string, double>> GuidedVolPathIntegrator::statistics() const {
     std::vector<std::pair<std::string, double>> stats = training_stats_;
+    WorkCounts work;
+    for (const WorkCounts& w : work_) work += w;
+    const auto named = named_work(work);
+    stats.insert(stats.end(), named.begin(), named.end());
     if (refining_.schedule) {
         const auto named = refining_.schedule->named();
         stats.insert(stats.end(), named.begin(), named.end());

@@ -128,6 +128,8 @@ private:
     PhotonPassSettings photon_settings(double time_limit) const;
     PreprocessContext refinement_context() const;
     RefinementState refining_;  // refine_passes > 0
+    // The render walks' counted work (volpath/work.h), since the last preprocess().
+    mutable tbb::enumerable_thread_specific<WorkCounts> work_;
     double pixel_estimate_seconds_ = 0;
     std::vector<std::pair<std::string, double>> training_stats_;  // of the last preprocess()
 };

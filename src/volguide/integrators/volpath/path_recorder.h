@@ -56,6 +56,11 @@ class PathRecorder {
 
     // The camera sample ended with `branches` branches.
     virtual void end_camera_sample(int branches) {}
+
+    // The walk's work since the last report (work.h), outside the sampling decisions' own (which come
+    // with their records): reported before every decision, continuation point, branch point, resumed
+    // branch and the camera sample's end, so a recorder can credit it to what is current.
+    virtual void record_work(const WorkCounts& work) {}
 };
 
 }  // namespace volguide

@@ -59,6 +59,7 @@ std::string VolPathIntegrator::to_string() const {
 }
 
 void VolPathIntegrator::preprocess(const Scene& scene, const PreprocessContext&) {
+    work_.clear();
     if (!settings_.equiangular) return;
     bool heterogeneous = scene.sensor().medium() && !scene.sensor().medium()->is_homogeneous();
     for (const auto& shape : scene.shapes())
@@ -70,12 +71,27 @@ void VolPathIntegrator::preprocess(const Scene& scene, const PreprocessContext&)
 }
 
 Color3 VolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const CameraRay& camera) const {
-    return walk(scene, sampler, camera.ray, nullptr);
+    return walk(scene, sampler, camera.ray, nullptr, nullptr, &work_.local());
 }
 
 Color3 VolPathIntegrator::walk(const Scene& scene, Sampler& sampler, const Ray& ray, WalkPolicy* policy,
-                               PathRecorder* recorder) const {
-    return VolumeWalk(scene, settings_, sampler, policy, recorder).run(ray);
+                               PathRecorder* recorder, WorkCounts* work) const {
+    VolumeWalk w(scene, settings_, sampler, policy, recorder);
+    const Color3 L = w.run(ray);
+    if (work) *work += w.work();
+    return L;
+}
+
+WorkCounts VolPathIntegrator::total_work() const {
+    WorkCounts total;
+    for (const WorkCounts& w : work_) total += w;
+    return total;
+}
+
+std::vector<std::pair<std::string, double>> named_work(const WorkCounts& work) {
+    std::vector<std::pair<std::string, double>> out;
+    for (size_t k = 0; k < kWorkUnits; ++k) out.emplace_back(std::string("work_") + kWorkNames[k], double(work.n[k]));
+    return out;
 }
 
 }  // namespace volguide

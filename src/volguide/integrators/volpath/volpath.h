@@ -27,8 +27,11 @@
 //    albedo / 0.95, unbounded (infinite variance) for albedo > 0.95 in deep media. "bounded" survives
 //    with q = min(1, max(beta) eta^2) (pbrt-v4's rule): a weight below 1 is brought back to 1 and
 //    never above it, so a path's weight stays bounded in high-albedo media.
+#include <tbb/enumerable_thread_specific.h>
+
 #include "volguide/core/properties.h"
 #include "volguide/integrators/integrator.h"
+#include "volguide/integrators/volpath/work.h"
 
 namespace volguide {
 
@@ -53,6 +56,9 @@ struct VolPathSettings {
     static VolPathSettings from(const Properties& props);
 };
 
+// Counted work as --stats names ("work_" + kWorkNames).
+std::vector<std::pair<std::string, double>> named_work(const WorkCounts& work);
+
 class VolPathIntegrator final : public Integrator {
 public:
     explicit VolPathIntegrator(const Properties& props) : settings_(VolPathSettings::from(props)) {}
@@ -63,14 +69,21 @@ public:
     // recording the path (path_recorder.h). Equiangular sampling is not combined with a policy
     // that guides distances; training recorders need equiangular = false (the recorder's NEE
     // samples assume NEE and phase sampling are the only direct-light strategies).
+    // `work` (null: not wanted): the walk's counted work (work.h) is added to it.
     Color3 walk(const Scene& scene, Sampler& sampler, const Ray& ray, WalkPolicy* policy,
-                PathRecorder* recorder = nullptr) const;
+                PathRecorder* recorder = nullptr, WorkCounts* work = nullptr) const;
     void preprocess(const Scene& scene, const PreprocessContext& context) override;
+    // The render's counted work (work.h) as "work_<unit>" totals (what bench/fit_cost_model.py fits).
+    std::vector<std::pair<std::string, double>> statistics() const override { return named_work(total_work()); }
+    // The counted work of the camera samples Li rendered since the last preprocess().
+    WorkCounts total_work() const;
     std::string to_string() const override;
     const VolPathSettings& settings() const { return settings_; }
 
 private:
     VolPathSettings settings_;
+    mutable tbb::enumerable_thread_specific<WorkCounts> work_;
 };
+
 
 }  // namespace volguide

@@ -24,6 +24,7 @@ VolumeWalk::VolumeWalk(const Scene& scene, const VolPathSettings& settings, Samp
 Color3 VolumeWalk::run(const Ray& camera_ray, const Medium* medium, bool from_sensor) {
     state_.ray = camera_ray;
     state_.medium = from_sensor ? scene_.sensor().medium() : medium;
+    count(Work::CameraSample);
     if (policy_) {
         state_.split_allowance = policy_->branch_budget();
         policy_->end_vertex();  // the camera ray leaves from no medium vertex
@@ -37,12 +38,15 @@ Color3 VolumeWalk::run(const Ray& camera_ray, const Medium* medium, bool from_se
         branch_sampler_ = b.sampler;
         rng_ = &branch_sampler_;
         need_intersection_ = true;
+        report_work();  // the last branch's tail is its own
         if (recorder_) recorder_->resume_branch(b.record_point);
         if (policy_) resume_policy_vertex(b);
         if (b.at_vertex && !scatter(b.vertex)) continue;  // the copy ended at its vertex
         walk_branch();
     }
     if (policy_) policy_->end_camera_sample(branches_);
+    take_policy_work();
+    report_work();
     if (recorder_) recorder_->end_camera_sample(branches_);
     return result_;
 }
@@ -57,6 +61,7 @@ void VolumeWalk::resume_policy_vertex(const PendingBranch& b) {
 void VolumeWalk::walk_branch() {
     while (!state_.throughput.is_black() && russian_roulette() && depth_ok(state_.depth)) {
         if (need_intersection_) {
+            count(Work::Intersection);
             if (!scene_.intersect(state_.ray, si_)) si_ = miss_interaction(state_.ray);
             need_intersection_ = false;
         }
@@ -95,6 +100,8 @@ VolumeWalk::Step VolumeWalk::medium_step(MediumVertex& v) {
         policy_ ? policy_->sample_distance(DistanceQuery{medium, state_.ray, tmax, state_.throughput, state_.depth},
                                            *rng_, decision_record(record))
                 : medium.sample_free_flight(state_.ray, tmax, state_.throughput, *rng_);
+    record.own.add(Work::Segment);
+    if (medium.tracks_null_collisions()) record.own.add(Work::Tracked);
     report_decision(DecisionKind::Distance, record);
     state_.throughput *= ff.weight;
     if (state_.throughput.is_black()) return Step::End;
@@ -110,9 +117,12 @@ VolumeWalk::Step VolumeWalk::medium_step(MediumVertex& v) {
 VolumeWalk::Step VolumeWalk::equiangular_step(const Medium& medium, float tmax, MediumVertex& v) {
     const MediumCoefficients mc = medium.eval(state_.ray.o);
     const EquiSegment seg = equiangular_segment(state_.ray, tmax, mc, state_.throughput);
+    count(Work::Segment);
     // Strategy 3 (equiangular_mis.h), for paths one vertex longer.
-    if (depth_ok(state_.depth + 1))
+    if (depth_ok(state_.depth + 1)) {
+        count(Work::ShadowRay);
         if (const auto c = equiangular_light_sample(scene_, medium, seg, state_.throughput, *rng_)) add(*c);
+    }
     // Strategies 1 and 2 start from the distance sampled here.
     const FreeFlightSample ff = equiangular_free_flight(state_.ray, seg, mc, &medium, *rng_, v.equi);
     state_.throughput *= ff.weight;
@@ -145,6 +155,7 @@ bool VolumeWalk::scatter(const MediumVertex& v) {
         return true;
     }
     if (recorder_) recorder_->record_medium_hit(mi);
+    count(Work::MediumVertex);
     // One direction sampler per vertex, used by NEE's MIS and the continuation.
     if (policy_) policy_->prepare_direction(mi, *rng_);
     if (mi.medium->sample_emitters()) {
@@ -174,6 +185,7 @@ bool VolumeWalk::scatter(const MediumVertex& v) {
 void VolumeWalk::sample_nee_medium(const MediumVertex& v) {
     const MediumInteraction& mi = v.mi;
     const PhaseFunction& phase = mi.medium->phase();
+    count(Work::ShadowRay);
     const VolumeEmitterSample es =
         sample_emitter_through_media(scene_, mi, nullptr, state_.medium, rng_->next_2d(), *rng_);
     if (es.weight.is_black()) return;
@@ -196,6 +208,7 @@ bool VolumeWalk::surface_step() {
     if (!si_.is_valid()) return false;
 
     const BSDF& bsdf = *si_.shape->bsdf();
+    count(Work::SurfaceVertex);
     if (policy_) policy_->prepare_surface_direction(si_, bsdf, s.medium, *rng_);
     // NEE (only when its path, one segment longer, is within max_depth).
     if (bsdf.has(bsdf_flags::Smooth) && depth_ok(s.depth + 1)) sample_nee_surface(bsdf);
@@ -232,7 +245,9 @@ bool VolumeWalk::surface_step() {
 
 bool VolumeWalk::continue_at_surface(const Vec3f& wo) {
     const ContinuationQuery query{ContinuationStage::Surface, wo, state_.throughput, branches_, state_.split_allowance};
+    count(Work::Continuation);
     const Continuation c = policy_->surface_continuation(si_, query, *rng_);
+    take_policy_work();
     return continue_copies(c, ContinuationStage::Surface, wo, nullptr);
 }
 
@@ -253,6 +268,7 @@ void VolumeWalk::emitter_hit() {
 }
 
 void VolumeWalk::sample_nee_surface(const BSDF& bsdf) {
+    count(Work::ShadowRay);
     const VolumeEmitterSample es =
         sample_emitter_through_media(scene_, si_, &si_, state_.medium, rng_->next_2d(), *rng_);
     if (es.weight.is_black()) return;
@@ -267,7 +283,9 @@ void VolumeWalk::sample_nee_surface(const BSDF& bsdf) {
 
 bool VolumeWalk::continue_path(ContinuationStage stage, const MediumVertex& v, const Vec3f& w) {
     const ContinuationQuery query{stage, w, state_.throughput, branches_, state_.split_allowance, records_decisions_};
+    count(Work::Continuation);
     const Continuation c = policy_->continuation(query, v.mi, *rng_);
+    take_policy_work();
     return continue_copies(c, stage, w, &v);
 }
 
@@ -277,8 +295,10 @@ bool VolumeWalk::continue_copies(const Continuation& c, ContinuationStage stage,
     if (c.n == 0 && c.q != 1.f) return false;
     if (c.q != 1.f) state_.throughput *= 1.f / c.q;
     // The point is reported with its weight after the decision, before its copies (branch_point).
+    report_work();
     if (recorder_) recorder_->record_continuation(stage, c.leaf, w, c.estimate, state_.throughput);
     if (c.q == 1.f || c.n <= 1) return true;
+    count(Work::Branch, uint64_t(c.n - 1));
     // The n copies share the path's allowance, so the live branches' allowances never sum to more
     // than the camera sample's budget.
     state_.split_allowance /= float(c.n);
@@ -294,8 +314,20 @@ bool VolumeWalk::continue_copies(const Continuation& c, ContinuationStage stage,
     return true;
 }
 
-void VolumeWalk::report_decision(DecisionKind kind, const DecisionRecord& record) {
+// The decision's own work is the walk's units it added to `record` and the policy's since its last
+// decision; the work before it is reported first (it belongs to what was current then).
+void VolumeWalk::report_decision(DecisionKind kind, DecisionRecord& record) {
+    if (policy_) record.own += policy_->take_work();
+    report_work();
+    work_ += record.own;
     if (records_decisions_) recorder_->record_decision(kind, record);
+}
+
+void VolumeWalk::report_work() {
+    if (pending_.empty()) return;
+    work_ += pending_;
+    if (recorder_) recorder_->record_work(pending_);
+    pending_ = WorkCounts{};
 }
 
 void VolumeWalk::add(const Color3& c) {

@@ -54,6 +54,8 @@ class VolumeWalk {
                PathRecorder* recorder = nullptr);
     // The camera sample's estimate along camera_ray: every branch's contributions.
     Color3 run(const Ray& camera_ray) { return run(camera_ray, nullptr, true); }
+    // What the camera sample did (work.h), the policy's work included; complete after run().
+    const WorkCounts& work() const { return work_; }
     // The same walk from a ray that starts inside `medium` (null: in vacuum) rather than at the
     // sensor: the radiance probes of radiance_probe.h.
     Color3 run_from(const Ray& ray, const Medium* medium) { return run(ray, medium, false); }
@@ -107,7 +109,16 @@ class VolumeWalk {
     bool continue_at_surface(const Vec3f& wo);
     // The DecisionRecord a sampling decision fills (null unless the recorder reads them), and its report.
     DecisionRecord* decision_record(DecisionRecord& record) const { return records_decisions_ ? &record : nullptr; }
-    void report_decision(DecisionKind kind, const DecisionRecord& record);
+    void report_decision(DecisionKind kind, DecisionRecord& record);
+    // Work: the walk's own units since the last report (count), the policy's after a decision it
+    // made outside the sampling decisions (take_policy_work), and the report of what is pending to
+    // the recorder (report_work: before every event it records, so the work is credited to what was
+    // current while it was done).
+    void count(Work unit, uint64_t n = 1) { pending_.add(unit, n); }
+    void take_policy_work() {
+        if (policy_) pending_ += policy_->take_work();
+    }
+    void report_work();
     // Every contribution goes through add(): the recorder records it.
     void add(const Color3& c);
     bool depth_ok(int d) const { return settings_.max_depth < 0 || d < settings_.max_depth; }
@@ -128,6 +139,8 @@ class VolumeWalk {
     Color3 result_{0.f};
     int branches_ = 1;
     std::vector<PendingBranch> stack_;
+    WorkCounts work_;     // the camera sample's, reported
+    WorkCounts pending_;  // done since the last report
 };
 
 }  // namespace volguide

@@ -29,6 +29,7 @@
 #include <utility>
 
 #include "volguide/core/sampler.h"
+#include "volguide/integrators/volpath/work.h"
 #include "volguide/media/medium.h"
 #include "volguide/media/phase.h"
 #include "volguide/render/bsdf.h"
@@ -91,11 +92,14 @@ struct SurfaceQuery {
 
 // What a sampling decision drew from, when the walk asks for it (for the recorders): a one-sample
 // mixture of an unguided and a guided density whose parts are known, in the guiding structure's
-// leaf `leaf` (-1: outside it); mixture false: a decision without such a mixture.
+// leaf `leaf` (-1: outside it); mixture false: a decision without such a mixture. `own`: the work of
+// the decision itself (the walk fills it: its own units and the policy's since the last decision,
+// work.h), apart from what followed it.
 struct DecisionRecord {
     bool mixture = false;
     int leaf = -1;
     float pdf = 0.f, p_u = 0.f, p_g = 0.f;  // the mixture's density at the sample and its two parts
+    WorkCounts own{};
 };
 
 class WalkPolicy {
@@ -167,6 +171,10 @@ class WalkPolicy {
     virtual float branch_budget() const { return std::numeric_limits<float>::infinity(); }
     // The camera sample ended with `branches` branches (the continuation decisions' statistics).
     virtual void end_camera_sample(int branches) {}
+    // The work of the policy's guided decisions since the last call (work.h), handed to the walk and
+    // reset: the walk asks after each sampling decision (the decision's own work) and before each
+    // event it reports. The defaults count nothing.
+    virtual WorkCounts take_work() { return {}; }
 };
 
 }  // namespace volguide

@@ -46,7 +46,10 @@ void GuidedVertex::resume(const MediumInteraction& mi, int kept) {
 
 int GuidedVertex::leaf() {
     if (!found_) {
-        leaf_ = guide_.leaf_at(mi_.p, handed_ >= 0 ? handed_ : hint_, counts_.vertex_descents);
+        uint64_t descents = 0;
+        leaf_ = guide_.leaf_at(mi_.p, handed_ >= 0 ? handed_ : hint_, descents);
+        counts_.vertex_descents += descents;
+        counts_.work.add(Work::Descent, descents);
         found_ = true;
     }
     return leaf_;
@@ -56,7 +59,9 @@ int GuidedVertex::origin_leaf(const DistanceQuery& query, bool needed) {
     if (active_) return leaf();
     if (!needed) return -1;
     uint64_t descents = 0;  // the camera's and surfaces' lookups are not the vertices' descents
-    return guide_.leaf_at(query.ray.o, -1, descents);
+    const int leaf = guide_.leaf_at(query.ray.o, -1, descents);
+    counts_.work.add(Work::Descent, descents);
+    return leaf;
 }
 
 DistanceInput GuidedVertex::distance_input(const DistanceQuery& query, bool select, float camera_guided) {
@@ -86,6 +91,10 @@ FreeFlightSample GuidedVertex::sample_distance(const DistanceQuery& query, float
     out.record.leaf = in.origin;  // the decision's cell, mixture or not
     const FreeFlightSample fs = method.sample(query, in, scratch_, sampler, out);
     count_distance(out.report, counts_);
+    if (&method != &guide_.free_flight()) {
+        counts_.work.add(Work::GuidedSegment);
+        counts_.work.add(Work::Bin, out.report.steps);
+    }
     reached_ = out.scattering;
     if (record) *record = out.record;
     return fs;
@@ -117,6 +126,10 @@ void GuidedVertex::prepare_direction() {
     counts_.direction_unguided_vertices += !s.guided();
     ++counts_.vertex_mixtures;
     counts_.vertex_products += s.product() != nullptr;
+    if (s.guided()) {
+        const int lobes = guide_.direction_lobes(index).count;
+        counts_.work.add(Work::LobePair, uint64_t(s.product() ? lobes * phase_lobes(phase).count : lobes));
+    }
 }
 
 const PhaseLobes& GuidedVertex::phase_lobes(const PhaseFunction& phase) {
@@ -144,12 +157,15 @@ GuidedDirectionSampler::Sample GuidedVertex::sample_direction(Point2f u, float u
 }
 
 float GuidedVertex::direction_pdf(const Vec3f& wo) const {
-    return direction_ ? direction_->pdf(wo) : mi_.medium->phase().pdf(mi_.wi, wo);
+    if (!direction_) return mi_.medium->phase().pdf(mi_.wi, wo);
+    if (direction_->guided()) counts_.work.add(Work::GuideEval);
+    return direction_->pdf(wo);
 }
 
 Color3 GuidedVertex::estimate(ContinuationStage stage, const Vec3f& w) {
     const int index = leaf();
     if (!guide_.trusted(index, mi_.coeffs.sigma_t)) return Color3(0.f);
+    counts_.work.add(Work::Estimate);
     const PhaseFunction& phase = mi_.medium->phase();
     // After the direction decision the full L~, although NEE took the direct light at x: the
     // continuation still collects the emitter hits MIS gives it (a sky), and the indirect part

@@ -25,8 +25,11 @@ PhaseSample GuidedWalkPolicy::sample_direction(const MediumInteraction& mi, Samp
     const GuidedDirectionSampler::Sample g = vertex_.sample_direction(sampler.next_2d(), u_strategy);
     ++counts_.direction_samples;
     counts_.direction_guided += g.guided;
-    if (record && vertex_.guided() && g.pdf > 0.f)
+    if (vertex_.guided()) counts_.work.add(Work::GuideEval);
+    if (record && vertex_.guided() && g.pdf > 0.f) {
         *record = {true, vertex_.leaf(), g.pdf, mi.medium->phase().pdf(mi.wi, g.wo), vertex_.guide_pdf(g.wo)};
+        counts_.work.add(Work::GuideEval);
+    }
     PhaseSample ps;
     ps.wo = g.wo;
     ps.pdf = g.pdf;
@@ -45,8 +48,11 @@ std::pair<BSDFSample, Color3> GuidedWalkPolicy::sample_surface_direction(const S
     if (!s || !s->guided()) return bsdf.sample(ctx, si, u1, u2);
     const GuidedSurfaceSampler::Sample g = s->sample(ctx, sampler.next_1d(), u1, u2);
     counts_.surface_guided_samples += g.guided;
-    if (record && g.bs.pdf > 0.f)
+    counts_.work.add(Work::GuideEval);
+    if (record && g.bs.pdf > 0.f) {
         *record = {true, surface_.leaf(), g.bs.pdf, bsdf.pdf(ctx, si, g.bs.wo), s->guide_pdf(g.bs.wo)};
+        counts_.work.add(Work::GuideEval);
+    }
     return {g.bs, g.weight};
 }
 

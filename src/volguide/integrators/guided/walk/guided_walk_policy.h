@@ -10,6 +10,7 @@
 // the walk hands it with each decision's mixture densities, and reports the continuation's estimate
 // when asked.
 #include <limits>
+#include <utility>
 
 #include "volguide/guiding/roulette_splitting.h"
 #include "volguide/integrators/guided/walk/guided_continuation.h"
@@ -66,6 +67,7 @@ class GuidedWalkPolicy final : public WalkPolicy {
     }
     float branch_budget() const override { return continuation_.branch_budget(); }
     void end_camera_sample(int branches) override { continuation_.end_camera_sample(branches); }
+    WorkCounts take_work() override { return std::exchange(counts_.work, WorkCounts{}); }
 
   private:
     const WalkGuide& guide_;

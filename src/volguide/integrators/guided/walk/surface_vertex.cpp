@@ -15,6 +15,7 @@ void SurfaceVertex::prepare(const SurfaceInteraction& si, const BSDF& bsdf, cons
     if (!field.empty() && bsdf.flags() == bsdf_flags::DiffuseReflection) {
         ++counts_.surface_vertices;
         const SurfaceLeaf beside = surface_leaf(field, si);
+        counts_.work.add(Work::Descent);
         leaf_ = beside.leaf;
         const Vmm* leaf = leaf_ >= 0 ? guide_.direction_vmm(leaf_) : nullptr;
         TrustPoint at{DecisionKind::Surface};
@@ -35,6 +36,7 @@ void SurfaceVertex::prepare(const SurfaceInteraction& si, const BSDF& bsdf, cons
     }
     sampler_.emplace(bsdf, si, guide, bsdf_prob);
     counts_.surface_guided_vertices += sampler_->guided();
+    if (sampler_->guided()) counts_.work.add(Work::SurfaceGuide);
 }
 
 const Vmm* SurfaceVertex::guide_of(int index, const Vec3f& n) {

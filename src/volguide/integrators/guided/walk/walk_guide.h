@@ -26,6 +26,7 @@
 #include "volguide/integrators/guided/estimates/learned_selection.h"
 #include "volguide/integrators/guided/walk/guided_surface_sampler.h"
 #include "volguide/integrators/guided/walk/trust.h"
+#include "volguide/integrators/volpath/work.h"
 #include "volguide/media/medium.h"
 #include "volguide/vmm/lobe_block.h"
 #include "volguide/vmm/lobe_product.h"
@@ -145,6 +146,9 @@ struct WalkGuideStats {
 #define VOLGUIDE_WALK_GUIDE_MEMBER(member, name, of) uint64_t member = 0;
     VOLGUIDE_WALK_GUIDE_COUNTERS(VOLGUIDE_WALK_GUIDE_MEMBER)
 #undef VOLGUIDE_WALK_GUIDE_MEMBER
+    // The guided decisions' work (volpath/work.h) since the walk last took it (WalkPolicy::take_work);
+    // not part of the sums (the walk reports the totals).
+    WorkCounts work;
     WalkGuideStats& operator+=(const WalkGuideStats& o);
     // Named values for --stats.
     std::vector<std::pair<std::string, double>> named() const;
