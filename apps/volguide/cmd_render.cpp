@@ -172,7 +172,6 @@ int run_render(const RenderArgs& args) {
     const std::optional<SampleRange> samples = sample_range(args.samples);
     for (const std::string& output : outputs) check_directory(output);
     if (!args.stats.empty()) check_directory(args.stats);
-    if (!args.choice_map.empty()) check_directory(args.choice_map);
     LoadOptions load;
     load.defines = parse_defines(args.defines);
 
@@ -231,12 +230,6 @@ int run_render(const RenderArgs& args) {
             write_part(output, part);
         else
             write_image(output, result.mean, scene->sensor().film().png_tonemap());  // an ldrfilm's tonemap
-    if (!args.choice_map.empty()) {
-        const Image map = scene->integrator().method_map();
-        if (map.pixels.empty())
-            throw FileError(args.choice_map, "the integrator made no method choice (guided_volpath with method_choice)");
-        write_image(args.choice_map, map, scene->sensor().film().png_tonemap());
-    }
     std::string var_output;
     if (scene->integrator().writes_variance() || args.variance) {
         var_output = variance_path(outputs.front());

@@ -39,7 +39,6 @@ struct RenderArgs {
     bool variance = false;  // also write the per-sample variance image (as the moment integrator does)
     std::string field;      // --field: a training file of `volguide train`; the render trains nothing
     std::string samples;    // --samples FIRST:COUNT: only these sample indices of every pixel
-    std::string choice_map;  // --choice-map: the integrator's per-tile method choice as an image; empty: none
 };
 int run_render(const RenderArgs& args);
 
@@ -47,7 +46,7 @@ struct TrainArgs {
     std::string scene, output;
     std::vector<std::string> defines;
     std::optional<double> time;
-    std::optional<int> spp;  // the frame's samples per pixel (the method choice's probes scale with it)
+    std::optional<int> spp;  // the frame's samples per pixel
     std::optional<uint64_t> seed;
     std::optional<int> threads;
     bool quiet = false;

@@ -52,8 +52,6 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& render) {
     render_cmd->add_option("--samples", render.samples,
                            "FIRST:COUNT: render sample indices [FIRST, FIRST+COUNT) of every pixel, a chunk for "
                            "`volguide merge` (excludes --spp)");
-    render_cmd->add_option("--choice-map", render.choice_map,
-                           "write guided_volpath's per-tile method choice (white: volpath, blue: guided) as an image");
     return render_cmd;
 }
 
@@ -69,7 +67,7 @@ CLI::App* add_train_command(CLI::App& app, TrainArgs& train) {
                           "the render job's budget in seconds, as in render --time (training gets its share)");
     train_cmd->add_option("--seed", train.seed, "random seed of the training");
     train_cmd->add_option("--spp", train.spp,
-                          "the frame's samples per pixel, as in render --spp (the method choice's probes scale with it)");
+                          "the frame's samples per pixel, as in render --spp");
     train_cmd->add_option("--threads", train.threads, "worker threads (default: all)");
     train_cmd->add_flag("-q,--quiet", train.quiet, "no progress output");
     return train_cmd;

@@ -79,12 +79,13 @@ TEST(Determinism, GuidedSameImageForOneAndTwoThreads) {
                          "guided fogbox");
 }
 
-// Learned selection's pilot and fit (exact sums) on the same scene: the same image for any thread count.
-TEST(Determinism, LearnedSelectionSameImageForOneAndTwoThreads) {
-    expect_deterministic(guided_fogbox(R"(<integer name="photons" value="200000"/><integer name="selection_spp" value="2"/>)"
-                                       R"(<integer name="selection_min_samples" value="8"/>)",
-                                       "determinism-selection"),
-                         "guided fogbox, learned selection");
+// The allocation learned while rendering (issue 59): the passes' statistics are exact sums, the fit a
+// pure function of them, and the exploration coins hashes of where each decision is: the same image
+// for any thread count. 24 spp (passes of 1, 1, 2, 4, 8, 8): the coarse stage decides after 4 spp, the
+// passes after it render with allocations fitted on the full field.
+TEST(Determinism, AllocationSameImageForOneAndTwoThreads) {
+    expect_deterministic(guided_fogbox(R"(<integer name="photons" value="200000"/>)", "determinism-allocation", "24"),
+                         "guided fogbox, the allocation learned while rendering");
 }
 
 // Refinement during the render (issue 39): without a time budget the schedule reads only the passes'
@@ -123,11 +124,10 @@ TEST(Determinism, VspResampledSameImageForOneAndTwoThreads) {
 }
 
 
-// Issue 55: guided_volpath's defaults (the staged pre-pass, the per-tile method choice from counted costs,
-// no wall clock) on the benchmark's dense sphere, where both methods get tiles (64 spp: 4 probe rounds, the
-// fewest that let a tile go to volpath).
-TEST(Determinism, MethodChoiceSameImageForOneAndTwoThreads) {
-    expect_deterministic(guided_bench_scene("densesphere", R"(<boolean name="method_choice" value="true"/><integer name="photons" value="200000"/>)",
-                                            "determinism-choice", "64"),
-                         "guided densesphere, the per-tile method choice");
+// ... and on the benchmark's dense sphere, where the coarse stage may end the training (the rest
+// rendered unguided).
+TEST(Determinism, AllocationOnADenseMediumSameImageForOneAndTwoThreads) {
+    expect_deterministic(guided_bench_scene("densesphere", R"(<integer name="photons" value="200000"/>)",
+                                            "determinism-allocation-dense", "24"),
+                         "guided densesphere, the allocation");
 }

@@ -39,18 +39,19 @@ std::string slurp_file(const fs::path& p) {
 // Fog in a box over a diffuse floor, lit by a point light; guided_volpath with guided RR and
 // splitting (so the training file carries a pixel estimate too) and a gaussian filter (pixels
 // are sum(w L) / sum(w) over neighbouring samples). $albedo and $photons make other scenes and
-// other integrator configurations.
+// other integrator configurations; $allocation (default false) the allocation learned while rendering,
+// which a training file learns in its pre-pass instead.
 const char* kDistributedScene = R"(<scene version="3.0.0">
     <default name="photons" value="20000"/>
     <default name="albedo" value="0.9"/>
-    <default name="selection" value="0"/>
+    <default name="allocation" value="false"/>
     <integrator type="moment">
         <integrator type="guided_volpath">
             <integer name="photons" value="$photons"/>
             <integer name="leaf_samples" value="400"/>
             <string name="rrs" value="grrs"/>
             <integer name="max_depth" value="8"/>
-            <integer name="selection_spp" value="$selection"/>
+            <boolean name="allocation" value="$allocation"/>
         </integrator>
     </integrator>
     <medium type="homogeneous" id="fog">
@@ -141,17 +142,26 @@ double strict_relmse(const Image& a, const Image& b) {
     return sum / double(n);
 }
 
-// With a learned selection (issue 21) the training file carries it: the same image again.
-TEST_F(Distributed, TrainThenRenderWithFieldKeepsTheLearnedSelection) {
-    ok("render s.xml -D selection=8 --seed 5 --spp 4 --threads 2 -o full.exr --quiet");
-    ok("train s.xml -D selection=8 -o f.vgt --seed 5 --threads 1 --quiet");
-    const ChunkRun r =
-        run("render s.xml -D selection=8 --field f.vgt --seed 5 --spp 4 --threads 2 -o with_field.exr --quiet");
-    ASSERT_EQ(r.code, 0) << r.err;
-    EXPECT_TRUE(identical(image("full.exr"), image("with_field.exr")));
-    // The selection changes the image (the comparison above could fail).
-    ok("render s.xml --seed 5 --spp 4 --threads 2 -o no_selection.exr --quiet");
-    EXPECT_FALSE(identical(image("full.exr"), image("no_selection.exr")));
+// With the allocation (issue 59) the training file learns it in its pre-pass and carries it: every
+// render from it, in one process or in chunks, with any thread count, samples the same distributions.
+TEST_F(Distributed, TrainedAllocationChunksMergeEqualTheSingleProcessRender) {
+    ok("train s.xml -D allocation=true -o f.vgt --seed 5 --threads 1 --quiet");
+    ok("render s.xml -D allocation=true --field f.vgt --seed 5 --spp 8 --threads 2 -o single.exr --stats s.json "
+       "--quiet");
+    ok("render s.xml -D allocation=true --field f.vgt --seed 5 --spp 8 --threads 1 -o one.exr --quiet");
+    EXPECT_TRUE(identical(image("single.exr"), image("one.exr")));
+    ok("render s.xml -D allocation=true --field f.vgt --seed 5 --samples 0:3 --threads 1 -o c0.exr --quiet");
+    ok("render s.xml -D allocation=true --field f.vgt --seed 5 --samples 3:5 --threads 2 -o c1.exr --quiet");
+    const ChunkRun merged = run("merge c1.exr c0.exr -o merged.exr");
+    ASSERT_EQ(merged.code, 0) << merged.err;
+    EXPECT_TRUE(identical(image("merged.exr"), image("single.exr")));
+    // The training file carries an allocation (its summary is in the render's statistics) ...
+    const std::string stats = slurp_file(dir_ / "s.json");
+    EXPECT_NE(stats.find("\"allocation_predicted_gain\""), std::string::npos) << stats;
+    // ... that changes the image (the comparisons above could fail).
+    ok("train s.xml -o g.vgt --seed 5 --threads 1 --quiet");
+    ok("render s.xml --field g.vgt --seed 5 --spp 8 --threads 2 -o configured.exr --quiet");
+    EXPECT_FALSE(identical(image("single.exr"), image("configured.exr")));
 }
 
 TEST_F(Distributed, TrainThenRenderWithFieldGivesTheRendersImage) {
@@ -359,48 +369,3 @@ TEST_F(Distributed, UsageErrors) {
 }  // namespace
 }  // namespace volguide
 
-// Issue 55: with the staged pre-pass and the per-tile method choice (method_choice=true; fewer photons, for
-// the test's time), `train --spp N` + chunks + `merge` equal the single-process
-// `render --spp N` (no --field): the map and the field are decided once in the training, from the seed and
-// the frame's sample count only (no wall clock), and stored in the training file.
-TEST_F(Distributed, MethodChoiceTrainChunksMergeEqualTheSingleProcessRender) {
-    // A dense sphere lit from behind: both methods get tiles (checked below through --stats).
-    const std::string s = R"(<scene version="3.0.0">
-    <integrator type="moment"><integrator type="guided_volpath"><boolean name="method_choice" value="true"/><integer name="photons" value="20000"/></integrator></integrator>
-    <medium type="homogeneous" id="m">
-        <rgb name="sigma_t" value="8, 6, 10"/><rgb name="albedo" value="0.95, 0.9, 0.85"/>
-        <phase type="hg"><float name="g" value="0.3"/></phase>
-    </medium>
-    <shape type="sphere"><bsdf type="null"/><ref name="interior" id="m"/></shape>
-    <shape type="rectangle">
-        <transform name="to_world"><scale value="1.5"/><rotate y="1" angle="150"/><translate value="2, 1, -2.5"/></transform>
-        <emitter type="area"><rgb name="radiance" value="6"/></emitter>
-    </shape>
-    <emitter type="constant"><rgb name="radiance" value="0.05"/></emitter>
-    <sensor type="perspective">
-        <float name="fov" value="40"/>
-        <transform name="to_world"><lookat origin="0, 0, 4" target="0, 0, 0" up="0, 1, 0"/></transform>
-        <film type="hdrfilm"><integer name="width" value="48"/><integer name="height" value="32"/>
-            <rfilter type="gaussian"/></film>
-    </sensor>
-</scene>)";
-    write("d.xml", s);
-    ok("render d.xml --seed 7 --spp 64 --threads 2 -o single.exr --stats single.json --quiet");
-    const std::string stats = slurp_file(dir_ / "single.json");
-    const size_t share = stats.find("\"choice_volpath_share\": ");
-    ASSERT_NE(share, std::string::npos) << stats;
-    const double volpath_share = std::stod(stats.substr(share + std::string("\"choice_volpath_share\": ").size()));
-    EXPECT_GT(volpath_share, 0.0);  // both methods render tiles: the map matters to the image
-    EXPECT_LT(volpath_share, 1.0);
-    ok("train d.xml --spp 64 -o d.vgt --seed 7 --threads 1 --quiet");
-    ok("render d.xml --field d.vgt --seed 7 --samples 0:24 --threads 1 -o c0.exr --quiet");
-    ok("render d.xml --field d.vgt --seed 7 --samples 24:40 --threads 2 -o c1.exr --quiet");
-    const ChunkRun merged = run("merge c1.exr c0.exr -o merged.exr");
-    ASSERT_EQ(merged.code, 0) << merged.err;
-    const RenderPart m = part("merged.exr"), single = part("single.exr");
-    EXPECT_EQ(format_ranges(m.info.samples), "0:64");
-    EXPECT_EQ(m.info.field, single.info.field);  // the same pre-pass state, the map included
-    // Not bit-identical: the chunks sum their samples in other passes (render_part.h); float32 rounding.
-    const double rel = strict_relmse(m.mean, single.mean);
-    EXPECT_LT(rel, 1e-12) << rel;
-}

@@ -42,10 +42,9 @@ class CountingRecorder final : public PathRecorder {
         EXPECT_FALSE(record.mixture);  // the default policy samples no mixture
         ++decisions;
     }
-    void record_continuation(ContinuationStage, int, const Vec3f&, float estimate,
-                             const Color3&) override {
+    void record_continuation(ContinuationStage, const Continuation& c, const Vec3f&, const Color3&) override {
         ++continuations;
-        if (estimate > 0.f) ++estimated;
+        if (c.estimate > 0.f) ++estimated;
     }
     void end_camera_sample(int branches) override {
         EXPECT_EQ(branches, 1);  // no continuation decision: never a copy

@@ -1,8 +1,8 @@
 // The learner's cell statistics and recorder (integrators/guided/estimates/cell_statistics.h,
 // cell_recorder.h) and rrs=ears's snapshot of them (continuation_snapshot.h; docs/theory.md §9.8): the
 // direction bins, the moments against known integrals, exact sums in any order, the recorder's
-// split-tree bookkeeping on a scripted camera sample (continuations, decisions, the cost in decisions),
-// the factor and the branch budget from known moments.
+// split-tree bookkeeping on a scripted camera sample (continuations, decisions, their costs from the
+// cost model's counted work), the statistics' bytes, the factor and the branch budget from known moments.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -17,6 +17,29 @@ namespace {
 
 constexpr ContinuationStage kDistance = ContinuationStage::Distance;
 constexpr ContinuationStage kDirection = ContinuationStage::Direction;
+
+// Every unit costs 1: a decision whose record holds one segment costs 1.
+const CostModel kUnitCosts = [] {
+    std::array<double, kWorkUnits> ones;
+    ones.fill(1.0);
+    return CostModel(ones);
+}();
+
+DecisionRecord record(bool mixture, int leaf, float pdf, float p_u, float p_g) {
+    DecisionRecord r{mixture, leaf, pdf, p_u, p_g};
+    r.own.add(Work::Segment);
+    return r;
+}
+
+// A continuation point decided with factor q (guided), in `leaf`.
+Continuation decided(int leaf, float q) {
+    Continuation c;
+    c.leaf = leaf;
+    c.q = q;
+    c.guided = true;
+    c.q_guided = q;
+    return c;
+}
 
 }  // namespace
 
@@ -36,13 +59,13 @@ TEST(CellStatistics, MomentsMatchKnownIntegrals) {
     const int n = 200000;
     for (int i = 0; i < n; ++i) {
         Sampler s(7, 0, uint64_t(i));
-        stats.add_continuation(kDirection, 1, 4, double(s.next_1d()), 3);
+        stats.add_continuation(kDirection, 1, 4, double(s.next_1d()), 3.0);
     }
     const ContinuationMoments& m = stats.continuation(kDirection, 1, 4);
     ASSERT_EQ(m.n, uint64_t(n));
     EXPECT_NEAR(m.sum.value() / n, 0.5, 4.0 * std::sqrt(1.0 / 12.0 / n));
     EXPECT_NEAR(m.sum_sq.value() / n, 1.0 / 3.0, 4.0 * std::sqrt(4.0 / 45.0 / n));
-    EXPECT_EQ(m.cost, uint64_t(3 * n));
+    EXPECT_EQ(m.cost.value(), 3.0 * n);
     // Nothing leaked into the other stage, cell or bin.
     EXPECT_EQ(stats.continuation(kDistance, 1, 4).n, 0u);
     EXPECT_EQ(stats.continuation(kDirection, 0, 4).n, 0u);
@@ -57,8 +80,8 @@ TEST(CellStatistics, SumsAreExactInAnyOrder) {
         Sampler s(3, 1, uint64_t(i));
         ys.push_back(std::pow(10.0, 6.0 * double(s.next_1d()) - 3.0));  // 1e-3 .. 1e3
     }
-    for (double y : ys) forward.add_continuation(kDistance, 0, 2, y, 1);
-    for (size_t i = ys.size(); i-- > 0;) (i % 3 ? a : b).add_continuation(kDistance, 0, 2, ys[i], 1);
+    for (double y : ys) forward.add_continuation(kDistance, 0, 2, y, 1.0);
+    for (size_t i = ys.size(); i-- > 0;) (i % 3 ? a : b).add_continuation(kDistance, 0, 2, ys[i], 1.0);
     CellStatistics merged(2);
     merged += b;
     merged += a;
@@ -70,21 +93,21 @@ TEST(CellStatistics, SumsAreExactInAnyOrder) {
 // A scripted camera sample: a contribution and an unguided decision before any point, a distance-stage
 // point (weight 0.5) split in two, the original making a guided direction decision and reaching a
 // direction-stage point (weight 0.25), each branch making an unguided decision. Each copy is one
-// sample of its point; subtrees include their children and their decisions (the cost unit); a
+// sample of its point; subtrees include their children and their decisions' costs (1 each); a
 // decision's S is its subtree's contributions; the root counts everything.
 TEST(CellStatistics, RecorderCreditsEachCopyWithItsSubtree) {
     CellStatistics stats(3);  // leaves 0, 1 and "outside"
     PixelMoments pixels(2, 1);
-    CellRecorder rec(stats, pixels);
-    const DecisionRecord unguided;  // no guided mixture
+    CellRecorder rec(stats, pixels, kUnitCosts);
+    const DecisionRecord unguided = record(false, -1, 0.f, 0.f, 0.f);  // no guide could make it
     rec.begin(1, 2.f);
     rec.record_contribution(Color3(0.2f));
     rec.record_decision(DecisionKind::Distance, unguided);
-    rec.record_continuation(kDistance, 0, Vec3f(1, 0, 0), 0.f, Color3(0.5f));
+    rec.record_continuation(kDistance, decided(0, 1.f), Vec3f(1, 0, 0), Color3(0.5f));
     const int copy = rec.branch_point();
-    rec.record_decision(DecisionKind::Direction, DecisionRecord{true, 0, 1.f, 1.f, 1.f});
+    rec.record_decision(DecisionKind::Direction, record(true, 0, 1.f, 1.f, 1.f));
     rec.record_contribution(Color3(0.3f));
-    rec.record_continuation(kDirection, 0, Vec3f(0, 1, 0), 0.f, Color3(0.25f));
+    rec.record_continuation(kDirection, decided(0, 1.f), Vec3f(0, 1, 0), Color3(0.25f));
     rec.record_decision(DecisionKind::Surface, unguided);
     rec.record_contribution(Color3(0.1f));
     rec.resume_branch(copy);
@@ -97,42 +120,52 @@ TEST(CellStatistics, RecorderCreditsEachCopyWithItsSubtree) {
     ASSERT_EQ(d.n, 2u);  // the original (0.3 + 0.1) / 0.5 and the copy 0.4 / 0.5
     EXPECT_NEAR(d.sum.value(), 1.6, 1e-6);
     EXPECT_NEAR(d.sum_sq.value(), 1.28, 1e-6);
-    EXPECT_EQ(d.cost, 3u);  // 2 decisions in the original's subtree, 1 in the copy's
+    EXPECT_NEAR(d.cost.value(), 3.0, 1e-9);  // 2 decisions in the original's subtree, 1 in the copy's
     const ContinuationMoments& w = stats.continuation(kDirection, 0, 2);
     ASSERT_EQ(w.n, 1u);
     EXPECT_NEAR(w.sum.value(), 0.4, 1e-6);
-    EXPECT_EQ(w.cost, 1u);
-    // The guided direction decision: S = 0.3 + 0.1 over I = 2, at the share it was sampled with.
+    EXPECT_NEAR(w.cost.value(), 1.0, 1e-9);
+    // The guided direction decision: S = 0.3 + 0.1 over I = 2, at the share it was sampled with; its own
+    // cost 1 and 1 after it (the surface decision).
     const DecisionMoments& m = stats.decision(DecisionKind::Direction, 0);
     ASSERT_EQ(m.count, 1u);
     EXPECT_NEAR(m.current.value(), 0.04, 1e-6);
+    EXPECT_NEAR(m.own.value(), 1.0, 1e-9);
+    EXPECT_NEAR(m.current_after.value(), 1.0, 1e-9);
+    // Decisions no guide could make are not statistics of their cells, only costs.
+    EXPECT_EQ(stats.decision(DecisionKind::Distance, 2).count + stats.decision(DecisionKind::Distance, 2).unguided, 0u);
     EXPECT_EQ(stats.camera_samples(), 1u);
-    EXPECT_EQ(stats.cost(), 4u);
-    EXPECT_EQ(stats.unrecorded_decisions(), 3u);
+    EXPECT_NEAR(stats.cost(), 4.0, 1e-9);
     EXPECT_EQ(stats.branches(), 2u);
     EXPECT_NEAR(stats.camera_moment(), 0.25, 1e-6);  // (1.0 / 2)^2
+    // The split point: two copies of 0.8 each (E[Y^2] = 0.64, E[Y]^2 from their product 0.64), its weight
+    // before the decision 0.5 / I = 0.25: the second moment at q = 1 is 0.25^2 x 0.64.
+    const ContinuationChoiceMoments& p = stats.continuation_choice(0);
+    EXPECT_NEAR(p.known_points.value(), 2.0, 1e-9);  // the split point and the direction point
+    EXPECT_NEAR(p.current_m.value(), 0.0625 * 0.64 + 0.125 * 0.125 * 0.16, 1e-6);
     // The pixel's sample: X / I = 1.0 / 2; a leaf outside the field goes to the last cell.
     const PixelMoments::Pixel px = pixels.at(1);
     EXPECT_EQ(px.n, 1.0);
     EXPECT_NEAR(px.sum, 0.5, 1e-4);
     EXPECT_EQ(pixels.at(0).n, 0.0);
     rec.begin(-1, 1.f);
-    rec.record_continuation(kDistance, -1, Vec3f(0, 0, -1), 0.f, Color3(1.f));
+    rec.record_continuation(kDistance, decided(-1, 1.f), Vec3f(0, 0, -1), Color3(1.f));
     rec.record_contribution(Color3(1.f));
     rec.end();
     EXPECT_EQ(stats.continuation(kDistance, 2, 5).n, 1u);
 }
 
-// The pilot's path (no splitting): each guided decision's S is everything contributed after it.
+// An unsplit path: each guided decision's S is everything contributed after it, and what followed it
+// cost, reweighted to every share.
 TEST(CellStatistics, DecisionsOfAChainSeeWhatFollowed) {
     CellStatistics stats(2);
     PixelMoments pixels(1, 1);
-    CellRecorder rec(stats, pixels);
+    CellRecorder rec(stats, pixels, kUnitCosts);
     rec.begin(0, 1.f);
     rec.record_contribution(Color3(1.f));  // before every decision: no decision's
-    rec.record_decision(DecisionKind::Distance, DecisionRecord{true, 0, 2.f, 1.f, 3.f});
+    rec.record_decision(DecisionKind::Distance, record(true, 0, 2.f, 1.f, 3.f));
     rec.record_contribution(Color3(0.5f));
-    rec.record_decision(DecisionKind::Direction, DecisionRecord{true, 1, 1.f, 1.f, 1.f});
+    rec.record_decision(DecisionKind::Direction, record(true, 1, 1.f, 1.f, 1.f));
     rec.record_contribution(Color3(0.25f));
     rec.end();
     const DecisionMoments& first = stats.decision(DecisionKind::Distance, 0);
@@ -142,7 +175,70 @@ TEST(CellStatistics, DecisionsOfAChainSeeWhatFollowed) {
     // Share 0 (the unguided density alone): s2 q_cur / p_u; share 0.5: s2 q_cur / ((p_u + p_g) / 2).
     EXPECT_NEAR(first.m[0].value(), 0.5625 * 2.0, 1e-6);
     EXPECT_NEAR(first.m[3].value(), 0.5625 * 2.0 / 2.0, 1e-6);
+    // What followed the first decision (the second's cost, 1) under share a: 1 x q_a / q_cur.
+    EXPECT_NEAR(first.after[0].value(), 1.0 * 1.0 / 2.0, 1e-6);
+    EXPECT_NEAR(first.after[3].value(), 1.0 * 2.0 / 2.0, 1e-6);
     EXPECT_NEAR(stats.camera_moment(), 1.75 * 1.75, 1e-6);
+}
+
+// A decision the allocation made unguided (share 0: guidable, no mixture) and a point that made no
+// decision (the walk's roulette of survival 0.5 followed, its 1/0.5 in what the copy collected).
+TEST(CellStatistics, UnguidedDecisionsAndTheWalksRoulette) {
+    CellStatistics stats(2);
+    PixelMoments pixels(1, 1);
+    CellRecorder rec(stats, pixels, kUnitCosts);
+    rec.begin(0, 1.f);
+    DecisionRecord off = record(false, 0, 0.f, 0.f, 0.f);
+    off.guidable = true;
+    rec.record_decision(DecisionKind::Distance, off);
+    Continuation none;  // no decision
+    none.leaf = 0;
+    none.q_unguided = 0.5f;
+    rec.record_continuation(kDirection, none, Vec3f(1, 0, 0), Color3(1.f));
+    rec.record_contribution(Color3(2.f));  // a survivor of the roulette: 2 x 1 collected
+    rec.end();
+    const DecisionMoments& m = stats.decision(DecisionKind::Distance, 0);
+    EXPECT_EQ(m.count, 0u);
+    EXPECT_EQ(m.unguided, 1u);
+    EXPECT_NEAR(m.unguided_m.value(), 4.0, 1e-6);
+    EXPECT_NEAR(m.unguided_own.value(), 1.0, 1e-9);
+    const ContinuationChoiceMoments& p = stats.continuation_choice(0);
+    EXPECT_NEAR(p.other_points.value(), 1.0, 1e-9);
+    // E[Y^2] = 0.5 x 2^2 = 2; under the walk's roulette (q = 0.5) the second moment is 2 / 0.5 = 4: what was observed.
+    EXPECT_NEAR(p.other_m.value(), 4.0, 1e-6);
+    EXPECT_NEAR(p.known_points.value(), 0.0, 1e-12);
+}
+
+// Stochastic-rounded splitting: E[n (n - 1)] = f (2 q - f - 1), f = floor(q); roulette: b^2 a2 / q.
+TEST(CellStatistics, ContinuationSecondMomentOfAFactor) {
+    EXPECT_NEAR(continuation_second_moment(1.0, 2.0, 1.0, 0.5), 4.0, 1e-12);
+    EXPECT_NEAR(continuation_second_moment(1.0, 2.0, 1.0, 1.0), 2.0, 1e-12);
+    EXPECT_NEAR(continuation_second_moment(1.0, 2.0, 1.0, 2.0), (2.0 * 2.0 + 2.0 * 1.0) / 4.0, 1e-12);
+    // q = 2.5: n is 2 or 3 equally, E[n (n - 1)] = (2 + 6) / 2 = 4.
+    EXPECT_NEAR(continuation_second_moment(0.5, 2.0, 1.0, 2.5), 0.25 * (2.0 / 2.5 + 4.0 / 6.25), 1e-12);
+}
+
+// The statistics' bytes give the same sums back; a cut or altered record is refused.
+TEST(CellStatistics, BytesRoundTripExactly) {
+    CellStatistics stats(3);
+    PixelMoments pixels(1, 1);
+    CellRecorder rec(stats, pixels, kUnitCosts);
+    rec.begin(0, 0.7f);
+    rec.record_decision(DecisionKind::Direction, record(true, 1, 0.3f, 0.2f, 0.9f));
+    rec.record_continuation(kDistance, decided(1, 2.5f), Vec3f(0, 1, 0), Color3(0.3f));
+    rec.branch_point();
+    rec.record_contribution(Color3(0.123f));
+    rec.end();
+    const std::string bytes = stats.serialize();
+    const CellStatistics back = CellStatistics::deserialize(bytes);
+    EXPECT_EQ(back.serialize(), bytes);
+    EXPECT_EQ(back.cells(), 3u);
+    EXPECT_EQ(back.decision(DecisionKind::Direction, 1).m[2].value(), stats.decision(DecisionKind::Direction, 1).m[2].value());
+    EXPECT_THROW(CellStatistics::deserialize(bytes.substr(0, bytes.size() - 3)), std::runtime_error);
+    EXPECT_THROW(CellStatistics::deserialize(bytes + "x"), std::runtime_error);
+    std::string wrong = bytes;
+    wrong[0] ^= 1;
+    EXPECT_THROW(CellStatistics::deserialize(wrong), std::runtime_error);
 }
 
 TEST(CellStatistics, PixelOfFilmPosition) {
@@ -162,8 +258,8 @@ namespace {
 ContinuationSnapshot known_snapshot(const EarsSettings& settings, CellStatistics& stats) {
     PixelMoments pixels(1, 1);
     for (int i = 0; i < 64; ++i) {
-        stats.add_continuation(kDistance, 0, 1, (i % 2) ? 2.0 : 0.0, 4);
-        stats.add_camera_sample(1.0, 8, 0, 1);
+        stats.add_continuation(kDistance, 0, 1, (i % 2) ? 2.0 : 0.0, 4.0);
+        stats.add_camera_sample(1.0, 8.0, 1);
         pixels.add(0, (i % 2) ? 2.0 : 0.0);
     }
     return ContinuationSnapshot::from(stats, pixels, settings, 8.0);
@@ -222,7 +318,7 @@ TEST(CellStatistics, BranchBudgetFromMeasuredCost) {
     settings.max_branches = 64;
     CellStatistics stats(1);
     PixelMoments pixels(1, 1);
-    for (int i = 0; i < 10; ++i) stats.add_camera_sample(1.0, 12, 0, 3);  // 4 decisions per branch
+    for (int i = 0; i < 10; ++i) stats.add_camera_sample(1.0, 12.0, 3);  // a cost of 4 per branch
     EXPECT_FLOAT_EQ(ContinuationSnapshot::from(stats, pixels, settings, 6.0).branch_budget(), 12.f);
     EXPECT_FLOAT_EQ(ContinuationSnapshot::from(stats, pixels, settings, 1.0).branch_budget(), 4.f);
     EXPECT_FLOAT_EQ(ContinuationSnapshot::from(stats, pixels, settings, 100.0).branch_budget(), 64.f);

@@ -33,6 +33,10 @@ struct PreprocessContext {
     double time_limit = 0;
     ProgressCallback progress;
     const std::atomic<bool>* cancel = nullptr;
+    // The pre-pass is saved and rendered by other processes (`volguide train`): what an integrator
+    // would learn from its render's own passes it learns here instead, so that every process renders
+    // with the same state (guided_volpath's allocation).
+    bool learn_in_prepass = false;
     bool cancelled() const { return cancel && cancel->load(std::memory_order_relaxed); }
 };
 
@@ -91,9 +95,6 @@ public:
     virtual void end_pass(const PassReport& pass) {}
     // Named counters of the last render (e.g. guided decisions), for --stats. Default: none.
     virtual std::vector<std::pair<std::string, double>> statistics() const { return {}; }
-    // Which method renders each film pixel, as an image (guided_volpath's per-tile method choice: white
-    // volpath, blue guided; `render --choice-map`). Default: empty (no choice).
-    virtual Image method_map() const { return {}; }
 
     // The pre-pass as data (`volguide train` / `render --field`, docs/distributed.md). An integrator
     // whose preprocess() computes something worth sharing (guided_volpath: the guiding field and

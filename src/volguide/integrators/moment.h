@@ -26,7 +26,6 @@ public:
     const Integrator& nested() const { return *nested_; }
     void end_pass(const PassReport& pass) override { nested_->end_pass(pass); }
     std::vector<std::pair<std::string, double>> statistics() const override { return nested_->statistics(); }
-    Image method_map() const override { return nested_->method_map(); }
     std::string to_string() const override { return "moment[" + nested_->to_string() + "]"; }
 
 private:

@@ -365,7 +365,8 @@ RenderResult render(Scene& scene, const RenderOptions& options) {
 
 namespace {
 
-void preprocess_in(tbb::task_arena& arena, const Scene& scene, Integrator& integrator, const RenderOptions& options) {
+void preprocess_in(tbb::task_arena& arena, const Scene& scene, Integrator& integrator, const RenderOptions& options,
+                   bool saved) {
     if (options.progress) {
         Progress p;
         p.phase = "preprocess";
@@ -378,6 +379,7 @@ void preprocess_in(tbb::task_arena& arena, const Scene& scene, Integrator& integ
     context.spp = options.spp > 0 ? options.spp : (options.time_budget > 0 ? 0 : scene.sensor().sample_count());
     context.progress = options.progress;
     context.cancel = options.cancel;
+    context.learn_in_prepass = saved;
     arena_execute(arena, [&] { integrator.preprocess(scene, context); });
 }
 
@@ -387,7 +389,7 @@ double run_preprocess(const Scene& scene, Integrator& integrator, const RenderOp
     const auto start = Clock::now();
     auto limit = thread_limit(options.threads);
     tbb::task_arena arena(arena_threads(options.threads));
-    preprocess_in(arena, scene, integrator, options);
+    preprocess_in(arena, scene, integrator, options, true);
     return seconds_since(start);
 }
 
@@ -395,7 +397,7 @@ RenderResult render(const Scene& scene, Integrator& integrator, const RenderOpti
     const auto job_start = Clock::now();
     auto limit = thread_limit(options.threads);
     tbb::task_arena arena(arena_threads(options.threads));
-    preprocess_in(arena, scene, integrator, options);
+    preprocess_in(arena, scene, integrator, options, false);
     const double preprocess_seconds = seconds_since(job_start);
 
     const Sensor& sensor = scene.sensor();

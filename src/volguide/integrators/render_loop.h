@@ -88,7 +88,8 @@ bool stopped_before_pass(const RenderOptions& options, std::chrono::steady_clock
                          RenderStats& stats);
 
 // The integrator's pre-pass alone, as render() runs it (seed, time budget, threads, progress,
-// cancellation from `options`): what `volguide train` saves. Returns its seconds.
+// cancellation from `options`), for saving (PreprocessContext::learn_in_prepass): what `volguide train`
+// saves. Returns its seconds.
 double run_preprocess(const Scene& scene, Integrator& integrator, const RenderOptions& options);
 
 // Renders the scene's sensor with its integrator (after integrator preprocessing, which counts

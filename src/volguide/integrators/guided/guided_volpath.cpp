@@ -8,10 +8,10 @@
 
 #include "volguide/core/log.h"
 #include "volguide/guiding/field_io.h"
-#include "volguide/integrators/guided/walk/guided_walk_policy.h"
+#include "volguide/integrators/guided/estimates/learning_pass.h"
 #include "volguide/integrators/guided/training/medium_occupancy.h"
 #include "volguide/integrators/guided/training/photon_pass.h"
-#include "volguide/integrators/guided/estimates/selection_pilot.h"
+#include "volguide/integrators/guided/walk/guided_walk_policy.h"
 #include "volguide/render/image_io.h"
 #include "volguide/render/scene.h"
 #include "volguide/render/sensor.h"
@@ -20,13 +20,18 @@ namespace volguide {
 
 namespace {
 
-// The pixel estimate's share of the build stage's time limit (the selection pilot gets the rest).
+// The pixel estimate's share of the build stage's time limit.
 constexpr double kPixelEstimateShare = 0.4;
-
-VolPathSettings bounded_walk(VolPathSettings s) {
-    s.rr_rule = RouletteRule::Bounded;
-    return s;
-}
+// The photons' share of the pre-pass's time (the rest: the field's fit, the pixel estimate), and the
+// coarse stage's share of that.
+constexpr double kPhotonShare = 0.6;
+constexpr double kCoarseShare = 0.25;
+// A saved pre-pass's learning passes (learn_in_prepass): kLearningSpp samples per pilot pixel each, the
+// allocation fitted after each; kCoarseRounds on the coarse field before the stage's decision, then
+// kFullRounds on the full one.
+constexpr int kLearningSpp = 2;
+constexpr int kCoarseRounds = 2;
+constexpr int kFullRounds = 4;
 
 double seconds_since(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -35,7 +40,7 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 }  // namespace
 
 GuidedVolPathIntegrator::GuidedVolPathIntegrator(const Properties& props)
-    : settings_(GuidedVolPathSettings::from(props)), walk_(settings_.walk), bounded_(bounded_walk(settings_.walk)) {}
+    : settings_(GuidedVolPathSettings::from(props)), walk_(settings_.walk) {}
 
 void GuidedVolPathIntegrator::preprocess(const Scene& scene, const PreprocessContext& context) {
     training_stats_.clear();
@@ -46,26 +51,20 @@ void GuidedVolPathIntegrator::preprocess(const Scene& scene, const PreprocessCon
     refining_.time_budget = context.time_budget;
     refining_.progress = context.progress;
     refining_.cancel = context.cancel;
-    choice_ = ChoiceMap();
-    probe_seconds_[0] = probe_seconds_[1] = 0;
+    training_ = StagedTraining{};
     const PreprocessBudget budget(context.time_budget, settings_.training_fraction);
     walk_.preprocess(scene, context);
-    bounded_.preprocess(scene, context);
     if (settings_.refine.passes > 0 && given_prepass_)
         throw InputError(settings_.location, "guided_volpath: refine_passes cannot refine a given pre-pass (render "
                                              "--field): it keeps the statistics of the photons it was trained from");
     const auto training_start = std::chrono::steady_clock::now();
-    if (chooses()) {
-        staged_training(scene, context, budget);
-        refining_.training_seconds = seconds_since(training_start);
-    } else {
-        PreprocessContext train = context;
-        train.time_limit = budget.limit(0.6);
-        load_or_train_field(scene, train);
-        refining_.training_seconds = seconds_since(training_start);
-        build_stage(scene, context, budget.limit(1.0));
-    }
-    if (given_prepass_ && !given_prepass_->choice.empty()) choice_ = ChoiceMap::deserialize(given_prepass_->choice);
+    load_or_train_field(scene, context, budget);
+    refining_.training_seconds = seconds_since(training_start);
+    PreprocessContext build = context;
+    build.time_limit = budget.limit(1.0);
+    build_from_field(scene, build, false);
+    training_.seconds = seconds_since(training_start);
+    if (context.learn_in_prepass && learner_) learn_in_prepass(scene, context, budget);
     if (budget.limited()) training_stats_.emplace_back("preprocess_limit_seconds", budget.total());
     if (refining_.refinement)
         refining_.schedule = std::make_unique<RefinementSchedule>(settings_.refine, context.time_budget,
@@ -89,20 +88,28 @@ void GuidedVolPathIntegrator::record_field_stats() {
                                                    {"field_depth", double(field_.tree().depth())}});
 }
 
+bool GuidedVolPathIntegrator::learns() const {
+    const bool given = given_prepass_ != nullptr;
+    return guide_ && !estimator_ && settings_.learn_allocation && settings_.roulette.mode != RouletteMode::Ears &&
+           !given;
+}
+
 void GuidedVolPathIntegrator::build_from_field(const Scene& scene, const PreprocessContext& context, bool update) {
     record_field_stats();
     estimator_.reset();
     if (settings_.estimate != FieldEstimate::None) estimator_ = std::make_unique<CacheEstimator>(scene, field_);
     guide_.reset();
+    learner_.reset();
     if (!update) rrs_.reset();
     pixel_estimate_ = PixelEstimate();
     pixel_estimate_seconds_ = 0;
     if (settings_.guide.distance != DistanceGuiding::Standard ||
         settings_.guide.direction != DirectionGuiding::Phase || settings_.roulette.mode != RouletteMode::Standard)
         guide_ = std::make_unique<WalkGuide>(scene, field_, settings_.guide);
-    // Learned selection's pilot compares with the pixel estimate too.
-    const bool learn = guide_ && !estimator_ && settings_.selection.pilot_spp > 0;
-    if ((settings_.roulette.mode != RouletteMode::Standard || learn) && !estimator_) {
+    // The allocation's learning compares every camera sample with the pixel estimate too.
+    const bool learn = learns();
+    const bool given_allocation = guide_ && given_prepass_ && !given_prepass_->allocation.empty();
+    if ((settings_.roulette.mode != RouletteMode::Standard || learn || given_allocation) && !estimator_) {
         if (given_prepass_)
             use_given_pixel_estimate();
         else
@@ -115,24 +122,114 @@ void GuidedVolPathIntegrator::build_from_field(const Scene& scene, const Preproc
         rrs_->set_pixel_estimate_seconds(pixel_estimate_seconds_);
     }
     ears_.reset();
-    if (rrs_ && settings_.roulette.mode == RouletteMode::Ears) {
-        const Film& film = scene.sensor().film();
+    const Film& film = scene.sensor().film();
+    if (rrs_ && settings_.roulette.mode == RouletteMode::Ears)
         ears_ = std::make_unique<ContinuationLearning>(guide_->selection_cells(), film.width(), film.height(),
-                                                       settings_.ears);
-    }
-    if (learn) {
-        if (given_prepass_ && !given_prepass_->selection.empty())
-            guide_->set_selection(LearnedSelection::deserialize(given_prepass_->selection));
-        else
-            learn_selection(scene, context);
-        // The pilot's counted costs bound guided splitting (roulette_splitting.h's adaptive budget).
-        if (rrs_) rrs_->set_cost_ratio(guide_->selection().continuation_cost_ratio());
+                                                       settings_.ears, costs_);
+    if (given_allocation) {
+        Allocation a = Allocation::deserialize(given_prepass_->allocation);
+        if (a.cells() != guide_->selection_cells())
+            throw std::runtime_error("the given guided_volpath pre-pass's allocation is of another field");
+        if (a.off()) training_.stage = TrainingStage::Stopped;
+        guide_->set_allocation(std::move(a));
+    } else if (learn) {
+        learner_ = std::make_unique<Learner>(guide_->selection_cells(), film.width(), film.height(), costs_);
+        guide_->set_allocation(Allocation::exploring(guide_->selection_cells()));
     }
 }
 
 void GuidedVolPathIntegrator::end_pass(const PassReport& pass) {
     if (ears_) ears_->end_pass();
+    if (learner_) learn_from_pass(pass.spp_done);
     if (refining_.schedule) refine(pass);
+}
+
+// The pass's samples join the statistics; the allocation is fitted again from all of them; the coarse
+// stage's passes end in its decision.
+void GuidedVolPathIntegrator::learn_from_pass(int spp_done) {
+    learner_->end_pass();
+    fit_allocation();
+    if (training_.stage == TrainingStage::Coarse && spp_done >= StagedTraining::kDecideSpp) decide_training();
+}
+
+void GuidedVolPathIntegrator::fit_allocation() {
+    const CellStatistics& stats = learner_->total();
+    guide_->set_allocation(Allocation::fit(stats, field_.tree(), settings_.allocation));
+    // The measured costs bound guided splitting (roulette_splitting.h's adaptive budget).
+    if (rrs_) rrs_->set_cost_ratio(float(stats.continuation_cost_ratio()));
+}
+
+// The coarse stage's decision (training_stage.h): the rest of the render unguided, or the full field.
+void GuidedVolPathIntegrator::decide_training() {
+    const double gain = guide_->allocation().predicted_gain();
+    training_stats_.emplace_back("allocation_coarse_predicted_gain", gain);
+    if (gain < StagedTraining::kPaysGain) {
+        training_.stage = TrainingStage::Stopped;
+        learner_.reset();
+        std::vector<RadianceSample>().swap(training_.deposits);
+        return;
+    }
+    double limit = 0.0;  // the pre-pass's time budget, what the coarse stage left of it
+    if (refining_.time_budget > 0)
+        limit = std::max(1e-3, settings_.training_fraction * refining_.time_budget - training_.seconds);
+    train_full_field(limit);
+}
+
+// The rest of the photons, the field of all of them (the coarse stage's and these, each weighted for
+// its share of the photons), and everything built from it; the allocation is learned again on it.
+void GuidedVolPathIntegrator::train_full_field(double time_limit) {
+    const auto start = std::chrono::steady_clock::now();
+    const Scene& scene = *refining_.scene;
+    const PreprocessContext context = refinement_context();
+    PhotonPassResult more =
+        trace_photon_pass(scene, context, training_.photon_stream_next,
+                          std::max<int64_t>(1, settings_.photons - training_.photons_traced), kPhotonShare * time_limit);
+    const double total = double(training_.photons_traced + more.photons_traced);
+    std::vector<RadianceSample> photons = std::move(training_.deposits);
+    const float coarse_share = float(double(training_.photons_traced) / total);
+    const float full_share = float(double(more.photons_traced) / total);
+    for (RadianceSample& s : photons) s.weight *= coarse_share;
+    for (RadianceSample& s : more.samples) s.weight *= full_share;
+    photons.insert(photons.end(), more.samples.begin(), more.samples.end());
+    std::vector<RadianceSample>().swap(more.samples);
+    record_photon_stats(more);
+    training_stats_.emplace_back("photons_traced_full_stage", double(more.photons_traced));
+    field_ = field_of(scene, photons, int64_t(total), training_.photon_stream_next + more.photons_traced);
+    std::vector<RadianceSample>().swap(photons);
+    measure_medium_fractions(scene, refining_.seed + 1, true);
+    PreprocessContext build = context;
+    build.seed = refining_.seed + 3000;
+    build.time_limit = time_limit > 0 ? std::max(1e-3, time_limit - seconds_since(start)) : 0.0;
+    build_from_field(scene, build, true);
+    training_.stage = TrainingStage::Full;
+    training_.seconds += seconds_since(start);
+}
+
+// A saved pre-pass (volguide train): the allocation learned from learning passes of its own, then
+// frozen — every process rendering from the pre-pass samples the same distributions.
+void GuidedVolPathIntegrator::learn_in_prepass(const Scene& scene, const PreprocessContext& context,
+                                               const PreprocessBudget& budget) {
+    if (context.progress) {
+        Progress p;
+        p.phase = "allocation";
+        context.progress(p);
+    }
+    const auto walk = [&](Sampler& sampler, const CameraRay& camera, CellRecorder& recorder) {
+        GuidedWalkPolicy policy(*guide_, rrs_.get(), pixel_estimate_.at(camera.film_uv), nullptr, true);
+        policy.set_camera_segment(camera_guided(camera));
+        return walk_.walk(scene, sampler, camera.ray, &policy, &recorder);
+    };
+    int first = 0;
+    for (int round = 0; learner_ && round < kCoarseRounds + kFullRounds; ++round) {
+        const LearningPassBudget pass{first, kLearningSpp, budget.limit(0.25)};
+        run_learning_pass(
+            scene, pass, [&](Point2f film_uv) { return pixel_estimate_.at(film_uv); }, walk, context, *learner_);
+        first += kLearningSpp;
+        fit_allocation();
+        if (training_.stage == TrainingStage::Coarse && round + 1 == kCoarseRounds) decide_training();
+    }
+    if (training_.stage == TrainingStage::Stopped) guide_->set_allocation(Allocation::unguided(guide_->selection_cells()));
+    learner_.reset();  // frozen
 }
 
 void GuidedVolPathIntegrator::refine(const PassReport& pass) {
@@ -198,7 +295,8 @@ void GuidedVolPathIntegrator::undo_refinement() {
     refining_.undone = true;
 }
 
-void GuidedVolPathIntegrator::load_or_train_field(const Scene& scene, const PreprocessContext& context) {
+void GuidedVolPathIntegrator::load_or_train_field(const Scene& scene, const PreprocessContext& context,
+                                                  const PreprocessBudget& budget) {
     bool photon_fluence = false;  // a photon-trained fluence still counts collisions per leaf volume
     if (given_prepass_) {
         field_ = given_prepass_->field;
@@ -209,7 +307,22 @@ void GuidedVolPathIntegrator::load_or_train_field(const Scene& scene, const Prep
             throw InputError(settings_.location, e.what());
         }
     } else {
-        field_ = train_by_photons(scene, context, settings_.photons, context.time_limit);
+        // The coarse stage when the allocation will decide whether more training pays (not with a
+        // refinement, which keeps its own photons' statistics, nor for the field's inspection images).
+        const bool staged = settings_.learn_allocation && settings_.refine.passes == 0 &&
+                            settings_.estimate == FieldEstimate::None && settings_.roulette.mode != RouletteMode::Ears;
+        const int64_t photons = staged ? std::max<int64_t>(1, settings_.photons / StagedTraining::kCoarseDivisor)
+                                       : settings_.photons;
+        const double limit = budget.limit(staged ? kPhotonShare * kCoarseShare : kPhotonShare);
+        PhotonPassResult traced = trace_photon_pass(scene, context, 0, photons, limit);
+        record_photon_stats(traced);
+        if (staged) {
+            training_.stage = TrainingStage::Coarse;
+            training_.deposits = traced.samples;
+            training_.photons_traced = traced.photons_traced;
+            training_.photon_stream_next = photons;
+        }
+        field_ = field_of(scene, traced.samples, traced.photons_traced, photons);
         photon_fluence = true;
     }
     // Once per field, kept in its file (format v3): the photons' per-volume fluence is divided by
@@ -235,26 +348,40 @@ PhotonPassSettings GuidedVolPathIntegrator::photon_settings(double time_limit) c
     return ps;
 }
 
-GuidingField GuidedVolPathIntegrator::train_by_photons(const Scene& scene, const PreprocessContext& context,
-                                                       int64_t photon_count, double time_limit) {
-    // Under a --time budget, training gets its share of the pre-pass's (PreprocessBudget).
+// Photons [first, first + photons) of the photon stream (a coarse stage's deposit cap is its share of
+// max_deposits).
+PhotonPassResult GuidedVolPathIntegrator::trace_photon_pass(const Scene& scene, const PreprocessContext& context,
+                                                            int64_t first, int64_t photons, double time_limit) {
     PhotonPassSettings ps = photon_settings(time_limit);
-    ps.photons = photon_count;
-    const PhotonPassResult photons = trace_photons(scene, ps, context);
-    training_stats_ = {
-        {"photons_traced", double(photons.photons_traced)},
-        {"photons_pilot", double(photons.pilot_photons)},
-        {"photons_depositing_fraction",
-         photons.photons_traced > 0 ? double(photons.photons_depositing) / double(photons.photons_traced) : 0.0},
-        {"photon_deposits", double(photons.samples.size())},
-        {"photon_deposit_limited", photons.deposit_limited ? 1.0 : 0.0}};
-    GuidingField field = GuidingField::build(guiding_bounds(scene), photons.samples, settings_.field);
-    if (settings_.refine.passes > 0 && !field.empty() && photons.photons_traced > 0) {
-        refining_.refinement = std::make_unique<FieldRefinement>(field, photons.samples, double(photons.photons_traced),
-                                                        settings_.refinement);
-        refining_.photon_stream_next = ps.photons;
-        refining_.photons_traced = photons.photons_traced;
-        refining_.deposits = int64_t(photons.samples.size());
+    ps.first_photon = first;
+    ps.photons = photons;
+    if (ps.max_deposits > 0)
+        ps.max_deposits = std::max<int64_t>(1, int64_t(double(ps.max_deposits) * double(photons) /
+                                                       double(std::max<int64_t>(settings_.photons, 1))));
+    return trace_photons(scene, ps, context);
+}
+
+void GuidedVolPathIntegrator::record_photon_stats(const PhotonPassResult& photons) {
+    std::erase_if(training_stats_, [](const auto& s) { return s.first.rfind("photon", 0) == 0; });
+    training_stats_.insert(
+        training_stats_.end(),
+        {{"photons_traced", double(photons.photons_traced)},
+         {"photons_pilot", double(photons.pilot_photons)},
+         {"photons_depositing_fraction",
+          photons.photons_traced > 0 ? double(photons.photons_depositing) / double(photons.photons_traced) : 0.0},
+         {"photon_deposits", double(photons.samples.size())},
+         {"photon_deposit_limited", photons.deposit_limited ? 1.0 : 0.0}});
+}
+
+GuidingField GuidedVolPathIntegrator::field_of(const Scene& scene, const std::vector<RadianceSample>& photons,
+                                               int64_t photons_traced, int64_t stream_next) {
+    GuidingField field = GuidingField::build(guiding_bounds(scene), photons, settings_.field);
+    if (settings_.refine.passes > 0 && !field.empty() && photons_traced > 0) {
+        refining_.refinement =
+            std::make_unique<FieldRefinement>(field, photons, double(photons_traced), settings_.refinement);
+        refining_.photon_stream_next = stream_next;
+        refining_.photons_traced = photons_traced;
+        refining_.deposits = int64_t(photons.size());
     }
     return field;
 }
@@ -285,54 +412,9 @@ void GuidedVolPathIntegrator::make_pixel_estimate(const Scene& scene, const Prep
     training_stats_.emplace_back("pixel_estimate_rays", double(pixel_estimate_.rays()));
 }
 
-// What the build stage's limit leaves the pilot after the pixel estimate (0: no limit).
-double GuidedVolPathIntegrator::pilot_seconds(const PreprocessContext& context) const {
-    if (!(context.time_limit > 0)) return 0.0;
-    return std::max(1e-3, context.time_limit - pixel_estimate_seconds_);
-}
-
-// The learned selection's pilot (selection_pilot.h) with the configured mixtures, then its fit.
-void GuidedVolPathIntegrator::learn_selection(const Scene& scene, const PreprocessContext& context) {
-    const auto start = std::chrono::steady_clock::now();
-    if (context.progress) {
-        Progress p;
-        p.phase = "selection pilot";
-        context.progress(p);
-    }
-    const Film& film = scene.sensor().film();
-    Learner learner(guide_->selection_cells(), film.width(), film.height());
-    const uint64_t paths = run_selection_pilot(
-        scene, SelectionPilotBudget{settings_.selection.pilot_spp, pilot_seconds(context)},
-        [&](Point2f film_uv) { return pixel_estimate_.at(film_uv); },
-        [&](Sampler& sampler, const Ray& ray, CellRecorder& recorder) {
-            GuidedWalkPolicy policy(*guide_, nullptr, 0.f);
-            return walk_.walk(scene, sampler, ray, &policy, &recorder);
-        },
-        context, learner);
-    guide_->set_selection(LearnedSelection::fit(learner.total(), settings_.selection, guide_->configured_shares()));
-    const LearnedSelection::Summary sum = guide_->selection().summary();
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    // A refinement learns the selection again: its figures replace the last ones.
-    std::erase_if(training_stats_, [](const auto& s) { return s.first.rfind("selection_", 0) == 0; });
-    training_stats_.insert(training_stats_.end(),
-                           {{"selection_seconds", seconds},
-                            {"selection_pilot_paths", double(paths)},
-                            {"selection_cost_ratio", double(guide_->selection().continuation_cost_ratio())},
-                            {"selection_distance_cells_guided", double(sum.guided[0])},
-                            {"selection_distance_cells_unguided", double(sum.unguided[0])},
-                            {"selection_direction_cells_guided", double(sum.guided[1])},
-                            {"selection_direction_cells_unguided", double(sum.unguided[1])},
-                            {"selection_surface_cells_guided", double(sum.guided[2])},
-                            {"selection_surface_cells_unguided", double(sum.unguided[2])},
-                            {"selection_distance_mean_share", sum.mean_share[0]},
-                            {"selection_direction_mean_share", sum.mean_share[1]},
-                            {"selection_surface_mean_share", sum.mean_share[2]}});
-}
-
 std::string GuidedVolPathIntegrator::prepass_state() const {
-    return serialize_guided_prepass(field_, pixel_estimate_.image(),
-                                    guide_ && !guide_->selection().empty() ? guide_->selection().serialize() : "",
-                                    choice_.empty() ? "" : choice_.serialize());
+    const bool allocated = guide_ && !guide_->allocation().empty();
+    return serialize_guided_prepass(field_, pixel_estimate_.image(), allocated ? guide_->allocation().serialize() : "");
 }
 
 void GuidedVolPathIntegrator::use_prepass_state(const std::string& bytes) {
@@ -346,12 +428,17 @@ void GuidedVolPathIntegrator::use_given_pixel_estimate() {
     pixel_estimate_ = PixelEstimate::from_image(given_prepass_->pixel_estimate, settings_.pixel.floor_fraction);
 }
 
-Color3 GuidedVolPathIntegrator::guided_walk(const Scene& scene, Sampler& sampler, const Ray& ray, float pixel,
-                                            PathRecorder* recorder, float camera_guided) const {
-    if (!guide_) return walk_.walk(scene, sampler, ray, nullptr, recorder, &work_.local());
-    GuidedWalkPolicy policy(*guide_, rrs_.get(), pixel, ears_ ? &ears_->snapshot() : nullptr);
-    policy.set_camera_segment(camera_guided);
-    return walk_.walk(scene, sampler, ray, &policy, recorder, &work_.local());
+const Allocation& GuidedVolPathIntegrator::allocation() const {
+    static const Allocation none;
+    return guide_ ? guide_->allocation() : none;
+}
+
+Color3 GuidedVolPathIntegrator::guided_walk(const Scene& scene, Sampler& sampler, const Ray& ray,
+                                            const WalkInputs& in) const {
+    if (!guide_) return walk_.walk(scene, sampler, ray, nullptr, in.recorder, &work_.local());
+    GuidedWalkPolicy policy(*guide_, rrs_.get(), in.pixel, ears_ ? &ears_->snapshot() : nullptr, in.learning);
+    policy.set_camera_segment(in.camera_guided);
+    return walk_.walk(scene, sampler, ray, &policy, in.recorder, &work_.local());
 }
 
 bool GuidedVolPathIntegrator::wants_camera_buffer() const {
@@ -365,21 +452,36 @@ float GuidedVolPathIntegrator::camera_guided(const CameraRay& camera) const {
 }
 
 Color3 GuidedVolPathIntegrator::render_walk(const Scene& scene, Sampler& sampler, const CameraRay& camera) const {
-    const float pixel = rrs_ ? pixel_estimate_.at(camera.film_uv) : 0.f;
-    if (!ears_) return guided_walk(scene, sampler, camera.ray, pixel, nullptr, camera_guided(camera));
-    // The statistics keep X / I; the decisions compare with the pass's learned estimate I'.
+    // Nothing guided paid: the unguided walk (bounded volpath's), nothing looked up.
+    if (stopped()) return walk_.walk(scene, sampler, camera.ray, nullptr, nullptr, &work_.local());
+    const float pixel = rrs_ || learner_ ? pixel_estimate_.at(camera.film_uv) : 0.f;
+    if (ears_) return ears_walk(scene, sampler, camera, pixel);
+    if (learner_) return learning_walk(scene, sampler, camera, pixel);
+    return guided_walk(scene, sampler, camera.ray, {pixel, nullptr, camera_guided(camera), false});
+}
+
+Color3 GuidedVolPathIntegrator::learning_walk(const Scene& scene, Sampler& sampler, const CameraRay& camera,
+                                              float pixel) const {
+    CellRecorder& recorder = learner_->recorder();
+    recorder.begin(learner_->pixel(camera.film_uv), pixel);
+    const Color3 L = guided_walk(scene, sampler, camera.ray, {pixel, &recorder, camera_guided(camera), true});
+    recorder.end();
+    return L;
+}
+
+// rrs=ears: the statistics keep X / I; the decisions compare with the pass's learned estimate I'.
+Color3 GuidedVolPathIntegrator::ears_walk(const Scene& scene, Sampler& sampler, const CameraRay& camera,
+                                          float pixel) const {
     const long px = ears_->pixel(camera.film_uv);
     const float learned = ears_->snapshot().pixel_estimate(px, pixel);
     CellRecorder& learning = ears_->recorder();
     learning.begin(px, pixel);
-    const Color3 L = guided_walk(scene, sampler, camera.ray, learned, &learning, camera_guided(camera));
+    const Color3 L = guided_walk(scene, sampler, camera.ray, {learned, &learning, camera_guided(camera), false});
     learning.end();
     return L;
 }
 
 Color3 GuidedVolPathIntegrator::Li(const Scene& scene, Sampler& sampler, const CameraRay& camera) const {
-    // The tile's method, fixed before the first pass: both are unbiased, so the image is.
-    if (choice_.at(camera.film_uv) == TileMethod::Volpath) return bounded_.walk(scene, sampler, camera.ray, nullptr);
     if (estimator_) {
         const CacheQuantity q =
             settings_.estimate == FieldEstimate::Incident ? CacheQuantity::Incident : CacheQuantity::Inscattered;
@@ -394,9 +496,10 @@ std::vector<std::pair<std::string, double>> GuidedVolPathIntegrator::statistics(
     for (const WorkCounts& w : work_) work += w;
     const auto named = named_work(work);
     stats.insert(stats.end(), named.begin(), named.end());
+    stats.emplace_back("training_stage", double(int(training_.stage)));
     if (refining_.schedule) {
-        const auto named = refining_.schedule->named();
-        stats.insert(stats.end(), named.begin(), named.end());
+        const auto refined = refining_.schedule->named();
+        stats.insert(stats.end(), refined.begin(), refined.end());
         stats.insert(stats.end(), {{"refine_leaf_splits", double(refining_.refined.leaf_splits)},
                                    {"refine_leaf_merges", double(refining_.refined.leaf_merges)},
                                    {"refine_lobe_splits", double(refining_.refined.lobe_splits)},
@@ -411,6 +514,8 @@ std::vector<std::pair<std::string, double>> GuidedVolPathIntegrator::statistics(
         stats.emplace_back("leaf_groups", double(guide_->leaf_group_count()));
         const auto memory = guide_->memory_named();
         stats.insert(stats.end(), memory.begin(), memory.end());
+        const auto allocation = guide_->allocation().named();
+        stats.insert(stats.end(), allocation.begin(), allocation.end());
     }
     if (rrs_) {
         const auto rr = rrs_->stats().named();

@@ -46,7 +46,9 @@ constexpr const char* kLostTraining =
     "camera-path training and online updates lost to the photon field; the field learns during the render "
     "with refine_passes";
 constexpr const char* kFixedRefinement = "the refinement schedule's settings are fixed; refine_passes remains";
-constexpr const char* kLostSelection = "the per-cell method choice and the continuation gate lost; selection_spp remains";
+constexpr const char* kLostSelection =
+    "the learned selection's pilot was replaced by the allocation learned while rendering (issue 59); allocation "
+    "remains";
 constexpr Retired kRetired[] = {
     {"training_iterations", kLostTraining},
     {"online_spp", kLostTraining},
@@ -74,6 +76,10 @@ constexpr Retired kRetired[] = {
     {"selection_cost_surface", "the selection's costs are fixed"},
     {"selection_cost_lookup", kLostSelection},
     {"ears_record_spp", "rrs=ears records every camera sample"},
+    {"selection_spp", kLostSelection},
+    {"selection_min_samples", kLostSelection},
+    {"method_choice", "the per-tile method choice lost to every tile guided on all nine scenes (issue 55); the "
+                      "allocation learns per region and decision while rendering"},
     {"ears_record_fraction", "rrs=ears records every camera sample"},
 };
 
@@ -234,18 +240,9 @@ void read_ears(const Properties& props, GuidedVolPathSettings& s) {
     if (!props.has("rr_rule")) s.walk.rr_rule = RouletteRule::Bounded;
 }
 
-// Learned selection (learned_selection.h): selection_spp (0: off), selection_min_samples.
-void read_selection(const Properties& props, SelectionSettings& s) {
-    s.pilot_spp = int_in(props, "selection_spp", s.pilot_spp, 0, 64, " (0: off)");
-    s.min_samples = int_in(props, "selection_min_samples", s.min_samples, 1, 1 << 30);
-    if (s.pilot_spp == 0 && props.has("selection_min_samples"))
-        props.fail_at("selection_min_samples",
-                      "guided_volpath: selection_min_samples only applies to a learned selection (selection_spp > 0)");
-}
-
-// Guided RR/splitting's pixel estimate (the learned selection's pilot uses it too): pixel_estimate_rays,
-// pixel_estimate_floor, save_pixel_estimate; they, and the rrs_* parameters, are errors with
-// rrs=standard (they would silently do nothing), the pixel estimate's unless selection_spp > 0.
+// Guided RR/splitting's pixel estimate (the allocation's learning uses it too): pixel_estimate_rays,
+// pixel_estimate_floor, save_pixel_estimate; the rrs_* parameters are errors with rrs=standard (they
+// would silently do nothing), the pixel estimate's unless the allocation is learned.
 void read_pixel_estimate(const Properties& props, GuidedVolPathSettings& s) {
     s.pixel.rays_per_pixel = int_in(props, "pixel_estimate_rays", s.pixel.rays_per_pixel, 1, 1024);
     s.pixel.floor_fraction = props.get_float("pixel_estimate_floor", s.pixel.floor_fraction);
@@ -260,11 +257,11 @@ void read_pixel_estimate(const Properties& props, GuidedVolPathSettings& s) {
     for (const char* name : {"rrs_window", "rrs_q_min", "rrs_q_max", "rrs_max_branches", "rrs_branch_budget"})
         if (props.has(name))
             props.fail_at(name, "guided_volpath: {} only applies to rrs=grr, grrs or ears (rrs=standard)", name);
-    if (s.selection.pilot_spp > 0) return;
+    if (s.learn_allocation) return;
     for (const char* name : {"pixel_estimate_rays", "pixel_estimate_floor", "save_pixel_estimate"})
         if (props.has(name))
-            props.fail_at(name, "guided_volpath: {} only applies to rrs=grr, grrs or ears or a learned selection "
-                                "(selection_spp > 0)", name);
+            props.fail_at(name, "guided_volpath: {} only applies to rrs=grr, grrs or ears or a learned allocation "
+                                "(allocation=true)", name);
 }
 
 // load_field, resolved like Mitsuba's file resolver: a relative path that does not exist here is
@@ -294,14 +291,13 @@ GuidedVolPathSettings GuidedVolPathSettings::from(const Properties& props) {
     read_direction(props, s.guide);
     read_roulette(props, s.roulette);
     read_ears(props, s);
-    read_selection(props, s.selection);
+    s.learn_allocation = props.get_bool("allocation", s.learn_allocation);
     read_pixel_estimate(props, s);
     s.estimate = read_choice<FieldEstimate>(props, "estimate", s.estimate, kEstimate);
     if (s.estimate != FieldEstimate::None && s.refine.passes > 0)
         props.fail_at("refine_passes", "guided_volpath: refine_passes does not apply to estimate (no render to refine during)");
     if (props.has("save_field")) s.save_field = props.get_string("save_field");
     if (props.has("load_field")) s.load_field = resolve_field_path(props);
-    s.method_choice = props.get_bool("method_choice", s.method_choice);
     return s;
 }
 
@@ -309,12 +305,12 @@ std::string GuidedVolPathSettings::to_string() const {
     return fmt::format(
         "max_depth={}, rr_depth={}, rr_rule={}, photons={}, refine_passes={}, leaf_samples={}, lobes={}, "
         "distance={}, distance_merge={}, direction={}, surface_guiding={}, rrs={}, rrs_window={}, "
-        "rrs_branch_budget={}, selection_spp={}, equiangular={}, estimate={}, method_choice={}",
+        "rrs_branch_budget={}, allocation={}, equiangular={}, estimate={}",
         walk.max_depth, walk.rr_depth, roulette_rule_name(walk.rr_rule), photons, refine.passes,
         field.tree.max_samples, field.lobes, choice_name<DistanceGuiding>(kDistance, guide.distance),
         guide.distance_merge, choice_name<DirectionGuiding>(kDirection, guide.direction), guide.surface,
-        choice_name<RouletteMode>(kRrs, roulette.mode), roulette.window, roulette.branch_budget, selection.pilot_spp,
-        walk.equiangular, choice_name<FieldEstimate>(kEstimate, estimate), method_choice);
+        choice_name<RouletteMode>(kRrs, roulette.mode), roulette.window, roulette.branch_budget, learn_allocation,
+        walk.equiangular, choice_name<FieldEstimate>(kEstimate, estimate));
 }
 
 }  // namespace volguide

@@ -13,7 +13,7 @@
 #include "volguide/guiding/guiding_field.h"
 #include "volguide/guiding/roulette_splitting.h"
 #include "volguide/integrators/guided/estimates/continuation_snapshot.h"
-#include "volguide/integrators/guided/estimates/learned_selection.h"
+#include "volguide/integrators/guided/estimates/allocation.h"
 #include "volguide/integrators/guided/estimates/pixel_estimate.h"
 #include "volguide/integrators/guided/training/refinement_schedule.h"
 #include "volguide/integrators/volpath/volpath.h"
@@ -49,15 +49,14 @@ struct GuidedVolPathSettings {
     RouletteSplittingSettings roulette;
     // rrs=ears: its statistics' threshold and the adaptive branch budget (continuation_stats.h).
     EarsSettings ears;
-    // Learned selection (learned_selection.h): the pilot's spp (default 2; 0: off) and min_samples.
-    SelectionSettings selection;
+    // The allocation learned while rendering (allocation.h); `allocation` false: the configured
+    // mixtures and rule everywhere, nothing learned.
+    bool learn_allocation = true;
+    AllocationSettings allocation;
     PixelEstimateSettings pixel;      // pixel_estimate_rays, pixel_estimate_floor
     std::string save_pixel_estimate;  // EXR of I (RGB, before the floor), empty = none
     std::string save_field, load_field;  // resolved paths, empty = none
     FieldEstimate estimate = FieldEstimate::None;
-    // The measured per-tile method choice (estimates/method_choice.h): each 16 x 16 film tile rendered by
-    // the guided configuration or by volpath with rr_rule=bounded, decided from probes in the pre-pass.
-    bool method_choice = false;
     SourceLocation location;
 
     static GuidedVolPathSettings from(const Properties& props);

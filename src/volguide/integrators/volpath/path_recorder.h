@@ -39,13 +39,13 @@ class PathRecorder {
     virtual bool records_decisions() const { return false; }
     // A distance or direction decision the policy made (`record`: what it sampled from).
     virtual void record_decision(DecisionKind kind, const DecisionRecord& record) {}
-    // A continuation point of `stage` at the vertex in the guiding structure's leaf `leaf` (-1: not
-    // known; w: see ContinuationStage), after
-    // its decision, when the path goes on: the field's estimate of what the path collects from there per
-    // unit weight (channel average; 0 when the policy did not report one, records_decisions()) and the
-    // path weight (its 1/q included). Reported at every continuation point of a walk with a policy,
-    // before the decision's copies are made (branch_point). Surface-stage points report no estimate (0).
-    virtual void record_continuation(ContinuationStage stage, int leaf, const Vec3f& w, float estimate,
+    // A continuation point of `stage` (w: see ContinuationStage) after its decision `c`, when the path
+    // goes on: c.leaf the point's leaf in the guiding structure (-1: not known), c.estimate the field's
+    // estimate of what the path collects from there per unit weight (channel average; 0 when the
+    // policy did not report one, records_decisions()), c.q its factor, and the path weight (its 1/q
+    // included). Reported at every continuation point of a walk with a policy, before the decision's
+    // copies are made (branch_point). Surface-stage points report no estimate (0).
+    virtual void record_continuation(ContinuationStage stage, const Continuation& c, const Vec3f& w,
                                      const Color3& throughput) {}
 
     // A copy of the path made by a continuation decision waits and is walked after the current

@@ -244,7 +244,7 @@ bool VolumeWalk::surface_step() {
 }
 
 bool VolumeWalk::continue_at_surface(const Vec3f& wo) {
-    const ContinuationQuery query{ContinuationStage::Surface, wo, state_.throughput, branches_, state_.split_allowance};
+    const ContinuationQuery query = continuation_query(ContinuationStage::Surface, wo);
     count(Work::Continuation);
     const Continuation c = policy_->surface_continuation(si_, query, *rng_);
     take_policy_work();
@@ -282,7 +282,7 @@ void VolumeWalk::sample_nee_surface(const BSDF& bsdf) {
 }
 
 bool VolumeWalk::continue_path(ContinuationStage stage, const MediumVertex& v, const Vec3f& w) {
-    const ContinuationQuery query{stage, w, state_.throughput, branches_, state_.split_allowance, records_decisions_};
+    const ContinuationQuery query = continuation_query(stage, w);
     count(Work::Continuation);
     const Continuation c = policy_->continuation(query, v.mi, *rng_);
     take_policy_work();
@@ -296,7 +296,7 @@ bool VolumeWalk::continue_copies(const Continuation& c, ContinuationStage stage,
     if (c.q != 1.f) state_.throughput *= 1.f / c.q;
     // The point is reported with its weight after the decision, before its copies (branch_point).
     report_work();
-    if (recorder_) recorder_->record_continuation(stage, c.leaf, w, c.estimate, state_.throughput);
+    if (recorder_) recorder_->record_continuation(stage, c, w, state_.throughput);
     if (c.q == 1.f || c.n <= 1) return true;
     count(Work::Branch, uint64_t(c.n - 1));
     // The n copies share the path's allowance, so the live branches' allowances never sum to more
@@ -316,6 +316,16 @@ bool VolumeWalk::continue_copies(const Continuation& c, ContinuationStage stage,
 
 // The decision's own work is the walk's units it added to `record` and the policy's since its last
 // decision; the work before it is reported first (it belongs to what was current then).
+ContinuationQuery VolumeWalk::continuation_query(ContinuationStage stage, const Vec3f& w) const {
+    const WalkState& s = state_;
+    ContinuationQuery q{stage, w, s.throughput, branches_, s.split_allowance, records_decisions_};
+    const float beta = s.throughput.max_value() * s.eta * s.eta;
+    q.bound = std::min(1.f, beta);
+    const bool plays = stage != ContinuationStage::Distance && s.depth > settings_.rr_depth && s.depth != s.rr_depth_done;
+    q.roulette = plays ? roulette_survival(settings_.rr_rule, beta) : 1.f;
+    return q;
+}
+
 void VolumeWalk::report_decision(DecisionKind kind, DecisionRecord& record) {
     if (policy_) record.own += policy_->take_work();
     report_work();

@@ -107,6 +107,8 @@ class VolumeWalk {
     // The policy's continuation decision after a diffuse direction wo at the surface si_ (the state
     // already leaves along wo), then continue_copies(). False when the path ends.
     bool continue_at_surface(const Vec3f& wo);
+    // What a continuation decision of `stage` along w is asked.
+    ContinuationQuery continuation_query(ContinuationStage stage, const Vec3f& w) const;
     // The DecisionRecord a sampling decision fills (null unless the recorder reads them), and its report.
     DecisionRecord* decision_record(DecisionRecord& record) const { return records_decisions_ ? &record : nullptr; }
     void report_decision(DecisionKind kind, DecisionRecord& record);

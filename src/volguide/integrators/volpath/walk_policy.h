@@ -52,6 +52,11 @@ struct Continuation {
     float estimate = 0.f;
     // The guiding structure's leaf of the point as the decision left it (for the recorders); -1: not known.
     int leaf = -1;
+    // For the recorders (what a region's choice between the guided and the unguided continuation is
+    // learned from): the factor the unguided continuation applies here (ContinuationQuery::roulette)
+    // and the one the guided rule gives (NaN: not computed here).
+    float q_unguided = 1.f;
+    float q_guided = std::numeric_limits<float>::quiet_NaN();
 };
 
 // The sampling decisions (also the learned selection's: its tables are indexed by them).
@@ -80,6 +85,12 @@ struct ContinuationQuery {
     int branches = 1;
     float allowance = std::numeric_limits<float>::infinity();
     bool report = false;
+    // The walk's own throughput roulette at this point: the survival probability it applies after the
+    // vertex's direction stage when no continuation decision replaces it (past rr_depth, once per
+    // depth), 1 where it does not play (the distance stage, shallow depths).
+    float roulette = 1.f;
+    // min(1, max(beta) eta^2): the bounded rule's survival at this point, the floor of a guided roulette.
+    float bound = 1.f;
 };
 
 // The surface vertex a surface direction decision is made at: the BSDF context, the interaction and
@@ -92,13 +103,15 @@ struct SurfaceQuery {
 
 // What a sampling decision drew from, when the walk asks for it (for the recorders): a one-sample
 // mixture of an unguided and a guided density whose parts are known, in the guiding structure's
-// leaf `leaf` (-1: outside it); mixture false: a decision without such a mixture. `own`: the work of
-// the decision itself (the walk fills it: its own units and the policy's since the last decision,
-// work.h), apart from what followed it.
+// leaf `leaf` (-1: outside it); mixture false: a decision without such a mixture, made unguided —
+// `guidable` says whether a guide could have made it (a share of 0 chose the unguided decision; a
+// mixture is always guidable). `own`: the work of the decision itself (the walk fills it: its own
+// units and the policy's since the last decision, work.h), apart from what followed it.
 struct DecisionRecord {
     bool mixture = false;
     int leaf = -1;
     float pdf = 0.f, p_u = 0.f, p_g = 0.f;  // the mixture's density at the sample and its two parts
+    bool guidable = false;
     WorkCounts own{};
 };
 

@@ -14,9 +14,9 @@ ContinuationSnapshot ContinuationSnapshot::from(const CellStatistics& stats, con
         for (size_t cell = 0; cell < snap.cells_; ++cell)
             for (int bin = 0; bin < kContinuationDirectionBins; ++bin) {
                 const ContinuationMoments& m = stats.continuation(ContinuationStage(stage), cell, bin);
-                if (m.n < std::max<uint64_t>(settings.min_samples, 2) || m.cost == 0) continue;
+                if (m.n < std::max<uint64_t>(settings.min_samples, 2) || !(m.cost.value() > 0.0)) continue;
                 const double n = double(m.n), mean = m.sum.value() / n, m2 = std::max(0.0, m.sum_sq.value() / n);
-                const double cost = double(m.cost) / n;
+                const double cost = m.cost.value() / n;
                 Cell& c = snap.table_[(size_t(stage) * snap.cells_ + cell) * size_t(kContinuationDirectionBins) +
                                       size_t(bin)];
                 c.r = float(std::sqrt(m2 / cost));
@@ -75,8 +75,9 @@ float ContinuationSnapshot::factor(ContinuationStage stage, size_t cell, int bin
     return q_s >= 1.f ? q_s : 1.f;
 }
 
-ContinuationLearning::ContinuationLearning(size_t cells, int width, int height, const EarsSettings& settings)
-    : settings_(settings), learner_(cells, width, height) {
+ContinuationLearning::ContinuationLearning(size_t cells, int width, int height, const EarsSettings& settings,
+                                           const CostModel& costs)
+    : settings_(settings), learner_(cells, width, height, costs) {
     snapshot_ = ContinuationSnapshot::from(learner_.total(), learner_.pixels(), settings_, 0.0);
 }
 

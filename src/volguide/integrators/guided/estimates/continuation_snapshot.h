@@ -2,7 +2,7 @@
 // What efficiency-aware RR and splitting (rrs=ears, docs/theory.md §9.8) decides with: the learner's
 // statistics of the render's own passes (learner.h, cell_statistics.h) — per leaf of the guiding field x
 // direction bin x continuation stage, the moments of what a vertex's continuation collected per unit
-// path weight and its cost in decisions; per camera sample its cost and branches, per pixel the
+// path weight and its cost (the cost model's); per camera sample its cost and branches, per pixel the
 // moments of the relative sample X / I (I: the pixel estimate), whence the image's relative variance V
 // and cost C per sample — frozen between passes into a ContinuationSnapshot. The decisions of a pass
 // read the snapshot, never the sums being filled: within a pass every q is a fixed function of the
@@ -76,8 +76,9 @@ class ContinuationSnapshot {
 // snapshot.
 class ContinuationLearning {
   public:
-    // `cells`: the field's leaves + 1; the film's width and height.
-    ContinuationLearning(size_t cells, int width, int height, const EarsSettings& settings);
+    // `cells`: the field's leaves + 1; the film's width and height; the recorders' cost model (must
+    // outlive the object).
+    ContinuationLearning(size_t cells, int width, int height, const EarsSettings& settings, const CostModel& costs);
     const ContinuationSnapshot& snapshot() const { return snapshot_; }
     // The calling thread's recorder (one camera sample at a time: begin ... end).
     CellRecorder& recorder() const { return learner_.recorder(); }

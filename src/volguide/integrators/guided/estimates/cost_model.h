@@ -18,13 +18,17 @@ class CostModel {
     explicit CostModel(const std::array<double, kWorkUnits>& ns) : ns_(ns) {}
     double ns(Work unit) const { return ns_[size_t(unit)]; }
     // The modelled time of `work`, in ns.
-    double cost(const WorkCounts& work) const {
-        double c = 0.0;
-        for (size_t k = 0; k < kWorkUnits; ++k) c += ns_[k] * double(work.n[k]);
-        return c;
-    }
+    double cost(const WorkCounts& work) const { return sum(work, kWorkUnits); }
+    // The walk's part of it (the units before Work::GuidedSegment): what the decision that did `work`
+    // costs without its guided part — the unguided decision's cost in its place.
+    double unguided_cost(const WorkCounts& work) const { return sum(work, size_t(Work::GuidedSegment)); }
 
   private:
+    double sum(const WorkCounts& work, size_t units) const {
+        double c = 0.0;
+        for (size_t k = 0; k < units; ++k) c += ns_[k] * double(work.n[k]);
+        return c;
+    }
     std::array<double, kWorkUnits> ns_;
 };
 

@@ -4,8 +4,7 @@
 #include <cmath>
 
 #include "volguide/guiding/field_io.h"
-#include "volguide/integrators/guided/estimates/learned_selection.h"
-#include "volguide/integrators/guided/estimates/method_choice.h"
+#include "volguide/integrators/guided/estimates/allocation.h"
 
 namespace volguide {
 
@@ -34,7 +33,7 @@ struct PrepassReader {
 }  // namespace
 
 std::string serialize_guided_prepass(const GuidingField& field, const Image& pixel_estimate,
-                                     const std::string& selection, const std::string& choice) {
+                                     const std::string& allocation) {
     const std::string field_bytes = serialize_field(field);
     std::string s;
     put_u64(s, field_bytes.size());
@@ -43,13 +42,9 @@ std::string serialize_guided_prepass(const GuidingField& field, const Image& pix
     put_u32(s, uint32_t(pixel_estimate.height));
     for (const Color3& c : pixel_estimate.pixels)
         for (int k = 0; k < 3; ++k) put_u32(s, std::bit_cast<uint32_t>(c[k]));
-    if (!selection.empty() || !choice.empty()) {
-        put_u64(s, selection.size());
-        s += selection;
-    }
-    if (!choice.empty()) {
-        put_u64(s, choice.size());
-        s += choice;
+    if (!allocation.empty()) {
+        put_u64(s, allocation.size());
+        s += allocation;
     }
     return s;
 }
@@ -73,21 +68,15 @@ GuidedPrepass deserialize_guided_prepass(const std::string& bytes) {
             }
     }
     if (r.pos == bytes.size()) return prepass;
-    const uint64_t n = r.uint(8, "selection size");
-    if (bytes.size() - r.pos < n) throw FieldFormatError("guided_volpath pre-pass: the selection's size does not match its data");
-    prepass.selection = bytes.substr(r.pos, n);
-    r.pos += n;
-    if (r.pos != bytes.size()) {
-        const uint64_t m = r.uint(8, "choice size");
-        if (bytes.size() - r.pos != m)
-            throw FieldFormatError("guided_volpath pre-pass: the method choice's size does not match its data");
-        prepass.choice = bytes.substr(r.pos);
-    }
+    const uint64_t n = r.uint(8, "allocation size");
+    if (bytes.size() - r.pos != n)
+        throw FieldFormatError("guided_volpath pre-pass: the allocation's size does not match its data (a pre-pass of "
+                               "an earlier volguide: train again)");
+    prepass.allocation = bytes.substr(r.pos);
     try {  // checked here, used by the integrator
-        if (!prepass.selection.empty()) (void)LearnedSelection::deserialize(prepass.selection);
-        if (!prepass.choice.empty()) (void)ChoiceMap::deserialize(prepass.choice);
+        (void)Allocation::deserialize(prepass.allocation);
     } catch (const std::runtime_error& e) {
-        throw FieldFormatError(std::string("guided_volpath pre-pass: ") + e.what());
+        throw FieldFormatError(std::string("guided_volpath pre-pass: ") + e.what() + " (train again)");
     }
     return prepass;
 }

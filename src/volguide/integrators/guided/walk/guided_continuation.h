@@ -49,6 +49,8 @@ class GuidedContinuation {
     Continuation decide_surface(const SurfaceInteraction& si, const ContinuationQuery& query, Sampler& sampler,
                                 int hint) const;
     bool decides_at_surfaces() const { return ears_ && rrs_; }
+    // Whether the walk's camera sample is recorded for the allocation's learning (it explores then).
+    void set_learning(bool learning) { learning_ = learning; }
     // The camera sample's branch allowance (+inf without a budget or without rrs).
     float branch_budget() const;
     // Counts a finished camera sample's branches.
@@ -60,14 +62,18 @@ class GuidedContinuation {
     // The decision of `query` from ears' factor q (< 0: too few statistics, no decision): bounded, then
     // drawn.
     Continuation ears_outcome(float q, const ContinuationQuery& query, Sampler& sampler) const;
-    // A roulette factor q < 1 raised to the bounded throughput rule's survival (splitting unchanged).
-    static float bounded_roulette(float q, const Color3& throughput);
+    // A roulette factor q < 1 raised to the bounded throughput rule's survival `bound` (splitting
+    // unchanged).
+    static float bounded_roulette(float q, float bound);
+    // The allocation's continuation rule at `vertex` for `query`.
+    ContinuationRule rule(const ContinuationQuery& query, GuidedVertex& vertex) const;
     // Draws n from c.q (q != 1) and counts the outcome.
     void draw(Continuation& c, Sampler& sampler) const;
     const WalkGuide& guide_;
     const RouletteSplitting* rrs_;
     float pixel_;
     const ContinuationSnapshot* ears_;
+    bool learning_ = false;
 };
 
 }  // namespace volguide

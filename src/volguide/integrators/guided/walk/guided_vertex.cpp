@@ -18,6 +18,7 @@ void GuidedVertex::clear() {
     handed_ = -1;
     found_ = false;
     prepared_ = false;
+    direction_guidable_ = false;
     direction_.reset();
 }
 
@@ -25,7 +26,7 @@ int GuidedVertex::keep() {
     if (!active_) return -1;
     leaf();
     prepare_direction();
-    kept_.push_back(Kept{leaf_, found_, prepared_, direction_});
+    kept_.push_back(Kept{leaf_, found_, prepared_, direction_guidable_, direction_});
     return int(kept_.size()) - 1;
 }
 
@@ -40,6 +41,7 @@ void GuidedVertex::resume(const MediumInteraction& mi, int kept) {
     leaf_ = k.leaf;
     found_ = k.found;
     prepared_ = k.prepared;
+    direction_guidable_ = k.guidable;
     direction_ = k.direction;
     ++counts_.vertices_resumed;
 }
@@ -64,15 +66,19 @@ int GuidedVertex::origin_leaf(const DistanceQuery& query, bool needed) {
     return leaf;
 }
 
-DistanceInput GuidedVertex::distance_input(const DistanceQuery& query, bool select, float camera_guided) {
+DistanceInput GuidedVertex::distance_input(const DistanceQuery& query, float camera_guided) {
+    const Allocation& allocation = guide_.allocation();
     DistanceInput in;
     in.camera_guided = camera_guided;
-    in.origin = origin_leaf(query, select || guide_.settings().distance == DistanceGuiding::Vsp);
+    in.origin = origin_leaf(query, !allocation.empty() || guide_.settings().distance == DistanceGuiding::Vsp);
     TrustPoint at{DecisionKind::Distance};
     at.leaf = in.camera() ? -1 : in.origin;  // the camera buffer's P_G has no leaf to damp
     if (at.leaf >= 0) at.sigma_t = query.medium.eval(query.ray.o).sigma_t;
-    // The learned selection's share of the origin's cell (the pilot records every cell's decisions).
-    if (select) at.learned = guide_.selection().share(DecisionKind::Distance, guide_.selection_cell(in.origin));
+    // The allocation's share of the origin's cell. Guided null-collision tracking keeps the configured
+    // share: its decision is a sequence of collisions whose mixture density the learning cannot weigh.
+    if (!query.medium.tracks_null_collisions())
+        at.learned = allocation.share(DecisionKind::Distance, guide_.selection_cell(in.origin),
+                                      exploration_coin(query.ray.o, query.ray.d, 1), learning_);
     at.vertex = active_;
     in.share = guide_.guided_share(at);
     return in;
@@ -80,8 +86,7 @@ DistanceInput GuidedVertex::distance_input(const DistanceQuery& query, bool sele
 
 FreeFlightSample GuidedVertex::sample_distance(const DistanceQuery& query, float camera_guided, Sampler& sampler,
                                                DecisionRecord* record) {
-    const bool select = guide_.selection().learned(DecisionKind::Distance) || record;
-    const DistanceInput in = distance_input(query, select, camera_guided);
+    const DistanceInput in = distance_input(query, camera_guided);
     // Skipped: the guided share would be small and the guided walk (a leaf lookup per bin) costs more
     // than it can return. Unselected: volpath's decision, nothing guided is paid for.
     counts_.distance_skipped += in.share.source == ShareSource::Skipped;
@@ -96,14 +101,20 @@ FreeFlightSample GuidedVertex::sample_distance(const DistanceQuery& query, float
         counts_.work.add(Work::Bin, out.report.steps);
     }
     reached_ = out.scattering;
-    if (record) *record = out.record;
+    if (record) {
+        *record = out.record;
+        record->guidable = in.share.source == ShareSource::Unselected;
+    }
     return fs;
 }
 
 float GuidedVertex::phase_probability(int index) {
     TrustPoint at{DecisionKind::Direction, index, mi_.coeffs.sigma_t};
-    if (index >= 0) at.learned = guide_.selection().share(DecisionKind::Direction, guide_.selection_cell(index));
+    if (index >= 0)
+        at.learned = guide_.allocation().share(DecisionKind::Direction, guide_.selection_cell(index),
+                                               exploration_coin(mi_.p, mi_.wi, 2), learning_);
     const GuidedShare g = guide_.guided_share(at);
+    direction_guidable_ = g.source == ShareSource::Unselected;
     // Learned shares are damped by the confidence as configured ones are (a short pilot does not see
     // the heavy tails long walks in a dense medium get from a large guided share: densesphere read low
     // undamped; bench/RESULTS.md (issue 35)).

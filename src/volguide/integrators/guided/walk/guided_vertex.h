@@ -31,6 +31,9 @@ class GuidedVertex {
   public:
     // The guide must outlive the object, `counts` (the walk's counters) too.
     GuidedVertex(const WalkGuide& guide, WalkGuideStats& counts) : guide_(guide), counts_(counts) {}
+    // Whether the walk's camera sample is recorded for the allocation's learning: only then do its
+    // decisions explore (allocation.h).
+    void set_learning(bool learning) { learning_ = learning; }
 
     // Begins the vertex mi (mi.medium set), reached by this object's last distance decision (whose
     // scattering leaf it keeps), or, with `known_leaf` >= 0, in that leaf (a leaf holding mi.p: tests and
@@ -71,6 +74,9 @@ class GuidedVertex {
     float direction_pdf(const Vec3f& wo) const;
     // The guide's density alone (0 where not guided).
     float guide_pdf(const Vec3f& wo) const { return direction_ ? direction_->guide_pdf(wo) : 0.f; }
+    // Whether the direction decision was made unguided because the allocation's share is 0 (a guide
+    // could have made it: the learning records it).
+    bool direction_guidable() const { return direction_guidable_; }
 
     // The continuation's estimate for `stage` along w (guided_continuation.h) from the vertex's leaf
     // where the guide trusts it (WalkGuide::trusted); 0 otherwise.
@@ -83,8 +89,8 @@ class GuidedVertex {
     // The direction mixture's phase probability in leaf `index`: 1 - the guided share
     // (WalkGuide::guided_share); 1: the phase function alone.
     float phase_probability(int index);
-    // The distance decision's inputs at its origin (`select`: the learned selection's share is read).
-    DistanceInput distance_input(const DistanceQuery& query, bool select, float camera_guided);
+    // The distance decision's inputs at its origin, the allocation's share of its cell included.
+    DistanceInput distance_input(const DistanceQuery& query, float camera_guided);
     // The phase function's prepared lobes (the guide's; the last medium's kept: no map lookup per vertex).
     const PhaseLobes& phase_lobes(const PhaseFunction& phase);
 
@@ -98,12 +104,14 @@ class GuidedVertex {
     bool found_ = false;
     int hint_ = -1;
     bool prepared_ = false;  // prepare_direction ran for this vertex
+    bool direction_guidable_ = false;
+    bool learning_ = false;
     DistanceScratch scratch_;  // the distance decisions' (kept for its storage)
     std::optional<GuidedDirectionSampler> direction_;
     // What keep() kept, per token (the camera sample's splits; its copies read them).
     struct Kept {
         int leaf = -1;
-        bool found = false, prepared = false;
+        bool found = false, prepared = false, guidable = false;
         std::optional<GuidedDirectionSampler> direction;
     };
     std::vector<Kept> kept_;

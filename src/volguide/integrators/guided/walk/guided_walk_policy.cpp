@@ -20,6 +20,10 @@ Continuation GuidedWalkPolicy::continuation(const ContinuationQuery& query, cons
 
 PhaseSample GuidedWalkPolicy::sample_direction(const MediumInteraction& mi, Sampler& sampler,
                                                DecisionRecord* record) {
+    if (record && vertex_.direction_guidable()) {  // unguided where the allocation's share is 0
+        record->guidable = true;
+        record->leaf = vertex_.leaf();
+    }
     if (!vertex_.has_direction_sampler()) return mi.medium->phase().sample(mi.wi, sampler.next_2d());
     const float u_strategy = sampler.next_1d();
     const GuidedDirectionSampler::Sample g = vertex_.sample_direction(sampler.next_2d(), u_strategy);
@@ -45,6 +49,10 @@ std::pair<BSDFSample, Color3> GuidedWalkPolicy::sample_surface_direction(const S
                                                                          Sampler& sampler, DecisionRecord* record) {
     const auto& [ctx, si, bsdf] = at;
     const auto& s = surface_.sampler();
+    if (record && surface_.guidable()) {  // unguided where the allocation's share is 0
+        record->guidable = true;
+        record->leaf = surface_.leaf();
+    }
     if (!s || !s->guided()) return bsdf.sample(ctx, si, u1, u2);
     const GuidedSurfaceSampler::Sample g = s->sample(ctx, sampler.next_1d(), u1, u2);
     counts_.surface_guided_samples += g.guided;

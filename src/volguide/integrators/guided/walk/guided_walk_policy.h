@@ -24,10 +24,18 @@ namespace volguide {
 class GuidedWalkPolicy final : public WalkPolicy {
   public:
     // `rrs` null: no guided RR/splitting; `pixel`: I of the camera sample's pixel (> 0 with rrs);
-    // `ears`: the pass's continuation statistics (rrs=ears, guided_continuation.h).
+    // `ears`: the pass's continuation statistics (rrs=ears, guided_continuation.h); `learning`: the
+    // camera sample is recorded for the allocation (its decisions explore, allocation.h).
     GuidedWalkPolicy(const WalkGuide& guide, const RouletteSplitting* rrs, float pixel,
-                     const ContinuationSnapshot* ears = nullptr)
-        : guide_(guide), continuation_(guide, rrs, pixel, ears), vertex_(guide, counts_), surface_(guide, counts_) {}
+                     const ContinuationSnapshot* ears = nullptr, bool learning = false)
+        : guide_(guide),
+          continuation_(guide, rrs, pixel, ears),
+          vertex_(guide, counts_),
+          surface_(guide, counts_) {
+        vertex_.set_learning(learning);
+        surface_.set_learning(learning);
+        continuation_.set_learning(learning);
+    }
     ~GuidedWalkPolicy() override { guide_.add_stats(counts_); }
     GuidedWalkPolicy(const GuidedWalkPolicy&) = delete;
     GuidedWalkPolicy& operator=(const GuidedWalkPolicy&) = delete;

@@ -8,6 +8,7 @@ namespace volguide {
 void SurfaceVertex::prepare(const SurfaceInteraction& si, const BSDF& bsdf, const Medium* medium) {
     sampler_.reset();
     leaf_ = -1;
+    guidable_ = false;
     if (!guide_.guides_surfaces() || bsdf.is_null()) return;
     const Vmm* guide = nullptr;
     float bsdf_prob = guide_.settings().bsdf_prob;
@@ -23,12 +24,15 @@ void SurfaceVertex::prepare(const SurfaceInteraction& si, const BSDF& bsdf, cons
             at.leaf = leaf_;
             at.sigma_t = medium->eval(si.p).sigma_t;
         }
-        if (leaf_ >= 0) at.learned = guide_.selection().share(DecisionKind::Surface, guide_.selection_cell(leaf_));
+        if (leaf_ >= 0)
+            at.learned = guide_.allocation().share(DecisionKind::Surface, guide_.selection_cell(leaf_),
+                                                   exploration_coin(si.p, si.wi, 3), learning_);
         const GuidedShare g = guide_.guided_share(at);
         const bool guidable =
             leaf && g.source != ShareSource::Skipped && field.leaves()[size_t(leaf_)].mostly_medium();
         if (guidable && g.source == ShareSource::Unselected) {
             ++counts_.surface_unselected;  // only vertices the configured mixture would guide
+            guidable_ = true;
         } else if (guidable) {
             bsdf_prob = 1.f - g.share;
             guide = guide_of(leaf_, beside.n);

@@ -18,6 +18,8 @@ class SurfaceVertex {
   public:
     // The guide and `counts` (the walk's counters) must outlive the object.
     SurfaceVertex(const WalkGuide& guide, WalkGuideStats& counts) : guide_(guide), counts_(counts) {}
+    // Whether the walk's camera sample is recorded for the allocation's learning (it explores then).
+    void set_learning(bool learning) { learning_ = learning; }
 
     // The vertex si with its BSDF; `medium`: the one the path arrived through (null: none; its
     // extinction sets the leaf's confidence as in the medium). si and bsdf must outlive the decision.
@@ -26,6 +28,8 @@ class SurfaceVertex {
     int leaf() const { return leaf_; }
     // The mixture (a pure BSDF sampler when not guided); empty before prepare() or for a null BSDF.
     const std::optional<GuidedSurfaceSampler>& sampler() const { return sampler_; }
+    // Whether the decision is unguided because the allocation's share is 0 (a guide could make it).
+    bool guidable() const { return guidable_; }
 
   private:
     // The guide of leaf `index` beside the surface (normal n), or null.
@@ -34,6 +38,7 @@ class SurfaceVertex {
     const WalkGuide& guide_;
     WalkGuideStats& counts_;
     int leaf_ = -1;
+    bool guidable_ = false, learning_ = false;
     std::optional<GuidedSurfaceSampler> sampler_;
     Vmm product_{Vmm::Uninitialized{}};  // the cosine product the sampler reads
 };

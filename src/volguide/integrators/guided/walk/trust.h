@@ -38,8 +38,8 @@ struct TrustPoint {
     int leaf = -1;
     // The extinction at the point (read only when leaf >= 0).
     Color3 sigma_t{0.f};
-    // The learned selection's share of the point's selection cell (LearnedSelection::kDefault: none
-    // learned; the configured share applies).
+    // The allocation's share of the point's cell (Allocation::kConfigured: none learned, or the
+    // decision explores; the configured share applies).
     float learned = -1.f;
     // A medium vertex of the walk: below kSkipConfidence the decision is unguided. False: a distance
     // decision leaving a surface or the camera, which is damped by the confidence but never skipped.
@@ -49,8 +49,8 @@ struct TrustPoint {
 // Why a decision's guided share is what it is (the counters read it).
 enum class ShareSource : uint8_t {
     Configured,  // the configuration's share (1 - c_T, 1 - phase_prob, 1 - bsdf_prob)
-    Learned,     // the learned selection's share of the cell (> 0)
-    Unselected,  // the learned selection's share of the cell is 0: the unguided decision
+    Learned,     // the allocation's share of the cell (> 0)
+    Unselected,  // the allocation's share of the cell is 0: the unguided decision
     Skipped,     // a medium vertex in a leaf of confidence < kSkipConfidence: the unguided decision
 };
 

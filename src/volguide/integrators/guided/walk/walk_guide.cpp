@@ -84,7 +84,7 @@ GuidedShare WalkGuide::guided_share(const TrustPoint& point) const {
         g.source = ShareSource::Unselected;
         return g;
     }
-    const bool learned = point.learned != LearnedSelection::kDefault;
+    const bool learned = point.learned != Allocation::kConfigured;
     g.source = learned ? ShareSource::Learned : ShareSource::Configured;
     if (point.kind == DecisionKind::Distance)
         g.undamped = 1.f - (learned ? 1.f - point.learned : settings_.distance_settings.c_T);

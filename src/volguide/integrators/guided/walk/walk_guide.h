@@ -23,7 +23,7 @@
 #include "volguide/guiding/inscatter_cache.h"
 #include "volguide/guiding/leaf_estimates.h"
 #include "volguide/guiding/leaf_groups.h"
-#include "volguide/integrators/guided/estimates/learned_selection.h"
+#include "volguide/integrators/guided/estimates/allocation.h"
 #include "volguide/integrators/guided/walk/guided_surface_sampler.h"
 #include "volguide/integrators/guided/walk/trust.h"
 #include "volguide/integrators/volpath/work.h"
@@ -121,12 +121,12 @@ struct WalkGuideSettings {
     X(surface_guided_vertices, "surface_guided_vertex_fraction", surface_vertices)                         \
     /* directions drawn from the surface guide */                                                          \
     X(surface_guided_samples, "surface_guided_sample_fraction", surface_vertices)                         \
-    /* learned selection: distance decisions made unguided (share 0) */                                    \
-    X(distance_unselected, "selection_distance_unguided", 1)                                               \
+    /* allocation: distance decisions made unguided (share 0) */                                           \
+    X(distance_unselected, "allocation_distance_unguided", 1)                                              \
     /* ... direction decisions made unguided */                                                            \
-    X(direction_unselected, "selection_direction_unguided", 1)                                             \
+    X(direction_unselected, "allocation_direction_unguided", 1)                                            \
     /* ... surface decisions made unguided */                                                              \
-    X(surface_unselected, "selection_surface_unguided", 1)                                                 \
+    X(surface_unselected, "allocation_surface_unguided", 1)                                                \
     /* medium vertices begun (GuidedVertex, guided_vertex.h; a split copy's vertex again) */                \
     X(vertices, "guided_vertices", 1)                                                                      \
     /* ... kd-tree descents they made to find their leaf (at most one per vertex) */                      \
@@ -167,7 +167,7 @@ class WalkGuide {
     bool guides_direction() const { return settings_.direction != DirectionGuiding::Phase; }
     bool guides_surfaces() const { return settings_.surface && guides_direction(); }
     // The configured distance decision (distance_sampler.h) and free flight, which a vertex takes
-    // where guiding cannot pay (a leaf of low confidence, a cell the selection left unguided).
+    // where guiding cannot pay (a leaf of low confidence, a cell the allocation left unguided).
     const DistanceSampler& distance() const { return *distance_; }
     const DistanceSampler& free_flight() const { return *free_flight_; }
 
@@ -225,11 +225,11 @@ class WalkGuide {
     float scatter_probability(int leaf, const PhaseFunction& phase, const Vec3f& w, float albedo,
                               float unguided) const;
 
-    // Learned selection (learned_selection.h): per selection cell, the guided share of each decision;
-    // empty (the default) keeps the configured mixtures.
-    void set_selection(LearnedSelection selection) { selection_ = std::move(selection); }
-    const LearnedSelection& selection() const { return selection_; }
-    // The selection cell of a leaf (-1: outside the field) and how many there are.
+    // The allocation (estimates/allocation.h): per cell, the guided share of each decision and the
+    // continuation's rule; empty (the default) keeps the configured mixtures. Set between passes.
+    void set_allocation(Allocation allocation) { allocation_ = std::move(allocation); }
+    const Allocation& allocation() const { return allocation_; }
+    // The allocation's cell of a leaf (-1: outside the field) and how many there are.
     size_t selection_cell(int leaf) const { return leaf >= 0 ? size_t(leaf) : field_.leaves().size(); }
     size_t selection_cells() const { return field_.leaves().size() + 1; }
     // The guided shares the configuration sets (what the pilot samples with): distance, direction, surface.
@@ -251,7 +251,7 @@ class WalkGuide {
     std::map<float, PhaseLobes> phase_lobes_;  // by phase mean cosine
     std::vector<float> leaf_extent_;  // cube root of each leaf's volume
     LobeStore direction_lobes_;       // per leaf: vmm_indirect where valid_indirect
-    LearnedSelection selection_;
+    Allocation allocation_;
     std::unique_ptr<DistanceSampler> distance_, free_flight_;
     mutable tbb::enumerable_thread_specific<WalkGuideStats> stats_;
 };
