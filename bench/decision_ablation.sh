@@ -7,8 +7,8 @@
 #   direction   distance=standard    direction=product
 #   both        distance=incremental direction=product
 #   none        distance=standard    direction=phase (surface_guiding off): guided_volpath deciding nothing
-# all guided ones with rrs=standard rr_rule=bounded selection_spp=0 (no guided RR/splitting, no learned
-# selection). relMSE (eps 1e-2) against bench/references/<scene>.exr at 160x120 (the references' size).
+# all guided ones with rrs=standard rr_rule=bounded allocation=false (no guided RR/splitting, no learned
+# allocation). relMSE (eps 1e-2) against bench/references/<scene>.exr at 160x120 (the references' size).
 #   bench/decision_ablation.sh [BUILD_DIR] [WORK_DIR]
 # Environment: SCENES (default "densesphere backlit thin sss aniso shafts cloud"), SPP (64), SEEDS
 # ("1 2 3 4"), VARIANTS ("volpath distance direction both"), EXTRA (XML added to every guided
@@ -54,7 +54,7 @@ variant_xml() {  # scene variant -> prints the integrator file
     esac
     xml "$f" "<integrator type=\"guided_volpath\"><integer name=\"max_depth\" value=\"\$max_depth\"/>
         <string name=\"load_field\" value=\"$WORK/$1.field\"/><string name=\"rrs\" value=\"standard\"/>
-        <string name=\"rr_rule\" value=\"bounded\"/><integer name=\"selection_spp\" value=\"0\"/>
+        <string name=\"rr_rule\" value=\"bounded\"/><boolean name=\"allocation\" value=\"false\"/>
         $d ${EXTRA:-}</integrator>"
     echo "$f"
 }

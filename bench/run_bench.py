@@ -35,9 +35,9 @@ METHODS = {
     # What a user gets (issue 55): guided_volpath with no options, the default photons. Each scene's first
     # table compares it with the best unguided method.
     "guided_volpath": {"guided_defaults": True},
-    # The same with the per-tile method choice (guided or bounded volpath per 16 x 16 tile; off by default,
-    # docs/scene-format.md), its map beside the render in the report.
-    "guided_volpath method_choice=true": {"guided_defaults": True, "guided": {"method_choice": True}},
+    # The same with every decision guided everywhere (the configured mixtures, nothing learned): what the
+    # allocation (issue 59) chooses from.
+    "guided_volpath allocation=false": {"guided_defaults": True, "guided": {"allocation": False}},
     "volpath": {"defines": ["integrator=volpath"]},
     "volpath+equiangular": {"defines": ["integrator=volpath", "equiangular=true"]},
     # Weights bounded by the roulette (survival min(1, max(beta) eta^2)): the strong unguided baseline in
@@ -97,9 +97,6 @@ EXTRA_METHODS = {
     # Issue 21: the branch budget (a quarter of the cap), branches bounded by construction.
     "guided_volpath distance=incremental direction=product rrs=grrs rrs_branch_budget=16": {
         "guided": {"distance": "incremental", "direction": "product", "rrs": "grrs", "rrs_branch_budget": 16.0}},
-    # Issue 21: the full system without learned selection (its default since 2026-11-25: a 2-spp pilot).
-    "guided_volpath distance=incremental direction=product rrs=grrs selection_spp=0": {
-        "guided": {"distance": "incremental", "direction": "product", "rrs": "grrs", "selection_spp": 0}},
     # Issue 20: the full system with half the photon deposits (training ~half as long, ~half the
     # leaves: coarser and shorter distance walks); 2 M is guided_volpath's default since 2026-11-25
     # (so that method is the full system itself, named explicitly for comparisons with earlier runs).
@@ -230,9 +227,6 @@ def run_method(volguide, scene, method, spec, args, out):
         with open(xml, "w") as f:
             f.write(guided_integrator_xml(spec.get("guided", {}), defaults=spec.get("guided_defaults", False)))
         cmd += ["-D", f"integrator_xml={xml}"]
-        # The per-tile method choice beside the render in the report (white: bounded volpath's tiles).
-        if spec.get("guided", {}).get("method_choice"):
-            cmd += ["--choice-map", os.path.join(out, "images", name + "__choice.png")]
     if "openpgl" in spec:
         xml = os.path.join(out, "integrators", slug(method) + ".xml")
         with open(xml, "w") as f:
@@ -258,10 +252,14 @@ def run_method(volguide, scene, method, spec, args, out):
     row["convergence"] = st["convergence"]
     # Guided RR/splitting: branches per camera sample (mean, 99.9th percentile) and the budget overrun.
     integ = st.get("integrator", {})
-    if "choice_volpath_share" in integ:
-        row["choice_volpath_share"] = integ["choice_volpath_share"]
-        row["choice_stage"] = integ["choice_stage"]
-        row["choice_map"] = os.path.relpath(os.path.join(out, "images", name + "__choice.png"), out)
+    # The allocation (issue 59): the share of each decision kind's decisions in guided cells, and the
+    # training's stage at the end (0 coarse, 1 full, 2 stopped: nothing paid).
+    for kind in ("distance", "direction", "surface", "continuation"):
+        key = f"allocation_{kind}_guided_fraction"
+        if key in integ:
+            row[f"guided_{kind}"] = integ[key]
+    if "training_stage" in integ:
+        row["training_stage"] = integ["training_stage"]
     if "rrs_branches_per_camera_sample" in integ:
         row["branches_mean"] = integ["rrs_branches_per_camera_sample"]
         row["branches_p999"] = integ["rrs_branches_p999"]
@@ -358,7 +356,8 @@ def write_csv(rows, path):
             "reference_mean", "speedup_1e-2", "speedup_1e-3", "reference_relmse_1e-2", "relmse_1e-2_net",
             "speedup_1e-2_net", "best_unguided", "speedup_best_unguided_1e-2",
             "speedup_best_unguided_1e-3", "branches_mean", "branches_p999", "branches_max",
-            "pixel_estimate_seconds", "choice_volpath_share", "choice_stage", "note", "command"]
+            "pixel_estimate_seconds", "guided_distance", "guided_direction", "guided_surface",
+            "guided_continuation", "training_stage", "note", "command"]
     with open(path, "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=cols, extrasaction="ignore")
         w.writeheader()
@@ -374,13 +373,20 @@ def defaults_table(rows, scene):
                  and r["status"] == "ok"), None)
     if not mine or not best:
         return []
-    share = mine.get("choice_volpath_share")
-    tiles = f"{100 * share:.0f} % volpath (stage {mine['choice_stage']:.0f})" if share is not None else ""
-    return ["| the defaults vs the best unguided | spp | relMSE (1e-2) | ratio (best / defaults) | tiles |",
-            "|---|---:|---:|---:|---|",
-            f"| `guided_volpath` | {mine['spp']} | {fmt(mine['relmse_1e-2'])} | "
-            f"{fmt(best['relmse_1e-2'] / mine['relmse_1e-2'], 3)}x | {tiles} |",
-            f"| `{best['method']}` | {best['spp']} | {fmt(best['relmse_1e-2'])} | 1x | |", ""]
+    ratio = best["relmse_1e-2"] / mine["relmse_1e-2"]
+    # The split (issue 59): per sample (relMSE x spp, assuming relMSE ~ 1/spp) and time per sample (the
+    # render's, training excluded), derived from these equal-time runs.
+    per_sample = ratio * best["spp"] / mine["spp"]
+    time_ratio = (mine["render_seconds"] / mine["spp"]) / (best["render_seconds"] / best["spp"])
+    guided = " / ".join(f"{100 * mine[f'guided_{k}']:.0f} %" if f"guided_{k}" in mine else "-"
+                        for k in ("distance", "direction", "surface", "continuation"))
+    stage = {0: "coarse", 1: "full", 2: "stopped"}.get(int(mine.get("training_stage", -1)), "")
+    return ["| the defaults vs the best unguided | spp | relMSE (1e-2) | ratio (best / defaults) | per sample | "
+            "time per sample | guided: distance / direction / surface / continuation | training |",
+            "|---|---:|---:|---:|---:|---:|---|---|",
+            f"| `guided_volpath` | {mine['spp']} | {fmt(mine['relmse_1e-2'])} | {fmt(ratio, 3)}x | "
+            f"{fmt(per_sample, 3)}x | {fmt(time_ratio, 3)}x | {guided} | {stage} |",
+            f"| `{best['method']}` | {best['spp']} | {fmt(best['relmse_1e-2'])} | 1x | 1x | 1x | | |", ""]
 
 
 def table_markdown(rows, scenes, machine, args, checks):
@@ -520,10 +526,6 @@ def write_html(rows, scenes, plots, machine, args, checks, out):
             if r:
                 parts.append(f"<img src='{html.escape(r['error_image'])}' width='320' alt='error {html.escape(label)}'>"
                              "<figcaption>per-pixel relMSE (log scale 1e-4 … 10)</figcaption>")
-            if r and r.get("choice_map"):
-                parts.append(f"<img src='{html.escape(r['choice_map'])}' width='320' alt='choice {html.escape(label)}'>"
-                             f"<figcaption>method choice: white bounded volpath "
-                             f"({100 * r['choice_volpath_share']:.0f} % of tiles), blue guided</figcaption>")
             parts.append("</figure>")
         parts.append("</div>")
         if scene in plots:

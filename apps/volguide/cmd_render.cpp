@@ -135,6 +135,7 @@ void write_stats(const std::string& path, const RenderArgs& args, const std::vec
     j["time"] = {{"load", load_seconds},
                  {"preprocess", s.preprocess_seconds},
                  {"render", s.render_seconds},
+                 {"render_cpu", s.render_cpu_seconds},
                  {"total", s.total_seconds},
                  {"total_with_load", load_seconds + s.total_seconds}};
     if (final_diff) {

@@ -4,9 +4,10 @@
 //  - a dense, high-albedo sphere (where the old defaults made 3-8 branches per camera sample and hit the
 //    cap of 64) never makes more branches than the adaptive budget, which is within the ceiling of 16:
 //    the whole histogram, not a mean;
-//  - the budget comes from counted work (the pilot's decisions), so the image is the same for 1 and 2
-//    threads;
-//  - the pilot and the pixel estimate trace a bounded number of paths and rays on a large film.
+//  - the budget comes from counted work (the render's own passes, cost_model.h), so the image is the same
+//    for 1 and 2 threads;
+//  - a saved pre-pass's learning passes and the pixel estimate trace a bounded number of paths and rays
+//    on a large film.
 #include <gtest/gtest.h>
 
 #include <fmt/format.h>
@@ -18,7 +19,7 @@
 #include "support/furnace_grid.h"
 #include "support/volpath_test_util.h"
 #include "volguide/integrators/guided/estimates/pixel_estimate.h"
-#include "volguide/integrators/guided/estimates/selection_pilot.h"
+#include "volguide/integrators/guided/estimates/learning_pass.h"
 #include "volguide/integrators/moment.h"
 
 using namespace volguide;
@@ -100,22 +101,27 @@ TEST(BoundedContinuation, DefaultsMatchVolpathInADenseSphere) {
 
 // Every camera sample within the budget, the budget within the ceiling: the histogram's maximum, over
 // 48 k camera samples of the dense sphere, and no cap hit. A free window (s = 1) that asks for many
-// copies is held by the same bound.
+// copies is held by the same bound, with splitting everywhere (allocation=false: the configured rule in
+// every cell) and with the allocation's.
 TEST(BoundedContinuation, BranchesNeverExceedTheBudgetOnADenseSphere) {
-    for (const char* extra : {"", R"(<float name="rrs_window" value="1"/>)"}) {
-        SCOPED_TRACE(extra);
-        const std::string integrator = std::string(R"(<integrator type="guided_volpath"><integer name="photons"
-            value="100000"/><integer name="max_depth" value="64"/>)") + extra + "</integrator>";
-        const bc::StatsRender r = bc::render_with_stats(bc::dense_sphere_xml(integrator, 24, 16), 128, 5);
-        const double budget = r.stats.at("rrs_branch_budget");
-        EXPECT_GE(budget, 2.0);
-        EXPECT_LE(budget, 16.0);
-        EXPECT_GT(r.stats.at("selection_cost_ratio"), 0.0);  // measured by the pilot
-        EXPECT_LE(r.stats.at("rrs_branches_max"), budget);
-        EXPECT_EQ(r.stats.at("rrs_cap_hits"), 0.0);
-        EXPECT_GT(r.stats.at("rrs_splits"), 0.0);
-        EXPECT_GT(r.stats.at("rrs_budget_limited"), 0.0);  // the budget, not the estimates, held it
-    }
+    for (const char* allocation : {"false", "true"})
+        for (const char* extra : {"", R"(<float name="rrs_window" value="1"/>)"}) {
+            SCOPED_TRACE(std::string(allocation) + extra);
+            const std::string integrator =
+                fmt::format(R"(<integrator type="guided_volpath"><integer name="photons" value="100000"/>
+                <integer name="max_depth" value="64"/><boolean name="allocation" value="{}"/>{}</integrator>)",
+                            allocation, extra);
+            const bc::StatsRender r = bc::render_with_stats(bc::dense_sphere_xml(integrator, 24, 16), 128, 5);
+            if (r.stats.at("training_stage") == 2.0) continue;  // nothing paid: the unguided walk decided
+            const double budget = r.stats.at("rrs_branch_budget");
+            EXPECT_GE(budget, 2.0);
+            EXPECT_LE(budget, 16.0);
+            EXPECT_LE(r.stats.at("rrs_branches_max"), budget);
+            EXPECT_EQ(r.stats.at("rrs_cap_hits"), 0.0);
+            if (std::string(allocation) == "true") continue;
+            EXPECT_GT(r.stats.at("rrs_splits"), 0.0);
+            EXPECT_GT(r.stats.at("rrs_budget_limited"), 0.0);  // the budget, not the estimates, held it
+        }
 }
 
 // Counted work, not wall-clock: the same seed and spp give the same budget and the same image for 1 and
@@ -124,7 +130,6 @@ TEST(BoundedContinuation, BudgetAndImageAreTheSameForOneAndTwoThreads) {
     const bc::StatsRender one = bc::render_with_stats(bc::dense_sphere_xml(bc::kDefaults), 8, 11, 1);
     const bc::StatsRender two = bc::render_with_stats(bc::dense_sphere_xml(bc::kDefaults), 8, 11, 2);
     EXPECT_EQ(one.stats.at("rrs_branch_budget"), two.stats.at("rrs_branch_budget"));
-    EXPECT_EQ(one.stats.at("selection_cost_ratio"), two.stats.at("selection_cost_ratio"));
     EXPECT_EQ(one.stats.at("rrs_extra_branches"), two.stats.at("rrs_extra_branches"));
     ASSERT_EQ(one.result.mean.pixels.size(), two.result.mean.pixels.size());
     EXPECT_EQ(std::memcmp(one.result.mean.pixels.data(), two.result.mean.pixels.data(),
@@ -132,21 +137,19 @@ TEST(BoundedContinuation, BudgetAndImageAreTheSameForOneAndTwoThreads) {
               0);
 }
 
-// The pilot traces at most 2 x 256^2 paths and the pixel estimate marches at most 4 x 256^2 rays
+// A learning pass traces at most 2 x 256^2 paths and the pixel estimate marches at most 4 x 256^2 rays
 // whatever the film's size (here 400 x 300 = 120 000 pixels); a small film keeps every pixel.
-TEST(BoundedContinuation, PilotAndPixelEstimateCostsAreBounded) {
-    EXPECT_EQ(selection_pilot_paths(160, 120, 2), uint64_t(2 * 160 * 120));
-    EXPECT_LE(selection_pilot_paths(1024, 1024, 2), uint64_t(2 * kPilotPixels));
-    EXPECT_GE(selection_pilot_paths(1024, 1024, 2), uint64_t(2 * kPilotPixels * 9 / 10));
-    EXPECT_LE(selection_pilot_paths(4000, 3000, 2), uint64_t(2 * kPilotPixels));
+TEST(BoundedContinuation, LearningPassAndPixelEstimateCostsAreBounded) {
+    EXPECT_EQ(learning_pass_paths(160, 120, 2), uint64_t(2 * 160 * 120));
+    EXPECT_LE(learning_pass_paths(1024, 1024, 2), uint64_t(2 * kPilotPixels));
+    EXPECT_GE(learning_pass_paths(1024, 1024, 2), uint64_t(2 * kPilotPixels * 9 / 10));
+    EXPECT_LE(learning_pass_paths(4000, 3000, 2), uint64_t(2 * kPilotPixels));
     const EstimateGrid small = estimate_grid(160, 120, 256 * 256), large = estimate_grid(1024, 1024, 256 * 256);
     EXPECT_EQ(small.width, 160);
     EXPECT_EQ(small.height, 120);
     EXPECT_EQ(large.width, 256);
     EXPECT_EQ(large.height, 256);
     const bc::StatsRender r = bc::render_with_stats(bc::dense_sphere_xml(bc::kDefaults, 400, 300), 1, 3);
-    EXPECT_EQ(r.stats.at("selection_pilot_paths"), double(selection_pilot_paths(400, 300, 2)));
-    EXPECT_LE(r.stats.at("selection_pilot_paths"), double(2 * kPilotPixels));
     EXPECT_LE(r.stats.at("pixel_estimate_rays"), double(4 * 256 * 256));
     EXPECT_GT(r.stats.at("pixel_estimate_rays"), double(4 * 256 * 256 * 9 / 10));
 }

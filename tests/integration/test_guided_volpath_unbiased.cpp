@@ -514,36 +514,38 @@ TEST(GuidedVolPathUnbiased, RouletteSplittingStatistics) {
     EXPECT_EQ(none.count("rrs_decisions"), 0u);
 }
 
-// Learned selection (learned_selection.h, issue 21) changes the mixtures' probabilities per leaf, from
-// a pilot (16 spp: the film is 12 x 12): the image mean stays volpath's, with guided RR/splitting and
-// without, homogeneous and heterogeneous; and it really selects.
-TEST(GuidedVolPathUnbiased, LearnedSelectionIsUnbiased) {
-    TempDir dir("guided-selection");
+// Issue 59: the allocation learned while rendering changes every decision's share per cell, and the
+// continuation's rule, between passes (its first passes explore with the configured mixtures, the
+// coarse stage may train the full field or stop guiding). Each decision kind forced off (its unguided
+// decision), forced on (allocation=false: the configured mixture everywhere) and allocated (the
+// defaults) keeps volpath's image means, homogeneous and heterogeneous; and on this scene the
+// allocation really mixes: of each sampling decision some cells are guided and some are not.
+TEST(GuidedVolPathUnbiased, EveryDecisionOffOnAndAllocatedIsUnbiased) {
+    TempDir dir("guided-allocation");
     const std::string grid = write_furnace_grid(dir);
-    const std::string selection = R"(<integer name="selection_spp" value="16"/>)"
-                                  R"(<integer name="selection_min_samples" value="16"/>)";
-    for (bool het : {false, true}) {
-        SCOPED_TRACE(het ? "heterogeneous" : "homogeneous");
-        Rendered ref = render_scene_xml(lit_fog_xml(het, grid, R"(<integrator type="volpath"/>)"), 1024, 7, false);
-        Rendered plain = render_scene_xml(
-            lit_fog_xml(het, grid, guided("incremental", "product", 200000, -1.f, selection)), 1024, 8, false);
-        expect_same_means(plain, ref);
-        Rendered rrs = render_scene_xml(
-            lit_fog_xml(het, grid,
-                        guided("incremental", "product", 200000, -1.f, selection, rrs_xml("grrs", 5.f))),
-            1024, 9, false);
-        expect_same_means(rrs, ref);
+    const std::string grrs = rrs_xml("grrs", 5.f);
+    const std::string on = R"(<boolean name="allocation" value="false"/>)";
+    const std::string no_surface = R"(<boolean name="surface_guiding" value="false"/>)";
+    const std::pair<const char*, std::string> cases[] = {
+        {"every decision on", guided("incremental", "product", 200000, -1.f, on, grrs)},
+        {"allocated", guided("incremental", "product", 200000, -1.f, "", grrs)},
+        {"distance off", guided("standard", "product", 200000, -1.f, "", grrs)},
+        {"direction off", guided("incremental", "phase", 200000, -1.f, "", grrs)},
+        {"surface off", guided("incremental", "product", 200000, -1.f, no_surface, grrs)},
+        {"continuation off", guided("incremental", "product", 200000)},
+    };
+    uint64_t seed = 20;
+    for (const auto& [name, integrator] : cases) {
+        SCOPED_TRACE(name);
+        expect_lit_fog_means_of_volpath(grid, integrator, seed++);
     }
-    const auto s = guide_stats(lit_fog_xml(false, grid, guided("incremental", "product", 200000, -1.f, selection)));
-    ASSERT_TRUE(s.count("selection_distance_cells_guided"));
-    EXPECT_GT(s.at("selection_distance_cells_guided") + s.at("selection_distance_cells_unguided"), 0.0);
-    EXPECT_GT(s.at("selection_direction_cells_guided") + s.at("selection_direction_cells_unguided"), 0.0);
-    EXPECT_GT(s.at("selection_seconds"), 0.0);
-    // Without a selection nothing is counted as selected.
-    const auto none = guide_stats(lit_fog_xml(
-        false, grid, guided("incremental", "product", 200000, -1.f, R"(<integer name="selection_spp" value="0"/>)")));
-    EXPECT_EQ(none.count("selection_seconds"), 0u);
-    EXPECT_EQ(none.at("selection_distance_unguided"), 0.0);
+    const auto s = guide_stats(lit_fog_xml(false, grid, guided("incremental", "product", 200000, -1.f, "", grrs)), 64);
+    EXPECT_EQ(s.at("training_stage"), 1.0);  // the full field: something paid
+    for (const char* kind : {"distance", "direction"}) {
+        const double guided_fraction = s.at(fmt::format("allocation_{}_guided_fraction", kind));
+        EXPECT_GT(guided_fraction, 0.0) << kind;
+        EXPECT_LT(guided_fraction, 1.0) << kind;
+    }
 }
 
 // Issue 39: refinement during the render (refine_passes): further photon passes, added to the field

@@ -16,7 +16,7 @@ fail() { echo "FAIL: $*" >&2; exit 1; }
 "$PY" "$src/bench/make_references.py" --scenes thin --spp 4 --build-dir "$build" --out-dir "$tmp/refs" \
   --work-dir "$tmp/chunks" >/dev/null
 "$PY" "$src/bench/run_bench.py" --build-dir "$build" --time 0.3 --scenes thin \
-  --methods "guided_volpath,guided_volpath method_choice=true,volpath,guided_volpath direction=product,guided_volpath distance=incremental direction=product rrs=grr" \
+  --methods "guided_volpath,guided_volpath allocation=false,volpath,guided_volpath direction=product,guided_volpath distance=incremental direction=product rrs=grr" \
   --references "$tmp/refs" --out "$tmp/out"
 for f in results.csv results.json table.md index.html plots/thin.png images/thin__reference.png \
          images/thin__volpath.png images/thin__volpath__error.png; do
@@ -50,24 +50,23 @@ assert g["status"] == "ok" and int(g["spp"]) > 0, g
 assert float(g["branches_mean"]) == 1.0 and float(g["branches_max"]) == 1.0, g
 assert float(g["pixel_estimate_seconds"]) > 0.0, g
 assert "branches mean / p99.9 / max" in open(f"{tmp}/out/table.md").read()
-# Issue 55: guided_volpath with no options leads each scene's tables against the best unguided method,
-# its per-tile method choice beside the render.
+# Issue 55: guided_volpath with no options leads each scene's tables against the best unguided method;
+# issue 59: with the share of each decision kind its allocation guides, the training's stage and the
+# split of the ratio into per sample x time per sample.
 d0 = rows["guided_volpath"]
 assert d0["status"] == "ok" and int(d0["spp"]) > 0, d0
-# The per-tile method choice is off by default (docs/scene-format.md); its map beside the render when on.
-assert d0.get("choice_volpath_share", "") == "", d0
-c0 = rows["guided_volpath method_choice=true"]
+for kind in ("distance", "direction", "surface", "continuation"):
+    assert 0.0 <= float(d0[f"guided_{kind}"]) <= 1.0, d0
+assert d0["training_stage"] in ("0.0", "1.0", "2.0"), d0
+# Every decision configured everywhere: nothing allocated, so no shares.
+c0 = rows["guided_volpath allocation=false"]
 assert c0["status"] == "ok" and int(c0["spp"]) > 0, c0
-assert 0.0 <= float(c0["choice_volpath_share"]) <= 1.0 and c0["choice_stage"] in ("1.0", "2.0"), c0
+assert c0.get("guided_distance", "") == "", c0
 table = open(f"{tmp}/out/table.md").read()
 first = table.index("## thin")
 assert table.index("| the defaults vs the best unguided |", first) < table.index("| method | spp |", first), table
 assert "| `guided_volpath` |" in table[first:]
-import os
-assert not os.path.exists(f"{tmp}/out/images/thin__guided-volpath__choice.png")
-choice_png = "thin__guided-volpath-method-choice-true__choice.png"
-assert os.path.getsize(f"{tmp}/out/images/{choice_png}") > 0
-assert choice_png in open(f"{tmp}/out/index.html").read()
+assert "per sample | time per sample | guided: distance / direction / surface / continuation |" in table
 print("results.csv agrees with volguide diff; guided methods ran, guided RR with its branch statistics")
 PY
 # Re-scoring against another reference (the same scene at other spp) reproduces volguide diff.

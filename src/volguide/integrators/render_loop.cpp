@@ -11,6 +11,7 @@
 #include <mutex>
 #include <stdexcept>
 
+#include "volguide/core/cpu_time.h"
 #include "volguide/core/parallel.h"
 #include "volguide/integrators/camera_sample.h"
 #include "volguide/integrators/integrator.h"
@@ -202,6 +203,7 @@ class FrameRenderer {
         stats.threads = arena_.max_concurrency();
         reporter_.set_render_start(Clock::now());
         const auto render_start = Clock::now();
+        const double cpu_start = process_cpu_seconds();
         int spp_done = 0;
         for (int pass = 0; target_ == 0 || spp_done < target_; ++pass) {
             if (stopped_before_pass(options_, deadline_, spp_done == 0, stats)) break;
@@ -224,6 +226,7 @@ class FrameRenderer {
         result.weight = film_.weights();
         if (setup_.variance) result.variance = film_.variance();
         stats.render_seconds = seconds_since(render_start);
+        stats.render_cpu_seconds = process_cpu_seconds() - cpu_start;
         stats.total_seconds = seconds_since(job_start_);
         return result;
     }

@@ -53,6 +53,9 @@ struct SampleLocation {
 
 struct RenderStats {
     double preprocess_seconds = 0, render_seconds = 0, total_seconds = 0;
+    // The process's CPU time over the passes (every thread's; the integrator's work between passes
+    // included): what a cost is fitted to on a machine that is not idle (bench/fit_cost_model.py).
+    double render_cpu_seconds = 0;
     uint64_t samples = 0;                           // camera samples in the image
     uint64_t discarded_samples = 0;                 // samples of an interrupted pass (not in the image)
     uint64_t nonfinite_samples = 0;                 // NaN/Inf radiance samples dropped from the image

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 
+#include "volguide/core/cpu_time.h"
 #include "volguide/core/log.h"
 #include "volguide/guiding/field_io.h"
 #include "volguide/integrators/guided/estimates/learning_pass.h"
@@ -26,6 +27,12 @@ constexpr double kPixelEstimateShare = 0.4;
 // coarse stage's share of that.
 constexpr double kPhotonShare = 0.6;
 constexpr double kCoarseShare = 0.25;
+// Recording a camera sample for the allocation costs about what a guided decision does (bench/RESULTS.md,
+// issue 59): after the first kRecordAllSpp samples per pixel, one camera sample in kRecordEvery is
+// recorded (chosen by a hash of its stream: the same samples for any thread count).
+constexpr int kRecordAllSpp = 8;
+constexpr uint64_t kRecordEvery = 4;
+constexpr uint64_t kRecordSalt = 0x5eed0f1ea4ull;
 // A saved pre-pass's learning passes (learn_in_prepass): kLearningSpp samples per pilot pixel each, the
 // allocation fitted after each; kCoarseRounds on the coarse field before the stage's decision, then
 // kFullRounds on the full one.
@@ -134,6 +141,7 @@ void GuidedVolPathIntegrator::build_from_field(const Scene& scene, const Preproc
         guide_->set_allocation(std::move(a));
     } else if (learn) {
         learner_ = std::make_unique<Learner>(guide_->selection_cells(), film.width(), film.height(), costs_);
+        record_all_ = true;
         guide_->set_allocation(Allocation::exploring(guide_->selection_cells()));
     }
 }
@@ -146,8 +154,13 @@ void GuidedVolPathIntegrator::end_pass(const PassReport& pass) {
 
 // The pass's samples join the statistics; the allocation is fitted again from all of them; the coarse
 // stage's passes end in its decision.
+bool GuidedVolPathIntegrator::recorded(const Sampler& sampler) const {
+    return record_all_ || mix64(sampler.key() ^ kRecordSalt) % kRecordEvery == 0;
+}
+
 void GuidedVolPathIntegrator::learn_from_pass(int spp_done) {
     learner_->end_pass();
+    record_all_ = spp_done < kRecordAllSpp;
     fit_allocation();
     if (training_.stage == TrainingStage::Coarse && spp_done >= StagedTraining::kDecideSpp) decide_training();
 }
@@ -179,6 +192,7 @@ void GuidedVolPathIntegrator::decide_training() {
 // its share of the photons), and everything built from it; the allocation is learned again on it.
 void GuidedVolPathIntegrator::train_full_field(double time_limit) {
     const auto start = std::chrono::steady_clock::now();
+    const double cpu_start = process_cpu_seconds();
     const Scene& scene = *refining_.scene;
     const PreprocessContext context = refinement_context();
     PhotonPassResult more =
@@ -203,6 +217,10 @@ void GuidedVolPathIntegrator::train_full_field(double time_limit) {
     build_from_field(scene, build, true);
     training_.stage = TrainingStage::Full;
     training_.seconds += seconds_since(start);
+    // The full stage runs between passes: the render's time includes it (bench/fit_cost_model.py takes
+    // its CPU time out of the passes').
+    training_stats_.emplace_back("training_full_stage_seconds", seconds_since(start));
+    training_stats_.emplace_back("training_full_stage_cpu_seconds", process_cpu_seconds() - cpu_start);
 }
 
 // A saved pre-pass (volguide train): the allocation learned from learning passes of its own, then
@@ -223,7 +241,8 @@ void GuidedVolPathIntegrator::learn_in_prepass(const Scene& scene, const Preproc
     for (int round = 0; learner_ && round < kCoarseRounds + kFullRounds; ++round) {
         const LearningPassBudget pass{first, kLearningSpp, budget.limit(0.25)};
         run_learning_pass(
-            scene, pass, [&](Point2f film_uv) { return pixel_estimate_.at(film_uv); }, walk, context, *learner_);
+            scene, pass, [&](Point2f film_uv) { return pixel_estimate_.metric_scale(film_uv); }, walk, context,
+            *learner_);
         first += kLearningSpp;
         fit_allocation();
         if (training_.stage == TrainingStage::Coarse && round + 1 == kCoarseRounds) decide_training();
@@ -456,14 +475,14 @@ Color3 GuidedVolPathIntegrator::render_walk(const Scene& scene, Sampler& sampler
     if (stopped()) return walk_.walk(scene, sampler, camera.ray, nullptr, nullptr, &work_.local());
     const float pixel = rrs_ || learner_ ? pixel_estimate_.at(camera.film_uv) : 0.f;
     if (ears_) return ears_walk(scene, sampler, camera, pixel);
-    if (learner_) return learning_walk(scene, sampler, camera, pixel);
+    if (learner_ && recorded(sampler)) return learning_walk(scene, sampler, camera, pixel);
     return guided_walk(scene, sampler, camera.ray, {pixel, nullptr, camera_guided(camera), false});
 }
 
 Color3 GuidedVolPathIntegrator::learning_walk(const Scene& scene, Sampler& sampler, const CameraRay& camera,
                                               float pixel) const {
     CellRecorder& recorder = learner_->recorder();
-    recorder.begin(learner_->pixel(camera.film_uv), pixel);
+    recorder.begin(learner_->pixel(camera.film_uv), pixel_estimate_.metric_scale(camera.film_uv));
     const Color3 L = guided_walk(scene, sampler, camera.ray, {pixel, &recorder, camera_guided(camera), true});
     recorder.end();
     return L;
@@ -514,8 +533,10 @@ std::vector<std::pair<std::string, double>> GuidedVolPathIntegrator::statistics(
         stats.emplace_back("leaf_groups", double(guide_->leaf_group_count()));
         const auto memory = guide_->memory_named();
         stats.insert(stats.end(), memory.begin(), memory.end());
-        const auto allocation = guide_->allocation().named();
-        stats.insert(stats.end(), allocation.begin(), allocation.end());
+        if (!guide_->allocation().empty()) {
+            const auto allocation = guide_->allocation().named();
+            stats.insert(stats.end(), allocation.begin(), allocation.end());
+        }
     }
     if (rrs_) {
         const auto rr = rrs_->stats().named();

@@ -92,6 +92,9 @@ private:
     // learns.
     Color3 render_walk(const Scene& scene, Sampler& sampler, const CameraRay& camera) const;
     Color3 learning_walk(const Scene& scene, Sampler& sampler, const CameraRay& camera, float pixel) const;
+    // Whether the camera sample of `sampler` is recorded for the allocation (all of them early on, then
+    // a fixed subset).
+    bool recorded(const Sampler& sampler) const;
     Color3 ears_walk(const Scene& scene, Sampler& sampler, const CameraRay& camera, float pixel) const;
 
     // preprocess()'s steps: the field (given, loaded, or the coarse stage's) with its leaves' medium
@@ -142,6 +145,7 @@ private:
     // The allocation's learner (per field); null when the allocation is fixed (a given pre-pass,
     // allocation=false, ears) or the render has become unguided.
     std::unique_ptr<Learner> learner_;
+    bool record_all_ = true;
     StagedTraining training_;
     PixelEstimate pixel_estimate_;
     std::unique_ptr<GuidedPrepass> given_prepass_;  // use_prepass_state(): no training

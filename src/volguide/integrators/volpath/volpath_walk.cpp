@@ -295,6 +295,7 @@ bool VolumeWalk::continue_copies(const Continuation& c, ContinuationStage stage,
     if (c.n == 0 && c.q != 1.f) return false;
     if (c.q != 1.f) state_.throughput *= 1.f / c.q;
     // The point is reported with its weight after the decision, before its copies (branch_point).
+    if (records_decisions_) count(Work::Recorded);
     report_work();
     if (recorder_) recorder_->record_continuation(stage, c, w, state_.throughput);
     if (c.q == 1.f || c.n <= 1) return true;
@@ -328,6 +329,7 @@ ContinuationQuery VolumeWalk::continuation_query(ContinuationStage stage, const 
 
 void VolumeWalk::report_decision(DecisionKind kind, DecisionRecord& record) {
     if (policy_) record.own += policy_->take_work();
+    if (records_decisions_) count(Work::Recorded);
     report_work();
     work_ += record.own;
     if (records_decisions_) recorder_->record_decision(kind, record);

@@ -5,22 +5,23 @@ namespace volguide {
 CostModel CostModel::fitted() {
     // ns per unit, in volpath/work.h's order; the output of bench/fit_cost_model.py.
     return CostModel({
-        200.0,  // camera_samples
-        150.0,  // intersections
-        250.0,  // shadow_rays
-        100.0,  // medium_vertices
-        100.0,  // surface_vertices
-        55.0,   // segments
-        400.0,  // tracked_segments
-        20.0,   // continuations
-        300.0,  // branches
-        150.0,  // guided_segments
-        60.0,   // bins
-        40.0,   // descents
-        8.0,    // lobe_pairs
-        30.0,   // guide_evals
-        500.0,  // surface_guides
-        20.0,   // estimates
+        665.9,  // camera_samples
+        0.0,  // intersections
+        1094.0,  // shadow_rays
+        0.0,  // medium_vertices
+        84.7,  // surface_vertices
+        0.0,  // segments
+        1294.5,  // tracked_segments
+        278.5,  // continuations
+        4458.4,  // branches
+        409.6,  // recorded_events
+        363.5,  // guided_segments
+        162.0,  // bins
+        246.7,  // descents
+        0.0,  // lobe_pairs
+        236.5,  // guide_evals
+        579.1,  // surface_guides
+        0.0,  // estimates
     });
 }
 

@@ -27,6 +27,7 @@
 // image mean, so that a pixel the field thinks black cannot make every path through it split to
 // the cap (docs/theory.md §13.13).
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <limits>
@@ -77,6 +78,17 @@ class PixelEstimate {
         const int x = std::clamp(int(film_uv.x * float(image_.width)), 0, image_.width - 1);
         const int y = std::clamp(int(film_uv.y * float(image_.height)), 0, image_.height - 1);
         return value_[size_t(y) * size_t(image_.width) + size_t(x)];
+    }
+    // What the learning divides a camera sample by (allocation.h): sqrt(I^2 + kMetricEpsilon), I the
+    // estimate before its floor, so that (X / scale)^2 weighs pixels as the benchmark's relMSE weighs
+    // them (error^2 / (reference^2 + 0.01), docs/theory.md §22.4): a pixel the field thinks black does
+    // not count as if its every sample were an outlier.
+    static constexpr float kMetricEpsilon = 0.01f;
+    float metric_scale(Point2f film_uv) const {
+        const int x = std::clamp(int(film_uv.x * float(image_.width)), 0, image_.width - 1);
+        const int y = std::clamp(int(film_uv.y * float(image_.height)), 0, image_.height - 1);
+        const float v = image_.pixels[size_t(y) * size_t(image_.width) + size_t(x)].average();
+        return std::sqrt(v * v + kMetricEpsilon);
     }
     // distance="vsp"'s camera-ray buffer (docs/theory.md §7.10.2; raymarch only): per pixel, the share
     // of what its camera rays' first medium segment (before any real surface) scatters toward the
