@@ -154,7 +154,8 @@ TEST_F(Distributed, TrainedAllocationChunksMergeEqualTheSingleProcessRender) {
     ok("render s.xml -D allocation=true --field f.vgt --seed 5 --samples 3:5 --threads 2 -o c1.exr --quiet");
     const ChunkRun merged = run("merge c1.exr c0.exr -o merged.exr");
     ASSERT_EQ(merged.code, 0) << merged.err;
-    EXPECT_TRUE(identical(image("merged.exr"), image("single.exr")));
+    // As ChunksMergeIntoTheSingleProcessRender: float32 rounding of sums made in other passes.
+    EXPECT_LT(strict_relmse(image("merged.exr"), image("single.exr")), 1e-12);
     // The training file carries an allocation (its summary is in the render's statistics) ...
     const std::string stats = slurp_file(dir_ / "s.json");
     EXPECT_NE(stats.find("\"allocation_predicted_gain\""), std::string::npos) << stats;

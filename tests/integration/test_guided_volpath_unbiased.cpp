@@ -55,17 +55,21 @@ std::string sigma_t_xml(bool heterogeneous, const std::string& grid, float scale
 // leaf_tau_max < 0: the default.
 // `extra`: more parameters, as XML.
 // `rrs`: the RR/splitting parameters, as XML.
+// The decisions as configured, everywhere (allocation=false: what these tests exercise), unless `extra`
+// sets the allocation itself (issue 59's tests).
 std::string guided(const std::string& distance, const std::string& direction, int photons,
                    float leaf_tau_max = -1.f, const std::string& extra = "",
                    const std::string& rrs = R"(<string name="rrs" value="standard"/>)") {
+    const std::string configured =
+        extra.find(R"(name="allocation")") == std::string::npos ? R"(<boolean name="allocation" value="false"/>)" : "";
     return fmt::format(R"(<integrator type="guided_volpath"><string name="distance" value="{}"/>
         <string name="direction" value="{}"/>{}
-        <integer name="photons" value="{}"/><integer name="leaf_samples" value="400"/>{}{}</integrator>)",
+        <integer name="photons" value="{}"/><integer name="leaf_samples" value="400"/>{}{}{}</integrator>)",
                        distance, direction, rrs, photons,
                        leaf_tau_max < 0.f
                            ? std::string()
                            : fmt::format(R"(<float name="leaf_tau_max" value="{}"/>)", leaf_tau_max),
-                       extra);
+                       extra, configured);
 }
 
 std::string guided_furnace_xml(bool heterogeneous, const std::string& grid, const std::string& integrator) {
@@ -525,21 +529,22 @@ TEST(GuidedVolPathUnbiased, EveryDecisionOffOnAndAllocatedIsUnbiased) {
     const std::string grid = write_furnace_grid(dir);
     const std::string grrs = rrs_xml("grrs", 5.f);
     const std::string on = R"(<boolean name="allocation" value="false"/>)";
-    const std::string no_surface = R"(<boolean name="surface_guiding" value="false"/>)";
+    const std::string allocated = R"(<boolean name="allocation" value="true"/>)";
+    const std::string no_surface = allocated + R"(<boolean name="surface_guiding" value="false"/>)";
     const std::pair<const char*, std::string> cases[] = {
         {"every decision on", guided("incremental", "product", 200000, -1.f, on, grrs)},
-        {"allocated", guided("incremental", "product", 200000, -1.f, "", grrs)},
-        {"distance off", guided("standard", "product", 200000, -1.f, "", grrs)},
-        {"direction off", guided("incremental", "phase", 200000, -1.f, "", grrs)},
+        {"allocated", guided("incremental", "product", 200000, -1.f, allocated, grrs)},
+        {"distance off", guided("standard", "product", 200000, -1.f, allocated, grrs)},
+        {"direction off", guided("incremental", "phase", 200000, -1.f, allocated, grrs)},
         {"surface off", guided("incremental", "product", 200000, -1.f, no_surface, grrs)},
-        {"continuation off", guided("incremental", "product", 200000)},
+        {"continuation off", guided("incremental", "product", 200000, -1.f, allocated)},
     };
     uint64_t seed = 20;
     for (const auto& [name, integrator] : cases) {
         SCOPED_TRACE(name);
         expect_lit_fog_means_of_volpath(grid, integrator, seed++);
     }
-    const auto s = guide_stats(lit_fog_xml(false, grid, guided("incremental", "product", 200000, -1.f, "", grrs)), 64);
+    const auto s = guide_stats(lit_fog_xml(false, grid, guided("incremental", "product", 200000, -1.f, allocated, grrs)), 64);
     EXPECT_EQ(s.at("training_stage"), 1.0);  // the full field: something paid
     for (const char* kind : {"distance", "direction"}) {
         const double guided_fraction = s.at(fmt::format("allocation_{}_guided_fraction", kind));

@@ -65,10 +65,12 @@ std::vector<std::pair<std::string, double>> RouletteSplittingStats::named() cons
             // camera samples that reached the cap (the histogram's last bin)
             {"rrs_cap_hits", branch_histogram.empty() ? 0.0 : double(branch_histogram.back())},
             {"rrs_pixel_estimate_seconds", pixel_estimate_seconds},
-            {"rrs_branch_budget", double(branch_budget)}};
+            {"rrs_branch_budget", double(branch_budget)},
+            {"rrs_branch_budget_max", double(largest_branch_budget)}};
 }
 
-RouletteSplitting::RouletteSplitting(const RouletteSplittingSettings& settings) : settings_(settings) {}
+RouletteSplitting::RouletteSplitting(const RouletteSplittingSettings& settings)
+    : settings_(settings), largest_budget_(initial_allowance()) {}
 
 float RouletteSplitting::factor(const Color3& weight, const Color3& estimate, float pixel, int branches,
                                 float allowance) const {
@@ -92,6 +94,7 @@ void RouletteSplitting::set_cost_ratio(float ratio) {
     adaptive_budget_ = ratio > 0.f && std::isfinite(ratio)
                            ? std::clamp(std::floor(kBudgetFactor * ratio), kMinBudget, float(settings_.max_branches))
                            : kDefaultBudget;
+    largest_budget_ = std::max(largest_budget_, initial_allowance());
 }
 
 void RouletteSplitting::count_unlearned() const { ++stats_.local().unlearned; }
@@ -138,6 +141,7 @@ RouletteSplittingStats RouletteSplitting::stats() const {
     total.pixel_estimate_seconds = pixel_estimate_seconds_;
     // ears decides with its own budget (continuation_snapshot.h: ears_branch_budget).
     total.branch_budget = settings_.mode == RouletteMode::Ears ? 0.f : initial_allowance();
+    total.largest_branch_budget = settings_.mode == RouletteMode::Ears ? 0.f : std::max(largest_budget_, initial_allowance());
     return total;
 }
 

@@ -17,11 +17,12 @@
 // every decision stays unbiased.
 //
 // The adaptive budget (branch_budget = 0, the default) bounds a camera sample by its cost: it may cost
-// about kBudgetFactor x what an unsplit one costs, B = kBudgetFactor x C_0 / c with C_0 the decisions of an
-// unsplit camera sample and c the mean decisions after a continuation point (what one more branch made
-// there costs), both counted by the learned selection's pilot (learned_selection.h) — counted work, so
-// B is the same for any thread count, and stored with the selection, so chunks rendered from a training
-// file use the same B. Within [kMinBudget, max_branches]; kDefaultBudget without a pilot. Before, the
+// about kBudgetFactor x what an unsplit one costs, B = kBudgetFactor x C_0 / c with C_0 the cost of a
+// camera sample and c the mean cost of what followed a continuation point's copy (what one more branch
+// made there costs), both measured by guided_volpath's allocation from counted work (its statistics,
+// cost_model.h), so B is the same for any thread count, and stored with the allocation, so chunks
+// rendered from a training file use the same B. Within [kMinBudget, max_branches]; kDefaultBudget before
+// anything is measured. Before, the
 // splitting was bounded only by the cap (64), which dense scenes reached for little gain per sample
 // (bench/RESULTS.md, issue 55).
 //
@@ -76,6 +77,7 @@ struct RouletteSplittingStats {
     std::vector<uint64_t> branch_histogram;
     double pixel_estimate_seconds = 0;
     float branch_budget = 0.f;  // a camera sample's allowance (initial_allowance())
+    float largest_branch_budget = 0.f;  // ... the largest of the render's passes (the budget is re-measured between them)
     RouletteSplittingStats& operator+=(const RouletteSplittingStats& o);
     // Smallest k such that at least `fraction` of the camera samples made <= k branches.
     int branches_quantile(double fraction) const;
@@ -107,7 +109,8 @@ class RouletteSplitting {
         return std::min(settings_.branch_budget >= 1.f ? settings_.branch_budget : adaptive_budget_,
                         float(settings_.max_branches));
     }
-    // The adaptive budget from the pilot's C_0 / c (learned_selection.h; <= 0: not measured, the default).
+    // The adaptive budget from the measured C_0 / c (cell_statistics.h; <= 0: not measured, the default);
+    // set between passes.
     void set_cost_ratio(float ratio);
     // Counts a decision's outcome: n continuations.
     void count_outcome(int n) const;
@@ -121,6 +124,7 @@ class RouletteSplitting {
     float bounded(float q, int branches, float allowance, RouletteSplittingStats& st) const;
     RouletteSplittingSettings settings_;
     float adaptive_budget_ = kDefaultBudget;
+    float largest_budget_;  // of initial_allowance() over the budgets set so far (the first included)
     double pixel_estimate_seconds_ = 0;
     mutable tbb::enumerable_thread_specific<RouletteSplittingStats> stats_;
 };

@@ -138,6 +138,7 @@ void GuidedVolPathIntegrator::build_from_field(const Scene& scene, const Preproc
         if (a.cells() != guide_->selection_cells())
             throw std::runtime_error("the given guided_volpath pre-pass's allocation is of another field");
         if (a.off()) training_.stage = TrainingStage::Stopped;
+        if (rrs_) rrs_->set_cost_ratio(a.continuation_cost_ratio());
         guide_->set_allocation(std::move(a));
     } else if (learn) {
         learner_ = std::make_unique<Learner>(guide_->selection_cells(), film.width(), film.height(), costs_);
@@ -166,10 +167,9 @@ void GuidedVolPathIntegrator::learn_from_pass(int spp_done) {
 }
 
 void GuidedVolPathIntegrator::fit_allocation() {
-    const CellStatistics& stats = learner_->total();
-    guide_->set_allocation(Allocation::fit(stats, field_.tree(), settings_.allocation));
+    guide_->set_allocation(Allocation::fit(learner_->total(), field_.tree(), settings_.allocation));
     // The measured costs bound guided splitting (roulette_splitting.h's adaptive budget).
-    if (rrs_) rrs_->set_cost_ratio(float(stats.continuation_cost_ratio()));
+    if (rrs_) rrs_->set_cost_ratio(guide_->allocation().continuation_cost_ratio());
 }
 
 // The coarse stage's decision (training_stage.h): the rest of the render unguided, or the full field.

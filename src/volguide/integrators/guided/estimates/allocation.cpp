@@ -289,6 +289,7 @@ Allocation Allocation::unguided(size_t cells) {
 
 Allocation Allocation::fit(const CellStatistics& stats, const SpatialTree& tree, const AllocationSettings& settings) {
     Allocation out = exploring(stats.cells());
+    out.cost_ratio_ = float(stats.continuation_cost_ratio());
     const double S = double(stats.camera_samples());
     if (!(S > 0.0) || !(stats.camera_moment() > 0.0) || !(stats.cost() > 0.0)) return out;
     const std::vector<CellEstimate> est = RegionTree(stats, tree, settings.prior).estimates();
@@ -376,6 +377,7 @@ std::string Allocation::serialize() const {
         w.u32(uint32_t(c.rule));
     }
     w.f64(gain_);
+    w.f32(cost_ratio_);
     for (int d = 0; d <= kDecisionKinds; ++d) {
         w.f64(summary_.guided[size_t(d)]);
         w.f64(summary_.exploring[size_t(d)]);
@@ -410,6 +412,8 @@ Allocation Allocation::deserialize(const std::string& bytes) {
     }
     a.gain_ = r.f64("the predicted gain");
     if (!std::isfinite(a.gain_) || !(a.gain_ >= 0.0)) r.fail("a predicted gain out of range in", "the record");
+    a.cost_ratio_ = r.f32("the cost ratio");
+    if (!std::isfinite(a.cost_ratio_) || !(a.cost_ratio_ >= 0.f)) r.fail("a cost ratio out of range in", "the record");
     for (int d = 0; d <= kDecisionKinds; ++d) {
         a.summary_.guided[size_t(d)] = r.f64("the summary");
         a.summary_.exploring[size_t(d)] = r.f64("the summary");

@@ -88,6 +88,9 @@ class Allocation {
     // The fit's prediction of the efficiency gain over everything unguided: (V T)_off / (V T)_chosen
     // (1: no gain or nothing fitted).
     double predicted_gain() const { return gain_; }
+    // The statistics' C_0 / c (CellStatistics::continuation_cost_ratio): guided splitting's adaptive
+    // branch budget (roulette_splitting.h); 0: not measured.
+    float continuation_cost_ratio() const { return cost_ratio_; }
     // Per decision kind (the continuation last): the share of the decisions (points) in cells that
     // follow the guide, and of those in cells that explore, weighted by their counts in the fitted
     // statistics.
@@ -113,6 +116,7 @@ class Allocation {
   private:
     std::vector<Cell> cells_;
     double gain_ = 1.0;
+    float cost_ratio_ = 0.f;
     Summary summary_;
 };
 
