@@ -59,6 +59,7 @@ void GuidedVolPathIntegrator::preprocess(const Scene& scene, const PreprocessCon
     refining_.progress = context.progress;
     refining_.cancel = context.cancel;
     training_ = StagedTraining{};
+    spp_done_ = 0;
     const PreprocessBudget budget(context.time_budget, settings_.training_fraction);
     walk_.preprocess(scene, context);
     if (settings_.refine.passes > 0 && given_prepass_)
@@ -148,8 +149,9 @@ void GuidedVolPathIntegrator::build_from_field(const Scene& scene, const Preproc
 }
 
 void GuidedVolPathIntegrator::end_pass(const PassReport& pass) {
+    spp_done_ = pass.spp_done;
     if (ears_) ears_->end_pass();
-    if (learner_) learn_from_pass(pass.spp_done);
+    if (learner_) learn_from_pass(pass.spp_done, pass.seconds);
     if (refining_.schedule) refine(pass);
 }
 
@@ -159,33 +161,46 @@ bool GuidedVolPathIntegrator::recorded(const Sampler& sampler) const {
     return record_all_ || mix64(sampler.key() ^ kRecordSalt) % kRecordEvery == 0;
 }
 
-void GuidedVolPathIntegrator::learn_from_pass(int spp_done) {
+void GuidedVolPathIntegrator::learn_from_pass(int spp_done, double job_seconds) {
     learner_->end_pass();
     record_all_ = spp_done < kRecordAllSpp;
     fit_allocation();
-    if (training_.stage == TrainingStage::Coarse && spp_done >= StagedTraining::kDecideSpp) decide_training();
+    if (training_.stage == TrainingStage::Coarse && spp_done >= StagedTraining::kDecideSpp) {
+        decide_training(job_seconds);
+    } else if (training_.stage == TrainingStage::Full && spp_done >= training_.full_from + StagedTraining::kConfirmSpp &&
+               guide_->allocation().predicted_gain() < StagedTraining::kPaysGain) {
+        stop_guiding(job_seconds);  // the full field did not make it pay either
+    }
 }
 
 void GuidedVolPathIntegrator::fit_allocation() {
-    guide_->set_allocation(Allocation::fit(learner_->total(), field_.tree(), settings_.allocation));
+    AllocationSettings settings = settings_.allocation;
+    settings.recorded_fraction = 1.0 / double(kRecordEvery);  // what the rest of the render records
+    guide_->set_allocation(Allocation::fit(learner_->total(), field_.tree(), settings));
     // The measured costs bound guided splitting (roulette_splitting.h's adaptive budget).
     if (rrs_) rrs_->set_cost_ratio(guide_->allocation().continuation_cost_ratio());
 }
 
 // The coarse stage's decision (training_stage.h): the rest of the render unguided, or the full field.
-void GuidedVolPathIntegrator::decide_training() {
+void GuidedVolPathIntegrator::decide_training(double job_seconds) {
     const double gain = guide_->allocation().predicted_gain();
     training_stats_.emplace_back("allocation_coarse_predicted_gain", gain);
     if (gain < StagedTraining::kPaysGain) {
-        training_.stage = TrainingStage::Stopped;
-        learner_.reset();
-        std::vector<RadianceSample>().swap(training_.deposits);
+        stop_guiding(job_seconds);
         return;
     }
     double limit = 0.0;  // the pre-pass's time budget, what the coarse stage left of it
     if (refining_.time_budget > 0)
         limit = std::max(1e-3, settings_.training_fraction * refining_.time_budget - training_.seconds);
     train_full_field(limit);
+}
+
+// Nothing pays: the rest of the render is the unguided walk, nothing recorded, looked up or built.
+void GuidedVolPathIntegrator::stop_guiding(double job_seconds) {
+    training_.stage = TrainingStage::Stopped;
+    learner_.reset();
+    std::vector<RadianceSample>().swap(training_.deposits);
+    training_stats_.emplace_back("training_stopped_at_seconds", job_seconds);
 }
 
 // The rest of the photons, the field of all of them (the coarse stage's and these, each weighted for
@@ -216,6 +231,7 @@ void GuidedVolPathIntegrator::train_full_field(double time_limit) {
     build.time_limit = time_limit > 0 ? std::max(1e-3, time_limit - seconds_since(start)) : 0.0;
     build_from_field(scene, build, true);
     training_.stage = TrainingStage::Full;
+    training_.full_from = spp_done_;
     training_.seconds += seconds_since(start);
     // The full stage runs between passes: the render's time includes it (bench/fit_cost_model.py takes
     // its CPU time out of the passes').
@@ -245,7 +261,7 @@ void GuidedVolPathIntegrator::learn_in_prepass(const Scene& scene, const Preproc
             *learner_);
         first += kLearningSpp;
         fit_allocation();
-        if (training_.stage == TrainingStage::Coarse && round + 1 == kCoarseRounds) decide_training();
+        if (training_.stage == TrainingStage::Coarse && round + 1 == kCoarseRounds) decide_training(0.0);
     }
     if (training_.stage == TrainingStage::Stopped) guide_->set_allocation(Allocation::unguided(guide_->selection_cells()));
     learner_.reset();  // frozen

@@ -119,9 +119,10 @@ private:
     // The allocation's learning: whether walks learn it, the fit after a pass, the coarse stage's
     // decision and the full stage's training; the learning passes of a saved pre-pass.
     bool learns() const;
-    void learn_from_pass(int spp_done);
+    void learn_from_pass(int spp_done, double job_seconds);
     void fit_allocation();
-    void decide_training();
+    void decide_training(double job_seconds);
+    void stop_guiding(double job_seconds);
     void train_full_field(double time_limit);
     void learn_in_prepass(const Scene& scene, const PreprocessContext& context, const PreprocessBudget& budget);
 
@@ -147,6 +148,7 @@ private:
     std::unique_ptr<Learner> learner_;
     bool record_all_ = true;
     StagedTraining training_;
+    int spp_done_ = 0;  // the render's samples per pixel so far (the last end_pass's)
     PixelEstimate pixel_estimate_;
     std::unique_ptr<GuidedPrepass> given_prepass_;  // use_prepass_state(): no training
     RefinementState refining_;                      // refine_passes > 0; the scene and context for all stages

@@ -25,6 +25,7 @@ Color3 VolumeWalk::run(const Ray& camera_ray, const Medium* medium, bool from_se
     state_.ray = camera_ray;
     state_.medium = from_sensor ? scene_.sensor().medium() : medium;
     count(Work::CameraSample);
+    if (policy_) count(Work::Policy);
     if (policy_) {
         state_.split_allowance = policy_->branch_budget();
         policy_->end_vertex();  // the camera ray leaves from no medium vertex

@@ -25,6 +25,7 @@ enum class Work : uint8_t {
     Continuation,   // a continuation decision asked of the policy
     Branch,         // a copy of the path made by splitting (set up, later resumed)
     Recorded,       // an event reported to a recorder that learns from the decisions (a camera sample being learned from)
+    Policy,         // a camera sample walked with a policy (its set-up and the calls every decision makes to it)
     // A guiding policy's.
     GuidedSegment,  // a guided distance decision's set-up (the field's bounds, the medium's proxy segments)
     Bin,            // a bin the guided distance decision stepped through (a leaf's estimate read; tracking: a collision)
@@ -40,7 +41,7 @@ inline constexpr size_t kWorkUnits = size_t(Work::Count);
 // The units' names in --stats ("work_" + name).
 inline constexpr std::array<const char*, kWorkUnits> kWorkNames = {
     "camera_samples", "intersections", "shadow_rays",  "medium_vertices", "surface_vertices", "segments",
-    "tracked_segments", "continuations", "branches", "recorded_events", "guided_segments", "bins",
+    "tracked_segments", "continuations", "branches", "recorded_events", "policy_samples", "guided_segments", "bins",
     "descents", "lobe_pairs", "guide_evals", "surface_guides", "estimates"};
 
 struct WorkCounts {

@@ -293,14 +293,19 @@ Allocation Allocation::fit(const CellStatistics& stats, const SpatialTree& tree,
     const double S = double(stats.camera_samples());
     if (!(S > 0.0) || !(stats.camera_moment() > 0.0) || !(stats.cost() > 0.0)) return out;
     const std::vector<CellEstimate> est = RegionTree(stats, tree, settings.prior).estimates();
-    const Totals measured{stats.camera_moment() / S, stats.cost() / S};
+    // A typical camera sample: recorded with probability recorded_fraction (the recorded ones measured
+    // here paid for it every time).
+    const double recording = stats.recording_cost() / S, policy = stats.policy_cost() / S;
+    const Totals measured{stats.camera_moment() / S, stats.cost() / S - (1.0 - settings.recorded_fraction) * recording};
     std::vector<CellChoice> choice(est.size());
-    const Totals off = totals_of(est, choice, measured, S);
+    Totals off = totals_of(est, choice, measured, S);
     Totals t = off;
     for (int round = 0; round < kFitRounds; ++round) {
         choose(est, t, choice);
         t = totals_of(est, choice, measured, S);
     }
+    // Everything unguided is the unguided walk: no policy, nothing recorded.
+    off.T = std::max(off.T - policy - settings.recorded_fraction * recording, 0.05 * measured.T);
     out.gain_ = (off.V * off.T) / (t.V * t.T);
     double decisions[kDecisionKinds + 1] = {};
     for (size_t r = 0; r < est.size(); ++r) {

@@ -58,6 +58,10 @@ struct AllocationSettings {
     // it has seen (1 before any), at least explore_min.
     double explore_target = 256.0;
     float explore_min = 1.f / 128.f;
+    // The share of the render's camera samples that are recorded (guided_volpath records a subset): what a
+    // typical sample pays for recording, beside its policy's cost, against the unguided walk, which
+    // pays neither (the gain's comparison).
+    double recorded_fraction = 1.0;
 };
 
 class Allocation {

@@ -13,6 +13,7 @@ void CellRecorder::begin(long pixel, float estimate) {
     current_ = -1;
     points_ = 0;
     total_ = cost_ = 0.0;
+    overhead_ = {};
     camera_branches_ = 1;
 }
 
@@ -32,7 +33,11 @@ void CellRecorder::record_contribution(const Color3& value) {
     if (current_ >= 0) nodes_[size_t(current_)].collected += v;
 }
 
-void CellRecorder::record_work(const WorkCounts& work) { add_cost(costs_.cost(work)); }
+void CellRecorder::record_work(const WorkCounts& work) {
+    add_cost(costs_.cost(work));
+    overhead_.recording += costs_.ns(Work::Recorded) * double(work[Work::Recorded]);
+    overhead_.policy += costs_.ns(Work::Policy) * double(work[Work::Policy]);
+}
 
 void CellRecorder::record_decision(DecisionKind kind, const DecisionRecord& record) {
     const double own = costs_.cost(record.own);
@@ -159,7 +164,7 @@ void CellRecorder::end() {
     add_decisions();
     add_points();
     const double x = total_ / double(estimate_);
-    stats_.add_camera_sample(x * x, cost_, camera_branches_);
+    stats_.add_camera_sample(x * x, cost_, camera_branches_, overhead_);
     pixels_.add(pixel_, x);
 }
 

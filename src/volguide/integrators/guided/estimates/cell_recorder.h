@@ -85,6 +85,7 @@ class CellRecorder final : public PathRecorder {
     int current_ = -1;
     int points_ = 0;
     double total_ = 0.0, cost_ = 0.0;
+    SampleOverhead overhead_;
     int camera_branches_ = 1;
 };
 

@@ -161,10 +161,12 @@ void CellStatistics::add_continuation(ContinuationStage stage, size_t cell, int 
     m.cost.add(cost);
 }
 
-void CellStatistics::add_camera_sample(double s2, double cost, int branches) {
+void CellStatistics::add_camera_sample(double s2, double cost, int branches, const SampleOverhead& overhead) {
     ++camera_samples_;
     if (std::isfinite(s2)) camera_moment_.add(s2);
     cost_.add(cost);
+    recording_.add(overhead.recording);
+    policy_.add(overhead.policy);
     branches_ += uint64_t(std::max(branches, 0));
 }
 
@@ -190,6 +192,8 @@ CellStatistics& CellStatistics::operator+=(const CellStatistics& o) {
     camera_samples_ += o.camera_samples_;
     camera_moment_ += o.camera_moment_;
     cost_ += o.cost_;
+    recording_ += o.recording_;
+    policy_ += o.policy_;
     branches_ += o.branches_;
     return *this;
 }
@@ -256,6 +260,8 @@ std::string CellStatistics::serialize() const {
     w.u64(branches_);
     put(w, camera_moment_);
     put(w, cost_);
+    put(w, recording_);
+    put(w, policy_);
     return w.take();
 }
 
@@ -276,6 +282,8 @@ CellStatistics CellStatistics::deserialize(const std::string& bytes) {
     out.branches_ = r.u64("the branches");
     out.camera_moment_ = get_sum(r);
     out.cost_ = get_sum(r);
+    out.recording_ = get_sum(r);
+    out.policy_ = get_sum(r);
     r.finish();
     return out;
 }

@@ -128,6 +128,12 @@ struct ContinuationMoments {
     ContinuationMoments& operator+=(const ContinuationMoments& o);
 };
 
+// What a camera sample's cost holds beside its decisions': its recording and its walk's policy (nothing
+// the unguided walk pays).
+struct SampleOverhead {
+    double recording = 0.0, policy = 0.0;
+};
+
 class CellStatistics {
   public:
     CellStatistics() = default;
@@ -140,8 +146,9 @@ class CellStatistics {
     // A continuation of `stage` in `cell` and direction bin `bin` collected y per unit weight and cost
     // `cost` (ears).
     void add_continuation(ContinuationStage stage, size_t cell, int bin, double y, double cost);
-    // A camera sample of relative value x = X / I (s2 = x^2) that cost `cost`, in `branches` branches.
-    void add_camera_sample(double s2, double cost, int branches);
+    // A camera sample of relative value x = X / I (s2 = x^2) that cost `cost`, in `branches` branches;
+    // of its cost, what its recording and its walk's policy cost (`overhead`).
+    void add_camera_sample(double s2, double cost, int branches, const SampleOverhead& overhead = SampleOverhead());
 
     const DecisionMoments& decision(DecisionKind d, size_t cell) const {
         return decisions_[cell * size_t(kDecisionKinds) + size_t(d)];
@@ -153,6 +160,8 @@ class CellStatistics {
     uint64_t camera_samples() const { return camera_samples_; }
     double camera_moment() const { return camera_moment_.value(); }
     double cost() const { return cost_.value(); }
+    double recording_cost() const { return recording_.value(); }
+    double policy_cost() const { return policy_.value(); }
     uint64_t branches() const { return branches_; }
     // C_0 / c: a camera sample's cost over the mean cost of what followed a continuation point's copy
     // (what one more branch made there costs): guided splitting's adaptive branch budget reads it
@@ -175,7 +184,7 @@ class CellStatistics {
     std::vector<ContinuationChoiceMoments> choices_;
     std::vector<ContinuationMoments> continuations_;
     uint64_t camera_samples_ = 0, branches_ = 0;
-    ExactSum camera_moment_, cost_;
+    ExactSum camera_moment_, cost_, recording_, policy_;
 };
 
 // Per pixel of the film, the count and moments of the relative samples x = X / I, added from any

@@ -15,6 +15,7 @@ CostModel CostModel::fitted() {
         278.5,  // continuations
         4458.4,  // branches
         409.6,  // recorded_events
+        200.0,  // policy_samples
         363.5,  // guided_segments
         162.0,  // bins
         246.7,  // descents

@@ -5,7 +5,9 @@
 // allocation's predicted gain decides: below kPaysGain nothing guided can pay for more training, and the
 // render goes on as the unguided walk (bounded volpath's, its early passes kept: every pass is
 // unbiased); otherwise the rest of the photons are traced, the full field is built from all of them and
-// the allocation is learned again on it. What the stages keep between passes is this record.
+// the allocation is learned again on it; when kConfirmSpp samples per pixel later the allocation on the
+// full field predicts less than kPaysGain too, the render goes on unguided as well (nothing recorded). What
+// the stages keep between passes is this record.
 #include <cstdint>
 #include <vector>
 
@@ -23,12 +25,14 @@ struct StagedTraining {
     static constexpr int64_t kCoarseDivisor = 4;
     static constexpr int kDecideSpp = 4;
     static constexpr double kPaysGain = 1.05;
+    static constexpr int kConfirmSpp = 16;
 
     TrainingStage stage = TrainingStage::Full;
     std::vector<RadianceSample> deposits;  // the coarse stage's, weighted for its photons alone
     int64_t photons_traced = 0;            // by the coarse stage
     int64_t photon_stream_next = 0;        // the first photon index the full stage draws from
     double seconds = 0;                    // the training's seconds so far (photons, fit, pixel estimate)
+    int full_from = 0;                     // the samples per pixel when the full stage began
 };
 
 }  // namespace volguide

@@ -136,6 +136,7 @@ size_t WalkGuide::leaf_group_count() const {
 int WalkGuide::leaf_at(const Point3f& x, int hint, uint64_t& descents) const {
     if (field_.empty()) return -1;
     if (hint >= 0 && field_.tree().holds_point(hint, x)) return hint;
+    if (!field_.tree().bounds().contains(x)) return -1;
     ++descents;
     return field_.tree().leaf_at(x);
 }
