@@ -560,7 +560,7 @@ void BM_GuidedVertex(benchmark::State& state) {
         vertex.init(q.mi);
         benchmark::DoNotOptimize(vertex.estimate(ContinuationStage::Distance, -q.mi.wi));
         if (direction) vertex.prepare_direction();
-        benchmark::DoNotOptimize(guide.scatter_probability(vertex.leaf(), q.mi.medium->phase(), q.w, 0.9f, 0.5f));
+        benchmark::DoNotOptimize(guide.prepared().scatter_probability(vertex.leaf(), q.mi.medium->phase(), q.w, 0.9f, 0.5f));
     }
     state.counters["descents_per_vertex"] = st.vertices ? double(st.vertex_descents) / double(st.vertices) : 0.0;
     state.counters["products_per_vertex"] = st.vertices ? double(st.vertex_products) / double(st.vertices) : 0.0;

@@ -2,7 +2,9 @@
 // through the render loop's own entry point (camera_sample.h: film_sample draws its stream and film
 // position, camera_sample_value its ray, radiance and weight) after the same preprocessing, and
 // prints the value the film splats, e.g. to debug the sample `volguide render` reports as the first
-// non-finite one. X and Y are film pixels (in the filter's border with sample_border).
+// non-finite one. X and Y are film pixels (in the filter's border with sample_border). An integrator
+// that learns at the end of every pass (guided_volpath) is first rendered through the passes before
+// the sample's own (render_loop's pass_schedule), so that it replays with the state that drew it.
 #include <fmt/format.h>
 
 #include <cfenv>
@@ -13,9 +15,24 @@
 
 #include "volguide/integrators/camera_sample.h"
 #include "volguide/integrators/integrator.h"
+#include "volguide/integrators/render_loop.h"
 #include "volguide/render/scene.h"
 #include "volguide/render/sensors/rfilters.h"
 #include "volguide/scene/loader.h"
+
+namespace {
+
+// The number of samples per pixel rendered before the pass that draws sample `s`.
+int samples_before_pass_of(int s) {
+    int done = 0;
+    for (int n : volguide::pass_schedule(s + 1)) {
+        if (done + n > s) break;
+        done += n;
+    }
+    return done;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
     using namespace volguide;
@@ -37,9 +54,17 @@ int main(int argc, char** argv) {
         const Film& film = scene->sensor().film();
         const FilmGrid grid{film.width(), film.height(), film.sample_border() ? filter_border_size(film.filter()) : 0};
         Integrator& integrator = const_cast<Integrator&>(scene->integrator());
-        PreprocessContext context;
-        context.seed = seed;
-        integrator.preprocess(*scene, context);
+        const int before = samples_before_pass_of(s);
+        if (before > 0) {
+            RenderOptions options;
+            options.spp = before;
+            options.seed = seed;
+            render(*scene, options);
+        } else {
+            PreprocessContext context;
+            context.seed = seed;
+            integrator.preprocess(*scene, context);
+        }
         // REPLAY_TRAP_FP=1: stop (SIGFPE) at the first invalid operation, to find it in a debugger.
         if (const char* trap = std::getenv("REPLAY_TRAP_FP"); trap && std::string(trap) == "1")
             feenableexcept(FE_INVALID);

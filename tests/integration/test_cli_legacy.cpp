@@ -4,6 +4,7 @@
 // ldrfilm's PNG); `volguide upgrade` writes a file that renders the same EXR and keeps the comments;
 // errors name the 0.6 file's lines.
 #include <gtest/gtest.h>
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <filesystem>

@@ -342,11 +342,11 @@ TEST(GuidedVolPathUnbiased, GuidedVertexAnswersEachDecisionFromOneLookup) {
         vertex.init(mi);
         ASSERT_EQ(counts.vertex_descents, 0u);  // init looks nothing up
         const int leaf = integrator.field().tree().leaf_at(mi.p);
-        const float confidence = guide.confidence(leaf, mi.coeffs.sigma_t);
+        const float confidence = guide.trust().confidence(leaf, mi.coeffs.sigma_t);
         const bool trusted = leaf >= 0 && confidence >= kSkipConfidence;
         const float phase_prob = !trusted && leaf >= 0 ? 1.f : 1.f - 0.5f * confidence;
-        const GuidedDirectionSampler ref(DirectionGuiding::Product, leaf >= 0 ? guide.direction_lobes(leaf) : LobeBlock(),
-                                         phase, *guide.phase_lobes(phase), mi.wi, phase_prob);
+        const GuidedDirectionSampler ref(DirectionGuiding::Product, leaf >= 0 ? guide.prepared().direction_lobes(leaf) : LobeBlock(),
+                                         phase, *guide.prepared().phase_lobes(phase), mi.wi, phase_prob);
         const Vec3f w = warp::square_to_uniform_sphere(s.next_2d());
         for (int again = 0; again < 2; ++again) {  // a second round asks the same object again
             vertex.prepare_direction();
@@ -354,9 +354,9 @@ TEST(GuidedVolPathUnbiased, GuidedVertexAnswersEachDecisionFromOneLookup) {
             ASSERT_EQ(vertex.guided(), ref.guided());
             ASSERT_EQ(vertex.direction_pdf(w), ref.pdf(w));
             ASSERT_EQ(vertex.estimate(ContinuationStage::Distance, w),
-                      trusted ? guide.inscattered(leaf, phase, w) : Color3(0.f));
+                      trusted ? guide.prepared().inscattered(leaf, phase, w) : Color3(0.f));
             ASSERT_EQ(vertex.estimate(ContinuationStage::Direction, w),
-                      trusted ? guide.incident(leaf, phase, w) : Color3(0.f));
+                      trusted ? guide.prepared().incident(leaf, phase, w) : Color3(0.f));
         }
         ASSERT_EQ(counts.vertices, 1u);
         ASSERT_EQ(counts.vertex_descents, 1u);  // the one descent (no hint: a fresh object)

@@ -411,11 +411,11 @@ TEST(GuidedVolPath, BadRouletteSplittingParametersAreErrorsNamingTheLine) {
              {R"(<float name="rrs_branch_budget" value="0.5"/>)", "rrs_branch_budget must be"},
              {R"(<string name="rrs" value="standard"/><float name="rrs_window" value="5"/>)",
               "only applies to rrs=grr, grrs or ears"},
-             {R"(<string name="rrs" value="standard"/><integer name="selection_spp" value="0"/>)"
+             {R"(<string name="rrs" value="standard"/><boolean name="allocation" value="false"/>)"
               R"(<integer name="pixel_estimate_rays" value="8"/>)",
               "pixel_estimate_rays only applies"},
-             {R"(<integer name="selection_spp" value="0"/><integer name="selection_min_samples" value="8"/>)",
-              "selection_min_samples only applies"},
+             {R"(<integer name="selection_spp" value="0"/>)", "'selection_spp' was retired"},
+             {R"(<integer name="selection_min_samples" value="8"/>)", "'selection_min_samples' was retired"},
              {R"(<integer name="ears_min_samples" value="8"/>)", "ears_min_samples only applies to rrs=ears"},
              {R"(<string name="distance" value="vsp_product"/>)", "distance=\"vsp_product\" was retired"},
              {R"(<string name="distance" value="tabulated"/>)", "distance=\"tabulated\" was retired"},

@@ -95,6 +95,40 @@ TEST(SpatialTree, HoldsPointImpliesLeafAt) {
     EXPECT_GT(held, 1000);
 }
 
+// leaf_at descends from its point's cell of the jump grid: the same leaf as the descent from the root
+// for points on leaf faces and split planes, just off them, on the bounds' faces and inside, in trees of
+// any size (one leaf to thousands) and off-centre bounds far from the origin.
+TEST(SpatialTree, JumpGridDescentIsTheRootDescent) {
+    for (int max_samples : {100000, 2000, 40, 3}) {
+        for (const Vec3f& shift : {Vec3f(0.f), Vec3f(4000.f, -250.f, 17.f)}) {
+            std::vector<Point3f> pts = points(20000, 5);
+            for (Point3f& q : pts) q = q + shift;
+            const BBox3f bounds(kBounds.lo + shift, kBounds.hi + shift);
+            SpatialTreeSettings settings;
+            settings.max_samples = max_samples;
+            const SpatialTree tree = SpatialTree::build(bounds, pts, settings);
+            for (int i = 0; i < 20000; ++i) {
+                Sampler s(13, uint64_t(max_samples), uint64_t(i));
+                const BBox3f& b = tree.leaf_bounds(std::min(int(s.next_1d() * float(tree.leaf_count())),
+                                                            tree.leaf_count() - 1));
+                Point3f p;
+                for (int a = 0; a < 3; ++a) {
+                    const float u = s.next_1d(), lo = a == 0 ? b.lo.x : a == 1 ? b.lo.y : b.lo.z,
+                                hi = a == 0 ? b.hi.x : a == 1 ? b.hi.y : b.hi.z;
+                    const float v = u < 0.2f   ? lo
+                                    : u < 0.4f ? hi
+                                    : u < 0.5f ? std::nextafter(lo, -INFINITY)
+                                    : u < 0.6f ? std::nextafter(hi, INFINITY)
+                                               : lo + (hi - lo) * s.next_1d();
+                    (a == 0 ? p.x : a == 1 ? p.y : p.z) = v;
+                }
+                const int expected = bounds.contains(p) ? tree.leaf_below(0u, p) : -1;
+                ASSERT_EQ(tree.leaf_at(p), expected) << max_samples << " point " << i;
+            }
+        }
+    }
+}
+
 // Only the counted samples drive splits: uncounted ones are sorted into the leaves (every sample
 // lands in exactly the leaf containing it) but neither reach max_samples nor move the split means.
 // Counting only the blob's samples refines the blob and leaves the uniform background coarse.

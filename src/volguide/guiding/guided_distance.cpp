@@ -7,35 +7,10 @@ namespace volguide {
 
 namespace {
 
+using namespace distance_detail;
+
 // Below this optical thickness the truncated exponential is numerically a uniform density (2.1).
 constexpr float kThinTau = 1e-6f;
-// The filter does not extrapolate through a bin that lets less than this through (7.4).
-constexpr float kFilterMinTransmittance = 1e-4f;
-
-bool is_grey(const Color3& c) {
-    return c.r == c.g && c.g == c.b;
-}
-// The scalar proxy of §7.8; exact (not re-rounded) for grey coefficients.
-float scalar_sigma_t(const Color3& c) {
-    return is_grey(c) ? c.r : c.average();
-}
-
-// 1 - exp(-tau) for 0 <= tau < 0.5, the per-bin probability of thin bins: Taylor to degree 9 in
-// double (truncation < 3e-10 relative, below float rounding), rounded once to float — as exact as
-// libm's expm1f and cheaper per bin (bench_guiding BM_DistanceIncremental; bench/RESULTS.md (issue 35)).
-float one_minus_exp_small(float tau) {
-    const double x = tau;
-    double p = 1.0 / 362880.0;
-    p = p * -x + 1.0 / 40320.0;
-    p = p * -x + 1.0 / 5040.0;
-    p = p * -x + 1.0 / 720.0;
-    p = p * -x + 1.0 / 120.0;
-    p = p * -x + 1.0 / 24.0;
-    p = p * -x + 1.0 / 6.0;
-    p = p * -x + 0.5;
-    p = p * -x + 1.0;
-    return float(p * x);
-}
 
 // 1 - exp(-tau) per channel.
 Color3 one_minus_transmittance(const Color3& sigma_t, float length) {
@@ -45,20 +20,6 @@ Color3 one_minus_transmittance(const Color3& sigma_t, float length) {
 
 Color3 transmittance(const Color3& sigma_t, float length) {
     return exp(sigma_t * -length);
-}
-
-// Guided conditional probability (7.2) with the degenerate cases of §7.6.
-// p_max is the bin's effective clamp, max(settings.p_max, P^T_k).
-float guided_probability(float numerator, float denominator, float p_max, bool& nan) {
-    nan = std::isnan(numerator) || std::isnan(denominator);
-    if (nan) return 0.f;  // the caller substitutes P^T
-    if (!(numerator > 0.f)) return 0.f;
-    if (!(denominator > 0.f) || std::isinf(denominator)) return p_max;
-    return std::min(numerator / denominator, p_max);  // inf / finite = inf -> p_max
-}
-
-int channel_of(DistanceStrategy s) {
-    return int(s);
 }
 
 }  // namespace
@@ -91,57 +52,6 @@ IncrementalDistanceWalk::IncrementalDistanceWalk(const GuidedDistanceSettings& s
                                                  DistanceStrategy strategy)
     : settings_(settings), strategy_(strategy) {}
 
-IncrementalDistanceWalk::Bin IncrementalDistanceWalk::evaluate(const DistanceBin& bin) const {
-    assert(std::isfinite(bin.t1) && "clip the ray to the cache/medium bounds before sampling");
-    Bin p;
-    p.length = bin.t1 - bin.t0;
-    p.sigma_bar = scalar_sigma_t(bin.sigma_t);
-    // One transcendental per bin: thin bins need expm1 for 1 - T (cancellation) and get T = 1 + it
-    // (>= 0.6, exact to rounding); thick ones need exp for T (its relative precision when tiny) and
-    // get 1 - T (>= 0.4, no cancellation).
-    const float tau_bar = p.sigma_bar * p.length;
-    if (tau_bar < 0.5f) {
-        p.P_T_bar = one_minus_exp_small(tau_bar);
-        p.T_bar = 1.f - p.P_T_bar;
-    } else {
-        p.T_bar = std::exp(-tau_bar);
-        p.P_T_bar = 1.f - p.T_bar;
-    }
-    if (strategy_ != DistanceStrategy::Guided) {
-        const int c = channel_of(strategy_);
-        p.P_T_c = is_grey(bin.sigma_t) ? p.P_T_bar : -std::expm1(-bin.sigma_t[c] * p.length);
-    }
-
-    // Incoming-radiance filter (7.4): extrapolate the previous bin's L^I through it by the VRE
-    // bookkeeping L(d_{k-1}) = alpha (1 - T) L_i + T L(d_k), then blend with this bin's lookup.
-    p.L_I = bin.L;
-    const bool vre = settings_.denominator == DistanceDenominator::Vre;
-    const float A = settings_.filter_A;
-    if (A < 1.f && has_prev_ && prev_valid_ && std::isfinite(prev_L_I_) &&
-        prev_T_bar_ >= kFilterMinTransmittance) {
-        const float extrapolated =
-            std::max(0.f, (prev_L_I_ - (1.f - prev_T_bar_) * prev_albedo_ * prev_inscattered_) / prev_T_bar_);
-        p.L_I = (1.f - A) * extrapolated + A * bin.L;
-    }
-
-    if (!bin.valid) {
-        p.P_G = p.P_T_bar;
-    } else {
-        const float numerator = bin.albedo * p.P_T_bar * bin.inscattered;
-        float denominator = p.L_I;
-        if (vre) denominator = numerator + p.T_bar * p.L_I;
-        p.P_G =
-            guided_probability(numerator, denominator, std::max(settings_.p_max, p.P_T_bar), p.nan_fallback);
-        if (p.nan_fallback) p.P_G = p.P_T_bar;
-        if (bin.confidence < 1.f) p.P_G = bin.confidence * p.P_G + (1.f - bin.confidence) * p.P_T_bar;
-    }
-    return p;
-}
-
-float IncrementalDistanceWalk::decision_probability(const Bin& p) const {
-    return strategy_ == DistanceStrategy::Guided ? p.P_G : p.P_T_c;
-}
-
 float IncrementalDistanceWalk::sample_in_bin(const DistanceBin& bin, const Bin& p, float u) const {
     const float sigma =
         strategy_ == DistanceStrategy::Guided ? p.sigma_bar : bin.sigma_t[channel_of(strategy_)];
@@ -172,18 +82,6 @@ std::pair<float, float> IncrementalDistanceWalk::pdf_parts_in_bin(const Distance
     }
     const float guided_part = R_G_ * p.P_G * truncated_exponential_pdf(p.sigma_bar, p.length, x);
     return {transmittance_part, guided_part};
-}
-
-void IncrementalDistanceWalk::advance(const DistanceBin& bin, const Bin& p) {
-    if (!(p.length > 0.f)) return;
-    tau_ += bin.sigma_t * p.length;
-    R_G_ *= 1.f - p.P_G;
-    has_prev_ = true;
-    prev_valid_ = bin.valid;
-    prev_L_I_ = p.L_I;
-    prev_T_bar_ = p.T_bar;
-    prev_albedo_ = bin.albedo;
-    prev_inscattered_ = bin.inscattered;
 }
 
 float IncrementalDistanceWalk::surface_probability() const {

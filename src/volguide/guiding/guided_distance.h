@@ -31,7 +31,9 @@
 //    make the last bin end at the surface or exit distance s (an infinite t1 is a caller error,
 //    asserted). The exit point plays the role of the surface (environment radiance x T).
 //  - Split optically thick bins (proxy sigma_t * length <= ~20) so that P^T_k < 1 in float (§7.6).
+#include <algorithm>
 #include <cassert>
+#include <cmath>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -106,6 +108,47 @@ struct DistanceSample {
     int nan_fallbacks = 0;  // bins whose guided probability was NaN and fell back to P^T (§7.6)
 };
 
+// The per-bin arithmetic's helpers (inline: the bins' walk evaluates a bin per leaf crossed).
+namespace distance_detail {
+
+// The filter does not extrapolate through a bin that lets less than this through (7.4).
+inline constexpr float kFilterMinTransmittance = 1e-4f;
+
+inline bool is_grey(const Color3& c) { return c.r == c.g && c.g == c.b; }
+// The scalar proxy of §7.8; exact (not re-rounded) for grey coefficients.
+inline float scalar_sigma_t(const Color3& c) { return is_grey(c) ? c.r : c.average(); }
+
+// 1 - exp(-tau) for 0 <= tau < 0.5, the per-bin probability of thin bins: Taylor to degree 9 in
+// double (truncation < 3e-10 relative, below float rounding), rounded once to float — as exact as
+// libm's expm1f and cheaper per bin (bench_guiding BM_DistanceIncremental; bench/RESULTS.md (issue 35)).
+inline float one_minus_exp_small(float tau) {
+    const double x = tau;
+    double p = 1.0 / 362880.0;
+    p = p * -x + 1.0 / 40320.0;
+    p = p * -x + 1.0 / 5040.0;
+    p = p * -x + 1.0 / 720.0;
+    p = p * -x + 1.0 / 120.0;
+    p = p * -x + 1.0 / 24.0;
+    p = p * -x + 1.0 / 6.0;
+    p = p * -x + 0.5;
+    p = p * -x + 1.0;
+    return float(p * x);
+}
+
+// Guided conditional probability (7.2) with the degenerate cases of §7.6.
+// p_max is the bin's effective clamp, max(settings.p_max, P^T_k).
+inline float guided_probability(float numerator, float denominator, float p_max, bool& nan) {
+    nan = std::isnan(numerator) || std::isnan(denominator);
+    if (nan) return 0.f;  // the caller substitutes P^T
+    if (!(numerator > 0.f)) return 0.f;
+    if (!(denominator > 0.f) || std::isinf(denominator)) return p_max;
+    return std::min(numerator / denominator, p_max);  // inf / finite = inf -> p_max
+}
+
+inline int channel_of(DistanceStrategy s) { return int(s); }
+
+}  // namespace distance_detail
+
 // ---------------------------------------------------------------------------------------------
 // Incremental sampler: the per-query state that walks the bins (Variant A). Exposed so that the
 // template below and the pdf evaluation share the exact same arithmetic; most callers use
@@ -159,8 +202,104 @@ class IncrementalDistanceWalk {
     float prev_L_I_ = 0.f, prev_T_bar_ = 0.f, prev_albedo_ = 0.f, prev_inscattered_ = 0.f;
 };
 
+inline IncrementalDistanceWalk::Bin IncrementalDistanceWalk::evaluate(const DistanceBin& bin) const {
+    assert(std::isfinite(bin.t1) && "clip the ray to the cache/medium bounds before sampling");
+    Bin p;
+    p.length = bin.t1 - bin.t0;
+    p.sigma_bar = distance_detail::scalar_sigma_t(bin.sigma_t);
+    // One transcendental per bin: thin bins need expm1 for 1 - T (cancellation) and get T = 1 + it
+    // (>= 0.6, exact to rounding); thick ones need exp for T (its relative precision when tiny) and
+    // get 1 - T (>= 0.4, no cancellation).
+    const float tau_bar = p.sigma_bar * p.length;
+    if (tau_bar < 0.5f) {
+        p.P_T_bar = distance_detail::one_minus_exp_small(tau_bar);
+        p.T_bar = 1.f - p.P_T_bar;
+    } else {
+        p.T_bar = std::exp(-tau_bar);
+        p.P_T_bar = 1.f - p.T_bar;
+    }
+    if (strategy_ != DistanceStrategy::Guided) {
+        const int c = distance_detail::channel_of(strategy_);
+        p.P_T_c = distance_detail::is_grey(bin.sigma_t) ? p.P_T_bar : -std::expm1(-bin.sigma_t[c] * p.length);
+    }
+
+    // Incoming-radiance filter (7.4): extrapolate the previous bin's L^I through it by the VRE
+    // bookkeeping L(d_{k-1}) = alpha (1 - T) L_i + T L(d_k), then blend with this bin's lookup.
+    p.L_I = bin.L;
+    const bool vre = settings_.denominator == DistanceDenominator::Vre;
+    const float A = settings_.filter_A;
+    if (A < 1.f && has_prev_ && prev_valid_ && std::isfinite(prev_L_I_) &&
+        prev_T_bar_ >= distance_detail::kFilterMinTransmittance) {
+        const float extrapolated =
+            std::max(0.f, (prev_L_I_ - (1.f - prev_T_bar_) * prev_albedo_ * prev_inscattered_) / prev_T_bar_);
+        p.L_I = (1.f - A) * extrapolated + A * bin.L;
+    }
+
+    if (!bin.valid) {
+        p.P_G = p.P_T_bar;
+    } else {
+        const float numerator = bin.albedo * p.P_T_bar * bin.inscattered;
+        float denominator = p.L_I;
+        if (vre) denominator = numerator + p.T_bar * p.L_I;
+        const float p_max = std::max(settings_.p_max, p.P_T_bar);
+        p.P_G = distance_detail::guided_probability(numerator, denominator, p_max, p.nan_fallback);
+        if (p.nan_fallback) p.P_G = p.P_T_bar;
+        if (bin.confidence < 1.f) p.P_G = bin.confidence * p.P_G + (1.f - bin.confidence) * p.P_T_bar;
+    }
+    return p;
+}
+
+inline float IncrementalDistanceWalk::decision_probability(const Bin& p) const {
+    return strategy_ == DistanceStrategy::Guided ? p.P_G : p.P_T_c;
+}
+
+inline void IncrementalDistanceWalk::advance(const DistanceBin& bin, const Bin& p) {
+    if (!(p.length > 0.f)) return;
+    tau_ += bin.sigma_t * p.length;
+    R_G_ *= 1.f - p.P_G;
+    has_prev_ = true;
+    prev_valid_ = bin.valid;
+    prev_L_I_ = p.L_I;
+    prev_T_bar_ = p.T_bar;
+    prev_albedo_ = bin.albedo;
+    prev_inscattered_ = bin.inscattered;
+}
+
 // Maps one uniform number to a strategy with probabilities {c_T q_R, c_T q_G, c_T q_B, 1 - c_T}.
 DistanceStrategy choose_distance_strategy(const GuidedDistanceSettings& settings, float u);
+
+// Samples a distance, pulling bins from `next_bin` (a callable bool(DistanceBin&) that fills the next
+// bin and returns false after the last one) and random numbers from `rng.next_1d()` (e.g. Sampler).
+// Stops pulling as soon as a scatter is accepted. Random numbers: 1 for the strategy, 1 per
+// non-empty bin stepped, 1 for the position in the accepted bin.
+// One bin of the incremental sampler (sample_incremental_distance's loop body, for bin sources that
+// fuse it into their own walk): true when the query ended in the bin (a medium event, `out` complete).
+template <class Rng>
+[[gnu::always_inline]] inline bool incremental_step(IncrementalDistanceWalk& walk, const DistanceBin& bin, Rng& rng,
+                      const GuidedDistanceSettings& settings, DistanceSample& out) {
+    ++out.steps;
+    out.t = bin.t1;
+    if (!(bin.t1 > bin.t0)) return false;  // zero-length: nothing can happen there
+    const IncrementalDistanceWalk::Bin p = walk.evaluate(bin);
+    out.nan_fallbacks += p.nan_fallback ? 1 : 0;
+    if (rng.next_1d() < walk.decision_probability(p)) {
+        out.event = DistanceEvent::Medium;
+        out.t = walk.sample_in_bin(bin, p, rng.next_1d());
+        std::tie(out.pdf_transmittance, out.pdf_guided) = walk.pdf_parts_in_bin(bin, p, out.t);
+        out.pdf = settings.c_T * out.pdf_transmittance + (1.f - settings.c_T) * out.pdf_guided;
+        return true;
+    }
+    walk.advance(bin, p);
+    return false;
+}
+
+// The query passed every bin: the surface event.
+inline void incremental_surface(const IncrementalDistanceWalk& walk, const GuidedDistanceSettings& settings,
+                                DistanceSample& out) {
+    out.event = DistanceEvent::Surface;
+    std::tie(out.pdf_transmittance, out.pdf_guided) = walk.surface_parts();
+    out.pdf = settings.c_T * out.pdf_transmittance + (1.f - settings.c_T) * out.pdf_guided;
+}
 
 // Samples a distance, pulling bins from `next_bin` (a callable bool(DistanceBin&) that fills the next
 // bin and returns false after the last one) and random numbers from `rng.next_1d()` (e.g. Sampler).
@@ -173,24 +312,9 @@ DistanceSample sample_incremental_distance(NextBin&& next_bin, Rng& rng,
     IncrementalDistanceWalk walk(settings, choose_distance_strategy(settings, rng.next_1d()));
     out.strategy = walk.strategy();
     DistanceBin bin;
-    while (next_bin(bin)) {
-        ++out.steps;
-        out.t = bin.t1;
-        if (!(bin.t1 > bin.t0)) continue;  // zero-length: nothing can happen there
-        const IncrementalDistanceWalk::Bin p = walk.evaluate(bin);
-        out.nan_fallbacks += p.nan_fallback ? 1 : 0;
-        if (rng.next_1d() < walk.decision_probability(p)) {
-            out.event = DistanceEvent::Medium;
-            out.t = walk.sample_in_bin(bin, p, rng.next_1d());
-            std::tie(out.pdf_transmittance, out.pdf_guided) = walk.pdf_parts_in_bin(bin, p, out.t);
-            out.pdf = settings.c_T * out.pdf_transmittance + (1.f - settings.c_T) * out.pdf_guided;
-            return out;
-        }
-        walk.advance(bin, p);
-    }
-    out.event = DistanceEvent::Surface;
-    std::tie(out.pdf_transmittance, out.pdf_guided) = walk.surface_parts();
-    out.pdf = settings.c_T * out.pdf_transmittance + (1.f - settings.c_T) * out.pdf_guided;
+    while (next_bin(bin))
+        if (incremental_step(walk, bin, rng, settings, out)) return out;
+    incremental_surface(walk, settings, out);
     return out;
 }
 

@@ -7,18 +7,6 @@
 
 namespace volguide {
 
-Point2f octahedral_encode(const Vec3f& w) {
-    const float l1 = std::abs(w.x) + std::abs(w.y) + std::abs(w.z);
-    float x = w.x / l1, y = w.y / l1;
-    if (w.z < 0.f) {
-        const float fx = (1.f - std::abs(y)) * std::copysign(1.f, x),
-                    fy = (1.f - std::abs(x)) * std::copysign(1.f, y);
-        x = fx;
-        y = fy;
-    }
-    return Point2f(0.5f * x + 0.5f, 0.5f * y + 0.5f);
-}
-
 Vec3f octahedral_decode(Point2f uv) {
     float x = 2.f * uv.x - 1.f, y = 2.f * uv.y - 1.f;
     const float z = 1.f - std::abs(x) - std::abs(y);
@@ -40,6 +28,7 @@ LeafEstimates::LeafEstimates(const GuidingField& field, const InscatterCache& in
     : field_(field), inscatter_(inscatter), resolution_(std::max(resolution, 0)) {
     if (resolution_ == 0) return;
     const int R = resolution_;
+    texels_per_table_ = size_t(R * R);
     const std::vector<GuidingLeaf>& leaves = field.leaves();
     headers_.assign(leaves.size(), Header{});
     texels_.assign(leaves.size() * size_t(R * R), EstimateTexel{0, 0});
@@ -70,35 +59,6 @@ LeafEstimates::LeafEstimates(const GuidingField& field, const InscatterCache& in
     });
 }
 
-LeafEstimates::Direction LeafEstimates::prepare(const Vec3f& w) const {
-    Direction d;
-    d.w = w;
-    if (resolution_ == 0) return d;
-    // Bilinear between the four nearest texel centres (clamped at the map's edges).
-    const int R = resolution_;
-    const Point2f uv = octahedral_encode(w);
-    const float x = std::clamp(uv.x * float(R) - 0.5f, 0.f, float(R - 1));
-    const float y = std::clamp(uv.y * float(R) - 0.5f, 0.f, float(R - 1));
-    const int x0 = std::min(int(x), std::max(R - 2, 0)), y0 = std::min(int(y), std::max(R - 2, 0));
-    const int x1 = std::min(x0 + 1, R - 1), y1 = std::min(y0 + 1, R - 1);
-    const float fx = x - float(x0), fy = y - float(y0);
-    d.offset[0] = y0 * R + x0;
-    d.offset[1] = y0 * R + x1;
-    d.offset[2] = y1 * R + x0;
-    d.offset[3] = y1 * R + x1;
-    d.weight[0] = (1.f - fx) * (1.f - fy);
-    d.weight[1] = fx * (1.f - fy);
-    d.weight[2] = (1.f - fx) * fy;
-    d.weight[3] = fx * fy;
-    return d;
-}
-
-void LeafEstimates::prefetch(int leaf, const Direction& d) const {
-    if (leaf < 0 || resolution_ == 0) return;
-    __builtin_prefetch(&headers_[size_t(leaf)]);
-    d.prefetch(&texels_[size_t(leaf) * size_t(resolution_ * resolution_)]);
-}
-
 bool LeafEstimates::texel_averages(int leaf, float* inscattered, float* incident) const {
     const size_t n = size_t(resolution_ * resolution_);
     std::fill(inscattered, inscattered + n, 0.f);
@@ -114,21 +74,19 @@ bool LeafEstimates::texel_averages(int leaf, float* inscattered, float* incident
     return true;
 }
 
-bool LeafEstimates::lookup(int leaf, const Direction& d, Color3& inscattered, Color3& incident) const {
-    if (leaf < 0) return false;
-    if (resolution_ == 0) {
-        const GuidingLeaf& gl = field_.leaves()[size_t(leaf)];
-        if (!gl.valid) return false;
-        inscattered = inscatter_.inscattered(leaf, d.w);
-        incident = GuidingField::incident(gl, d.w);
-        return true;
-    }
-    const Header& h = headers_[size_t(leaf)];
-    if (!h.valid) return false;
-    float inscattered_texel, incident_texel;
-    d.interpolate(&texels_[size_t(leaf) * size_t(resolution_ * resolution_)], inscattered_texel, incident_texel);
-    inscattered = h.fluence * (h.scale_inscattered * inscattered_texel);
-    incident = h.fluence * (h.scale_incident * incident_texel);
+bool LeafEstimates::lookup_exact(int leaf, const Direction& d, Color3& inscattered, Color3& incident) const {
+    const GuidingLeaf& gl = field_.leaves()[size_t(leaf)];
+    if (!gl.valid) return false;
+    inscattered = inscatter_.inscattered(leaf, d.w);
+    incident = GuidingField::incident(gl, d.w);
+    return true;
+}
+
+bool LeafEstimates::lookup_average_exact(int leaf, const Direction& d, float& inscattered, float& incident) const {
+    Color3 Li, L;
+    if (!lookup(leaf, d, Li, L)) return false;
+    inscattered = Li.average();
+    incident = L.average();
     return true;
 }
 

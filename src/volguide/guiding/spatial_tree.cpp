@@ -124,18 +124,27 @@ SpatialTree SpatialTree::build(const BBox3f& bounds, std::span<const Point3f> po
 }
 
 SpatialTree::RayCursor::RayCursor(const SpatialTree& tree, const Ray& ray, float t0, float t1, int start)
-    : tree_(&tree), o_(ray.o), d_(ray.d), inv_d_(1.f / ray.d.x, 1.f / ray.d.y, 1.f / ray.d.z) {
+    : tree_(&tree) {
+    for (int a = 0; a < 3; ++a) {
+        o_[a] = ray.o[a];
+        d_[a] = ray.d[a];
+        inv_d_[a] = 1.f / ray.d[a];
+        moving_[a] = d_[a] != 0.f;
+        up_[a] = d_[a] >= 0.f;
+        exit_face_[a] = d_[a] > 0.f ? 1 : 0;
+    }
+    finite_ = std::isfinite(inv_d_[0]) && std::isfinite(inv_d_[1]) && std::isfinite(inv_d_[2]);
     float b0, b1;
     if (!tree.bounds_.ray_intersect(ray, b0, b1)) return;
     t_ = std::max(t0, b0);
     t_end_ = std::min(t1, b1);
     if (!(t_ < t_end_)) return;
-    const Point3f p = o_ + d_ * t_;
+    const float p[3] = {o_[0] + d_[0] * t_, o_[1] + d_[1] * t_, o_[2] + d_[2] * t_};
     if (start >= 0 && start < tree.leaf_count()) {
         // Strictly inside: no split plane through p, so the descent (whose ties follow the ray) would
         // end in this leaf too.
         const BBox3f& b = tree.leaves_[size_t(start)].box;
-        if (p.x > b.lo.x && p.x < b.hi.x && p.y > b.lo.y && p.y < b.hi.y && p.z > b.lo.z && p.z < b.hi.z) {
+        if (p[0] > b.lo.x && p[0] < b.hi.x && p[1] > b.lo.y && p[1] < b.hi.y && p[2] > b.lo.z && p[2] < b.hi.z) {
             leaf_ = start;
             return;
         }
@@ -143,57 +152,41 @@ SpatialTree::RayCursor::RayCursor(const SpatialTree& tree, const Ray& ray, float
     leaf_ = int(tree.nodes_[descend(0u, p)].child);
 }
 
-uint32_t SpatialTree::RayCursor::descend(uint32_t node, const Point3f& p) const {
-    const std::vector<Node>& nodes = tree_->nodes_;
-    while (!nodes[node].is_leaf()) {
-        const Node& n = nodes[node];
-        const float x = p[n.axis];
-        const bool upper = x > n.split || (x == n.split && d_[n.axis] >= 0.f);
-        node = n.child + (upper ? 1u : 0u);
+void SpatialTree::build_jump_grid() {
+    jump_ = Jump{};
+    const Vec3f e = bounds_.extents();
+    const double volume = double(e.x) * double(e.y) * double(e.z);
+    if (!(volume > 0.0) || !std::isfinite(volume)) return;
+    const double cell = std::cbrt(volume / (2.0 * double(std::max<size_t>(leaves_.size(), 1))));
+    const double lo[3] = {bounds_.lo.x, bounds_.lo.y, bounds_.lo.z}, ext[3] = {e.x, e.y, e.z};
+    double size[3], margin = 0.0;
+    for (int a = 0; a < 3; ++a) {
+        jump_.n[a] = int(std::clamp(std::ceil(ext[a] / cell), 1.0, 256.0));
+        jump_.scale[a] = float(double(jump_.n[a]) / ext[a]);
+        size[a] = ext[a] / double(jump_.n[a]);
+        margin = std::max({margin, 1e-3 * size[a], 1e-6 * std::abs(lo[a]), 1e-6 * std::abs(lo[a] + ext[a])});
     }
-    return node;
-}
-
-bool SpatialTree::RayCursor::next(int& leaf, float& t_enter, float& t_exit) {
-    // Leaves whose interval rounds to nothing (a corner or edge crossed exactly) are passed over.
-    for (int guard = 0; leaf_ >= 0 && guard < 1 << 20; ++guard) {
-        const LeafRecord& record = tree_->leaves_[size_t(leaf_)];
-        const BBox3f& box = record.box;
-        int axis = -1;
-        float exit = Infinity;
-        for (int a = 0; a < 3; ++a) {
-            if (d_[a] == 0.f) continue;
-            const float t = ((d_[a] > 0.f ? box.hi[a] : box.lo[a]) - o_[a]) * inv_d_[a];
-            if (t < exit) exit = t, axis = a;
-        }
-        const int current = leaf_;
-        const uint32_t rope = axis >= 0 ? record.rope[2 * axis + (d_[axis] > 0.f ? 1 : 0)] : kNoRope;
-        const float t0 = t_;
-        if (rope == kNoRope || !(exit < t_end_)) {
-            // The last leaf: on to the end of the segment (the bounds' exit, up to rounding).
-            leaf_ = -1;
-            exit = t_end_;
-        } else {
-            exit = std::max(exit, t_);
-            Point3f p = o_ + d_ * exit;
-            p[axis] = d_[axis] > 0.f ? box.hi[axis] : box.lo[axis];  // exactly on the face
-            leaf_ = int(tree_->nodes_[descend(rope, p)].child);
-            t_ = exit;
-        }
-        if (exit > t0) {
-            leaf = current;
-            t_enter = t0;
-            t_exit = exit;
-            return true;
-        }
-    }
-    leaf_ = -1;
-    return false;
-}
-
-int SpatialTree::leaf_at(const Point3f& p) const {
-    if (!bounds_.contains(p)) return -1;
-    return leaf_below(0u, p);
+    jump_.node.assign(size_t(jump_.n[0]) * size_t(jump_.n[1]) * size_t(jump_.n[2]), 0u);
+    for (int z = 0; z < jump_.n[2]; ++z)
+        for (int y = 0; y < jump_.n[1]; ++y)
+            for (int x = 0; x < jump_.n[0]; ++x) {
+                const int i[3] = {x, y, z};
+                // The deepest node whose every split on the way puts the whole cell (with the margin) on
+                // one side: p goes up iff p >= split.
+                uint32_t node = 0;
+                while (!nodes_[node].is_leaf()) {
+                    const Node& n = nodes_[node];
+                    const double c0 = lo[n.axis] + size[n.axis] * i[n.axis] - margin;
+                    const double c1 = lo[n.axis] + size[n.axis] * (i[n.axis] + 1) + margin;
+                    if (c1 < double(n.split))
+                        node = n.child;
+                    else if (c0 >= double(n.split))
+                        node = n.child + 1;
+                    else
+                        break;
+                }
+                jump_.node[(size_t(z) * size_t(jump_.n[1]) + size_t(y)) * size_t(jump_.n[0]) + size_t(x)] = node;
+            }
 }
 
 void SpatialTree::compute_leaf_bounds() {
@@ -223,6 +216,7 @@ void SpatialTree::compute_leaf_bounds() {
         stack.push_back({n.child + 1, hi, it.depth + 1});
     }
     depth_ = depth;
+    build_jump_grid();
 
     // Ropes: from the root towards the region just beyond each leaf face, as long as the face's
     // rectangle lies on one side of the splits met; stop at the first node that cuts it.

@@ -14,6 +14,7 @@
 // Queries: the leaf containing a point, and the leaves a ray segment crosses in order with their
 // entry/exit distances (the guided distance sampler's bins, docs/theory.md §7.3). Building is sequential
 // and order-preserving, so the tree is a pure function of the samples in their given order.
+#include <algorithm>
 #include <cstdint>
 #include <span>
 #include <utility>
@@ -88,12 +89,17 @@ public:
     std::span<const uint32_t> leaf_samples(int leaf) const;
 
     // The leaf containing p, or -1 outside the bounds. Points on a split plane go to the upper side.
-    int leaf_at(const Point3f& p) const;
+    // The descent starts at p's cell of a uniform grid over the bounds (below), not at the root.
+    int leaf_at(const Point3f& p) const {
+        if (!bounds_.contains(p)) return -1;
+        return leaf_below(jump_node(p), p);
+    }
     // The leaf below `node` holding p (leaf_at's descent from a node whose region holds p).
     int leaf_below(uint32_t node, const Point3f& p) const {
+        const float q[3] = {p.x, p.y, p.z};  // indexed by a node's axis without a branch
         while (!nodes_[node].is_leaf()) {
             const Node& n = nodes_[node];
-            node = n.child + (p[n.axis] >= n.split ? 1u : 0u);
+            node = n.child + (q[n.axis] >= n.split ? 1u : 0u);
         }
         return int(nodes_[node].child);
     }
@@ -126,17 +132,23 @@ public:
         // `start` (may be -1): a guess of the leaf the segment starts in (the leaf of the vertex the ray
         // leaves from); taken without a descent from the root when the start point is strictly inside it.
         RayCursor(const SpatialTree& tree, const Ray& ray, float t0, float t1, int start = -1);
-        // The next leaf and its interval; false after the last one.
+        // The next leaf and its interval; false after the last one. Inline: the distance walk takes one
+        // step per leaf crossed.
         bool next(int& leaf, float& t_enter, float& t_exit);
 
     private:
         // The leaf below `node` holding p, a point of the ray: points on a split plane go to the side
         // the ray heads for (upper when parallel, as leaf_at).
-        uint32_t descend(uint32_t node, const Point3f& p) const;
+        uint32_t descend(uint32_t node, const float p[3]) const;
 
         const SpatialTree* tree_;
-        Point3f o_;
-        Vec3f d_, inv_d_;
+        // Per axis (arrays: a node's axis indexes them without a branch): the origin, direction and its
+        // inverse; whether the ray moves along the axis, heads up it (d >= 0: the side a point on a split
+        // plane goes to), and which face of a box it leaves through (0 lower, 1 upper).
+        float o_[3], d_[3], inv_d_[3];
+        bool moving_[3], up_[3];
+        bool finite_ = false;  // every inverse finite (no axis parallel, none so slow its inverse overflows)
+        int exit_face_[3];
         int leaf_ = -1;  // the leaf to yield next; -1: none left
         float t_ = 0.f, t_end_ = 0.f;
     };
@@ -162,7 +174,27 @@ public:
     static SpatialTree from_nodes(const BBox3f& bounds, std::vector<Node> nodes);
 
 private:
-    void compute_leaf_bounds();  // and the ropes
+    void compute_leaf_bounds();  // and the ropes, and the jump grid
+    void build_jump_grid();
+    // The node leaf_at descends from for p in the bounds: its grid cell's.
+    uint32_t jump_node(const Point3f& p) const {
+        const Jump& g = jump_;
+        const int x = std::min(int((p.x - bounds_.lo.x) * g.scale[0]), g.n[0] - 1);
+        const int y = std::min(int((p.y - bounds_.lo.y) * g.scale[1]), g.n[1] - 1);
+        const int z = std::min(int((p.z - bounds_.lo.z) * g.scale[2]), g.n[2] - 1);
+        return g.node[(size_t(z) * size_t(g.n[1]) + size_t(y)) * size_t(g.n[0]) + size_t(x)];
+    }
+
+    // Point location's shortcut past the top of the tree: a uniform grid of about two cells per leaf,
+    // each holding the deepest node whose region holds the cell with a margin (so that every point float
+    // rounding maps into the cell lies below that node): the descent from it takes the same branches as
+    // the one from the root, a few levels instead of the tree's depth, and at a large field's size a
+    // cache miss or two instead of one per level.
+    struct Jump {
+        int n[3] = {1, 1, 1};
+        float scale[3] = {0.f, 0.f, 0.f};  // cells per unit length
+        std::vector<uint32_t> node{0u};
+    };
 
     BBox3f bounds_;
     std::vector<Node> nodes_;
@@ -173,10 +205,69 @@ private:
         uint32_t rope[6];
     };
     std::vector<LeafRecord> leaves_;
+    Jump jump_;
     std::vector<uint32_t> sample_index_;  // samples grouped by leaf
     std::vector<uint32_t> leaf_offset_;   // leaf i: sample_index_[leaf_offset_[i] .. leaf_offset_[i + 1])
     int depth_ = 0;
 };
+
+inline uint32_t SpatialTree::RayCursor::descend(uint32_t node, const float p[3]) const {
+    const Node* nodes = tree_->nodes_.data();
+    while (!nodes[node].is_leaf()) {
+        const Node& n = nodes[node];
+        const float x = p[n.axis];
+        const bool upper = x > n.split || (x == n.split && up_[n.axis]);
+        node = n.child + (upper ? 1u : 0u);
+    }
+    return node;
+}
+
+inline bool SpatialTree::RayCursor::next(int& leaf, float& t_enter, float& t_exit) {
+    // Leaves whose interval rounds to nothing (a corner or edge crossed exactly) are passed over.
+    for (int guard = 0; leaf_ >= 0 && guard < 1 << 20; ++guard) {
+        const LeafRecord& record = tree_->leaves_[size_t(leaf_)];
+        const BBox3f& box = record.box;
+        // The exit: the nearest face the ray leaves through (the first axis on a tie).
+        const float face[3] = {exit_face_[0] ? box.hi.x : box.lo.x, exit_face_[1] ? box.hi.y : box.lo.y,
+                               exit_face_[2] ? box.hi.z : box.lo.z};
+        float exit = Infinity;
+        int axis = -1;
+        if (finite_) {  // every axis moves with a finite inverse: no distance is skipped or NaN
+            const float t[3] = {(face[0] - o_[0]) * inv_d_[0], (face[1] - o_[1]) * inv_d_[1],
+                                (face[2] - o_[2]) * inv_d_[2]};
+            exit = t[0], axis = 0;
+            if (t[1] < exit) exit = t[1], axis = 1;
+            if (t[2] < exit) exit = t[2], axis = 2;
+        } else {
+            for (int a = 0; a < 3; ++a) {
+                const float t = moving_[a] ? (face[a] - o_[a]) * inv_d_[a] : Infinity;
+                if (t < exit) exit = t, axis = a;
+            }
+        }
+        const int current = leaf_;
+        const uint32_t rope = axis >= 0 ? record.rope[2 * axis + exit_face_[axis]] : kNoRope;
+        const float t0 = t_;
+        if (rope == kNoRope || !(exit < t_end_)) {
+            // The last leaf: on to the end of the segment (the bounds' exit, up to rounding).
+            leaf_ = -1;
+            exit = t_end_;
+        } else {
+            exit = std::max(exit, t_);
+            float p[3] = {o_[0] + d_[0] * exit, o_[1] + d_[1] * exit, o_[2] + d_[2] * exit};
+            p[axis] = face[axis];  // exactly on the face
+            leaf_ = int(tree_->nodes_[descend(rope, p)].child);
+            t_ = exit;
+        }
+        if (exit > t0) {
+            leaf = current;
+            t_enter = t0;
+            t_exit = exit;
+            return true;
+        }
+    }
+    leaf_ = -1;
+    return false;
+}
 
 template <class Visit>
 bool SpatialTree::traverse(const Ray& ray, float t0, float t1, Visit&& visit) const {

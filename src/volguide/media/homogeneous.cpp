@@ -28,6 +28,13 @@ void HomogeneousMedium::proxy_segments(const Ray& ray, float t0, float t1, std::
     out.push_back({t0, t1, sigma_t_, albedo});
 }
 
+bool HomogeneousMedium::constant_proxy(ProxySegment& proxy) const {
+    if (!albedo_const_) return false;
+    const float st = sigma_t_.average();  // as proxy_segments, with the albedo everywhere the same
+    proxy = {0.f, 0.f, sigma_t_, st > 0.f ? (sigma_t_ * albedo_value_).average() / st : 0.f};
+    return true;
+}
+
 void HomogeneousMedium::sample_majorant_walk(const Ray&, float tmax, Sampler& sampler, MajorantCallback collide) const {
     walk_constant_majorant(sigma_t_, tmax, sampler, collide);
 }

@@ -27,6 +27,7 @@ public:
     bool tracks_null_collisions() const override { return false; }
     Color3 transmittance(const Ray& ray, float tmax, Sampler& sampler) const override;
     void proxy_segments(const Ray& ray, float t0, float t1, std::vector<ProxySegment>& out) const override;
+    bool constant_proxy(ProxySegment& proxy) const override;
     bool is_homogeneous() const override { return true; }
     BBox3f bbox() const override;
     const Color3& sigma_t() const { return sigma_t_; }

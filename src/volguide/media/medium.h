@@ -139,6 +139,10 @@ public:
     // a homogeneous medium, one per majorant cell crossed (and zero-coefficient stretches outside
     // the grid) for a heterogeneous one.
     virtual void proxy_segments(const Ray& ray, float t0, float t1, std::vector<ProxySegment>& out) const = 0;
+    // The proxy coefficients of every segment of every ray where they are one constant (a homogeneous
+    // medium with a constant albedo): what proxy_segments appends for any t0 < t1, its interval aside,
+    // so that a caller cutting many segments asks once. False (nothing written) where they vary.
+    virtual bool constant_proxy(ProxySegment& /*proxy*/) const { return false; }
 
     virtual bool is_homogeneous() const = 0;
     // Where sigma_t can be non-zero (infinite for homogeneous media).

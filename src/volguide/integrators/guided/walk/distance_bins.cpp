@@ -14,6 +14,133 @@ std::vector<float> leaf_extents(const SpatialTree& tree) {
     return extent;
 }
 
+namespace {
+
+// The estimates a constant-proxy walk reads: the field's leaves' tables, or their groups'.
+struct LeafTables {
+    const LeafEstimates& estimates;
+    const std::vector<float>& extent;
+    bool lookup(int leaf, const LeafEstimates::Direction& d, float& inscattered, float& L) const {
+        return estimates.lookup_average(leaf, d, inscattered, L);
+    }
+    float extent_of(int leaf) const { return extent[size_t(leaf)]; }
+    void prefetch(int leaf, const LeafEstimates::Direction& d) const { estimates.prefetch(leaf, d); }
+};
+struct GroupTables {
+    const LeafGroups& groups;
+    bool lookup(int group, const LeafEstimates::Direction& d, float& inscattered, float& L) const {
+        return group >= 0 && groups.lookup(group, d, inscattered, L);
+    }
+    float extent_of(int group) const { return groups.extent(group); }
+    void prefetch(int group, const LeafEstimates::Direction& d) const { groups.prefetch(group, d); }
+};
+
+// BinSource over a medium of one proxy with sample_incremental_distance's loop: the spans in
+// BinSource's order (a leafless stretch before the field, the cursor's leaves, a leafless remainder),
+// each span's pieces as BinSource::emit cuts them, each leaf's table prefetched one leaf ahead.
+template <class Tables>
+class ConstantBins {
+  public:
+    ConstantBins(const ConstantBinsQuery& q, const Tables& tables, const SpatialTree& tree, int start)
+        : q_(q), tables_(tables), cursor_(tree, q.ray, 0.f, q.t_end, start),
+          direction_(q.bins.estimates->prepare(q.ray.d)), sigma_max_(q.proxy.sigma_t.max_value()) {}
+
+    DistanceSample sample(Sampler& rng, const GuidedDistanceSettings& settings, BinsReport& report) {
+        DistanceSample out;
+        IncrementalDistanceWalk walk(settings, choose_distance_strategy(settings, rng.next_1d()));
+        out.strategy = walk.strategy();
+        Step step{walk, rng, settings, out, report};
+        Span cur, ahead;
+        bool have = cursor_.next(cur.leaf, cur.t0, cur.t1);
+        bool have_ahead = have && pull(ahead);
+        while (have) {
+            if (cur.t0 > reached_ && span(-1, reached_, cur.t0, step)) return out;
+            if (span(cur.leaf, cur.t0, cur.t1, step)) return out;
+            cur = ahead;
+            have = have_ahead;
+            have_ahead = have && pull(ahead);
+        }
+        if (reached_ < q_.t_end && span(-1, reached_, q_.t_end, step)) return out;
+        incremental_surface(walk, settings, out);
+        return out;
+    }
+
+  private:
+    struct Span {
+        int leaf = -1;
+        float t0 = 0.f, t1 = 0.f;
+    };
+    struct Step {
+        IncrementalDistanceWalk& walk;
+        Sampler& rng;
+        const GuidedDistanceSettings& settings;
+        DistanceSample& out;
+        BinsReport& report;
+    };
+    // The next leaf of the cursor, its table prefetched.
+    bool pull(Span& s) {
+        if (!cursor_.next(s.leaf, s.t0, s.t1)) return false;
+        tables_.prefetch(s.leaf, direction_);
+        return true;
+    }
+    static bool ended(bool ended, int leaf, const Step& s) {
+        if (ended) s.report.leaf = leaf;
+        return ended;
+    }
+    // The bins of one span (BinSource::enter, then emit per piece): true when the decision ended there.
+    bool span(int leaf, float t0, float t1, const Step& s) {
+        reached_ = std::max(reached_, t1);
+        if (!(t0 < t1)) return false;  // no proxy segment: no bins
+        DistanceBin bin;
+        bin.sigma_t = q_.proxy.sigma_t;
+        bin.albedo = q_.proxy.albedo;
+        bin.inscattered = bin.L = 0.f;
+        bin.valid = tables_.lookup(leaf, direction_, bin.inscattered, bin.L);
+        bin.confidence = 1.f;
+        const bool damping = leaf >= 0 && bin.valid;
+        if (damping) bin.confidence = leaf_confidence(tables_.extent_of(leaf), q_.proxy.sigma_t, q_.bins.leaf_tau_max);
+        const uint64_t damped = damping && bin.confidence < 1.f ? 1 : 0, invalid = bin.valid ? 0 : 1;
+        const float tau = sigma_max_ * (t1 - t0), max_tau = q_.bins.max_tau;
+        if (!(tau > max_tau && std::isfinite(tau))) {  // one piece, nearly always
+            bin.t0 = t0;
+            bin.t1 = t1;
+            s.report.damped += damped;
+            s.report.invalid += invalid;
+            return ended(incremental_step(s.walk, bin, s.rng, s.settings, s.out), leaf, s);
+        }
+        const int pieces = int(std::min(std::ceil(tau / max_tau), 1e6f));
+        const float len = (t1 - t0) / float(pieces);
+        for (int piece = 0; piece < pieces;) {
+            bin.t0 = t0 + len * float(piece);
+            bin.t1 = ++piece == pieces ? t1 : t0 + len * float(piece);
+            s.report.damped += damped;
+            s.report.invalid += invalid;
+            if (ended(incremental_step(s.walk, bin, s.rng, s.settings, s.out), leaf, s)) return true;
+        }
+        return false;
+    }
+
+    const ConstantBinsQuery& q_;
+    const Tables& tables_;
+    SpatialTree::RayCursor cursor_;
+    LeafEstimates::Direction direction_;
+    float sigma_max_;
+    float reached_ = 0.f;  // the spans entered so far cover (0, reached_)
+};
+
+}  // namespace
+
+DistanceSample sample_constant_bins(const ConstantBinsQuery& query, Sampler& rng,
+                                    const GuidedDistanceSettings& settings, BinsReport& report) {
+    const BinField& bins = query.bins;
+    if (bins.groups) {
+        const GroupTables tables{*bins.groups};
+        return ConstantBins<GroupTables>(query, tables, bins.groups->tree(), -1).sample(rng, settings, report);
+    }
+    const LeafTables tables{*bins.estimates, bins.leaf_extent};
+    return ConstantBins<LeafTables>(query, tables, bins.field.tree(), query.origin_leaf).sample(rng, settings, report);
+}
+
 BinSource::BinSource(const Ray& ray, float t_end, const Medium& medium, const BinField& bins,
                      std::vector<ProxySegment>& proxies, int origin_leaf)
     : leaf_extent_(bins.leaf_extent),
@@ -27,6 +154,7 @@ BinSource::BinSource(const Ray& ray, float t_end, const Medium& medium, const Bi
       max_tau_(bins.max_tau),
       cursor_(groups_ ? groups_->tree() : bins.field.tree(), ray, 0.f, t_end, groups_ ? -1 : origin_leaf) {
     proxies_.clear();  // scratch of the previous query: nothing may be read before the first span
+    constant_ = medium.constant_proxy(span_proxy_);
     if (estimates_) direction_ = estimates_->prepare(ray.d);
 }
 
@@ -81,8 +209,15 @@ bool BinSource::pull_leaf(Span& s) {
 
 void BinSource::enter(int leaf_index, float t0, float t1) {
     reached_ = std::max(reached_, t1);
-    proxies_.clear();
-    medium_.proxy_segments(ray_, t0, t1, proxies_);
+    if (constant_) {
+        span_proxy_.t0 = t0;
+        span_proxy_.t1 = t1;
+        proxy_count_ = t0 < t1 ? 1 : 0;
+    } else {
+        proxies_.clear();
+        medium_.proxy_segments(ray_, t0, t1, proxies_);
+        proxy_count_ = proxies_.size();
+    }
     proxy_ = size_t(-1);
     pieces_ = piece_ = 0;
     inscattered_ = L_ = 0.f;
@@ -92,12 +227,7 @@ void BinSource::enter(int leaf_index, float t0, float t1) {
         if (!valid_) inscattered_ = L_ = 0.f;
         return;
     }
-    Color3 inscattered, incident;
-    valid_ = estimates_ && estimates_->lookup(leaf_index, direction_, inscattered, incident);
-    if (valid_) {
-        inscattered_ = inscattered.average();
-        L_ = incident.average();
-    }
+    valid_ = estimates_ && estimates_->lookup_average(leaf_index, direction_, inscattered_, L_);
 }
 
 }  // namespace volguide

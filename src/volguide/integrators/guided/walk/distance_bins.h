@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "volguide/core/ray.h"
+#include "volguide/core/sampler.h"
 #include "volguide/guiding/leaf_groups.h"
 #include "volguide/guiding/guided_distance.h"
 #include "volguide/guiding/guiding_field.h"
@@ -46,6 +47,29 @@ struct BinField {
     float leaf_tau_max;
 };
 
+// What a bins decision reports besides its sample: the leaf (with leaf groups: the group) of the bin it
+// ended in (-1: outside the field, or it passed every bin) and BinSource's counters.
+struct BinsReport {
+    int leaf = -1;
+    uint64_t invalid = 0, damped = 0;
+};
+
+// The incremental sampler (guiding/guided_distance.h) over the bins of (0, t_end) of `ray` in a medium
+// of one proxy (Medium::constant_proxy: every bin's coefficients are `proxy`'s) with tabulated
+// estimates (bins.estimates of resolution > 0): BinSource's bins with sample_incremental_distance fused
+// into one walk over the leaves — a leaf step, a table read and the bin's probabilities per bin, no
+// proxy segments per leaf. The same bins, probabilities and random numbers as the two apart, so the
+// same sample bit for bit (tests/unit/test_guided_distance.cpp).
+struct ConstantBinsQuery {
+    const Ray& ray;
+    float t_end;
+    const ProxySegment& proxy;
+    const BinField& bins;
+    int origin_leaf = -1;  // as BinSource's
+};
+DistanceSample sample_constant_bins(const ConstantBinsQuery& query, Sampler& rng,
+                                    const GuidedDistanceSettings& settings, BinsReport& report);
+
 class BinSource {
   public:
     // The ray, medium, what `bins` refers to and `proxies` (caller-owned scratch, cleared here) must
@@ -61,8 +85,8 @@ class BinSource {
                 emit(bin);
                 return true;
             }
-            if (++proxy_ < proxies_.size()) {
-                const ProxySegment& p = proxies_[proxy_];
+            if (++proxy_ < proxy_count_) {
+                const ProxySegment& p = proxy();
                 const float tau = p.sigma_t.max_value() * (p.t1 - p.t0);
                 pieces_ =
                     tau > max_tau_ && std::isfinite(tau) ? int(std::min(std::ceil(tau / max_tau_), 1e6f)) : 1;
@@ -82,9 +106,11 @@ class BinSource {
         int leaf;
         float t0, t1;
     };
+    // The current proxy segment: the medium's one proxy over the span, or the span's proxy_segments.
+    const ProxySegment& proxy() const { return constant_ ? span_proxy_ : proxies_[proxy_]; }
     // The next piece of the current proxy segment.
     void emit(DistanceBin& bin) {
-        const ProxySegment& p = proxies_[proxy_];
+        const ProxySegment& p = proxy();
         const float len = (p.t1 - p.t0) / float(pieces_);
         bin.t0 = p.t0 + len * float(piece_);
         bin.t1 = ++piece_ == pieces_ ? p.t1 : p.t0 + len * float(piece_);
@@ -115,6 +141,10 @@ class BinSource {
     const LeafEstimates* estimates_;
     const LeafGroups* groups_;
     std::vector<ProxySegment>& proxies_;
+    // A medium of one proxy (Medium::constant_proxy): span_proxy_ over each span, proxies_ unused.
+    bool constant_ = false;
+    ProxySegment span_proxy_{0.f, 0.f, Color3(0.f), 0.f};
+    size_t proxy_count_ = 0;  // the current span's proxy segments
     float max_tau_;
     SpatialTree::RayCursor cursor_;
     bool cursor_done_ = false, has_pending_ = false;

@@ -7,7 +7,6 @@
 #include "volguide/guiding/guided_collision.h"
 #include "volguide/integrators/guided/walk/distance_bins.h"
 #include "volguide/integrators/guided/walk/vsp_distance.h"
-#include "volguide/integrators/guided/walk/walk_guide.h"
 #include "volguide/media/majorant_tracking.h"
 #include "volguide/media/spectral_mis.h"
 
@@ -23,7 +22,7 @@ class FreeFlightDistance final : public DistanceSampler {
     FreeFlightSample sample(const DistanceQuery& q, const DistanceInput& in, DistanceScratch&, Sampler& sampler,
                             DistanceOutcome& out) const override {
         FreeFlightSample fs = q.medium.sample_free_flight(q.ray, q.tmax, q.throughput, sampler);
-        if (in.origin >= 0 && fs.scattered && guide_.field().tree().holds_point(in.origin, fs.mi.p))
+        if (in.origin >= 0 && fs.scattered && in.field.field->tree().holds_point(in.origin, fs.mi.p))
             out.scattering = in.origin;
         return fs;
     }
@@ -37,7 +36,7 @@ class IncrementalDistance final : public DistanceSampler {
     using DistanceSampler::DistanceSampler;
     FreeFlightSample sample(const DistanceQuery& q, const DistanceInput& in, DistanceScratch& scratch, Sampler& sampler,
                             DistanceOutcome& out) const override {
-        const GuidingField& field = guide_.field();
+        const GuidingField& field = *in.field.field;
         float b0, b1;
         const bool crosses = !field.empty() && field.tree().bounds().ray_intersect(q.ray, b0, b1) && b1 > 0.f;
         const float t_end = crosses ? std::min(q.tmax, b1) : 0.f;
@@ -46,7 +45,7 @@ class IncrementalDistance final : public DistanceSampler {
             return q.medium.sample_free_flight(q.ray, q.tmax, q.throughput, sampler);
         }
         const float c_T = 1.f - in.share.undamped;  // the bins damp by their own leaves' confidence
-        if (q.medium.tracks_null_collisions()) return tracked(q, c_T, t_end, sampler, out.report);
+        if (q.medium.tracks_null_collisions()) return tracked(q, in.field, c_T, t_end, sampler, out.report);
         const Segment segment{q, in, t_end, c_T};
         return binned(segment, scratch, sampler, out);
     }
@@ -54,10 +53,9 @@ class IncrementalDistance final : public DistanceSampler {
   private:
     // Guided null-collision tracking over the whole segment: beyond the field the tracking falls back
     // to the unguided probability.
-    FreeFlightSample tracked(const DistanceQuery& q, float c_T, float t_end, Sampler& sampler,
+    FreeFlightSample tracked(const DistanceQuery& q, const PhaseField& at, float c_T, float t_end, Sampler& sampler,
                              DistanceReport& report) const {
-        GuidedCollisionProbability probability(guide_.field(), guide_.estimates_for(q.medium.phase()), q.ray, t_end,
-                                               c_T);
+        GuidedCollisionProbability probability(*at.field, at.estimates, q.ray, t_end, c_T);
         FreeFlightSample fs = guided_tracking(q.medium, q.ray, q.tmax, q.throughput, sampler, probability);
         report = {DistanceReport::Method::Tracking, uint64_t(probability.collisions()),
                   uint64_t(probability.unguided_collisions()), 0, uint64_t(probability.nan_fallbacks())};
@@ -75,21 +73,38 @@ class IncrementalDistance final : public DistanceSampler {
                             DistanceOutcome& out) const {
         const DistanceQuery& q = segment.q;
         const float t_end = segment.t_end;
-        GuidedDistanceSettings settings = guide_.settings().distance_settings;
+        const PhaseField& at = segment.in.field;
+        GuidedDistanceSettings settings = settings_.bins;
         settings.c_T = segment.c_T;
         settings.channel_split = channel_probabilities(q.throughput);  // spectral MIS (§2.6)
-        const LeafGroups* groups = guide_.groups_for(q.medium.phase());
-        const BinField bins{guide_.field(), guide_.estimates_for(q.medium.phase()), groups, guide_.leaf_extents(),
-                            guide_.settings().max_bin_optical_depth, guide_.settings().leaf_tau_max};
-        BinSource source(q.ray, t_end, q.medium, bins, scratch.proxies, segment.in.origin);
-        const DistanceSample ds = sample_incremental_distance(source, sampler, settings);
-        out.report = {DistanceReport::Method::Bins, uint64_t(ds.steps), source.invalid(), source.damped(),
+        const LeafGroups* groups = at.groups;
+        const BinField bins{*at.field, at.estimates, groups, *at.leaf_extent, settings_.max_bin_optical_depth,
+                            settings_.leaf_tau_max};
+        BinsReport bins_report;
+        const DistanceSample ds = sample_bins(segment, bins, scratch, sampler, settings, bins_report);
+        out.report = {DistanceReport::Method::Bins, uint64_t(ds.steps), bins_report.invalid, bins_report.damped,
                       uint64_t(ds.nan_fallbacks), ds.strategy == DistanceStrategy::Guided};
+        const int leaf = bins_report.leaf;
         if (ds.event == DistanceEvent::Medium && ds.pdf > 0.f)
-            out.scattering = groups && source.leaf() >= 0 ? groups->fine_leaf(source.leaf(), q.ray(ds.t)) : source.leaf();
+            out.scattering = groups && leaf >= 0 ? groups->fine_leaf(leaf, q.ray(ds.t)) : leaf;
         if (ds.pdf > 0.f && ds.pdf_transmittance >= 0.f && ds.pdf_guided >= 0.f)
             out.record = {true, segment.in.origin, ds.pdf, ds.pdf_transmittance, ds.pdf_guided};
         return weighted(q, t_end, ds, sampler);
+    }
+
+    // The incremental sampler over the segment's bins: fused with the leaf walk in a medium of one proxy
+    // with tabulated estimates (every homogeneous medium of constant albedo), else over BinSource.
+    static DistanceSample sample_bins(const Segment& segment, const BinField& bins, DistanceScratch& scratch,
+                                      Sampler& sampler, const GuidedDistanceSettings& settings, BinsReport& report) {
+        const DistanceQuery& q = segment.q;
+        ProxySegment proxy;
+        if (bins.estimates && bins.estimates->resolution() > 0 && q.medium.constant_proxy(proxy))
+            return sample_constant_bins({q.ray, segment.t_end, proxy, bins, segment.in.origin}, sampler, settings,
+                                        report);
+        BinSource source(q.ray, segment.t_end, q.medium, bins, scratch.proxies, segment.in.origin);
+        const DistanceSample ds = sample_incremental_distance(source, sampler, settings);
+        report = {source.leaf(), source.invalid(), source.damped()};
+        return ds;
     }
 
     // The weights of the bins' decision `ds` (the caller contract of guided_distance.h), and beyond
@@ -156,9 +171,8 @@ class VspDistance final : public DistanceSampler {
         const HomogeneousVsp vsp(at_origin.sigma_t, q.tmax, channel_probabilities(q.throughput));
         const float st = at_origin.sigma_t.average();
         const float albedo = st > 0.f ? at_origin.sigma_s.average() / st : 0.f;  // shapes P_G only
-        const float guided = in.camera() ? in.camera_guided
-                                         : guide_.scatter_probability(in.origin, medium.phase(), q.ray.d, albedo,
-                                                                      vsp.unguided());
+        const float guided =
+            in.camera() ? in.camera_guided : in.field.scatter_probability(in.origin, q.ray.d, albedo, vsp.unguided());
         if (std::isnan(guided)) {
             out.report.unguided = true;
             return medium.sample_free_flight(q.ray, q.tmax, q.throughput, sampler);  // the same decision, unguided
@@ -166,10 +180,10 @@ class VspDistance final : public DistanceSampler {
         const float P = vsp.probability(guided, unguided_share(in));
         const float u_decide = sampler.next_1d(), u_channel = sampler.next_1d(), u_t = sampler.next_1d();
         // The equiangular share (§7.10.1): a light point drawn only for a scatter (2 numbers).
-        const float share = guide_.settings().vsp_equiangular;
+        const float share = settings_.vsp_equiangular;
         std::optional<EquiangularSampler> toward_light;
         if (u_decide < P && share > 0.f && medium.sample_emitters())
-            toward_light = vsp_equiangular_toward_light(guide_.scene(), q.ray, q.tmax, sampler);
+            toward_light = vsp_equiangular_toward_light(scene_, q.ray, q.tmax, sampler);
         const VspEquiangular equi{toward_light ? &*toward_light : nullptr, share};
         const HomogeneousVsp::Sample vs = vsp.sample(P, u_decide, u_channel, u_t, equi);
         out.report.equiangular = vs.scattered && equi.active();
@@ -181,7 +195,7 @@ class VspDistance final : public DistanceSampler {
             const Point3f p = q.ray(vs.t);
             fs.scatter_at(q.ray, vs.t, p, &medium, medium.eval(p));
             fs.weight = fs.flight_weight * fs.mi.coeffs.sigma_s;
-            if (guide_.field().tree().holds_point(in.origin, p)) out.scattering = in.origin;
+            if (in.field.field->tree().holds_point(in.origin, p)) out.scattering = in.origin;
         }
         // The mixture's parts for the selection pilot: the density (or probability) of the outcome
         // under the unguided and the guided decision.
@@ -197,8 +211,8 @@ class VspDistance final : public DistanceSampler {
         const Medium& medium = q.medium;
         // The albedo field at the origin (the extinction there may be 0 on the medium's boundary).
         const float albedo = medium.albedo(q.ray.o).average();  // shapes P_G only
-        const PhaseFunction& phase = medium.phase();
-        if (!in.camera() && std::isnan(guide_.scatter_probability(in.origin, phase, q.ray.d, albedo, 1.f))) {
+        const PhaseField& at = in.field;
+        if (!in.camera() && std::isnan(at.scatter_probability(in.origin, q.ray.d, albedo, 1.f))) {
             out.report.unguided = true;
             return medium.sample_free_flight(q.ray, q.tmax, q.throughput, sampler);
         }
@@ -206,13 +220,13 @@ class VspDistance final : public DistanceSampler {
         const float c = unguided_share(in);
         auto probability = [&](float unguided) {
             if (in.camera()) return c * unguided + (1.f - c) * in.camera_guided;
-            const float guided = guide_.scatter_probability(in.origin, phase, q.ray.d, albedo, unguided);
+            const float guided = at.scatter_probability(in.origin, q.ray.d, albedo, unguided);
             return std::isnan(guided) ? unguided : c * unguided + (1.f - c) * guided;
         };
         FreeFlightSample fs = resampled_segment_flight(medium, q.ray, q.tmax, q.throughput, probability, sampler);
         out.report.scattered = fs.scattered;
         if (fs.scattered) {
-            if (guide_.field().tree().holds_point(in.origin, fs.mi.p)) out.scattering = in.origin;
+            if (at.field->tree().holds_point(in.origin, fs.mi.p)) out.scattering = in.origin;
         }
         return fs;
     }
@@ -220,31 +234,14 @@ class VspDistance final : public DistanceSampler {
 
 }  // namespace
 
-void count_distance(const DistanceReport& r, WalkGuideStats& counts) {
-    using Method = DistanceReport::Method;
-    counts.distance_outside_field += r.method == Method::OutsideField;
-    counts.distance_queries += r.method == Method::Tracking || r.method == Method::Bins || r.method == Method::Vsp;
-    counts.guided_tracking += r.method == Method::Tracking;
-    counts.distance_steps += r.steps;
-    counts.invalid_bins += r.invalid;
-    counts.damped_bins += r.damped;
-    counts.nan_fallbacks += r.nan_fallbacks;
-    counts.guided_strategy += r.guided;
-    counts.vsp_queries += r.method == Method::Vsp;
-    counts.vsp_camera += r.camera;
-    counts.vsp_unguided += r.unguided;
-    counts.vsp_resampled += r.resampled;
-    counts.vsp_scattered += r.scattered;
-    counts.vsp_equiangular += r.equiangular;
-}
-
-std::unique_ptr<DistanceSampler> make_distance_sampler(DistanceGuiding method, const WalkGuide& guide) {
+std::unique_ptr<DistanceSampler> make_distance_sampler(DistanceGuiding method, const DistanceSettings& settings,
+                                                       const Scene& scene) {
     switch (method) {
-        case DistanceGuiding::Incremental: return std::make_unique<IncrementalDistance>(guide);
-        case DistanceGuiding::Vsp: return std::make_unique<VspDistance>(guide);
+        case DistanceGuiding::Incremental: return std::make_unique<IncrementalDistance>(settings, scene);
+        case DistanceGuiding::Vsp: return std::make_unique<VspDistance>(settings, scene);
         case DistanceGuiding::Standard: break;
     }
-    return std::make_unique<FreeFlightDistance>(guide);
+    return std::make_unique<FreeFlightDistance>(settings, scene);
 }
 
 }  // namespace volguide

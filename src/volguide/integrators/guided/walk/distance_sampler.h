@@ -13,7 +13,9 @@
 //    collisions otherwise (vsp_distance.h, §7.10).
 // A member is asked by the vertex the segment leaves from (GuidedVertex::sample_distance, which also
 // answers camera and surface segments), never by the walk directly: the vertex knows its leaf and
-// the learned selection's share, and hands the scattering vertex's leaf on.
+// the learned selection's share, and hands the scattering vertex's leaf on. What a member reads of the
+// guide is handed to it: its settings once (DistanceSettings), and with every decision the prepared
+// field for the medium's phase function (DistanceInput::field, prepared_field.h) and the guided share.
 // Every member's weights use the true coefficients: unbiased whatever the field says.
 #include <cmath>
 #include <limits>
@@ -21,20 +23,38 @@
 #include <vector>
 
 #include "volguide/core/sampler.h"
+#include "volguide/guiding/guided_distance.h"
+#include "volguide/integrators/guided/walk/prepared_field.h"
 #include "volguide/integrators/guided/walk/trust.h"
 #include "volguide/integrators/volpath/walk_policy.h"
 #include "volguide/media/medium.h"
 
 namespace volguide {
 
-class WalkGuide;
-struct WalkGuideStats;
-enum class DistanceGuiding;
+class Scene;
+
+// The distance decisions, one family (user names standard, incremental, vsp): free flight; the
+// incremental product sampler over the bins of the leaves a segment crosses (guided null-collision
+// tracking in heterogeneous media, docs/theory.md §7.7 H2); vsp, one decision per segment from the
+// origin's leaf (docs/theory.md §7.10).
+enum class DistanceGuiding { Standard, Incremental, Vsp };
+
+// The family's settings (WalkGuideSettings' values).
+struct DistanceSettings {
+    // The incremental sampler's; its c_T is replaced per decision by 1 - the undamped guided share.
+    GuidedDistanceSettings bins;
+    float max_bin_optical_depth = 20.f;
+    float leaf_tau_max = 1.f;  // the bins' confidence (trust.h's leaf_confidence)
+    // distance=vsp in homogeneous media: the equiangular share of the scatter distance (vsp_distance.h).
+    float vsp_equiangular = 0.5f;
+};
 
 // What the vertex hands a distance decision besides the query (walk_policy.h's DistanceQuery).
 struct DistanceInput {
     int origin = -1;  // the origin's leaf (-1: none known, or outside the field): the decision's cell
-    // The guided share of the decision at the origin (WalkGuide::guided_share): vsp's segment
+    // The prepared field for the medium's phase function: what the decision reads of the guide.
+    PhaseField field;
+    // The guided share of the decision at the origin (TrustRule::guided_share): vsp's segment
     // probability reads share, the incremental sampler's bins 1 - undamped (each bin damped by its leaf).
     GuidedShare share;
     // A camera segment's P_G from the pixel estimate's per-pixel buffer (§7.10.2; NaN: none).
@@ -42,8 +62,8 @@ struct DistanceInput {
     bool camera() const { return !std::isnan(camera_guided); }
 };
 
-// What a distance decision did, for the walk's counters (WalkGuideStats), which count_distance adds
-// in one place: the decisions themselves only say what happened.
+// What a distance decision did, for the walk's counters (WalkGuideStats), which the vertex adds in one
+// place: the decisions themselves only say what happened.
 struct DistanceReport {
     enum class Method : uint8_t { FreeFlight, OutsideField, Tracking, Bins, Vsp };
     Method method = Method::FreeFlight;
@@ -56,9 +76,6 @@ struct DistanceReport {
     // estimate); by resampling (heterogeneous); scattered inside the segment; from the equiangular share.
     bool camera = false, unguided = false, resampled = false, scattered = false, equiangular = false;
 };
-
-// Adds what the decision reported to the walk's counters.
-void count_distance(const DistanceReport& report, WalkGuideStats& counts);
 
 // What a distance decision hands back besides its sample.
 struct DistanceOutcome {
@@ -74,7 +91,8 @@ struct DistanceScratch {
 
 class DistanceSampler {
   public:
-    explicit DistanceSampler(const WalkGuide& guide) : guide_(guide) {}
+    // The scene (the lights vsp's equiangular share aims at) must outlive the member.
+    DistanceSampler(const DistanceSettings& settings, const Scene& scene) : settings_(settings), scene_(scene) {}
     virtual ~DistanceSampler() = default;
     // The decision for `query` from the vertex's `in`, its outcome in `out` (out.record.leaf set by the
     // caller).
@@ -82,10 +100,12 @@ class DistanceSampler {
                                     Sampler& sampler, DistanceOutcome& out) const = 0;
 
   protected:
-    const WalkGuide& guide_;
+    DistanceSettings settings_;
+    const Scene& scene_;
 };
 
-// The member of `method`; the guide must outlive it.
-std::unique_ptr<DistanceSampler> make_distance_sampler(DistanceGuiding method, const WalkGuide& guide);
+// The member of `method`; the scene must outlive it.
+std::unique_ptr<DistanceSampler> make_distance_sampler(DistanceGuiding method, const DistanceSettings& settings,
+                                                       const Scene& scene);
 
 }  // namespace volguide

@@ -61,7 +61,7 @@ Continuation GuidedContinuation::decide_surface(const SurfaceInteraction& si, co
                                                 Sampler& sampler, int hint) const {
     if (!decides_at_surfaces()) return {};
     uint64_t descents = 0;  // a surface's lookup, not a vertex's descent
-    const int leaf = guide_.leaf_at(si.p, hint, descents);
+    const int leaf = guide_.prepared().leaf_at(si.p, hint, descents);
     const float q = ears_->factor(ContinuationStage::Surface, guide_.selection_cell(leaf),
                                   continuation_direction_bin(query.w), query.throughput.average() / pixel_);
     Continuation c = ears_outcome(q, query, sampler);

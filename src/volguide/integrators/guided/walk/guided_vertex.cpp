@@ -2,6 +2,29 @@
 
 namespace volguide {
 
+namespace {
+
+// Adds what a distance decision reported to the walk's counters.
+void count_distance(const DistanceReport& r, WalkGuideStats& counts) {
+    using Method = DistanceReport::Method;
+    counts.distance_outside_field += r.method == Method::OutsideField;
+    counts.distance_queries += r.method == Method::Tracking || r.method == Method::Bins || r.method == Method::Vsp;
+    counts.guided_tracking += r.method == Method::Tracking;
+    counts.distance_steps += r.steps;
+    counts.invalid_bins += r.invalid;
+    counts.damped_bins += r.damped;
+    counts.nan_fallbacks += r.nan_fallbacks;
+    counts.guided_strategy += r.guided;
+    counts.vsp_queries += r.method == Method::Vsp;
+    counts.vsp_camera += r.camera;
+    counts.vsp_unguided += r.unguided;
+    counts.vsp_resampled += r.resampled;
+    counts.vsp_scattered += r.scattered;
+    counts.vsp_equiangular += r.equiangular;
+}
+
+}  // namespace
+
 void GuidedVertex::init(const MediumInteraction& mi, int known_leaf) {
     const int reached = known_leaf >= 0 ? known_leaf : reached_;
     clear();
@@ -49,10 +72,12 @@ void GuidedVertex::resume(const MediumInteraction& mi, int kept) {
 int GuidedVertex::leaf() {
     if (!found_) {
         uint64_t descents = 0;
-        leaf_ = guide_.leaf_at(mi_.p, handed_ >= 0 ? handed_ : hint_, descents);
+        leaf_ = guide_.prepared().leaf_at(mi_.p, handed_ >= 0 ? handed_ : hint_, descents);
         counts_.vertex_descents += descents;
         counts_.work.add(Work::Descent, descents);
         found_ = true;
+        // The direction decision reads the leaf's lobes next (after the estimate's table lookup).
+        if (leaf_ >= 0 && guide_.guides_direction() && !prepared_) guide_.prepared().prefetch_direction_lobes(leaf_);
     }
     return leaf_;
 }
@@ -61,7 +86,7 @@ int GuidedVertex::origin_leaf(const DistanceQuery& query, bool needed) {
     if (active_) return leaf();
     if (!needed) return -1;
     uint64_t descents = 0;  // the camera's and surfaces' lookups are not the vertices' descents
-    const int leaf = guide_.leaf_at(query.ray.o, -1, descents);
+    const int leaf = guide_.prepared().leaf_at(query.ray.o, -1, descents);
     counts_.work.add(Work::Descent, descents);
     return leaf;
 }
@@ -69,6 +94,7 @@ int GuidedVertex::origin_leaf(const DistanceQuery& query, bool needed) {
 DistanceInput GuidedVertex::distance_input(const DistanceQuery& query, float camera_guided) {
     const Allocation& allocation = guide_.allocation();
     DistanceInput in;
+    in.field = phase_field(query.medium.phase());
     in.camera_guided = camera_guided;
     in.origin = origin_leaf(query, !allocation.empty() || guide_.settings().distance == DistanceGuiding::Vsp);
     TrustPoint at{DecisionKind::Distance};
@@ -80,7 +106,7 @@ DistanceInput GuidedVertex::distance_input(const DistanceQuery& query, float cam
         at.learned = allocation.share(DecisionKind::Distance, guide_.selection_cell(in.origin),
                                       exploration_coin(query.ray.o, query.ray.d, 1), learning_);
     at.vertex = active_;
-    in.share = guide_.guided_share(at);
+    in.share = guide_.trust().guided_share(at);
     return in;
 }
 
@@ -113,7 +139,7 @@ float GuidedVertex::phase_probability(int index) {
     if (index >= 0)
         at.learned = guide_.allocation().share(DecisionKind::Direction, guide_.selection_cell(index),
                                                exploration_coin(mi_.p, mi_.wi, 2), learning_);
-    const GuidedShare g = guide_.guided_share(at);
+    const GuidedShare g = guide_.trust().guided_share(at);
     direction_guidable_ = g.source == ShareSource::Unselected;
     // Learned shares are damped by the confidence as configured ones are (a short pilot does not see
     // the heavy tails long walks in a dense medium get from a large guided share: densesphere read low
@@ -132,21 +158,29 @@ void GuidedVertex::prepare_direction() {
     const float phase_prob = phase_probability(index);
     const PhaseFunction& phase = mi_.medium->phase();
     const GuidedDirectionSampler& s =
-        direction_.emplace(guide_.settings().direction, index >= 0 ? guide_.direction_lobes(index) : LobeBlock(), phase,
+        direction_.emplace(guide_.settings().direction, index >= 0 ? guide_.prepared().direction_lobes(index) : LobeBlock(), phase,
                            phase_lobes(phase), mi_.wi, phase_prob);
     counts_.direction_unguided_vertices += !s.guided();
     ++counts_.vertex_mixtures;
     counts_.vertex_products += s.product() != nullptr;
     if (s.guided()) {
-        const int lobes = guide_.direction_lobes(index).count;
+        const int lobes = guide_.prepared().direction_lobes(index).count;
         counts_.work.add(Work::LobePair, uint64_t(s.product() ? lobes * phase_lobes(phase).count : lobes));
     }
+}
+
+const PhaseField& GuidedVertex::phase_field(const PhaseFunction& phase) {
+    if (&phase != field_phase_) {
+        field_phase_ = &phase;
+        field_ = guide_.prepared().phase(phase);
+    }
+    return field_;
 }
 
 const PhaseLobes& GuidedVertex::phase_lobes(const PhaseFunction& phase) {
     if (&phase != lobes_phase_) {
         lobes_phase_ = &phase;
-        lobes_ = guide_.phase_lobes(phase);
+        lobes_ = phase_field(phase).lobes;
         if (!lobes_) {  // a phase function of no medium the guide saw: prepared here, once per walk
             own_lobes_ = prepare_phase_lobes(hg_phase_vmm(phase.mean_cosine()));
             lobes_ = &own_lobes_;
@@ -175,13 +209,14 @@ float GuidedVertex::direction_pdf(const Vec3f& wo) const {
 
 Color3 GuidedVertex::estimate(ContinuationStage stage, const Vec3f& w) {
     const int index = leaf();
-    if (!guide_.trusted(index, mi_.coeffs.sigma_t)) return Color3(0.f);
+    if (!guide_.trust().trusted(index, mi_.coeffs.sigma_t)) return Color3(0.f);
     counts_.work.add(Work::Estimate);
     const PhaseFunction& phase = mi_.medium->phase();
     // After the direction decision the full L~, although NEE took the direct light at x: the
     // continuation still collects the emitter hits MIS gives it (a sky), and the indirect part
     // alone under-estimated it.
-    return stage == ContinuationStage::Distance ? guide_.inscattered(index, phase, w) : guide_.incident(index, phase, w);
+    const PhaseField& at = phase_field(phase);
+    return stage == ContinuationStage::Distance ? at.inscattered(index, w) : at.incident(index, w);
 }
 
 }  // namespace volguide

@@ -13,7 +13,7 @@
 // Lazy: init keeps the vertex and the leaf the distance decision that reached it found (this object's
 // own last decision) and looks nothing up; the vertex's leaf (leaf()) is found on the first question
 // that needs it (at most one descent, none when that leaf or the last vertex's leaf holds the point);
-// how much every decision follows the guide is WalkGuide::guided_share's (trust.h); the direction mixture
+// how much every decision follows the guide is the trust rule's (trust.h); the direction mixture
 // is built on the first direction call, so a vertex whose path the distance-stage continuation ends
 // never builds one. Phase sampling (and no estimate) where the field has no valid leaf or the
 // direction is not guided.
@@ -79,7 +79,7 @@ class GuidedVertex {
     bool direction_guidable() const { return direction_guidable_; }
 
     // The continuation's estimate for `stage` along w (guided_continuation.h) from the vertex's leaf
-    // where the guide trusts it (WalkGuide::trusted); 0 otherwise.
+    // where the guide trusts it (TrustRule::trusted); 0 otherwise.
     Color3 estimate(ContinuationStage stage, const Vec3f& w);
 
   private:
@@ -87,10 +87,12 @@ class GuidedVertex {
     // there is no vertex and `needed`, the leaf at the ray's origin (-1: none).
     int origin_leaf(const DistanceQuery& query, bool needed);
     // The direction mixture's phase probability in leaf `index`: 1 - the guided share
-    // (WalkGuide::guided_share); 1: the phase function alone.
+    // (TrustRule::guided_share); 1: the phase function alone.
     float phase_probability(int index);
     // The distance decision's inputs at its origin, the allocation's share of its cell included.
     DistanceInput distance_input(const DistanceQuery& query, float camera_guided);
+    // The prepared field for `phase` (the last medium's kept: no map lookup per decision).
+    const PhaseField& phase_field(const PhaseFunction& phase);
     // The phase function's prepared lobes (the guide's; the last medium's kept: no map lookup per vertex).
     const PhaseLobes& phase_lobes(const PhaseFunction& phase);
 
@@ -115,6 +117,8 @@ class GuidedVertex {
         std::optional<GuidedDirectionSampler> direction;
     };
     std::vector<Kept> kept_;
+    const PhaseFunction* field_phase_ = nullptr;
+    PhaseField field_;
     const PhaseFunction* lobes_phase_ = nullptr;
     const PhaseLobes* lobes_ = nullptr;
     PhaseLobes own_lobes_;

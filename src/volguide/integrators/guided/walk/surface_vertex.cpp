@@ -18,7 +18,7 @@ void SurfaceVertex::prepare(const SurfaceInteraction& si, const BSDF& bsdf, cons
         const SurfaceLeaf beside = surface_leaf(field, si);
         counts_.work.add(Work::Descent);
         leaf_ = beside.leaf;
-        const Vmm* leaf = leaf_ >= 0 ? guide_.direction_vmm(leaf_) : nullptr;
+        const Vmm* leaf = leaf_ >= 0 ? guide_.prepared().direction_vmm(leaf_) : nullptr;
         TrustPoint at{DecisionKind::Surface};
         if (leaf && medium) {  // the leaf's confidence as in the medium the path arrived through
             at.leaf = leaf_;
@@ -27,7 +27,7 @@ void SurfaceVertex::prepare(const SurfaceInteraction& si, const BSDF& bsdf, cons
         if (leaf_ >= 0)
             at.learned = guide_.allocation().share(DecisionKind::Surface, guide_.selection_cell(leaf_),
                                                    exploration_coin(si.p, si.wi, 3), learning_);
-        const GuidedShare g = guide_.guided_share(at);
+        const GuidedShare g = guide_.trust().guided_share(at);
         const bool guidable =
             leaf && g.source != ShareSource::Skipped && field.leaves()[size_t(leaf_)].mostly_medium();
         if (guidable && g.source == ShareSource::Unselected) {
@@ -44,7 +44,7 @@ void SurfaceVertex::prepare(const SurfaceInteraction& si, const BSDF& bsdf, cons
 }
 
 const Vmm* SurfaceVertex::guide_of(int index, const Vec3f& n) {
-    const Vmm& incident = *guide_.direction_vmm(index);
+    const Vmm& incident = *guide_.prepared().direction_vmm(index);
     if (guide_.settings().direction == DirectionGuiding::Incident) return &incident;
     return cosine_product(incident, n, product_) ? &product_ : nullptr;
 }

@@ -1,6 +1,6 @@
 #pragma once
 // How much a guided decision trusts the guiding field at a point: the one rule every decision of the
-// guided walk reads (WalkGuide::guided_share), and the leaf confidence it is built on.
+// guided walk reads (TrustRule::guided_share, WalkGuide::trust()), and the leaf confidence it is built on.
 //
 // A leaf many mean free paths across holds one estimate for radiance that varies on the scale of a
 // free path (deep in a dense medium it is near-isotropic while the leaf's VMM carries the light at its
@@ -10,6 +10,7 @@
 // kSkipConfidence the decision is made unguided outright. Only probabilities are shaped: every
 // decision's weight is its mixture's exact density, whatever the share.
 #include <cstdint>
+#include <vector>
 
 #include "volguide/core/color.h"
 #include "volguide/integrators/volpath/walk_policy.h"
@@ -64,6 +65,57 @@ struct GuidedShare {
     float confidence = 1.f;  // the leaf's (1: no leaf)
     ShareSource source = ShareSource::Configured;
     bool guided() const { return source == ShareSource::Configured || source == ShareSource::Learned; }
+};
+
+// The configured shares and the confidence's tau_max (WalkGuideSettings' values).
+struct TrustSettings {
+    float c_T = 0.5f;         // the distance decision's unguided share (GuidedDistanceSettings::c_T)
+    float phase_prob = 0.5f;  // the direction decision's (alpha_f)
+    float bsdf_prob = 0.5f;   // the surface decision's
+    float leaf_tau_max = 1.f;
+};
+
+// The rule: a decision's guided share from its point (the leaf's confidence and the learned share).
+class TrustRule {
+  public:
+    // `leaf_extent` (per leaf, the cube root of its volume) must outlive the rule.
+    TrustRule(const std::vector<float>& leaf_extent, const TrustSettings& settings)
+        : leaf_extent_(leaf_extent), settings_(settings) {}
+
+    // The confidence of `leaf` at extinction sigma_t (leaf_confidence); 1 for -1.
+    float confidence(int leaf, const Color3& sigma_t) const {
+        if (leaf < 0) return 1.f;
+        return leaf_confidence(leaf_extent_[size_t(leaf)], sigma_t, settings_.leaf_tau_max);
+    }
+    // The guided share of the decision at `point`, the one rule for how much a decision follows the
+    // guide: s = s_0 x the confidence of point.leaf at point.sigma_t, s_0 the learned share
+    // point.learned where one was learned, else the configured one (1 - c_T, 1 - phase_prob,
+    // 1 - bsdf_prob for the distance, direction and surface decisions); s = 0 where the learned share
+    // is 0 (Unselected) and at a medium vertex whose leaf's confidence is below kSkipConfidence
+    // (Skipped). The distance family keeps its mixture as the unguided share c_T (GuidedDistanceSettings),
+    // so its s_0 is 1 - c_T with c_T = 1 - the learned share. Every decision's mixture takes 1 - s (the
+    // incremental distance decision 1 - undamped, its bins damped by their own leaves).
+    GuidedShare guided_share(const TrustPoint& point) const;
+    // Whether the field's estimate at `leaf` may be read at extinction sigma_t (the continuation's
+    // estimate): a leaf whose confidence is at least kSkipConfidence.
+    bool trusted(int leaf, const Color3& sigma_t) const {
+        return leaf >= 0 && confidence(leaf, sigma_t) >= kSkipConfidence;
+    }
+    // The guided share the configuration sets for decisions of `kind` (what the pilot samples with):
+    // 1 - c_T, 1 - phase_prob, 1 - bsdf_prob.
+    float configured_share(DecisionKind kind) const {
+        switch (kind) {
+            case DecisionKind::Distance: return 1.f - settings_.c_T;
+            case DecisionKind::Direction: return 1.f - settings_.phase_prob;
+            case DecisionKind::Surface: break;
+        }
+        return 1.f - settings_.bsdf_prob;
+    }
+    float leaf_tau_max() const { return settings_.leaf_tau_max; }
+
+  private:
+    const std::vector<float>& leaf_extent_;
+    TrustSettings settings_;
 };
 
 }  // namespace volguide
