@@ -51,19 +51,19 @@ AllocatedRender render_bench(const std::string& scene, int spp, int threads) {
 TEST(Allocation, KeepsProductGuidingWhereItWins) {
     const AllocatedRender r = render_bench("aniso", 16, 2);
     EXPECT_EQ(r.stats.at("training_stage"), 1.0);  // the full field was trained: guiding pays
-    EXPECT_GT(r.stats.at("allocation_predicted_gain"), 2.0);
+    EXPECT_GT(r.stats.at("allocation_gain"), 2.0);
     EXPECT_GT(r.stats.at("allocation_direction_guided_fraction"), 0.3);
 }
 
 TEST(Allocation, StopsGuidingWhereNothingPays) {
     const AllocatedRender r = render_bench("sss", 16, 2);
     EXPECT_EQ(r.stats.at("training_stage"), 2.0);  // stopped after the coarse stage
-    EXPECT_LT(r.stats.at("allocation_coarse_predicted_gain"), 1.05);
+    EXPECT_LT(r.stats.at("allocation_coarse_gain"), 1.05);
 }
 
 TEST(Allocation, SameStageAndImageForOneAndTwoThreads) {
     const AllocatedRender one = render_bench("aniso", 8, 1), two = render_bench("aniso", 8, 2);
-    EXPECT_EQ(one.stats.at("allocation_predicted_gain"), two.stats.at("allocation_predicted_gain"));
+    EXPECT_EQ(one.stats.at("allocation_gain"), two.stats.at("allocation_gain"));
     EXPECT_EQ(one.stats.at("training_stage"), two.stats.at("training_stage"));
     ASSERT_EQ(one.image.pixels.size(), two.image.pixels.size());
     for (size_t i = 0; i < one.image.pixels.size(); ++i)

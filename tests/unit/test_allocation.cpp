@@ -73,7 +73,7 @@ TEST(Allocation, GuidesWhereTheGuideIsRightAndNotWhereItIsWrong) {
     const Allocation a = Allocation::fit(stats, two_leaves(), no_exploration());
     EXPECT_GT(a.table()[0].share[size_t(DecisionKind::Direction)], 0.5f);
     EXPECT_EQ(a.table()[1].share[size_t(DecisionKind::Direction)], 0.f);
-    EXPECT_GT(a.predicted_gain(), 1.0);
+    EXPECT_GT(a.gain(), 1.0);
     EXPECT_NEAR(a.summary().guided[size_t(DecisionKind::Direction)], 0.5, 1e-9);  // one cell of two
     EXPECT_FALSE(a.off());
 }
@@ -83,7 +83,7 @@ TEST(Allocation, ADecisionThatCostsMoreThanItSavesIsNotGuided) {
     add_toy(stats, 0, 0.f, 4000, 50.0);  // the guide halves M but makes the sample ~50x dearer
     const Allocation a = Allocation::fit(stats, two_leaves(), no_exploration());
     EXPECT_EQ(a.table()[0].share[size_t(DecisionKind::Direction)], 0.f);
-    EXPECT_NEAR(a.predicted_gain(), 1.0, 1e-9);
+    EXPECT_NEAR(a.gain(), 1.0, 1e-9);
 }
 
 // A cell with few samples follows its parent's estimate: here the sibling's evidence that the guide

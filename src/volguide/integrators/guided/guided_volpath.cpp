@@ -33,6 +33,12 @@ constexpr double kCoarseShare = 0.25;
 constexpr int kRecordAllSpp = 8;
 constexpr uint64_t kRecordEvery = 4;
 constexpr uint64_t kRecordSalt = 0x5eed0f1ea4ull;
+// While the full stage can still stop (its first kConfirmSpp), one camera sample in kControlEvery is a
+// control sample: the unguided walk, its value and cost measured for the gain (Allocation::fit); every
+// such sample is an unbiased sample of the pixel like the others. The coarse stage decides on the fit's
+// prediction: its field is coarser than the one the decision is about.
+constexpr uint64_t kControlEvery = 8;
+constexpr uint64_t kControlSalt = 0xc0417013ull;
 // A saved pre-pass's learning passes (learn_in_prepass): kLearningSpp samples per pilot pixel each, the
 // allocation fitted after each; kCoarseRounds on the coarse field before the stage's decision, then
 // kFullRounds on the full one.
@@ -161,6 +167,12 @@ bool GuidedVolPathIntegrator::recorded(const Sampler& sampler) const {
     return record_all_ || mix64(sampler.key() ^ kRecordSalt) % kRecordEvery == 0;
 }
 
+bool GuidedVolPathIntegrator::control(const Sampler& sampler) const {
+    const bool confirming =
+        training_.stage == TrainingStage::Full && spp_done_ < training_.full_from + StagedTraining::kConfirmSpp;
+    return confirming && mix64(sampler.key() ^ kControlSalt) % kControlEvery == 0;
+}
+
 void GuidedVolPathIntegrator::learn_from_pass(int spp_done, double job_seconds) {
     learner_->end_pass();
     record_all_ = spp_done < kRecordAllSpp;
@@ -168,7 +180,7 @@ void GuidedVolPathIntegrator::learn_from_pass(int spp_done, double job_seconds) 
     if (training_.stage == TrainingStage::Coarse && spp_done >= StagedTraining::kDecideSpp) {
         decide_training(job_seconds);
     } else if (training_.stage == TrainingStage::Full && spp_done >= training_.full_from + StagedTraining::kConfirmSpp &&
-               guide_->allocation().predicted_gain() < StagedTraining::kPaysGain) {
+               guide_->allocation().gain() < StagedTraining::kPaysGain) {
         stop_guiding(job_seconds);  // the full field did not make it pay either
     }
 }
@@ -176,6 +188,7 @@ void GuidedVolPathIntegrator::learn_from_pass(int spp_done, double job_seconds) 
 void GuidedVolPathIntegrator::fit_allocation() {
     AllocationSettings settings = settings_.allocation;
     settings.recorded_fraction = 1.0 / double(kRecordEvery);  // what the rest of the render records
+    settings.mean_square = learner_->pixels().mean_square();
     guide_->set_allocation(Allocation::fit(learner_->total(), field_.tree(), settings));
     // The measured costs bound guided splitting (roulette_splitting.h's adaptive budget).
     if (rrs_) rrs_->set_cost_ratio(guide_->allocation().continuation_cost_ratio());
@@ -183,8 +196,8 @@ void GuidedVolPathIntegrator::fit_allocation() {
 
 // The coarse stage's decision (training_stage.h): the rest of the render unguided, or the full field.
 void GuidedVolPathIntegrator::decide_training(double job_seconds) {
-    const double gain = guide_->allocation().predicted_gain();
-    training_stats_.emplace_back("allocation_coarse_predicted_gain", gain);
+    const double gain = guide_->allocation().gain();
+    training_stats_.emplace_back("allocation_coarse_gain", gain);
     if (gain < StagedTraining::kPaysGain) {
         stop_guiding(job_seconds);
         return;
@@ -491,6 +504,7 @@ Color3 GuidedVolPathIntegrator::render_walk(const Scene& scene, Sampler& sampler
     if (stopped()) return walk_.walk(scene, sampler, camera.ray, nullptr, nullptr, &work_.local());
     const float pixel = rrs_ || learner_ ? pixel_estimate_.at(camera.film_uv) : 0.f;
     if (ears_) return ears_walk(scene, sampler, camera, pixel);
+    if (learner_ && control(sampler)) return control_walk(scene, sampler, camera);
     if (learner_ && recorded(sampler)) return learning_walk(scene, sampler, camera, pixel);
     return guided_walk(scene, sampler, camera.ray, {pixel, nullptr, camera_guided(camera), false});
 }
@@ -500,6 +514,14 @@ Color3 GuidedVolPathIntegrator::learning_walk(const Scene& scene, Sampler& sampl
     CellRecorder& recorder = learner_->recorder();
     recorder.begin(learner_->pixel(camera.film_uv), pixel_estimate_.metric_scale(camera.film_uv));
     const Color3 L = guided_walk(scene, sampler, camera.ray, {pixel, &recorder, camera_guided(camera), true});
+    recorder.end();
+    return L;
+}
+
+Color3 GuidedVolPathIntegrator::control_walk(const Scene& scene, Sampler& sampler, const CameraRay& camera) const {
+    CellRecorder& recorder = learner_->recorder();
+    recorder.begin(learner_->pixel(camera.film_uv), pixel_estimate_.metric_scale(camera.film_uv), true);
+    const Color3 L = walk_.walk(scene, sampler, camera.ray, nullptr, &recorder, &work_.local());
     recorder.end();
     return L;
 }

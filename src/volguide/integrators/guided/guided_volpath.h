@@ -95,6 +95,10 @@ private:
     // Whether the camera sample of `sampler` is recorded for the allocation (all of them early on, then
     // a fixed subset).
     bool recorded(const Sampler& sampler) const;
+    // Whether the camera sample of `sampler` is a control sample (the unguided walk, measured for the
+    // gain while the training can still stop), and its walk.
+    bool control(const Sampler& sampler) const;
+    Color3 control_walk(const Scene& scene, Sampler& sampler, const CameraRay& camera) const;
     Color3 ears_walk(const Scene& scene, Sampler& sampler, const CameraRay& camera, float pixel) const;
 
     // preprocess()'s steps: the field (given, loaded, or the coarse stage's) with its leaves' medium

@@ -296,7 +296,9 @@ Allocation Allocation::fit(const CellStatistics& stats, const SpatialTree& tree,
     // A typical camera sample: recorded with probability recorded_fraction (the recorded ones measured
     // here paid for it every time).
     const double recording = stats.recording_cost() / S, policy = stats.policy_cost() / S;
-    const Totals measured{stats.camera_moment() / S, stats.cost() / S - (1.0 - settings.recorded_fraction) * recording};
+    const double moment = stats.camera_moment() / S, floor = 1e-4 * moment;
+    const Totals measured{std::max(moment - settings.mean_square, floor),
+                          stats.cost() / S - (1.0 - settings.recorded_fraction) * recording};
     std::vector<CellChoice> choice(est.size());
     Totals off = totals_of(est, choice, measured, S);
     Totals t = off;
@@ -306,7 +308,19 @@ Allocation Allocation::fit(const CellStatistics& stats, const SpatialTree& tree,
     }
     // Everything unguided is the unguided walk: no policy, nothing recorded.
     off.T = std::max(off.T - policy - settings.recorded_fraction * recording, 0.05 * measured.T);
-    out.gain_ = (off.V * off.T) / (t.V * t.T);
+    out.summary_.predicted_gain = (off.V * off.T) / (t.V * t.T);
+    out.summary_.moment_ratio = off.V / t.V;
+    out.summary_.cost_ratio = t.T / off.T;
+    // The gain the training's decisions read: with enough control samples (the unguided walk itself,
+    // measured), theirs against the samples' as drawn; the first-order prediction above compounds
+    // every decision's change over a path and is far too hopeful on long dense paths (bench/RESULTS.md).
+    out.gain_ = out.summary_.predicted_gain;
+    if (stats.control_samples() >= settings.min_control_samples && stats.control_cost() > 0.0) {
+        const double C = double(stats.control_samples());
+        const double control_variance = std::max(stats.control_moment() / C - settings.mean_square, floor);
+        out.gain_ = control_variance * (stats.control_cost() / C) / (measured.V * measured.T);
+        out.summary_.measured = true;
+    }
     double decisions[kDecisionKinds + 1] = {};
     for (size_t r = 0; r < est.size(); ++r) {
         Cell& cell = out.cells_[r];
@@ -363,7 +377,11 @@ bool Allocation::off() const {
 
 std::vector<std::pair<std::string, double>> Allocation::named() const {
     static constexpr const char* kKinds[] = {"distance", "direction", "surface", "continuation"};
-    std::vector<std::pair<std::string, double>> out{{"allocation_predicted_gain", gain_}};
+    std::vector<std::pair<std::string, double>> out{{"allocation_gain", gain_},
+                                                    {"allocation_gain_measured", summary_.measured ? 1.0 : 0.0},
+                                                    {"allocation_predicted_gain", summary_.predicted_gain},
+                                                    {"allocation_predicted_moment_ratio", summary_.moment_ratio},
+                                                    {"allocation_predicted_cost_ratio", summary_.cost_ratio}};
     for (int d = 0; d <= kDecisionKinds; ++d) {
         out.emplace_back(fmt::format("allocation_{}_guided_fraction", kKinds[d]), summary_.guided[size_t(d)]);
         out.emplace_back(fmt::format("allocation_{}_exploring_fraction", kKinds[d]), summary_.exploring[size_t(d)]);
@@ -415,8 +433,8 @@ Allocation Allocation::deserialize(const std::string& bytes) {
         if (rule >= uint32_t(kContinuationRules)) r.fail("an unknown continuation rule in", "a cell");
         c.rule = ContinuationRule(rule);
     }
-    a.gain_ = r.f64("the predicted gain");
-    if (!std::isfinite(a.gain_) || !(a.gain_ >= 0.0)) r.fail("a predicted gain out of range in", "the record");
+    a.gain_ = r.f64("the gain");
+    if (!std::isfinite(a.gain_) || !(a.gain_ >= 0.0)) r.fail("a gain out of range in", "the record");
     a.cost_ratio_ = r.f32("the cost ratio");
     if (!std::isfinite(a.cost_ratio_) || !(a.cost_ratio_ >= 0.f)) r.fail("a cost ratio out of range in", "the record");
     for (int d = 0; d <= kDecisionKinds; ++d) {

@@ -62,6 +62,13 @@ struct AllocationSettings {
     // typical sample pays for recording, beside its policy's cost, against the unguided walk, which
     // pays neither (the gain's comparison).
     double recorded_fraction = 1.0;
+    // The control samples (the unguided walk's, CellStatistics::add_control_sample) the gain needs before
+    // it reads them instead of its first-order extrapolation.
+    uint64_t min_control_samples = 256;
+    // The mean square of the camera samples' expected x (PixelMoments::mean_square): subtracted from
+    // every camera-sample second moment, the fit compares variances (what relMSE measures), not second
+    // moments, which on a low-variance image are nearly all the mean's and would leave only the cost.
+    double mean_square = 0.0;
 };
 
 class Allocation {
@@ -89,9 +96,10 @@ class Allocation {
     // what this allocation does.
     bool off() const;
 
-    // The fit's prediction of the efficiency gain over everything unguided: (V T)_off / (V T)_chosen
-    // (1: no gain or nothing fitted).
-    double predicted_gain() const { return gain_; }
+    // The efficiency gain over the unguided walk, (V T)_unguided / (V T)_guided: measured against the
+    // control samples when there are enough (summary().measured), else the fit's prediction for its
+    // choices (1: nothing fitted).
+    double gain() const { return gain_; }
     // The statistics' C_0 / c (CellStatistics::continuation_cost_ratio): guided splitting's adaptive
     // branch budget (roulette_splitting.h); 0: not measured.
     float continuation_cost_ratio() const { return cost_ratio_; }
@@ -100,6 +108,10 @@ class Allocation {
     // statistics.
     struct Summary {
         std::array<double, kDecisionKinds + 1> guided{}, exploring{};
+        // The prediction's two factors: the unguided walk's second moment over the allocation's, and
+        // the allocation's cost over the unguided walk's (predicted gain = moments / cost).
+        double moment_ratio = 0.0, cost_ratio = 0.0, predicted_gain = 1.0;
+        bool measured = false;  // whether gain() is the control samples' (else the prediction)
     };
     const Summary& summary() const { return summary_; }
     // --stats names of the summary and the prediction.

@@ -5,8 +5,9 @@
 
 namespace volguide {
 
-void CellRecorder::begin(long pixel, float estimate) {
+void CellRecorder::begin(long pixel, float estimate, bool control) {
     pixel_ = pixel;
+    control_ = control;
     estimate_ = estimate > 0.f ? estimate : 1.f;
     nodes_.clear();
     branches_.clear();
@@ -154,6 +155,12 @@ void CellRecorder::add_points() const {
 }
 
 void CellRecorder::end() {
+    if (control_) {
+        const double x = total_ / double(estimate_);
+        stats_.add_control_sample(x * x, cost_ - overhead_.recording - overhead_.policy);
+        pixels_.add(pixel_, x);  // an unbiased sample of the pixel's mean like the others
+        return;
+    }
     // Parents precede their children: one backward sweep sums every subtree.
     for (size_t k = nodes_.size(); k-- > 0;) {
         const Node& n = nodes_[k];

@@ -31,8 +31,9 @@ class CellRecorder final : public PathRecorder {
     CellRecorder(CellStatistics& stats, PixelMoments& pixels, const CostModel& costs)
         : stats_(stats), pixels_(pixels), costs_(costs) {}
 
-    // A new camera sample of the film's pixel `pixel` (-1: none) of estimate I (> 0; else 1).
-    void begin(long pixel, float estimate);
+    // A new camera sample of the film's pixel `pixel` (-1: none) of estimate I (> 0; else 1); a
+    // `control` sample (the unguided walk's) adds only its value and cost (CellStatistics::add_control_sample).
+    void begin(long pixel, float estimate, bool control = false);
     // Adds the camera sample's terms to the statistics.
     void end();
 
@@ -80,6 +81,7 @@ class CellRecorder final : public PathRecorder {
     const CostModel& costs_;
     long pixel_ = -1;
     float estimate_ = 1.f;
+    bool control_ = false;
     std::vector<Node> nodes_;
     std::vector<int> branches_;  // per branch point: the copy's node (-1: none)
     int current_ = -1;

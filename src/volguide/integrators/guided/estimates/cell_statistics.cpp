@@ -15,7 +15,7 @@ constexpr double kTwo64 = 18446744073709551616.0;
 constexpr double kPixelScale = 65536.0;  // 2^16: x^2 <= 1e10 per sample, 10^4 such fit in 2^63
 constexpr double kPixelClamp = 1e5;
 constexpr uint32_t kStatisticsMagic = 0x53434756;  // "VGCS"
-constexpr uint32_t kStatisticsVersion = 1;
+constexpr uint32_t kStatisticsVersion = 2;
 }  // namespace
 
 int continuation_direction_bin(const Vec3f& w) {
@@ -170,6 +170,12 @@ void CellStatistics::add_camera_sample(double s2, double cost, int branches, con
     branches_ += uint64_t(std::max(branches, 0));
 }
 
+void CellStatistics::add_control_sample(double s2, double cost) {
+    ++control_samples_;
+    if (std::isfinite(s2)) control_moment_.add(s2);
+    control_cost_.add(cost);
+}
+
 double CellStatistics::continuation_cost_ratio() const {
     uint64_t copies = 0;
     double after = 0.0;
@@ -195,6 +201,9 @@ CellStatistics& CellStatistics::operator+=(const CellStatistics& o) {
     recording_ += o.recording_;
     policy_ += o.policy_;
     branches_ += o.branches_;
+    control_samples_ += o.control_samples_;
+    control_moment_ += o.control_moment_;
+    control_cost_ += o.control_cost_;
     return *this;
 }
 
@@ -262,6 +271,9 @@ std::string CellStatistics::serialize() const {
     put(w, cost_);
     put(w, recording_);
     put(w, policy_);
+    w.u64(control_samples_);
+    put(w, control_moment_);
+    put(w, control_cost_);
     return w.take();
 }
 
@@ -284,6 +296,9 @@ CellStatistics CellStatistics::deserialize(const std::string& bytes) {
     out.cost_ = get_sum(r);
     out.recording_ = get_sum(r);
     out.policy_ = get_sum(r);
+    out.control_samples_ = r.u64("the control samples");
+    out.control_moment_ = get_sum(r);
+    out.control_cost_ = get_sum(r);
     r.finish();
     return out;
 }
@@ -318,6 +333,17 @@ PixelMoments::Pixel PixelMoments::at(size_t p) const {
     px.sum = double(sum_[p].load(std::memory_order_relaxed)) / kPixelScale;
     px.sum_sq = double(sum_sq_[p].load(std::memory_order_relaxed)) / kPixelScale;
     return px;
+}
+
+double PixelMoments::mean_square() const {
+    double weighted = 0.0, samples = 0.0;
+    for (size_t p = 0; p < size_t(width_) * size_t(height_); ++p) {
+        const Pixel px = at(p);
+        if (px.n < 2.0) continue;
+        weighted += std::max(px.sum * px.sum - px.sum_sq, 0.0) / (px.n - 1.0);
+        samples += px.n;
+    }
+    return samples > 0.0 ? weighted / samples : 0.0;
 }
 
 float PixelMoments::Pixel::correction(double prior) const { return float((prior + sum) / (prior + n)); }

@@ -149,6 +149,9 @@ class CellStatistics {
     // A camera sample of relative value x = X / I (s2 = x^2) that cost `cost`, in `branches` branches;
     // of its cost, what its recording and its walk's policy cost (`overhead`).
     void add_camera_sample(double s2, double cost, int branches, const SampleOverhead& overhead = SampleOverhead());
+    // A control sample: a camera sample the unguided walk rendered (no policy, nothing recorded but this)
+    // of relative value x (s2 = x^2) and cost `cost`; the allocation's gain compares with these directly.
+    void add_control_sample(double s2, double cost);
 
     const DecisionMoments& decision(DecisionKind d, size_t cell) const {
         return decisions_[cell * size_t(kDecisionKinds) + size_t(d)];
@@ -163,6 +166,9 @@ class CellStatistics {
     double recording_cost() const { return recording_.value(); }
     double policy_cost() const { return policy_.value(); }
     uint64_t branches() const { return branches_; }
+    uint64_t control_samples() const { return control_samples_; }
+    double control_moment() const { return control_moment_.value(); }
+    double control_cost() const { return control_cost_.value(); }
     // C_0 / c: a camera sample's cost over the mean cost of what followed a continuation point's copy
     // (what one more branch made there costs): guided splitting's adaptive branch budget reads it
     // (roulette_splitting.h). 0: not measured.
@@ -183,8 +189,8 @@ class CellStatistics {
     std::vector<DecisionMoments> decisions_;
     std::vector<ContinuationChoiceMoments> choices_;
     std::vector<ContinuationMoments> continuations_;
-    uint64_t camera_samples_ = 0, branches_ = 0;
-    ExactSum camera_moment_, cost_, recording_, policy_;
+    uint64_t camera_samples_ = 0, branches_ = 0, control_samples_ = 0;
+    ExactSum camera_moment_, cost_, recording_, policy_, control_moment_, control_cost_;
 };
 
 // Per pixel of the film, the count and moments of the relative samples x = X / I, added from any
@@ -206,6 +212,10 @@ class PixelMoments {
     };
     // The sums of pixel p (row-major); read between passes.
     Pixel at(size_t p) const;
+    // Over the samples, the mean of their pixel's squared mean x (each pixel's unbiased from its sums,
+    // pixels of fewer than two samples left out): what every unbiased sampler's second moment of x holds
+    // beside its variance (Allocation::fit subtracts it).
+    double mean_square() const;
     void clear();
 
   private:
