@@ -99,7 +99,7 @@ void expect_resume_is_bit_identical(const std::string& integrator, const std::st
 }  // namespace
 
 TEST(CheckpointCli, VolpathResumedAfterSigtermIsBitIdentical) {
-    expect_resume_is_bit_identical("volpath", "400", 8);
+    expect_resume_is_bit_identical("volpath", "2000", 8);
 }
 
 // Past the coarse stage's decision (4 spp) and the full stage's confirmation at 16 spp later.
