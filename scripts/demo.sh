@@ -2,14 +2,14 @@
 # `make demo`: renders the bundled volumetric demo (fog lit by the sun through a window) with volpath
 # and with guided_volpath's full system (its defaults: guided distances and product directions,
 # guided Russian roulette and splitting) at the same time, side by side, each for the same wall-clock
-# time (DEMO_TIME seconds, default 20, training included) on half of the machine's threads (at least
+# time (DEMO_TIME seconds, default 15, training included) on half of the machine's threads (at least
 # one each): an equal-time comparison that shows both images after DEMO_TIME seconds instead of
 # twice that. Writes out/demo-volpath.{exr,png} and out/demo.{exr,png} (guided), and prints each
 # image's relMSE against the bundled reference scenes/demo/light-shafts-ref.exr (how it was made:
 # scenes/demo/README.md) and the gain.
 set -euo pipefail
 build_dir=${1:-build}
-budget=${DEMO_TIME:-20}
+budget=${DEMO_TIME:-15}
 threads=$(( $(nproc) / 2 ))
 (( threads >= 1 )) || threads=1
 reference=scenes/demo/light-shafts-ref.exr
