@@ -105,7 +105,8 @@ Checkpoint deserialize_checkpoint(const std::string& bytes) {
     if (bytes.size() < sizeof(kMagic) + 12 || std::memcmp(bytes.data(), kMagic, sizeof(kMagic)) != 0)
         throw CheckpointError("not a volguide checkpoint (bad magic; write one with `volguide render --checkpoint`)");
     const size_t body_end = bytes.size() - 8;
-    ByteReader tail(bytes.substr(body_end), "checkpoint");
+    const std::string checksum = bytes.substr(body_end);  // ByteReader keeps a reference: not a temporary
+    ByteReader tail(checksum, "checkpoint");
     if (tail.u64("checksum") != checksum_of(bytes, body_end))
         throw CheckpointError("checkpoint checksum mismatch (corrupt or truncated file)");
     const std::string body = bytes.substr(sizeof(kMagic), body_end - sizeof(kMagic));
