@@ -124,7 +124,8 @@ void GuidedVolPathIntegrator::restore_render_state(const std::string& bytes) {
 // deposits and photon stream are the checkpointed render's, so the full stage traces the same photons
 // and builds the same field and pixel estimate (deterministic for the seed, any thread count). The
 // checkpoint's field must then be this one, byte for byte: a field that is not is another build's or
-// another pre-pass's, refused rather than rendered with.
+// another pre-pass's, refused rather than rendered with. Under a time budget the full stage stops on
+// the clock, so its field is not reproducible (nor is such a render): the field trained again is used.
 void GuidedVolPathIntegrator::restore_full_field(const std::string& field_bytes, int full_from) {
     if (!refining_.scene) throw std::runtime_error("guided_volpath: a render state restored before preprocess()");
     if (training_.stage != TrainingStage::Coarse)
@@ -134,7 +135,7 @@ void GuidedVolPathIntegrator::restore_full_field(const std::string& field_bytes,
         limit = std::max(1e-3, settings_.training_fraction * refining_.time_budget - training_.seconds);
     spp_done_ = full_from;
     train_full_field(limit);
-    if (serialize_guided_prepass(field_, Image()) != field_bytes)
+    if (refining_.time_budget <= 0 && serialize_guided_prepass(field_, Image()) != field_bytes)
         throw std::runtime_error("guided_volpath render state: the full field trained again differs from the checkpoint's");
 }
 
