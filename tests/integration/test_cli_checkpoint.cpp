@@ -124,6 +124,14 @@ TEST(CheckpointCli, OtherOptionsOrCorruptCheckpointsAreRefused) {
     EXPECT_NE(r.exit_code, 0);
     EXPECT_NE(r.err.find("integrator configuration"), std::string::npos) << r.err;
 
+    // Another build's checkpoint (its identity edited, the checksum made again).
+    volguide::Checkpoint other = volguide::load_checkpoint(ckpt);
+    other.identity.build = "another-build";
+    volguide::save_checkpoint(dir.file("other.ckpt"), other);
+    r = run_cli(with(base, {"--resume", dir.file("other.ckpt"), "-o", dir.file("b.exr")}));
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_NE(r.err.find("written by another build (another-build; this one is "), std::string::npos) << r.err;
+
     std::ofstream(ckpt, std::ios::binary | std::ios::trunc) << saved.substr(0, saved.size() / 2);
     const std::string truncated = read_file(ckpt);
     r = run_cli(with(base, {"--resume", ckpt, "--checkpoint", ckpt, "-o", dir.file("b.exr")}));
@@ -131,4 +139,28 @@ TEST(CheckpointCli, OtherOptionsOrCorruptCheckpointsAreRefused) {
     EXPECT_NE(r.err.find("checksum"), std::string::npos) << r.err;
     EXPECT_EQ(read_file(ckpt), truncated) << "the refused checkpoint was overwritten";
     EXPECT_FALSE(std::filesystem::exists(dir.file("b.exr")));
+}
+
+// Integrators whose state a checkpoint cannot hold are refused before rendering, naming why: a light
+// tracer (on a surface scene: ptracer renders no media) and openpgl_volpath.
+TEST(CheckpointCli, IntegratorsWithoutRenderStateAreRefused) {
+    TempDir dir("checkpoint-unsupported");
+    const std::string surfaces = dir.write(
+        "surfaces.xml",
+        R"(<scene version="3.0.0"><integrator type="ptracer"/><shape type="rectangle"><bsdf type="diffuse"/></shape>
+<emitter type="point"><point name="position" value="0, 0, 2"/><rgb name="intensity" value="5"/></emitter>
+<sensor type="perspective"><transform name="to_world"><lookat origin="0, 0, 4" target="0, 0, 0" up="0, 1, 0"/></transform>
+<film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film></sensor></scene>)");
+    const std::string openpgl =
+        dir.write("openpgl.xml", R"(<scene version="3.0.0"><integrator type="openpgl_volpath"/></scene>)");
+    const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+        {{"render", surfaces, "--spp", "2"}, "light tracer"},
+        {with(fogbox_render("volpath", "4"), {"-D", "integrator_xml=" + openpgl}), "Open PGL field"}};
+    for (const auto& [args, reason] : cases) {
+        const CliResult r = run_cli(with(args, {"--checkpoint", dir.file("r.ckpt"), "-o", dir.file("r.exr")}));
+        EXPECT_NE(r.exit_code, 0) << reason;
+        EXPECT_NE(r.err.find("cannot checkpoint this render"), std::string::npos) << r.err;
+        EXPECT_NE(r.err.find(reason), std::string::npos) << r.err;
+        EXPECT_FALSE(std::filesystem::exists(dir.file("r.exr"))) << reason;
+    }
 }
