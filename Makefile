@@ -107,7 +107,7 @@ fuzz: deps
 	@JOBS=$(JOBS) scripts/fuzz.sh $(FUZZ_SECONDS) $(FUZZ_BUILD_DIR) $(FUZZ_TARGETS)
 
 # The unit, stat and fast integration tests under ASan + UBSan (build-asan), the render loop, photon
-# pass and determinism tests under TSan (build-tsan); docs/reliability.md. CPU heavy: two more builds.
+# pass, render checkpoint and determinism tests under TSan (build-tsan); docs/reliability.md. CPU heavy: two more builds.
 # SANITIZE_STAGES, SANITIZE_LABELS, SANITIZE_ASAN_BUILD (environment): scripts/test-sanitize.sh;
 # SANITIZE_ASAN_BUILD=fuzz runs the ASan + UBSan stage in FUZZ_BUILD_DIR's clang build (CI, .ci/run).
 test-sanitize: deps
