@@ -5,14 +5,17 @@ JOBS ?= $(shell nproc)
 # these). TEST_PACKAGES: the rest, for the test suite, the benchmarks and their report — GoogleTest and
 # Google Benchmark; python3-matplotlib and chromium: the benchmark report, its plots and the headless
 # check of its HTML page, exercised by the bench_harness test; python3-pybind11, python3-numpy,
-# python3-pytest: the Python module and its tests; slurm-wlm and munge: the single-node Slurm cluster of
+# python3-pytest: the Python module and its tests; python3-venv, python3-pip, python3-setuptools and
+# python3-wheel: the pip_install test (`pip install --no-build-isolation .` into a venv, offline);
+# slurm-wlm and munge: the single-node Slurm cluster of
 # the slurm_array test, docs/distributed.md; clang and libclang-rt-14-dev: libFuzzer and the sanitizers
 # of `make fuzz`, docs/reliability.md. Keep in sync with CMakeLists.txt.
 DEMO_PACKAGES := build-essential cmake pkg-config libembree-dev libtbb-dev libopenexr-dev \
   libpugixml-dev libtinyobjloader-dev libfmt-dev libcli11-dev nlohmann-json3-dev libstb-dev \
-  libopenvdb-dev libboost-iostreams-dev zlib1g-dev libpng-dev libjpeg62-turbo-dev libhwy-dev
+  libopenvdb-dev libboost-iostreams-dev zlib1g-dev libpng-dev libjpeg62-turbo-dev libhwy-dev ninja-build
 TEST_PACKAGES := libgtest-dev libgmock-dev libbenchmark-dev python3 python3-matplotlib chromium \
-  python3-dev python3-pybind11 python3-numpy python3-pytest slurm-wlm munge \
+  python3-dev python3-pybind11 python3-numpy python3-pytest python3-venv python3-pip python3-setuptools \
+  python3-wheel slurm-wlm munge \
   clang libclang-rt-14-dev
 APT_PACKAGES := $(DEMO_PACKAGES) $(TEST_PACKAGES)
 # What a full build configures (tests, benchmarks, the Python module, the Open PGL peer) and what the
@@ -63,10 +66,11 @@ endif
 install: build
 	cmake --install $(BUILD_DIR) --prefix $(PREFIX)
 
-# The demo installs and builds only what the CLI needs (in a build directory of its own making: no
-# tests, benchmarks, Python module or Open PGL; an existing build directory is used as it is).
+# The demo installs and builds only what the CLI needs (in a build directory of its own making, with
+# Ninja, which schedules the compile jobs tighter than make: no tests, benchmarks, Python module or
+# Open PGL; an existing build directory is used as it is), then renders both methods side by side.
 demo: deps-demo
-	@[ -f $(BUILD_DIR)/CMakeCache.txt ] || cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=Release $(DEMO_OPTIONS) \
+	@[ -f $(BUILD_DIR)/CMakeCache.txt ] || cmake -S . -B $(BUILD_DIR) -G Ninja -DCMAKE_BUILD_TYPE=Release $(DEMO_OPTIONS) \
 	  -DVOLGUIDE_DEMO_ONLY=ON
 	cmake --build $(BUILD_DIR) -j $(JOBS) --target volguide_cli
 	@scripts/demo.sh $(BUILD_DIR)
@@ -92,7 +96,7 @@ bench-distributed: build
 
 # make fuzz FUZZ_SECONDS=N: every reader's libFuzzer target for N seconds each, built with clang into
 # FUZZ_BUILD_DIR (docs/reliability.md). Exit 1 when a target finds a crash, hang or sanitizer report.
-# FUZZ_TARGETS: a subset (default all: scene vol vdb field obj ply exr_part). FUZZ_SEED=N (environment):
+# FUZZ_TARGETS: a subset (default all: scene vol vdb field obj ply exr_part serialized image checkpoint). FUZZ_SEED=N (environment):
 # libFuzzer's seed, for a run that explores the same inputs every time (CI's smoke run uses 1).
 # FUZZ_RUNS=M (environment): also stop each target after M executions (the long runs: 10000000).
 # FUZZ_JOBS=N (environment): targets run at once (default JOBS; each fuzzer uses one core).
@@ -103,7 +107,7 @@ fuzz: deps
 	@JOBS=$(JOBS) scripts/fuzz.sh $(FUZZ_SECONDS) $(FUZZ_BUILD_DIR) $(FUZZ_TARGETS)
 
 # The unit, stat and fast integration tests under ASan + UBSan (build-asan), the render loop, photon
-# pass and determinism tests under TSan (build-tsan); docs/reliability.md. CPU heavy: two more builds.
+# pass, render checkpoint and determinism tests under TSan (build-tsan); docs/reliability.md. CPU heavy: two more builds.
 # SANITIZE_STAGES, SANITIZE_LABELS, SANITIZE_ASAN_BUILD (environment): scripts/test-sanitize.sh;
 # SANITIZE_ASAN_BUILD=fuzz runs the ASan + UBSan stage in FUZZ_BUILD_DIR's clang build (CI, .ci/run).
 test-sanitize: deps

@@ -10,7 +10,7 @@ seconds=${1:?usage: fuzz.sh SECONDS [BUILD_DIR] [TARGET...]}
 build=${2:-build-fuzz}
 shift $(( $# >= 2 ? 2 : 1 ))
 root=$(cd "$(dirname "$0")/.." && pwd)
-all_targets=(scene vol vdb field obj ply exr_part serialized image)
+all_targets=(scene vol vdb field obj ply exr_part serialized image checkpoint)
 if (($#)); then targets=("$@"); else targets=("${all_targets[@]}"); fi
 jobs=${JOBS:-$(nproc)}
 

@@ -67,8 +67,8 @@ if [[ " $stages " == *" tsan "* ]]; then
   # them (docs/reliability.md). history_size=7: the longest per-thread history, so that the previous
   # access of a report has its stack (the suppressions match it).
   export TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1:history_size=7:suppressions=$root/tests/sanitizers/tsan.supp
-  # The gtest suites of those four files (tests_tsan, label tsan; ctest names are Suite.Test); Parallel
-  # checks the annotations.
-  ctest --test-dir "$tsan" --output-on-failure -j "$jobs" -L tsan -R '^(Parallel|RenderLoop|PhotonPass|GuidedVolPath|Determinism)\.' \
+  # The gtest suites of those files (tests_tsan, label tsan; ctest names are Suite.Test); Parallel
+  # checks the annotations, Checkpoint the checkpoint writer called between the threaded passes.
+  ctest --test-dir "$tsan" --output-on-failure -j "$jobs" -L tsan -R '^(Parallel|RenderLoop|Checkpoint|PhotonPass|GuidedVolPath|Determinism)\.' \
     --timeout 1500
 fi

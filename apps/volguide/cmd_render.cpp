@@ -14,6 +14,7 @@
 #include "commands.h"
 #include "interrupt.h"
 #include "progress_display.h"
+#include "render_checkpoints.h"
 #include "scene_identity.h"
 #include "volguide/core/atomic_write.h"
 #include "volguide/core/log.h"
@@ -29,6 +30,8 @@
 namespace volguide::cli {
 
 namespace {
+
+void check_directory(const std::string& file);
 
 void validate(const RenderArgs& a, const std::vector<std::string>& outputs) {
     if (a.spp && *a.spp <= 0) throw UsageError(fmt::format("--spp must be positive, got {}", *a.spp));
@@ -46,6 +49,9 @@ void validate(const RenderArgs& a, const std::vector<std::string>& outputs) {
     if (!a.reference.empty() && extension_of(a.reference) != ".exr")
         throw UsageError(fmt::format("--reference '{}' must be an .exr image", a.reference));
     if (!a.samples.empty() && a.spp) throw UsageError("--samples FIRST:COUNT and --spp exclude each other");
+    if (!(a.checkpoint_every > 0 && std::isfinite(a.checkpoint_every)))
+        throw UsageError(fmt::format("--checkpoint-every must be a positive number of seconds, got {}", a.checkpoint_every));
+    if (!a.checkpoint.empty()) check_directory(a.checkpoint);
 }
 
 // --samples FIRST:COUNT: one range with COUNT > 0.
@@ -175,6 +181,8 @@ int run_render(const RenderArgs& args) {
     if (!args.stats.empty()) check_directory(args.stats);
     LoadOptions load;
     load.defines = parse_defines(args.defines);
+    std::vector<std::string> xml_files;
+    load.xml_files = &xml_files;
 
     auto t0 = std::chrono::steady_clock::now();
     std::unique_ptr<Scene> scene = load_scene(args.scene, load);
@@ -214,6 +222,8 @@ int run_render(const RenderArgs& args) {
         options.on_pass = [&](int spp, double seconds, const Image& mean) {
             if ((spp & (spp - 1)) == 0) convergence.push_back({spp, seconds, compare_images(mean, *reference)});
         };
+    RenderCheckpoints checkpoints(args, *scene, scene_id, xml_files, options);
+    checkpoints.attach(options);
     RenderResult result = render(*scene, options);
     display.finish();
     std::optional<ImageDiff> final_diff;
@@ -255,6 +265,7 @@ int run_render(const RenderArgs& args) {
         fmt::print("relMSE vs reference: {:.6g} (eps 1e-2), {:.6g} (eps 1e-3); MSE {:.6g}\n",
                    final_diff->relmse_1e2, final_diff->relmse_1e3, final_diff->mse);
     for (const std::string& output : outputs) fmt::print("output: {}\n", output);
+    if (const std::string c = checkpoints.summary(); !c.empty()) fmt::print("{}\n", c);
     if (!var_output.empty()) fmt::print("variance: {}\n", var_output);
     return 0;
 }

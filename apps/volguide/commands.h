@@ -39,6 +39,11 @@ struct RenderArgs {
     bool variance = false;  // also write the per-sample variance image (as the moment integrator does)
     std::string field;      // --field: a training file of `volguide train`; the render trains nothing
     std::string samples;    // --samples FIRST:COUNT: only these sample indices of every pixel
+    // --checkpoint FILE: the render's state, written atomically every checkpoint_every seconds (at the
+    // end of a pass) and when it stops; --resume FILE: go on from such a checkpoint (render_checkpoints.h).
+    std::string checkpoint;
+    double checkpoint_every = 60;
+    std::string resume;
 };
 int run_render(const RenderArgs& args);
 

@@ -52,6 +52,14 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& render) {
     render_cmd->add_option("--samples", render.samples,
                            "FIRST:COUNT: render sample indices [FIRST, FIRST+COUNT) of every pixel, a chunk for "
                            "`volguide merge` (excludes --spp)");
+    render_cmd->add_option("--checkpoint", render.checkpoint,
+                           "write the render's state to this file (atomically) at pass ends and when it stops, "
+                           "for --resume");
+    render_cmd->add_option("--checkpoint-every", render.checkpoint_every,
+                           "seconds between checkpoints (default 60; one is always written when the render stops)");
+    render_cmd->add_option("--resume", render.resume,
+                           "go on from this checkpoint of the same scene, options and build to the target spp "
+                           "(bit for bit the uninterrupted render)");
     return render_cmd;
 }
 

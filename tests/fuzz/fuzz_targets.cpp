@@ -8,7 +8,7 @@ const std::vector<FuzzTarget>& fuzz_targets() {
         {"vdb", fuzz_vdb},           {"field", fuzz_field},
         {"obj", fuzz_obj},           {"ply", fuzz_ply},
         {"exr_part", fuzz_exr_part}, {"serialized", fuzz_serialized},
-        {"image", fuzz_image},
+        {"image", fuzz_image},       {"checkpoint", fuzz_checkpoint},
     };
     return targets;
 }

@@ -24,6 +24,8 @@ int fuzz_serialized(const uint8_t* data, size_t size);  // Mitsuba .serialized m
 int fuzz_image(const uint8_t* data,
                size_t size);  // texture / envmap image (EXR, PNG, JPEG, BMP, TGA)
 
+int fuzz_checkpoint(const uint8_t* data, size_t size);  // render checkpoint (render --resume)
+
 using FuzzEntry = int (*)(const uint8_t*, size_t);
 struct FuzzTarget {
     const char* name;  // also the folder name under tests/fuzz/corpus and tests/fuzz/regression

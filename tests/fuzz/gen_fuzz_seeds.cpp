@@ -15,6 +15,7 @@
 #include "volguide/core/sampler.h"
 #include "volguide/core/warp.h"
 #include "volguide/guiding/field_io.h"
+#include "volguide/integrators/checkpoint_file.h"
 #include "volguide/media/grid_data.h"
 #include "volguide/render/image_io.h"
 #include "volguide/render/render_part.h"
@@ -77,6 +78,22 @@ void write_part_seed(const fs::path& dir) {
     part.info.integrator = "volpath max_depth=4";
     part.info.samples = parse_ranges("0:4");
     write_part((dir / "part_2x2.exr").string(), part);
+}
+
+// A render checkpoint of a 2 x 2 film with second moments after two passes.
+void write_checkpoint_seed(const fs::path& dir) {
+    Checkpoint c;
+    c.identity = {"0123456789abcdef", "scene.xml", "seed-build", "volpath max_depth=4",
+                  {{"spp target", "8"}, {"seed", "7"}, {"resolution", "2x2"}}};
+    c.state.passes = 2;
+    c.state.spp_done = 2;
+    c.state.film.weight.assign(4, 2.0);
+    c.state.film.sum.assign(12, 0.5);
+    c.state.film.sum2.assign(12, 0.25);
+    c.state.samples = 8;
+    c.state.integrator = "opaque";
+    fs::create_directories(dir);
+    save_checkpoint((dir / "film_2x2.ckpt").string(), c);
 }
 
 // Mitsuba .serialized meshes (issue 40): v4 float32 with normals and uvs, v3 float64 without, and a
@@ -170,5 +187,6 @@ int main(int argc, char** argv) {
     write_part_seed(root / "exr_part");
     write_serialized_seeds(root / "serialized");
     write_image_seeds(root / "image");
+    write_checkpoint_seed(root / "checkpoint");
     return 0;
 }

@@ -3,8 +3,8 @@
 # cluster on this machine (munged, slurmctld and slurmd from a generated slurm.conf with
 # proctrack/linuxproc and no cgroups, on their own ports and state directories), submits
 # scripts/slurm/submit.sh for a small media scene (train + 4 chunks + merge), waits with a timeout,
-# compares the merged image with the single-process render of the same samples, then has Slurm
-# send SIGTERM to a long chunk and checks the partial image it wrote, and stops the daemons it
+# compares the merged image with the single-process render of the same samples, requeues a chunk of a
+# second submission and checks it resumed from its checkpoint, then has Slurm send SIGTERM to a long chunk and checks the partial image it wrote, and stops the daemons it
 # started (by their pids). Exit 77 (CTest: skipped) where Slurm cannot run: not root, or
 # slurm-wlm / munge not installed (`make deps` installs them).
 #   tests/scripts/test_slurm_array.sh VOLGUIDE_CLI REPO_DIR
@@ -137,6 +137,45 @@ print("merged vs single process: relMSE(1e-2) =", d["relmse_1e-2"], " mean ratio
 assert d["relmse_1e-2"] < 1e-12, d
 PY
 echo "PASSED: the Slurm array (train + 4 chunks + merge) equals the single-process render"
+
+# Requeue (issue 61): chunk 0 of a second submission is requeued (scontrol requeue, what preemption
+# with PreemptMode=REQUEUE does) once its checkpoint exists; it runs again, resumes from the
+# checkpoint (chunk.sbatch), and writes the uninterrupted chunk byte for byte; the merge equals the
+# single-process render.
+rq_spp=${VOLGUIDE_TEST_REQUEUE_SPP:-400}
+mkdir -p "$work/rq"
+ids=$(VOLGUIDE="$cli" VOLGUIDE_CHECKPOINT_EVERY=0.2 VOLGUIDE_ARGS="--threads 1" \
+    "$repo/scripts/slurm/submit.sh" "$work/fog.xml" "$work/rq" 2 "$rq_spp" 11 -- --cpus-per-task=1)
+read -r train array merge <<<"$ids"
+echo "submitted: train $train, array $array, merge $merge (chunk 0 to be requeued)"
+for _ in $(seq 600); do
+    [[ -f "$work/rq/chunk-0.ckpt" ]] && break
+    sleep 0.2
+done
+[[ -f "$work/rq/chunk-0.ckpt" ]] || { echo "chunk 0 wrote no checkpoint"; exit 1; }
+scontrol requeue "${array}_0"
+state=""
+for _ in $(seq 400); do
+    state=$(scontrol show job "$merge" 2>/dev/null | grep -o 'JobState=[A-Z_]*' | cut -d= -f2 || true)
+    [[ "$state" == COMPLETED || "$state" == FAILED || "$state" == CANCELLED ]] && break
+    sleep 1
+done
+[[ "$state" == COMPLETED ]] || { echo "the requeue's merge job ended as '${state:-unknown}' (timeout 400 s)"; exit 1; }
+chunk_log=$(ls "$work"/rq/logs/chunk-*_0.out)
+cat "$chunk_log"
+grep -q "^interrupted" "$chunk_log" || { echo "chunk 0 was not interrupted by the requeue (make it longer)"; exit 1; }
+grep -q "resuming from" "$chunk_log" || { echo "the requeued chunk 0 did not resume from its checkpoint"; exit 1; }
+"$cli" render "$work/fog.xml" --field "$work/rq/field.vgt" --seed 11 --samples "0:$rq_spp" -o "$work/rq/single-0.exr" --quiet
+cmp "$work/rq/chunk-0.exr" "$work/rq/single-0.exr" || { echo "the resumed chunk differs from the uninterrupted one"; exit 1; }
+"$cli" render "$work/fog.xml" --field "$work/rq/field.vgt" --seed 11 --spp $((2 * rq_spp)) -o "$work/rq/single.exr" --quiet
+"$cli" diff "$work/rq/merged.exr" "$work/rq/single.exr" --json > "$work/rq/diff.json"
+python3 - "$work/rq/diff.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+print("requeued array merged vs single process: relMSE(1e-2) =", d["relmse_1e-2"])
+assert d["relmse_1e-2"] < 1e-12, d
+PY
+echo "PASSED: a requeued chunk resumed from its checkpoint (bit for bit) and the merge equals the single process"
 
 # Preemption: a chunk of a million samples per pixel gets SIGTERM from Slurm (scancel --batch:
 # the batch process, which chunk.sbatch exec'd into volguide) and writes the passes it completed.

@@ -106,6 +106,17 @@ public:
     virtual std::string prepass_state() const;
     virtual void use_prepass_state(const std::string& bytes);
 
+    // What the render's passes changed in the integrator since preprocess() (a render checkpoint,
+    // integrators/render_state.h): after preprocess() of the same scene, options and seed,
+    // restore_render_state(render_state()) makes the next pass sample exactly what it would have in the
+    // checkpointed render. Default: nothing (an integrator that does not learn between passes);
+    // restore_render_state then accepts only empty bytes. Throws std::runtime_error for bytes it cannot
+    // read. An integrator whose state cannot be captured says why in render_state_unsupported()
+    // ("" when it can): a checkpointed render refuses it before rendering.
+    virtual std::string render_state() const { return {}; }
+    virtual void restore_render_state(const std::string& bytes);
+    virtual std::string render_state_unsupported() const { return {}; }
+
     // The integrator's plugin type and parameters, canonical (integrator_configuration.h), set by
     // the factory: what a trained pre-pass and the parts of a distributed render are checked against.
     const std::string& configuration() const { return configuration_; }

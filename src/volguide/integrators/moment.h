@@ -25,6 +25,10 @@ public:
     void use_prepass_state(const std::string& bytes) override { nested_->use_prepass_state(bytes); }
     const Integrator& nested() const { return *nested_; }
     void end_pass(const PassReport& pass) override { nested_->end_pass(pass); }
+    // The nested integrator's render state (checkpoints).
+    std::string render_state() const override { return nested_->render_state(); }
+    void restore_render_state(const std::string& bytes) override { nested_->restore_render_state(bytes); }
+    std::string render_state_unsupported() const override { return nested_->render_state_unsupported(); }
     std::vector<std::pair<std::string, double>> statistics() const override { return nested_->statistics(); }
     std::string to_string() const override { return "moment[" + nested_->to_string() + "]"; }
 

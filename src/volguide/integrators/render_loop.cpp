@@ -204,8 +204,9 @@ class FrameRenderer {
         reporter_.set_render_start(Clock::now());
         const auto render_start = Clock::now();
         const double cpu_start = process_cpu_seconds();
-        int spp_done = 0;
-        for (int pass = 0; target_ == 0 || spp_done < target_; ++pass) {
+        int spp_done = options_.resume ? restore(*options_.resume, stats) : 0;
+        bool resumable = true;  // whether the state after the last merged pass may be checkpointed
+        for (int pass = stats.passes; target_ == 0 || spp_done < target_; ++pass) {
             if (stopped_before_pass(options_, deadline_, spp_done == 0, stats)) break;
             const int n = target_ > 0 ? std::min(pass_size(pass), target_ - spp_done) : pass_size(pass);
             const auto pass_start = Clock::now();
@@ -218,8 +219,14 @@ class FrameRenderer {
             report.pass_seconds = seconds_since(pass_start);
             report.seconds = seconds_since(job_start_);
             if (options_.end_pass) options_.end_pass(report);
+            // A stop asked for before the integrator's learning from the pass ended may have cut it short
+            // (guided_volpath's full stage stops its photons at a cancel): that state is not the
+            // uninterrupted render's, so it is never checkpointed; the last checkpoint stays.
+            resumable = !(options_.cancel && options_.cancel->load());
             if (options_.on_pass) options_.on_pass(spp_done, seconds_since(job_start_), film_.mean());
+            if (resumable) checkpoint(spp_done, stats, false);
         }
+        if (spp_done > 0 && resumable) checkpoint(spp_done, stats, true);
         result.spp = spp_done;
         result.first_sample = options_.first_sample;
         result.mean = film_.mean();
@@ -232,6 +239,41 @@ class FrameRenderer {
     }
 
   private:
+    // The film, passes and counters of a checkpoint; returns its samples per pixel.
+    int restore(const RenderState& state, RenderStats& stats) {
+        if (state.first_sample != options_.first_sample)
+            throw std::invalid_argument("render: the checkpoint's first sample differs from the render's");
+        if (target_ > 0 && state.spp_done > target_)
+            throw std::invalid_argument("render: the checkpoint has more samples per pixel than the render's target");
+        if (!state.noise_scale.empty() && state.noise_scale.size() != size_t(setup_.width) * size_t(setup_.height))
+            throw std::invalid_argument("render: the checkpoint's noise normaliser is of another film size");
+        film_.restore(state.film);
+        noise_scale_ = state.noise_scale;
+        stats.passes = state.passes;
+        stats.samples = state.samples;
+        stats.nonfinite_samples = state.nonfinite_samples;
+        stats.discarded_samples = state.discarded_samples;
+        return state.spp_done;
+    }
+
+    void checkpoint(int spp_done, const RenderStats& stats, bool final) {
+        if (!options_.checkpoint) return;
+        options_.checkpoint(
+            [&] {
+                RenderState state;
+                state.passes = stats.passes;
+                state.spp_done = spp_done;
+                state.first_sample = options_.first_sample;
+                state.film = film_.sums();
+                state.noise_scale = noise_scale_;
+                state.samples = stats.samples;
+                state.nonfinite_samples = stats.nonfinite_samples;
+                state.discarded_samples = stats.discarded_samples;
+                return state;
+            },
+            final);
+    }
+
     uint64_t grid_samples(int n) const {
         return uint64_t(grid_.width + 2 * grid_.border) * uint64_t(grid_.height + 2 * grid_.border) * uint64_t(n);
     }
@@ -386,6 +428,14 @@ void preprocess_in(tbb::task_arena& arena, const Scene& scene, Integrator& integ
     arena_execute(arena, [&] { integrator.preprocess(scene, context); });
 }
 
+// A resumed render's integrator: what it had learned by the checkpoint, after its preprocess().
+void resume_integrator(tbb::task_arena& arena, Integrator& integrator, const RenderOptions& options) {
+    if (integrator.traces_from_emitters() && (options.resume || options.checkpoint))
+        throw std::invalid_argument("render: light tracers (" + integrator.configuration() +
+                                    ") have no checkpoints");
+    if (options.resume) arena_execute(arena, [&] { integrator.restore_render_state(options.resume->integrator); });
+}
+
 }  // namespace
 
 double run_preprocess(const Scene& scene, Integrator& integrator, const RenderOptions& options) {
@@ -422,6 +472,17 @@ RenderResult render(const Scene& scene, Integrator& integrator, const RenderOpti
         arena_execute(arena, [&] { integrator.end_pass(pass); });
         if (options.end_pass) options.end_pass(pass);
     };
+    resume_integrator(arena, integrator, options);
+    if (options.checkpoint)
+        pass_options.checkpoint = [&](const std::function<RenderState()>& state, bool final) {
+            options.checkpoint(
+                [&] {
+                    RenderState s = state();
+                    s.integrator = integrator.render_state();
+                    return s;
+                },
+                final);
+        };
     RenderResult result = integrator.traces_from_emitters()
                               ? render_light_tracing(scene, integrator, pass_options, arena, job_start)
                               : render_frame_impl(setup, radiance, pass_options, arena, job_start);

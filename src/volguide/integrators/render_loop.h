@@ -15,6 +15,7 @@
 #include "volguide/core/progress.h"
 #include "volguide/core/sampler.h"
 #include "volguide/integrators/integrator.h"
+#include "volguide/integrators/render_state.h"
 #include "volguide/render/sensor.h"
 #include "volguide/render/sensors/film_buffer.h"
 
@@ -42,6 +43,18 @@ struct RenderOptions {
     // Called after each pass is merged, before on_pass, with no image (render() calls the
     // integrator's Integrator::end_pass first, then this; its cost counts toward the time budget).
     std::function<void(const PassReport& pass)> end_pass;
+    // Checkpoints (render_state.h): called after each merged pass (after on_pass) with `final` false,
+    // and once more with `final` true when the render stops (done, cancelled or out of time) after at
+    // least one pass; `state()` makes the render's state then, the integrator's included (the caller
+    // decides whether to pay for it). Not after a pass whose end_pass ended with the cancel flag set
+    // (the integrator's learning may have stopped short): neither then nor at the stop that follows.
+    // Not for light tracers (std::invalid_argument).
+    std::function<void(const std::function<RenderState()>& state, bool final)> checkpoint;
+    // A checkpoint's state to go on from (not owned): the render restores its film, passes and
+    // counters, and the integrator's state after preprocess(), then renders the passes that are left
+    // of spp (which must be the checkpointed render's target, with its first_sample). Not for light
+    // tracers (std::invalid_argument).
+    const RenderState* resume = nullptr;
 };
 
 // Where a sample went wrong, to replay it (tools/replay_sample): film_sample(grid, seed, x, y,

@@ -28,6 +28,29 @@ bool has_vdb_extension(const std::string& filename) {
     return ext == ".vdb";
 }
 
+// Densities this close to zero from below are float noise (tools write -0, negative denormals such as
+// -1e-45 and rounding residue such as -1.28e-38 for empty voxels), which Mitsuba 0.6 renders as 0. The
+// bound is absolute: a density of 1e-20 changes the optical depth along a path of length d by
+// 1e-20 * scale * d, invisible in a float transmittance (whose resolution is 6e-8) unless scale * d
+// exceeds 1e12, far outside any scene's range; a relative bound would instead call a clearly negative
+// voxel of a dense grid noise.
+constexpr float kNegativeNoise = 1e-20f;
+
+// Reads the noise as 0, with one warning for the file; a clearly negative value is left for the
+// caller's error.
+void read_negative_noise_as_zero(const Properties& props, const std::string& path, std::vector<float>& values) {
+    size_t noise = 0;
+    for (float& v : values)
+        if (std::signbit(v) && v >= -kNegativeNoise) {
+            v = 0.f;
+            ++noise;
+        }
+    if (noise > 0)
+        warn(props.location_of("filename"),
+             "gridvolume \"{}\": {} negative value(s) of magnitude at most {} (float noise) read as 0", path, noise,
+             kNegativeNoise);
+}
+
 }  // namespace
 
 std::shared_ptr<Volume> make_grid_volume(const Properties& props) {
@@ -75,17 +98,7 @@ std::shared_ptr<Volume> make_grid_volume(const Properties& props) {
         props.fail_at("filename", "gridvolume \"{}\": empty grid ({}x{}x{})", path, data.nx, data.ny, data.nz);
     if (data.values.size() != size_t(data.nx) * data.ny * data.nz * data.channels)
         props.fail_at("filename", "gridvolume \"{}\": wrong number of values", path);
-    // Some tools write negative zeros and negative denormals (-1e-45) for empty voxels; Mitsuba 0.6
-    // renders them as 0. Read so, with one warning for the file; a clearly negative value stays an error.
-    size_t negative_zeros = 0;
-    for (float& v : data.values)
-        if (std::signbit(v) && v > -std::numeric_limits<float>::min()) {  // -0 or a negative denormal
-            v = 0.f;
-            ++negative_zeros;
-        }
-    if (negative_zeros > 0)
-        warn(props.location_of("filename"), "gridvolume \"{}\": {} negative zero or denormal value(s) read as 0", path,
-             negative_zeros);
+    read_negative_noise_as_zero(props, path, data.values);
     for (size_t i = 0; i < data.values.size(); ++i) {
         const float v = data.values[i];
         if (!std::isfinite(v) || v < 0.f) {

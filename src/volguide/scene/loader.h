@@ -21,6 +21,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "volguide/core/object.h"
 #include "volguide/core/properties.h"
@@ -31,6 +32,9 @@ namespace volguide {
 struct LoadOptions {
     // -D name=value overrides of <default> values; a name the scene never declares is an error.
     std::map<std::string, std::string> defines;
+    // When set, receives the real paths of every XML file read (the main file and its includes,
+    // sorted): what a render checkpoint's scene fingerprint covers besides the main file.
+    std::vector<std::string>* xml_files = nullptr;
 };
 
 // Creates the plugin for one XML object; `tag` is the category (bsdf, shape, ...).

@@ -61,10 +61,12 @@ void check_version(const XmlElement& el) {
 class Reader {
   public:
     Reader(const std::string& path, const LoadOptions& options)
-        : params_(options.defines), resolver_(main_dir(path)), main_display_(path) {}
+        : params_(options.defines), resolver_(main_dir(path)), main_display_(path), xml_files_(options.xml_files) {}
 
     SceneGraph run() {
         XmlFile& main = collect_main(XmlParseMode::scene);
+        if (xml_files_)
+            for (const auto& [key, file] : files_) xml_files_->push_back(key.string());
         upgrade_defaults(main);
         for (auto& [key, file] : files_)
             if (is_legacy_file(*file, params_)) upgrade_legacy_file(*file, context(UpgradeTarget::volguide));
@@ -311,6 +313,7 @@ class Reader {
     FileResolver resolver_;
     std::string main_display_;
     std::map<fs::path, std::unique_ptr<XmlFile>> files_;
+    std::vector<std::string>* xml_files_;
     std::vector<std::pair<fs::path, std::string>> include_stack_;
     std::map<std::pair<const XmlFile*, std::ptrdiff_t>, const XmlFile*> includes_;
     std::map<std::string, SourceLocation> id_locations_;

@@ -33,10 +33,9 @@ constexpr double kCoarseShare = 0.25;
 constexpr int kRecordAllSpp = 8;
 constexpr uint64_t kRecordEvery = 4;
 constexpr uint64_t kRecordSalt = 0x5eed0f1ea4ull;
-// While the full stage can still stop (its first kConfirmSpp), one camera sample in kControlEvery is a
-// control sample: the unguided walk, its value and cost measured for the gain (Allocation::fit); every
-// such sample is an unbiased sample of the pixel like the others. The coarse stage decides on the fit's
-// prediction: its field is coarser than the one the decision is about.
+// While the training can still stop (the coarse stage, the full stage's first kConfirmSpp), one camera
+// sample in kControlEvery is a control sample: the unguided walk, its value and cost measured for the
+// gain (Allocation::fit); every such sample is an unbiased sample of the pixel like the others.
 constexpr uint64_t kControlEvery = 8;
 constexpr uint64_t kControlSalt = 0xc0417013ull;
 // A saved pre-pass's learning passes (learn_in_prepass): kLearningSpp samples per pilot pixel each, the
@@ -168,8 +167,8 @@ bool GuidedVolPathIntegrator::recorded(const Sampler& sampler) const {
 }
 
 bool GuidedVolPathIntegrator::control(const Sampler& sampler) const {
-    const bool confirming =
-        training_.stage == TrainingStage::Full && spp_done_ < training_.full_from + StagedTraining::kConfirmSpp;
+    const bool confirming = training_.stage == TrainingStage::Coarse ||
+        (training_.stage == TrainingStage::Full && spp_done_ < training_.full_from + StagedTraining::kConfirmSpp);
     return confirming && mix64(sampler.key() ^ kControlSalt) % kControlEvery == 0;
 }
 
@@ -198,7 +197,8 @@ void GuidedVolPathIntegrator::fit_allocation() {
 void GuidedVolPathIntegrator::decide_training(double job_seconds) {
     const double gain = guide_->allocation().gain();
     training_stats_.emplace_back("allocation_coarse_gain", gain);
-    if (gain < StagedTraining::kPaysGain) {
+    training_stats_.emplace_back("allocation_coarse_predicted_gain", guide_->allocation().summary().predicted_gain);
+    if (gain < StagedTraining::kCoarsePaysGain) {
         stop_guiding(job_seconds);
         return;
     }

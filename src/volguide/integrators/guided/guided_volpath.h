@@ -63,6 +63,15 @@ public:
     std::string prepass_state() const override;
     void use_prepass_state(const std::string& bytes) override;
 
+    // Checkpoints (guided_volpath_state.cpp): everything end_pass() changed since preprocess() — the
+    // training stage and its counters (with the coarse stage's deposits), the full field when the render
+    // trained it, the learner's statistics, the allocation, the recording rule — so that a resumed render
+    // (preprocess() again, then restore_render_state) renders the same passes bit for bit. Not for
+    // rrs=ears or refine_passes > 0 (render_state_unsupported).
+    std::string render_state() const override;
+    void restore_render_state(const std::string& bytes) override;
+    std::string render_state_unsupported() const override;
+
     const GuidedVolPathSettings& settings() const { return settings_; }
     // The trained (or loaded) field; empty before preprocess().
     const GuidingField& field() const { return field_; }
@@ -137,6 +146,11 @@ private:
     void undo_refinement();
     PhotonPassSettings photon_settings(double time_limit) const;
     PreprocessContext refinement_context() const;
+
+    // restore_render_state()'s steps: the full field the render had trained after `full_from` samples
+    // per pixel, with everything built from it; the learner's statistics and the allocation.
+    void restore_full_field(const std::string& field_bytes, int full_from);
+    void restore_learning(const std::string& statistics, const std::string& pixels, const std::string& allocation);
 
     GuidedVolPathSettings settings_;
     VolPathIntegrator walk_;

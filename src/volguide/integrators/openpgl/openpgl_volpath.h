@@ -29,6 +29,10 @@ class OpenPglVolPathIntegrator final : public Integrator {
     void preprocess(const Scene& scene, const PreprocessContext& context) override;
     // While training: Field::Update with the pass's samples.
     void end_pass(const PassReport& pass) override;
+    // Its field lives inside Open PGL, which has no way to save its sample storage and training state.
+    std::string render_state_unsupported() const override {
+        return "openpgl_volpath's Open PGL field and sample storage cannot be saved";
+    }
     std::vector<std::pair<std::string, double>> statistics() const override;
     std::string to_string() const override;
     const OpenPglSettings& settings() const { return settings_; }

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <utility>
 
 #include "volguide/render/sensors/rfilters.h"
 
@@ -75,6 +77,14 @@ FilmBuffer::FilmBuffer(int width, int height, bool second_moment)
     weight_.assign(n, 0.0);
     sum_.assign(3 * n, 0.0);
     if (second_moment) sum2_.assign(3 * n, 0.0);
+}
+
+void FilmBuffer::restore(FilmSums sums) {
+    if (sums.weight.size() != weight_.size() || sums.sum.size() != sum_.size() || sums.sum2.size() != sum2_.size())
+        throw std::invalid_argument("film sums of another film size or variance setting");
+    weight_ = std::move(sums.weight);
+    sum_ = std::move(sums.sum);
+    sum2_ = std::move(sums.sum2);
 }
 
 void FilmBuffer::add(const TileBuffer& tile) {

@@ -57,6 +57,12 @@ class TileBuffer {
     std::vector<Color3> sum_, sum2_;
 };
 
+// A FilmBuffer's sums as they are (render checkpoints, integrators/render_state.h): per pixel sum(w),
+// then 3 doubles each of sum(w L) and (with second moments; else empty) sum(w L^2), row-major.
+struct FilmSums {
+    std::vector<double> weight, sum, sum2;
+};
+
 class FilmBuffer {
   public:
     FilmBuffer(int width, int height, bool second_moment);
@@ -67,6 +73,10 @@ class FilmBuffer {
     Image variance() const;
     // sum(w) per pixel, row-major.
     const std::vector<double>& weights() const { return weight_; }
+    FilmSums sums() const { return {weight_, sum_, sum2_}; }
+    // Replaces the sums (a resumed render's); throws std::invalid_argument when their sizes are not
+    // this film's (another resolution, second moments or not).
+    void restore(FilmSums sums);
     int width() const { return width_; }
     int height() const { return height_; }
 

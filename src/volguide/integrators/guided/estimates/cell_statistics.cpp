@@ -346,6 +346,40 @@ double PixelMoments::mean_square() const {
     return samples > 0.0 ? weighted / samples : 0.0;
 }
 
+PixelMoments& PixelMoments::operator+=(const PixelMoments& o) {
+    if (o.width_ != width_ || o.height_ != height_) throw std::logic_error("PixelMoments: different film sizes");
+    for (size_t p = 0; p < size_t(width_) * size_t(height_); ++p) {
+        sum_[p].fetch_add(o.sum_[p].load(std::memory_order_relaxed), std::memory_order_relaxed);
+        sum_sq_[p].fetch_add(o.sum_sq_[p].load(std::memory_order_relaxed), std::memory_order_relaxed);
+        count_[p].fetch_add(o.count_[p].load(std::memory_order_relaxed), std::memory_order_relaxed);
+    }
+    return *this;
+}
+
+std::string PixelMoments::serialize() const {
+    ByteWriter w;
+    w.u32(uint32_t(width_));
+    w.u32(uint32_t(height_));
+    for (size_t p = 0; p < size_t(width_) * size_t(height_); ++p) {
+        w.u64(uint64_t(sum_[p].load(std::memory_order_relaxed)));
+        w.u64(uint64_t(sum_sq_[p].load(std::memory_order_relaxed)));
+        w.u32(count_[p].load(std::memory_order_relaxed));
+    }
+    return w.take();
+}
+
+void PixelMoments::restore(const std::string& bytes) {
+    ByteReader r(bytes, "pixel moments");
+    if (r.u32("the width") != uint32_t(width_) || r.u32("the height") != uint32_t(height_))
+        r.fail("another film size in", "the record");
+    for (size_t p = 0; p < size_t(width_) * size_t(height_); ++p) {
+        sum_[p].store(int64_t(r.u64("a pixel sum")), std::memory_order_relaxed);
+        sum_sq_[p].store(int64_t(r.u64("a pixel sum")), std::memory_order_relaxed);
+        count_[p].store(r.u32("a pixel count"), std::memory_order_relaxed);
+    }
+    r.finish();
+}
+
 float PixelMoments::Pixel::correction(double prior) const { return float((prior + sum) / (prior + n)); }
 
 void PixelMoments::clear() {

@@ -205,6 +205,8 @@ class PixelMoments {
     // The pixel of a film position, -1 outside the film (a filter's border).
     long pixel(Point2f film_uv) const;
     void add(long pixel, double x);
+    // Adds another film's sums (same size; between passes).
+    PixelMoments& operator+=(const PixelMoments& o);
     struct Pixel {
         double n = 0, sum = 0, sum_sq = 0;
         // The pixel's mean x shrunk towards 1 by `prior` samples: (prior + sum) / (prior + n).
@@ -216,6 +218,10 @@ class PixelMoments {
     // pixels of fewer than two samples left out): what every unbiased sampler's second moment of x holds
     // beside its variance (Allocation::fit subtracts it).
     double mean_square() const;
+    // Little-endian bytes of every pixel's sums (exactly), and back into a film of the same size (throws
+    // std::runtime_error on malformed bytes or another size): a checkpoint's.
+    std::string serialize() const;
+    void restore(const std::string& bytes);
     void clear();
 
   private:

@@ -26,7 +26,11 @@ class Learner {
     const CellStatistics& total() const { return total_; }
     // The total as restored from a checkpoint (its cell count must match).
     void set_total(CellStatistics total);
-    const PixelMoments& pixels() const { return pixels_; }
+    // The pixel moments of the passes so far (the current pass's join them in end_pass(), like the
+    // statistics: a pass cut short leaves them as they were).
+    const PixelMoments& pixels() const { return pixels_total_; }
+    // The pixel moments as restored from a checkpoint (PixelMoments::restore).
+    void restore_pixels(const std::string& bytes) { pixels_total_.restore(bytes); }
 
   private:
     struct Thread {
@@ -35,7 +39,7 @@ class Learner {
         CellStatistics stats;
         CellRecorder recorder;
     };
-    PixelMoments pixels_;
+    PixelMoments pixels_, pixels_total_;  // the current pass's (the recorders add), the passes' so far
     mutable tbb::enumerable_thread_specific<Thread> threads_;
     CellStatistics total_;
 };
