@@ -241,6 +241,46 @@ TEST(CellStatistics, BytesRoundTripExactly) {
     EXPECT_THROW(CellStatistics::deserialize(wrong), std::runtime_error);
 }
 
+// A control sample (the unguided walk's) adds only its value and cost, apart from the allocation's
+// camera samples, and its value to the pixel's moments; the sums survive the bytes.
+TEST(CellStatistics, ControlSamplesAreKeptApartAndRoundTrip) {
+    CellStatistics stats(2);
+    PixelMoments pixels(1, 1);
+    CellRecorder rec(stats, pixels, kUnitCosts);
+    rec.begin(0, 0.5f, true);
+    rec.record_decision(DecisionKind::Direction, record(true, 0, 0.3f, 0.2f, 0.9f));
+    rec.record_contribution(Color3(1.f));
+    rec.end();
+    EXPECT_EQ(stats.control_samples(), 1u);
+    EXPECT_EQ(stats.camera_samples(), 0u);
+    EXPECT_DOUBLE_EQ(stats.control_moment(), 4.0);  // (1 / 0.5)^2
+    EXPECT_GT(stats.control_cost(), 0.0);
+    EXPECT_EQ(stats.decision(DecisionKind::Direction, 0).count, 0u);
+    EXPECT_EQ(pixels.at(0).n, 1.0);
+    const CellStatistics back = CellStatistics::deserialize(stats.serialize());
+    EXPECT_EQ(back.control_samples(), 1u);
+    EXPECT_EQ(back.control_moment(), stats.control_moment());
+    EXPECT_EQ(back.control_cost(), stats.control_cost());
+}
+
+// mean_square: over the samples, each pixel's unbiased squared mean ((sum^2 - sum of squares) / (n (n-1)));
+// pixels of one sample are left out. The bytes and += keep every sum.
+TEST(CellStatistics, PixelMeanSquareSerializeAndAdd) {
+    PixelMoments a(2, 1);
+    for (double x : {1.0, 3.0}) a.add(0, x);  // pixel 0: (16 - 10) / 2 = 3 for each of 2 samples
+    a.add(1, 5.0);                            // one sample: left out
+    EXPECT_NEAR(a.mean_square(), 3.0, 1e-6);
+    PixelMoments b(2, 1);
+    b.restore(a.serialize());
+    EXPECT_EQ(b.serialize(), a.serialize());
+    // pixel 0: 4 samples, n mu^2 = (64 - 20) / 3; pixel 1: 2 samples, (100 - 50) / 1; over 6 samples
+    b += a;
+    EXPECT_NEAR(b.mean_square(), (44.0 / 3.0 + 50.0) / 6.0, 1e-5);
+    EXPECT_THROW(b.restore(a.serialize().substr(0, 9)), std::runtime_error);
+    PixelMoments other(3, 1);
+    EXPECT_THROW(other.restore(a.serialize()), std::runtime_error);
+}
+
 TEST(CellStatistics, PixelOfFilmPosition) {
     PixelMoments pixels(4, 2);
     EXPECT_EQ(pixels.pixel(Point2f(0.f, 0.f)), 0);

@@ -33,9 +33,11 @@ constexpr double kCoarseShare = 0.25;
 constexpr int kRecordAllSpp = 8;
 constexpr uint64_t kRecordEvery = 4;
 constexpr uint64_t kRecordSalt = 0x5eed0f1ea4ull;
-// While the training can still stop (the coarse stage, the full stage's first kConfirmSpp), one camera
-// sample in kControlEvery is a control sample: the unguided walk, its value and cost measured for the
-// gain (Allocation::fit); every such sample is an unbiased sample of the pixel like the others.
+// While the full stage can still stop (its first kConfirmSpp), one camera sample in kControlEvery is a
+// control sample: the unguided walk, its value and cost measured for the gain (Allocation::fit); every
+// such sample is an unbiased sample of the pixel like the others. The coarse stage decides on the fit's
+// prediction: a few early samples' tails make the measured gain at 4 spp swing by 100x between seeds
+// (bench/RESULTS.md, issue 59).
 constexpr uint64_t kControlEvery = 8;
 constexpr uint64_t kControlSalt = 0xc0417013ull;
 // A saved pre-pass's learning passes (learn_in_prepass): kLearningSpp samples per pilot pixel each, the
@@ -167,8 +169,8 @@ bool GuidedVolPathIntegrator::recorded(const Sampler& sampler) const {
 }
 
 bool GuidedVolPathIntegrator::control(const Sampler& sampler) const {
-    const bool confirming = training_.stage == TrainingStage::Coarse ||
-        (training_.stage == TrainingStage::Full && spp_done_ < training_.full_from + StagedTraining::kConfirmSpp);
+    const bool confirming =
+        training_.stage == TrainingStage::Full && spp_done_ < training_.full_from + StagedTraining::kConfirmSpp;
     return confirming && mix64(sampler.key() ^ kControlSalt) % kControlEvery == 0;
 }
 
@@ -198,7 +200,7 @@ void GuidedVolPathIntegrator::decide_training(double job_seconds) {
     const double gain = guide_->allocation().gain();
     training_stats_.emplace_back("allocation_coarse_gain", gain);
     training_stats_.emplace_back("allocation_coarse_predicted_gain", guide_->allocation().summary().predicted_gain);
-    if (gain < StagedTraining::kCoarsePaysGain) {
+    if (gain < StagedTraining::kPaysGain) {
         stop_guiding(job_seconds);
         return;
     }

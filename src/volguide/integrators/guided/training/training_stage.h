@@ -2,11 +2,12 @@
 // guided_volpath's training in two stages (issue 59): training that stops when it cannot pay. The
 // pre-pass traces a fraction of the photons (kCoarseDivisor) into a coarse field; the render's first
 // passes learn the allocation on it (estimates/allocation.h); after kDecideSpp samples per pixel the
-// allocation's gain, measured against control samples of the unguided walk, decides: below
-// kCoarsePaysGain nothing guided can pay for more training, and the render goes on as the unguided walk
+// allocation's predicted gain decides: below kPaysGain nothing guided can pay for more training, and the
+// render goes on as the unguided walk
 // (bounded volpath's, its early passes kept: every pass is unbiased); otherwise the rest of the photons
 // are traced, the full field is built from all of them and the allocation is learned again on it; when
-// kConfirmSpp samples per pixel later the gain on the full field is below kPaysGain, the render goes on
+// kConfirmSpp samples per pixel later the gain on the full field, measured against control samples of
+// the unguided walk, is below kPaysGain, the render goes on
 // unguided as well (nothing recorded). What the stages keep between passes is this record.
 #include <cstdint>
 #include <vector>
@@ -25,9 +26,6 @@ struct StagedTraining {
     static constexpr int64_t kCoarseDivisor = 4;
     static constexpr int kDecideSpp = 4;
     static constexpr double kPaysGain = 1.05;
-    // The coarse stage's bar is lower: its field is coarser than the full one the decision is about, so
-    // its measured gain understates what the full field gains (bench/RESULTS.md, issue 59).
-    static constexpr double kCoarsePaysGain = 0.9;
     static constexpr int kConfirmSpp = 16;
 
     TrainingStage stage = TrainingStage::Full;
