@@ -309,8 +309,8 @@ Allocation Allocation::fit(const CellStatistics& stats, const SpatialTree& tree,
     // Everything unguided is the unguided walk: no policy, nothing recorded.
     off.T = std::max(off.T - policy - settings.recorded_fraction * recording, 0.05 * measured.T);
     out.summary_.predicted_gain = (off.V * off.T) / (t.V * t.T);
-    out.summary_.moment_ratio = off.V / t.V;
-    out.summary_.cost_ratio = t.T / off.T;
+    out.summary_.predicted_moment_ratio = off.V / t.V;
+    out.summary_.predicted_cost_ratio = t.T / off.T;
     // The gain the training's decisions read: with enough control samples (the unguided walk itself,
     // measured), theirs against the samples' as drawn; the first-order prediction above compounds
     // every decision's change over a path and is far too hopeful on long dense paths (bench/RESULTS.md).
@@ -380,8 +380,8 @@ std::vector<std::pair<std::string, double>> Allocation::named() const {
     std::vector<std::pair<std::string, double>> out{{"allocation_gain", gain_},
                                                     {"allocation_gain_measured", summary_.measured ? 1.0 : 0.0},
                                                     {"allocation_predicted_gain", summary_.predicted_gain},
-                                                    {"allocation_predicted_moment_ratio", summary_.moment_ratio},
-                                                    {"allocation_predicted_cost_ratio", summary_.cost_ratio}};
+                                                    {"allocation_predicted_moment_ratio", summary_.predicted_moment_ratio},
+                                                    {"allocation_predicted_cost_ratio", summary_.predicted_cost_ratio}};
     for (int d = 0; d <= kDecisionKinds; ++d) {
         out.emplace_back(fmt::format("allocation_{}_guided_fraction", kKinds[d]), summary_.guided[size_t(d)]);
         out.emplace_back(fmt::format("allocation_{}_exploring_fraction", kKinds[d]), summary_.exploring[size_t(d)]);

@@ -110,7 +110,7 @@ class Allocation {
         std::array<double, kDecisionKinds + 1> guided{}, exploring{};
         // The prediction's two factors: the unguided walk's second moment over the allocation's, and
         // the allocation's cost over the unguided walk's (predicted gain = moments / cost).
-        double moment_ratio = 0.0, cost_ratio = 0.0, predicted_gain = 1.0;
+        double predicted_moment_ratio = 0.0, predicted_cost_ratio = 0.0, predicted_gain = 1.0;
         bool measured = false;  // whether gain() is the control samples' (else the prediction)
     };
     const Summary& summary() const { return summary_; }
