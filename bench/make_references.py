@@ -59,6 +59,10 @@ REFERENCES = {
     # glassfog (32 chunks); the run that made them is recorded in bench/references/README.md.
     "skyglobe": (["integrator=volpath", "rr_rule=bounded"], 512, 32),
     "fogcornell": (["integrator=volpath", "rr_rule=bounded"], 1024, 32),
+    # Issue 62's held-out scenes: fog lit only through a door ajar, and a beam from a lantern's hole;
+    # volpath with the bounded roulette.
+    "door": (["integrator=volpath", "rr_rule=bounded"], 4096, 4),
+    "keyhole": (["integrator=volpath", "rr_rule=bounded"], 2048, 4),
 }
 
 # Issue 22: where the full guided system made the best relMSE at 60 s so small that the volpath

@@ -25,7 +25,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 SCENES = ["shafts", "backlit", "thin", "sss", "aniso", "cloud", "fogbox", "densesphere", "glassfog"]
 # Scenes the defaults are judged on but not tuned on (bench/scenes/README.md): --scenes names them.
-HELD_OUT = ["fogcornell", "skyglobe", "smoke", "envsss"]
+HELD_OUT = ["fogcornell", "skyglobe", "smoke", "envsss", "door", "keyhole"]
 BASELINE = "volpath"
 # The best unguided method of a scene (issue 21): the lowest relMSE at this budget among these; every
 # method's speed-up is also quoted against it ("vs best unguided").

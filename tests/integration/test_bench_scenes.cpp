@@ -37,4 +37,5 @@ TEST_P(BenchScene, RendersWithTheBaselines) {
 
 INSTANTIATE_TEST_SUITE_P(AllScenes, BenchScene,
                          ::testing::Values("shafts", "backlit", "thin", "sss", "aniso", "cloud", "fogbox", "densesphere",
-                                           "glassfog", "skyglobe", "fogcornell", "smoke", "envsss"));
+                                           "glassfog", "skyglobe", "fogcornell", "smoke", "envsss", "door",
+                                           "keyhole"));

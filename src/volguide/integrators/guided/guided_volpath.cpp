@@ -84,12 +84,16 @@ void GuidedVolPathIntegrator::preprocess(const Scene& scene, const PreprocessCon
     if (refining_.refinement)
         refining_.schedule = std::make_unique<RefinementSchedule>(settings_.refine, context.time_budget,
                                                                   refining_.training_seconds);
-    if (!settings_.save_field.empty()) {
-        try {
-            save_field(settings_.save_field, field_);
-        } catch (const FieldFormatError& e) {
-            throw InputError(settings_.location, e.what());
-        }
+    save_trained_field();
+}
+
+// save_field: the field the render ends with (written again when the full stage replaces the coarse one).
+void GuidedVolPathIntegrator::save_trained_field() const {
+    if (settings_.save_field.empty()) return;
+    try {
+        save_field(settings_.save_field, field_);
+    } catch (const FieldFormatError& e) {
+        throw InputError(settings_.location, e.what());
     }
 }
 
@@ -235,8 +239,8 @@ void GuidedVolPathIntegrator::train_full_field(double time_limit) {
     for (RadianceSample& s : photons) s.weight *= coarse_share;
     for (RadianceSample& s : more.samples) s.weight *= full_share;
     photons.insert(photons.end(), more.samples.begin(), more.samples.end());
+    record_photon_stats(more);  // before its deposits go (photon_deposits)
     std::vector<RadianceSample>().swap(more.samples);
-    record_photon_stats(more);
     training_stats_.emplace_back("photons_traced_full_stage", double(more.photons_traced));
     field_ = field_of(scene, photons, int64_t(total), training_.photon_stream_next + more.photons_traced);
     std::vector<RadianceSample>().swap(photons);
@@ -247,6 +251,7 @@ void GuidedVolPathIntegrator::train_full_field(double time_limit) {
     build_from_field(scene, build, true);
     training_.stage = TrainingStage::Full;
     training_.full_from = spp_done_;
+    save_trained_field();
     training_.seconds += seconds_since(start);
     // The full stage runs between passes: the render's time includes it (bench/fit_cost_model.py takes
     // its CPU time out of the passes').

@@ -128,6 +128,7 @@ private:
     // a new stage, every refinement; `update` true: the RR/splitting statistics carry on).
     void build_from_field(const Scene& scene, const PreprocessContext& context, bool update);
     void record_field_stats();
+    void save_trained_field() const;
 
     // The allocation's learning: whether walks learn it, the fit after a pass, the coarse stage's
     // decision and the full stage's training; the learning passes of a saved pre-pass.
