@@ -87,7 +87,7 @@ void GuidedVolPathIntegrator::preprocess(const Scene& scene, const PreprocessCon
     save_trained_field();
 }
 
-// save_field: the field the render ends with (written again when the full stage replaces the coarse one).
+// save_field: the pre-pass's field, written again when the full stage replaces the coarse one.
 void GuidedVolPathIntegrator::save_trained_field() const {
     if (settings_.save_field.empty()) return;
     try {
